@@ -1,0 +1,160 @@
+// SPDX-License-Identifier: MIT
+// HybridMesh blocks, tags and the facet-hash conformity check (see hybrid_mesh.h).
+#include "modules/hybrid_mesh.h"
+
+#include <algorithm>
+#include <array>
+#include <sstream>
+#include <unordered_map>
+
+namespace plaf {
+
+const char* boundary_kind_name(BoundaryKind kind) {
+  switch (kind) {
+    case BoundaryKind::Wall: return "wall";
+    case BoundaryKind::Farfield: return "farfield";
+    case BoundaryKind::Symmetry: return "symmetry";
+    case BoundaryKind::Named: return "named";
+  }
+  return "?";
+}
+
+template <int Dim>
+CellBlock& HybridMesh<Dim>::block(CellType type, int order) {
+  for (CellBlock& b : cells)
+    if (b.type == type && b.order == order) return b;
+  cells.push_back(CellBlock{type, order, -1, {}});
+  return cells.back();
+}
+
+template <int Dim>
+CellBlock& HybridMesh<Dim>::boundary_block(CellType type, int order, int tag) {
+  for (CellBlock& b : boundary)
+    if (b.type == type && b.order == order && b.tag == tag) return b;
+  boundary.push_back(CellBlock{type, order, tag, {}});
+  return boundary.back();
+}
+
+template <int Dim>
+int HybridMesh<Dim>::add_tag(const std::string& name, BoundaryKind kind) {
+  for (std::size_t i = 0; i < tags.size(); ++i)
+    if (tags[i].name == name) return static_cast<int>(i);
+  tags.push_back(BoundaryTag{name, kind});
+  return static_cast<int>(tags.size()) - 1;
+}
+
+namespace {
+
+// A facet is identified by its sorted vertex ids (up to 4).
+using FacetKey = std::array<NodeId, 4>;
+
+struct FacetKeyHash {
+  std::size_t operator()(const FacetKey& k) const {
+    std::size_t h = 1469598103934665603ull;
+    for (NodeId v : k) h = (h ^ static_cast<std::size_t>(static_cast<std::uint32_t>(v))) * 1099511628211ull;
+    return h;
+  }
+};
+
+struct FacetUse {
+  int count = 0;
+  bool boundary = false;
+  std::vector<NodeId> nodes;  // sorted high-order nodes of the first use
+};
+
+FacetKey make_key(const NodeId* cell, const std::vector<int>& local, int nv) {
+  FacetKey k{-1, -1, -1, -1};
+  for (int v = 0; v < nv; ++v) {  // insertion sort of at most 4 ids
+    NodeId x = cell[local[v]];
+    int j = v;
+    for (; j > 0 && k[j - 1] > x; --j) k[j] = k[j - 1];
+    k[j] = x;
+  }
+  return k;
+}
+
+int facet_vertices(CellType cell, int facet) {
+  if (ref_dim(cell) == 1) return 1;
+  if (ref_dim(cell) == 2) return 2;
+  return static_cast<int>(topology(cell).faces[facet].size());
+}
+
+}  // namespace
+
+template <int Dim>
+ConformityReport check_conformity(const HybridMesh<Dim>& mesh) {
+  ConformityReport r;
+  std::unordered_map<FacetKey, FacetUse, FacetKeyHash> facets;
+  facets.reserve(mesh.num_cells() * 3);
+  auto problem = [&](const std::string& what) {
+    r.ok = false;
+    if (r.first_problem.empty()) r.first_problem = what;
+  };
+  auto describe = [](const FacetKey& k) {
+    std::ostringstream s;
+    s << "facet with vertices";
+    for (NodeId v : k)
+      if (v >= 0) s << ' ' << v;
+    return s.str();
+  };
+  std::vector<NodeId> sorted;
+  for (const CellBlock& b : mesh.cells) {
+    const LagrangeElement& e = lagrange_element(b.type, b.order);
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      const NodeId* c = b.cell(i);
+      for (int f = 0; f < e.num_facets(); ++f) {
+        const auto& local = e.facet_nodes(f);
+        const FacetKey key = make_key(c, local, facet_vertices(b.type, f));
+        sorted.clear();
+        for (int l : local) sorted.push_back(c[l]);
+        std::sort(sorted.begin(), sorted.end());
+        FacetUse& use = facets[key];
+        if (use.count == 0) {
+          use.nodes = sorted;
+        } else if (use.nodes != sorted) {
+          ++r.node_mismatches;
+          problem("cells sharing the " + describe(key) + " have different high-order nodes on it");
+        }
+        ++use.count;
+      }
+    }
+  }
+  for (const CellBlock& b : mesh.boundary) {
+    const int nv = num_vertices(b.type);
+    std::vector<int> local(nv);
+    for (int v = 0; v < nv; ++v) local[v] = v;
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      const FacetKey key = make_key(b.cell(i), local, nv);
+      auto it = facets.find(key);
+      if (it == facets.end()) {
+        ++r.stray_boundary;
+        problem("boundary " + describe(key) + " is not a facet of any cell");
+      } else {
+        it->second.boundary = true;
+      }
+    }
+  }
+  for (const auto& [key, use] : facets) {
+    if (use.count == 2 && !use.boundary) {
+      ++r.interior_facets;
+    } else if (use.count == 1 && use.boundary) {
+      ++r.boundary_facets;
+    } else if (use.count == 1) {
+      ++r.open_facets;
+      problem(describe(key) + " belongs to one cell and to no boundary (a hole in the mesh)");
+    } else if (use.count >= 3) {
+      ++r.overshared_facets;
+      problem(describe(key) + " is shared by " + std::to_string(use.count) + " cells");
+    } else {
+      ++r.interior_facets;  // count == 2 and tagged: an interior (embedded) boundary
+    }
+  }
+  return r;
+}
+
+template struct HybridMesh<2>;
+template struct HybridMesh<3>;
+template ConformityReport check_conformity(const HybridMesh<2>&);
+template ConformityReport check_conformity(const HybridMesh<3>&);
+
+}  // namespace plaf
