@@ -1,0 +1,18 @@
+// SPDX-License-Identifier: MIT
+// The `plaf run` and `plaf check` commands: compose the stages from a run configuration.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+
+namespace plaf {
+
+// Runs a configuration; returns the process exit code (0: a valid, conforming mesh was written;
+// 2: the mesh was written but has invalid cells or is not conforming). Throws plaf::Error on
+// bad input before any output is written.
+int run_command(const std::filesystem::path& config, const std::optional<std::filesystem::path>& out_dir);
+
+// Re-reads a Gmsh MSH 4.1 file and reports validity and quality; 0 when valid and conforming.
+int check_command(const std::filesystem::path& mesh);
+
+}  // namespace plaf

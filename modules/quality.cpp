@@ -1,0 +1,239 @@
+// SPDX-License-Identifier: MIT
+#include "modules/quality.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+#include <unordered_set>
+
+namespace plaf {
+
+namespace {
+
+// Reference-to-regular maps W (columns: edge vectors of the regular cell from vertex 0).
+Eigen::Matrix3d regular_cell_map(CellType t) {
+  Eigen::Matrix3d w = Eigen::Matrix3d::Identity();
+  const double s3 = std::sqrt(3.0);
+  switch (t) {
+    case CellType::Triangle:
+    case CellType::Prism:
+      w(0, 1) = 0.5;
+      w(1, 1) = s3 / 2;
+      break;
+    case CellType::Tetrahedron:
+      w.col(1) = Eigen::Vector3d(0.5, s3 / 2, 0);
+      w.col(2) = Eigen::Vector3d(0.5, s3 / 6, std::sqrt(2.0 / 3.0));
+      break;
+    default: break;
+  }
+  return w;
+}
+
+std::array<double, 3> centroid(CellType t) {
+  switch (t) {
+    case CellType::Triangle: return {1.0 / 3, 1.0 / 3, 0};
+    case CellType::Quadrilateral: return {0.5, 0.5, 0};
+    case CellType::Tetrahedron: return {0.25, 0.25, 0.25};
+    case CellType::Prism: return {1.0 / 3, 1.0 / 3, 0.5};
+    default: return {0.5, 0, 0};
+  }
+}
+
+template <int Dim>
+double aspect_ratio(const LagrangeElement& e, const double* coords, double* grad) {
+  const auto xi = centroid(e.type());
+  e.eval_grad(xi.data(), grad);
+  Eigen::Matrix<double, Dim, Dim> j = Eigen::Matrix<double, Dim, Dim>::Zero();
+  for (int k = 0; k < e.size(); ++k)
+    for (int r = 0; r < Dim; ++r)
+      for (int c = 0; c < Dim; ++c) j(r, c) += coords[k * Dim + r] * grad[k * Dim + c];
+  const Eigen::Matrix<double, Dim, Dim> w = regular_cell_map(e.type()).template topLeftCorner<Dim, Dim>();
+  const Eigen::Matrix<double, Dim, Dim> m = j * w.inverse();
+  Eigen::JacobiSVD<Eigen::Matrix<double, Dim, Dim>> svd(m);
+  const auto s = svd.singularValues();
+  return s[Dim - 1] > 0 ? s[0] / s[Dim - 1] : std::numeric_limits<double>::infinity();
+}
+
+std::string type_key(const CellBlock& b) { return std::string(cell_name(b.type)) + "_Q" + std::to_string(b.order); }
+
+std::string json_number(double x) {
+  if (!std::isfinite(x)) return "null";
+  std::ostringstream s;
+  s << std::setprecision(10) << x;
+  return s.str();
+}
+
+std::string json_string(const std::string& x) {
+  std::string out = "\"";
+  for (char ch : x) {
+    if (ch == '"' || ch == '\\') out += '\\';
+    out += ch;
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+template <int Dim>
+QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>* metric,
+                             const QualityOptions& options, CellQuality* per_cell) {
+  QualityReport r;
+  JacobianCertifier certifier(options.validity);
+  r.scaled_jacobian_min = std::numeric_limits<double>::infinity();
+  std::vector<double> coords, grad, edge;
+  if (per_cell) *per_cell = CellQuality{};
+
+  // 1. Cells: certified validity, scaled Jacobian and aspect ratio.
+  for (const CellBlock& b : mesh.cells) {
+    const LagrangeElement& e = lagrange_element(b.type, b.order);
+    coords.resize(static_cast<std::size_t>(e.size()) * Dim);
+    grad.resize(static_cast<std::size_t>(e.size()) * Dim);
+    r.cells_by_type[type_key(b)] += b.size();
+    r.cells_total += b.size();
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      gather_coords(mesh, b, i, coords.data());
+      const JacobianBounds jb = certifier.certify(b.type, b.order, coords.data());
+      const double sj = jb.scaled_lower();
+      const double ar = aspect_ratio<Dim>(e, coords.data(), grad.data());
+      if (!jb.valid) ++r.cells_invalid;
+      if (!jb.proven) ++r.cells_unproven;
+      r.scaled_jacobian_min = std::min(r.scaled_jacobian_min, sj);
+      if (jb.valid) r.aspect_ratio_max = std::max(r.aspect_ratio_max, ar);
+      if (per_cell) {
+        per_cell->valid.push_back(jb.valid ? 1 : 0);
+        per_cell->scaled_jacobian.push_back(sj);
+        per_cell->aspect_ratio.push_back(ar);
+      }
+    }
+  }
+  if (r.cells_total == 0) r.scaled_jacobian_min = 0;
+
+  // 2. Metric length of every distinct edge (keyed by its two vertices).
+  if (metric) {
+    r.has_metric = true;
+    const int bins = options.histogram_bins;
+    // Bins of log2(L) over [-3, 3] (L in [1/8, 8]), the outer bins open-ended.
+    r.metric.bin_edges.resize(bins + 1);
+    for (int k = 0; k <= bins; ++k) r.metric.bin_edges[k] = std::exp2(-3.0 + 6.0 * k / bins);
+    r.metric.histogram.assign(bins, 0);
+    r.metric.min = std::numeric_limits<double>::infinity();
+    std::unordered_set<std::uint64_t> seen;
+    double sum = 0;
+    std::size_t unit = 0;
+    for (const CellBlock& b : mesh.cells) {
+      const LagrangeElement& e = lagrange_element(b.type, b.order);
+      const CellTopology& topo = topology(b.type);
+      edge.resize(static_cast<std::size_t>(b.order + 1) * Dim);
+      for (std::size_t i = 0; i < b.size(); ++i) {
+        const NodeId* c = b.cell(i);
+        for (std::size_t k = 0; k < topo.edges.size(); ++k) {
+          const NodeId v0 = c[topo.edges[k][0]], v1 = c[topo.edges[k][1]];
+          const std::uint64_t key = (static_cast<std::uint64_t>(std::min(v0, v1)) << 32) |
+                                    static_cast<std::uint32_t>(std::max(v0, v1));
+          if (!seen.insert(key).second) continue;
+          // Gmsh line order: the two ends, then the interior nodes.
+          const auto& en = e.edge_nodes(static_cast<int>(k));
+          for (int d = 0; d < Dim; ++d) {
+            edge[d] = mesh.nodes[c[en.front()]][d];
+            edge[Dim + d] = mesh.nodes[c[en.back()]][d];
+          }
+          for (int s = 1; s < b.order; ++s)
+            for (int d = 0; d < Dim; ++d) edge[(s + 1) * Dim + d] = mesh.nodes[c[en[s]]][d];
+          const double len = metric_length_curved<Dim>(*metric, edge.data(), b.order);
+          ++r.metric.count;
+          sum += len;
+          r.metric.min = std::min(r.metric.min, len);
+          r.metric.max = std::max(r.metric.max, len);
+          if (len >= 1 / std::sqrt(2.0) && len <= std::sqrt(2.0)) ++unit;
+          const double pos = (std::log2(len) + 3.0) / 6.0 * bins;
+          r.metric.histogram[std::clamp(static_cast<int>(std::floor(pos)), 0, bins - 1)]++;
+        }
+      }
+    }
+    if (r.metric.count) {
+      r.metric.mean = sum / static_cast<double>(r.metric.count);
+      r.metric.unit_fraction = static_cast<double>(unit) / static_cast<double>(r.metric.count);
+    } else {
+      r.metric.min = 0;
+    }
+  }
+
+  // 3. Conformity.
+  r.conformity = check_conformity(mesh);
+  return r;
+}
+
+std::string report_json(const QualityReport& r) {
+  std::ostringstream s;
+  s << "{\n  \"name\": " << json_string(r.name) << ",\n";
+  s << "  \"ok\": " << (r.ok() ? "true" : "false") << ",\n";
+  s << "  \"cells\": {\n    \"total\": " << r.cells_total << ",\n    \"by_type\": {";
+  bool first = true;
+  for (const auto& [k, n] : r.cells_by_type) {
+    s << (first ? "" : ", ") << json_string(k) << ": " << n;
+    first = false;
+  }
+  s << "},\n    \"invalid\": " << r.cells_invalid << ",\n    \"unproven\": " << r.cells_unproven << "\n  },\n";
+  s << "  \"scaled_jacobian\": {\"min\": " << json_number(r.scaled_jacobian_min) << "},\n";
+  s << "  \"aspect_ratio\": {\"max\": " << json_number(r.aspect_ratio_max) << "},\n";
+  if (r.has_metric) {
+    const EdgeLengthStats& m = r.metric;
+    s << "  \"metric\": {\n    \"edges\": " << m.count << ",\n    \"unit_fraction\": " << json_number(m.unit_fraction)
+      << ",\n    \"min\": " << json_number(m.min) << ",\n    \"max\": " << json_number(m.max)
+      << ",\n    \"mean\": " << json_number(m.mean) << ",\n    \"histogram\": {\"bin_edges\": [";
+    for (std::size_t k = 0; k < m.bin_edges.size(); ++k) s << (k ? ", " : "") << json_number(m.bin_edges[k]);
+    s << "], \"counts\": [";
+    for (std::size_t k = 0; k < m.histogram.size(); ++k) s << (k ? ", " : "") << m.histogram[k];
+    s << "]}\n  },\n";
+  }
+  const ConformityReport& c = r.conformity;
+  s << "  \"conformity\": {\"ok\": " << (c.ok ? "true" : "false") << ", \"interior_facets\": " << c.interior_facets
+    << ", \"boundary_facets\": " << c.boundary_facets << ", \"open_facets\": " << c.open_facets
+    << ", \"overshared_facets\": " << c.overshared_facets << ", \"node_mismatches\": " << c.node_mismatches
+    << ", \"stray_boundary\": " << c.stray_boundary << ", \"first_problem\": " << json_string(c.first_problem)
+    << "},\n";
+  // Extra sections: group "a.b" keys under "a".
+  std::map<std::string, std::vector<std::pair<std::string, std::string>>> groups;
+  for (const auto& [k, v] : r.extra) {
+    const auto dot = k.find('.');
+    groups[k.substr(0, dot)].push_back({dot == std::string::npos ? "" : k.substr(dot + 1), v});
+  }
+  for (const auto& [g, items] : groups) {
+    s << "  " << json_string(g) << ": {";
+    for (std::size_t k = 0; k < items.size(); ++k)
+      s << (k ? ", " : "") << json_string(items[k].first) << ": " << items[k].second;
+    s << "},\n";
+  }
+  s << "  \"timings_s\": {";
+  for (std::size_t k = 0; k < r.timings_s.size(); ++k)
+    s << (k ? ", " : "") << json_string(r.timings_s[k].first) << ": " << json_number(r.timings_s[k].second);
+  s << "}\n}\n";
+  return s.str();
+}
+
+std::string report_summary(const QualityReport& r) {
+  std::ostringstream s;
+  s << std::setprecision(4);
+  s << r.name << ": " << r.cells_total << " cells (";
+  bool first = true;
+  for (const auto& [k, n] : r.cells_by_type) {
+    s << (first ? "" : ", ") << n << ' ' << k;
+    first = false;
+  }
+  s << ")\n  invalid cells: " << r.cells_invalid;
+  if (r.cells_unproven) s << " (" << r.cells_unproven << " undecided at the depth limit)";
+  s << "\n  min scaled Jacobian: " << r.scaled_jacobian_min << "   max aspect ratio: " << r.aspect_ratio_max << '\n';
+  if (r.has_metric)
+    s << "  metric edge lengths: " << r.metric.count << " edges, " << 100.0 * r.metric.unit_fraction
+      << "% in [1/sqrt2, sqrt2], min " << r.metric.min << ", max " << r.metric.max << '\n';
+  s << "  conformity: " << (r.conformity.ok ? "ok" : "FAILED: " + r.conformity.first_problem) << '\n';
+  if (!r.ok()) s << "  MESH FAILED: " << r.cells_invalid << " invalid cells" << (r.conformity.ok ? "" : ", not conforming") << '\n';
+  return s.str();
+}
+
+template QualityReport assess_quality(const HybridMesh<2>&, const MetricField<2>*, const QualityOptions&, CellQuality*);
+template QualityReport assess_quality(const HybridMesh<3>&, const MetricField<3>*, const QualityOptions&, CellQuality*);
+
+}  // namespace plaf
