@@ -4,10 +4,12 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <charconv>
 #include <cstring>
 #include <string>
 #include <system_error>
+#include <utility>
 
 #include "modules/error.h"
 

@@ -5,7 +5,7 @@
 //
 // Numbers are formatted with std::to_chars into one large buffer (no per-number allocation);
 // doubles use the shortest form that reads back to the same bits, which is at most 17
-// significant digits.
+// significant digits. Two AtomicFiles of one process must not target the same path at once.
 #pragma once
 
 #include <cstdint>

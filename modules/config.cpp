@@ -41,6 +41,9 @@ std::string join(const std::vector<std::string>& words) {
   return out;
 }
 
+// Const lookup: yaml-cpp's non-const operator[] would insert the key into the map.
+YAML::Node lookup(const YAML::Node& map, const std::string& key) { return map[key]; }
+
 std::string format_double(double x) {
   std::ostringstream s;
   s << x;
@@ -80,20 +83,22 @@ const std::string& ConfigNode::file() const { return s_->file; }
 
 std::string ConfigNode::where(const std::string& key) const {
   if (key.empty()) return position(s_->file, s_->mark) + ": " + (s_->path.empty() ? "(top level)" : s_->path);
-  const YAML::Node n = s_->node[key];
-  return position(s_->file, n ? n.Mark() : s_->mark) + ": " + dotted(s_->path, key);
+  const YAML::Node n = lookup(s_->node, key);
+  return position(s_->file, n.IsDefined() ? n.Mark() : s_->mark) + ": " + dotted(s_->path, key);
 }
 
 bool ConfigNode::has(const std::string& key) const {
   s_->asked.insert(key);
-  return static_cast<bool>(s_->node[key]);
+  const YAML::Node n = lookup(s_->node, key);
+  return n.IsDefined() && !n.IsNull();
 }
 
 const YAML::Node* ConfigNode::value(const std::string& key) const {
   s_->asked.insert(key);
   thread_local YAML::Node holder;
-  holder = s_->node[key];
-  if (!holder || holder.IsNull()) return nullptr;
+  const YAML::Node n = lookup(s_->node, key);
+  if (!n.IsDefined() || n.IsNull()) return nullptr;  // an absent key gives an invalid node
+  holder.reset(n);                                   // rebind (assignment would copy content)
   return &holder;
 }
 
@@ -207,8 +212,8 @@ ConfigNode ConfigNode::child(const std::string& key) const {
   auto c = std::make_shared<State>();
   c->file = s_->file;
   c->path = dotted(s_->path, key);
-  const YAML::Node n = s_->node[key];
-  if (!n || n.IsNull()) {
+  const YAML::Node n = lookup(s_->node, key);
+  if (!n.IsDefined() || n.IsNull()) {
     c->node = YAML::Node(YAML::NodeType::Map);
     c->mark = s_->mark;
   } else if (!n.IsMap()) {

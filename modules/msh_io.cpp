@@ -12,7 +12,6 @@
 #include <fstream>
 #include <limits>
 #include <map>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -117,7 +116,8 @@ void check_block(const HybridMesh<Dim>& mesh, const CellBlock& b, int dim, const
     throw Error("cannot write " + path.string() + ": " + std::string(cell_name(b.type)) + " block of order " +
                 std::to_string(b.order) + " " + why);
   };
-  if (ref_dim(b.type) != dim) fail("has dimension " + std::to_string(ref_dim(b.type)) + ", expected " + std::to_string(dim));
+  if (ref_dim(b.type) != dim)
+    fail("has dimension " + std::to_string(ref_dim(b.type)) + ", expected " + std::to_string(dim));
   if (b.order < 1 || b.order > max_order) fail("has an order outside 1.." + std::to_string(max_order));
   if (b.connectivity.size() % static_cast<std::size_t>(b.nodes_per_cell()) != 0)
     fail("has a connectivity length that is not a multiple of " + std::to_string(b.nodes_per_cell()));
@@ -169,7 +169,8 @@ class Cursor {
   std::int64_t integer(const char* what, std::int64_t lo, std::int64_t hi) {
     const std::int64_t v = integer(what);
     if (v < lo || v > hi)
-      fail(std::string(what) + " " + std::to_string(v) + " is outside " + std::to_string(lo) + ".." + std::to_string(hi));
+      fail(std::string(what) + " " + std::to_string(v) + " is outside " + std::to_string(lo) + ".." +
+           std::to_string(hi));
     return v;
   }
 
@@ -178,7 +179,8 @@ class Cursor {
     const std::int64_t v = integer(what);
     if (v < 0) fail(std::string("negative ") + what + " " + std::to_string(v));
     if (static_cast<std::uint64_t>(v) > remaining() / min_bytes + 1)
-      fail(std::string(what) + " " + std::to_string(v) + " exceeds what the rest of the file can hold (truncated file?)");
+      fail(std::string(what) + " " + std::to_string(v) +
+           " exceeds what the rest of the file can hold (truncated file?)");
     return v;
   }
 
@@ -254,10 +256,12 @@ class NodeTagMap {
  public:
   // Dense storage when the tag range is at most a few times the node count.
   void init(std::int64_t num_nodes, std::int64_t min_tag, std::int64_t max_tag) {
+    // Called with num_nodes == 0 or 1 <= min_tag <= max_tag (checked by the caller).
     constexpr std::int64_t dense_factor = 4, dense_slack = 1024;
+    if (num_nodes == 0) return;
     min_tag_ = min_tag;
     max_tag_ = max_tag;
-    dense_ = max_tag >= min_tag && max_tag - min_tag < dense_factor * num_nodes + dense_slack;
+    dense_ = max_tag - min_tag < dense_factor * num_nodes + dense_slack;
     if (dense_) index_.assign(static_cast<std::size_t>(max_tag - min_tag + 1), -1);
   }
   // False if the tag was seen before.

@@ -36,8 +36,8 @@ std::vector<int> vtk_node_permutation(CellType type, int order);
 
 // Throws Error (naming the path) if a field has the wrong length or a reserved or repeated name,
 // if a block refers to a missing node, or if the file cannot be written; never leaves a partial
-// file behind (AtomicFile). Non-finite field values are written as "nan"/"inf", which VTK's
-// ASCII reader may reject: pass finite values.
+// file behind (AtomicFile). Non-finite field values are written as "nan", "inf" and "-inf"; VTK
+// 9.1's ASCII reader takes "nan" and "inf" but reads "-inf" as +inf.
 template <int Dim>
 void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path,
                const std::vector<CellField>& fields = {});

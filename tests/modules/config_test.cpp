@@ -60,3 +60,11 @@ TEST_CASE("registry: plugins by name; an unknown name lists the known ones") {
                        "run.yaml:3:9: metric.type: unknown widget 'cube' (known: double, square)", ConfigError);
   CHECK_THROWS_AS(r.add("double", [](int x) { return std::make_unique<int>(x); }), Error);
 }
+
+TEST_CASE("config: asking for an absent key does not create it") {
+  const ConfigNode c = ConfigNode::load_string("a: 1\n", "run.yaml");
+  CHECK(c.get_double("b", 2.0) == 2.0);
+  CHECK_FALSE(c.has("b"));
+  CHECK(c.get_double("a", 0.0) == 1.0);
+  CHECK_NOTHROW(c.finish());
+}

@@ -156,7 +156,8 @@ TEST_CASE("io: VTK permutation maps each Gmsh node to the VTK node at the same l
       for (std::size_t k = 0; k < perm.size(); ++k) identity = identity && perm[k] == static_cast<int>(k);
       // Lines and triangles share Gmsh's order; a 9-node quadrilateral has one node per edge, so
       // edge directions cannot differ; quadrilaterals from order 3 and all wedges reorder.
-      const bool same_order = t == CellType::Line || t == CellType::Triangle || (t == CellType::Quadrilateral && q == 2);
+      const bool same_order =
+          t == CellType::Line || t == CellType::Triangle || (t == CellType::Quadrilateral && q == 2);
       CHECK(identity == same_order);
     }
   // Hand-derived from the documented orders. Quadrilateral, order 3: Gmsh runs edge 2-3 from
