@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: MIT
+// End-to-end tests of the plaf CLI: runs the built binary on configs, good and bad.
+#include <doctest/doctest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <algorithm>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code;
+  std::string err;
+};
+
+// Runs `plaf args` with stderr captured; stdout discarded.
+Result plaf(const std::string& args, const fs::path& dir) {
+  const fs::path err = dir / "stderr.txt";
+  const std::string cmd = std::string(PLAF_EXE) + " " + args + " > /dev/null 2> " + err.string();
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(err);
+  std::stringstream s;
+  s << in.rdbuf();
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, s.str()};
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("plaf_cli_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
+  const fs::path p = dir / name;
+  std::ofstream(p) << text;
+  return p;
+}
+
+// The files of dir except the captured stderr and the configs written by the test.
+int count_outputs(const fs::path& dir) {
+  if (!fs::exists(dir)) return 0;
+  int n = 0;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) ++n;
+  return n;
+}
+
+const std::string good = "order: 2\ngeometry: {type: annulus, angle_deg: 90}\nmetric: {type: uniform, h: 0.4}\n";
+
+}  // namespace
+
+TEST_CASE("cli: run writes msh, vtu, report and png; check re-reads the msh and certifies it") {
+  const fs::path d = fresh_dir("run");
+  const fs::path cfg = write(d, "case.yaml", good);
+  const Result r = plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
+  CHECK(r.code == 0);
+  for (const char* ext : {".msh", ".vtu", ".report.json", ".png"}) CHECK(fs::file_size(d / "out" / (std::string("case") + ext)) > 0);
+  CHECK(count_outputs(d / "out") == 4);  // no temporaries left behind
+  std::ifstream report(d / "out" / "case.report.json");
+  std::stringstream s;
+  s << report.rdbuf();
+  CHECK(s.str().find("\"invalid\": 0") != std::string::npos);
+  CHECK(plaf("check " + (d / "out" / "case.msh").string(), d).code == 0);
+  fs::remove_all(d);
+}
+
+TEST_CASE("cli: bad inputs give one clear error line, exit code 1 and no output files") {
+  struct Case {
+    const char* name;
+    std::string config;  // empty: the config file does not exist
+    const char* message;
+  };
+  const Case cases[] = {
+      {"missing file", "", "cannot open the config file"},
+      {"unknown key", good + "colour: red\n", "unknown key 'colour'"},
+      {"unknown nested key", "order: 2\nmetric: {type: uniform, hh: 0.4}\n", "unknown key 'metric.hh'"},
+      {"negative order", "order: -2\n", "order: -2 is outside 1..4"},
+      {"order 7", "order: 7\n", "order: 7 is outside 1..4"},
+      {"negative size", "metric: {type: uniform, h: -0.1}\n", "metric.h: must be positive, got -0.1"},
+      {"unknown metric", "metric: {type: magic}\n", "unknown metric field 'magic' (known: uniform)"},
+      {"wrong type", "order: three\n", "order: expected an integer, got 'three'"},
+      {"yaml syntax", "order: [3\n", "YAML syntax error"},
+      {"radii", "geometry: {type: annulus, r_inner: 2, r_outer: 1}\n", "geometry.r_outer: must be larger than r_inner"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.name);
+    const fs::path d = fresh_dir("bad");
+    const fs::path cfg = c.config.empty() ? d / "nope.yaml" : write(d, "case.yaml", c.config);
+    const Result r = plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
+    CHECK(r.code == 1);
+    CHECK(r.err.find(c.message) != std::string::npos);
+    CHECK(r.err.find(cfg.string()) != std::string::npos);  // names the file
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);  // one line
+    CHECK(count_outputs(d / "out") == 0);
+    fs::remove_all(d);
+  }
+}
+
+TEST_CASE("cli: usage errors, --help and --version") {
+  const fs::path d = fresh_dir("usage");
+  CHECK(plaf("--help", d).code == 0);
+  CHECK(plaf("--version", d).code == 0);
+  CHECK(plaf("", d).code == 1);
+  CHECK(plaf("frobnicate", d).code == 1);
+  CHECK(plaf("run", d).code == 1);
+  const Result bad_mesh = plaf("check " + write(d, "bad.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n").string(), d);
+  CHECK(bad_mesh.code == 1);
+  CHECK(bad_mesh.err.find("bad.msh") != std::string::npos);
+  fs::remove_all(d);
+}
