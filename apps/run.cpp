@@ -2,7 +2,9 @@
 // The driver: numbered steps, each a stage call on core data types, timed and reported.
 #include "apps/run.h"
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 #include <iostream>
 #include <string>
 
@@ -82,9 +84,17 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
   const std::filesystem::path base = c.output.dir / c.name;
   if (c.output.wants("msh")) write_msh41(mesh, base.string() + ".msh");
   if (c.output.wants("vtu")) {
+    // VTK 9.1 reads "-inf" as +inf: fully inverted cells (scaled Jacobian -inf) and degenerate
+    // ones (aspect ratio inf) are written as the most extreme finite values.
+    auto finite = [](std::vector<double> v) {
+      for (double& x : v) x = std::clamp(x, std::numeric_limits<double>::lowest(), std::numeric_limits<double>::max());
+      return v;
+    };
     std::vector<double> valid(per_cell.valid.begin(), per_cell.valid.end());
     write_vtu(mesh, base.string() + ".vtu",
-              {{"valid", valid}, {"scaled_jacobian", per_cell.scaled_jacobian}, {"aspect_ratio", per_cell.aspect_ratio}});
+              {{"valid", valid},
+               {"scaled_jacobian", finite(per_cell.scaled_jacobian)},
+               {"aspect_ratio", finite(per_cell.aspect_ratio)}});
   }
   if (c.output.wants("png")) {
     PictureOptions po;

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <unordered_set>
 
+#include "modules/mapping.h"
+
 namespace plaf {
 
 namespace {
@@ -44,11 +46,7 @@ std::array<double, 3> centroid(CellType t) {
 template <int Dim>
 double aspect_ratio(const LagrangeElement& e, const double* coords, double* grad) {
   const auto xi = centroid(e.type());
-  e.eval_grad(xi.data(), grad);
-  Eigen::Matrix<double, Dim, Dim> j = Eigen::Matrix<double, Dim, Dim>::Zero();
-  for (int k = 0; k < e.size(); ++k)
-    for (int r = 0; r < Dim; ++r)
-      for (int c = 0; c < Dim; ++c) j(r, c) += coords[k * Dim + r] * grad[k * Dim + c];
+  const Eigen::Matrix<double, Dim, Dim> j = mapping_jacobian<Dim>(e, coords, xi.data(), grad);
   const Eigen::Matrix<double, Dim, Dim> w = regular_cell_map(e.type()).template topLeftCorner<Dim, Dim>();
   const Eigen::Matrix<double, Dim, Dim> m = j * w.inverse();
   Eigen::JacobiSVD<Eigen::Matrix<double, Dim, Dim>> svd(m);

@@ -20,6 +20,7 @@
 #include <string>
 
 #include "modules/error.h"
+#include "modules/mapping.h"
 
 namespace plaf {
 namespace {
@@ -38,28 +39,16 @@ constexpr double inf = std::numeric_limits<double>::infinity();
 // node 0 (the gradients sum to zero), so a cell far from the origin loses no digits to
 // cancellation.
 double det_at(const LagrangeElement& e, const double* coords, const double* xi, double* dphi) {
-  e.eval_grad(xi, dphi);
-  const int n = e.size();
   switch (e.dim()) {
     case 1: {
+      e.eval_grad(xi, dphi);
+      const int n = e.size();
       double j = 0;
       for (int k = 1; k < n; ++k) j += (coords[k] - coords[0]) * dphi[k];
       return j;
     }
-    case 2: {
-      Eigen::Matrix2d j = Eigen::Matrix2d::Zero();
-      for (int k = 1; k < n; ++k)
-        for (int i = 0; i < 2; ++i)
-          for (int d = 0; d < 2; ++d) j(i, d) += (coords[2 * k + i] - coords[i]) * dphi[2 * k + d];
-      return j.determinant();
-    }
-    default: {
-      Eigen::Matrix3d j = Eigen::Matrix3d::Zero();
-      for (int k = 1; k < n; ++k)
-        for (int i = 0; i < 3; ++i)
-          for (int d = 0; d < 3; ++d) j(i, d) += (coords[3 * k + i] - coords[i]) * dphi[3 * k + d];
-      return j.determinant();
-    }
+    case 2: return mapping_jacobian<2>(e, coords, xi, dphi).determinant();
+    default: return mapping_jacobian<3>(e, coords, xi, dphi).determinant();
   }
 }
 
