@@ -2,21 +2,17 @@
 // The driver: numbered steps, each a stage call on core data types, timed and reported.
 #include "apps/run.h"
 
-#include <algorithm>
 #include <chrono>
-#include <limits>
 #include <iostream>
 #include <string>
 
 #include "modules/annulus.h"
-#include "modules/atomic_file.h"
 #include "modules/error.h"
 #include "modules/metric_fields.h"
 #include "modules/msh_io.h"
-#include "modules/picture.h"
 #include "modules/quality.h"
 #include "modules/run_config.h"
-#include "modules/vtu_writer.h"
+#include "modules/writers.h"
 
 namespace plaf {
 
@@ -44,12 +40,6 @@ HybridMesh<2> mesh_geometry(const RunConfig& c, const MetricField<2>& metric) {
   throw ConfigError(c.geometry.where + ": unknown geometry '" + c.geometry.type + "'");
 }
 
-void write_text(const std::filesystem::path& path, const std::string& text) {
-  AtomicFile f(path);
-  f.write(text);
-  f.commit();
-}
-
 }  // namespace
 
 int run_command(const std::filesystem::path& config_path, const std::optional<std::filesystem::path>& out_dir) {
@@ -66,8 +56,8 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
 
   // 3. Mesh.
   const HybridMesh<2> mesh = mesh_geometry(c, *metric);
-  clock.done("mesh", c.geometry.type + ", " + std::to_string(mesh.num_cells()) + " cells of order " +
-                         std::to_string(c.order));
+  clock.done("mesh",
+             c.geometry.type + ", " + std::to_string(mesh.num_cells()) + " cells of order " + std::to_string(c.order));
 
   // 4. Quality: certified validity of every cell, metric conformity, mesh conformity.
   QualityOptions qo;
@@ -79,33 +69,15 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
   report.name = c.name;
   clock.done("quality", std::to_string(report.cells_invalid) + " invalid cells");
 
-  // 5. Outputs, each written atomically.
+  // 5. Outputs, each written atomically; the report last, with every stage's time.
   std::filesystem::create_directories(c.output.dir);
   const std::filesystem::path base = c.output.dir / c.name;
-  if (c.output.wants("msh")) write_msh41(mesh, base.string() + ".msh");
-  if (c.output.wants("vtu")) {
-    // VTK 9.1 reads "-inf" as +inf: fully inverted cells (scaled Jacobian -inf) and degenerate
-    // ones (aspect ratio inf) are written as the most extreme finite values.
-    auto finite = [](std::vector<double> v) {
-      for (double& x : v) x = std::clamp(x, std::numeric_limits<double>::lowest(), std::numeric_limits<double>::max());
-      return v;
-    };
-    std::vector<double> valid(per_cell.valid.begin(), per_cell.valid.end());
-    write_vtu(mesh, base.string() + ".vtu",
-              {{"valid", valid},
-               {"scaled_jacobian", finite(per_cell.scaled_jacobian)},
-               {"aspect_ratio", finite(per_cell.aspect_ratio)}});
-  }
-  if (c.output.wants("png")) {
-    PictureOptions po;
-    po.width = c.output.picture_width;
-    po.height = c.output.picture_height;
-    po.title = c.name + " (Q=" + std::to_string(c.order) + ")";
-    write_png(mesh, per_cell.valid, base.string() + ".png", po);
-  }
+  for (const std::string& format : c.output.formats)
+    if (format != "report")
+      writer_registry().create(format, c.file.string() + ": output.formats", WriteJob{mesh, per_cell, report, c, base});
   clock.done("write", base.string() + ".*");
   report.timings_s = timings;
-  if (c.output.wants("report")) write_text(base.string() + ".report.json", report_json(report));
+  if (c.output.wants("report")) writer_registry().create("report", "", WriteJob{mesh, per_cell, report, c, base});
 
   std::cout << report_summary(report);
   if (!report.ok()) {
@@ -117,12 +89,16 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
 }
 
 int check_command(const std::filesystem::path& path) {
+  std::vector<std::pair<std::string, double>> timings;
+  StageClock clock(timings);
   const MshMesh m = read_msh41(path);
+  clock.done("read", path.string() + ", dimension " + std::to_string(m.dim));
   QualityReport report;
   if (m.dim == 2)
     report = assess_quality<2>(m.mesh2, nullptr, QualityOptions{});
   else
     report = assess_quality<3>(m.mesh3, nullptr, QualityOptions{});
+  clock.done("quality", std::to_string(report.cells_total) + " cells certified");
   report.name = path.string();
   std::cout << report_summary(report);
   if (!report.ok()) {

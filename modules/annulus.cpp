@@ -71,7 +71,7 @@ HybridMesh<2> mesh_annulus(const AnnulusParams& p, int order, const MetricField<
   };
   for (int j = 0; j < n_t; ++j) {
     const int b0 = j * order;
-    add_line(wall, [&](int s) { return id(0, b0 + order - s); });  // clockwise
+    add_line(wall, [&](int s) { return id(0, b0 + order - s); });   // clockwise
     add_line(farfield, [&](int s) { return id(na - 1, b0 + s); });  // counter-clockwise
   }
   if (!full) {

@@ -22,8 +22,7 @@ constexpr std::size_t max_number_chars = 32;
 
 }  // namespace
 
-AtomicFile::AtomicFile(std::filesystem::path target)
-    : target_(std::move(target)), buffer_(buffer_bytes) {
+AtomicFile::AtomicFile(std::filesystem::path target) : target_(std::move(target)), buffer_(buffer_bytes) {
   temp_ = target_;
   temp_ += ".tmp." + std::to_string(static_cast<long long>(::getpid()));
   out_.open(temp_, std::ios::binary | std::ios::trunc);

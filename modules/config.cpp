@@ -3,13 +3,13 @@
 // the file, line and column from Node::Mark().
 #include "modules/config.h"
 
+#include <yaml-cpp/yaml.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
-
-#include <yaml-cpp/yaml.h>
 
 #include "modules/error.h"
 
@@ -33,7 +33,9 @@ std::string position(const std::string& file, const YAML::Mark& m) {
   return s.str();
 }
 
-std::string dotted(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
+std::string dotted(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
 
 std::string join(const std::vector<std::string>& words) {
   std::string out;
@@ -42,7 +44,9 @@ std::string join(const std::vector<std::string>& words) {
 }
 
 // Const lookup: yaml-cpp's non-const operator[] would insert the key into the map.
-YAML::Node lookup(const YAML::Node& map, const std::string& key) { return map[key]; }
+YAML::Node lookup(const YAML::Node& map, const std::string& key) {
+  return map[key];
+}
 
 std::string format_double(double x) {
   std::ostringstream s;
@@ -79,7 +83,9 @@ ConfigNode ConfigNode::load_file(const std::filesystem::path& path) {
   return load_string(buffer.str(), path.string());
 }
 
-const std::string& ConfigNode::file() const { return s_->file; }
+const std::string& ConfigNode::file() const {
+  return s_->file;
+}
 
 std::string ConfigNode::where(const std::string& key) const {
   if (key.empty()) return position(s_->file, s_->mark) + ": " + (s_->path.empty() ? "(top level)" : s_->path);
@@ -110,7 +116,8 @@ double ConfigNode::get_double(const std::string& key, double fallback) const {
     if (!n->IsScalar()) throw YAML::Exception(n->Mark(), "");
     x = n->as<double>();
   } catch (const YAML::Exception&) {
-    throw ConfigError(where(key) + ": expected a number, got '" + (n->IsScalar() ? n->Scalar() : "a list or map") + "'");
+    throw ConfigError(where(key) + ": expected a number, got '" + (n->IsScalar() ? n->Scalar() : "a list or map") +
+                      "'");
   }
   if (!std::isfinite(x)) throw ConfigError(where(key) + ": expected a finite number");
   return x;

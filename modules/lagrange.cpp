@@ -11,10 +11,18 @@
 namespace plaf {
 namespace {
 
-Lattice add(const Lattice& a, const Lattice& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Lattice sub(const Lattice& a, const Lattice& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Lattice mul(const Lattice& a, int s) { return {a[0] * s, a[1] * s, a[2] * s}; }
-Lattice div(const Lattice& a, int s) { return {a[0] / s, a[1] / s, a[2] / s}; }
+Lattice add(const Lattice& a, const Lattice& b) {
+  return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+}
+Lattice sub(const Lattice& a, const Lattice& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+Lattice mul(const Lattice& a, int s) {
+  return {a[0] * s, a[1] * s, a[2] * s};
+}
+Lattice div(const Lattice& a, int s) {
+  return {a[0] / s, a[1] / s, a[2] / s};
+}
 
 using Points = std::vector<Lattice>;
 
@@ -38,8 +46,7 @@ void triangle_points(const Lattice& a, const Lattice& b, const Lattice& c, int p
   edge_interior(c, a, p, out);
   if (p >= 3) {
     const Lattice e1 = div(sub(b, a), p), e2 = div(sub(c, a), p);
-    triangle_points(add(a, add(e1, e2)), add(a, add(mul(e1, p - 2), e2)), add(a, add(e1, mul(e2, p - 2))), p - 3,
-                    out);
+    triangle_points(add(a, add(e1, e2)), add(a, add(mul(e1, p - 2), e2)), add(a, add(e1, mul(e2, p - 2))), p - 3, out);
   }
 }
 
@@ -200,44 +207,62 @@ void line_factors(double u, int q, double* l, double* dl) {
 
 int ref_dim(CellType type) {
   switch (type) {
-    case CellType::Line: return 1;
+    case CellType::Line:
+      return 1;
     case CellType::Triangle:
-    case CellType::Quadrilateral: return 2;
+    case CellType::Quadrilateral:
+      return 2;
     case CellType::Tetrahedron:
-    case CellType::Prism: return 3;
+    case CellType::Prism:
+      return 3;
   }
   return 0;
 }
 
 int num_vertices(CellType type) {
   switch (type) {
-    case CellType::Line: return 2;
-    case CellType::Triangle: return 3;
-    case CellType::Quadrilateral: return 4;
-    case CellType::Tetrahedron: return 4;
-    case CellType::Prism: return 6;
+    case CellType::Line:
+      return 2;
+    case CellType::Triangle:
+      return 3;
+    case CellType::Quadrilateral:
+      return 4;
+    case CellType::Tetrahedron:
+      return 4;
+    case CellType::Prism:
+      return 6;
   }
   return 0;
 }
 
 int num_nodes(CellType type, int q) {
   switch (type) {
-    case CellType::Line: return q + 1;
-    case CellType::Triangle: return (q + 1) * (q + 2) / 2;
-    case CellType::Quadrilateral: return (q + 1) * (q + 1);
-    case CellType::Tetrahedron: return (q + 1) * (q + 2) * (q + 3) / 6;
-    case CellType::Prism: return (q + 1) * (q + 1) * (q + 2) / 2;
+    case CellType::Line:
+      return q + 1;
+    case CellType::Triangle:
+      return (q + 1) * (q + 2) / 2;
+    case CellType::Quadrilateral:
+      return (q + 1) * (q + 1);
+    case CellType::Tetrahedron:
+      return (q + 1) * (q + 2) * (q + 3) / 6;
+    case CellType::Prism:
+      return (q + 1) * (q + 1) * (q + 2) / 2;
   }
   return 0;
 }
 
 const char* cell_name(CellType type) {
   switch (type) {
-    case CellType::Line: return "line";
-    case CellType::Triangle: return "triangle";
-    case CellType::Quadrilateral: return "quadrilateral";
-    case CellType::Tetrahedron: return "tetrahedron";
-    case CellType::Prism: return "prism";
+    case CellType::Line:
+      return "line";
+    case CellType::Triangle:
+      return "triangle";
+    case CellType::Quadrilateral:
+      return "quadrilateral";
+    case CellType::Tetrahedron:
+      return "tetrahedron";
+    case CellType::Prism:
+      return "prism";
   }
   return "?";
 }
@@ -257,11 +282,16 @@ const CellTopology& topology(CellType type) {
   static const CellTopology prism{{{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 4}, {2, 5}, {3, 4}, {3, 5}, {4, 5}},
                                   {{0, 2, 1}, {3, 4, 5}, {0, 1, 4, 3}, {0, 3, 5, 2}, {1, 2, 5, 4}}};
   switch (type) {
-    case CellType::Line: return line;
-    case CellType::Triangle: return tri;
-    case CellType::Quadrilateral: return quad;
-    case CellType::Tetrahedron: return tet;
-    case CellType::Prism: return prism;
+    case CellType::Line:
+      return line;
+    case CellType::Triangle:
+      return tri;
+    case CellType::Quadrilateral:
+      return quad;
+    case CellType::Tetrahedron:
+      return tet;
+    case CellType::Prism:
+      return prism;
   }
   return line;
 }
@@ -274,10 +304,18 @@ std::vector<Lattice> gmsh_lattice(CellType type, int p) {
       out = {{0, 0, 0}, {p, 0, 0}};
       edge_interior({0, 0, 0}, {p, 0, 0}, p, out);
       break;
-    case CellType::Triangle: triangle_points({0, 0, 0}, {p, 0, 0}, {0, p, 0}, p, out); break;
-    case CellType::Quadrilateral: quad_points({0, 0, 0}, {p, 0, 0}, {p, p, 0}, {0, p, 0}, p, out); break;
-    case CellType::Tetrahedron: tet_points({Lattice{0, 0, 0}, {p, 0, 0}, {0, p, 0}, {0, 0, p}}, p, out); break;
-    case CellType::Prism: out = prism_points(p); break;
+    case CellType::Triangle:
+      triangle_points({0, 0, 0}, {p, 0, 0}, {0, p, 0}, p, out);
+      break;
+    case CellType::Quadrilateral:
+      quad_points({0, 0, 0}, {p, 0, 0}, {p, p, 0}, {0, p, 0}, p, out);
+      break;
+    case CellType::Tetrahedron:
+      tet_points({Lattice{0, 0, 0}, {p, 0, 0}, {0, p, 0}, {0, 0, p}}, p, out);
+      break;
+    case CellType::Prism:
+      out = prism_points(p);
+      break;
   }
   return out;
 }
@@ -286,10 +324,14 @@ std::vector<Lattice> vtk_lattice(CellType type, int p) {
   check_order(p);
   switch (type) {
     case CellType::Line:
-    case CellType::Triangle: return gmsh_lattice(type, p);
-    case CellType::Quadrilateral: return vtk_quad_points(p);
-    case CellType::Tetrahedron: return vtk_tet_points(p);
-    case CellType::Prism: return vtk_wedge_points(p);
+    case CellType::Triangle:
+      return gmsh_lattice(type, p);
+    case CellType::Quadrilateral:
+      return vtk_quad_points(p);
+    case CellType::Tetrahedron:
+      return vtk_tet_points(p);
+    case CellType::Prism:
+      return vtk_wedge_points(p);
   }
   return {};
 }

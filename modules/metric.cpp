@@ -112,8 +112,12 @@ Mat<Dim> sym_fn(const Mat<Dim>& m, double (*fn)(double)) {
   return es.eigenvectors() * v.asDiagonal() * es.eigenvectors().transpose();
 }
 
-double log_fn(double x) { return std::log(x); }
-double exp_fn(double x) { return std::exp(x); }
+double log_fn(double x) {
+  return std::log(x);
+}
+double exp_fn(double x) {
+  return std::exp(x);
+}
 
 }  // namespace
 

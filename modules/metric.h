@@ -8,11 +8,10 @@
 // 2007) and affine-invariant on request (Pennec et al., IJCV 66, 2006; the paper's ref. [15]).
 #pragma once
 
+#include <Eigen/Dense>
 #include <memory>
 #include <span>
 #include <string>
-
-#include <Eigen/Dense>
 
 namespace plaf {
 

@@ -13,7 +13,8 @@ std::unique_ptr<MetricField<2>> make_uniform(const RunConfig& c) {
   const double a = u.angle_deg * M_PI / 180.0;
   Eigen::Matrix2d r;
   r << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
-  return std::make_unique<UniformMetricField<2>>(Metric<2>::from_directions(r, Eigen::Vector2d(u.sizes[0], u.sizes[1])));
+  return std::make_unique<UniformMetricField<2>>(
+      Metric<2>::from_directions(r, Eigen::Vector2d(u.sizes[0], u.sizes[1])));
 }
 
 }  // namespace

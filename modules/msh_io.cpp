@@ -230,8 +230,7 @@ class Cursor {
   static std::string quote(std::string_view t) {
     constexpr std::size_t max_chars = 40;
     std::string s = "'";
-    for (std::size_t i = 0; i < t.size() && i < max_chars; ++i)
-      s += (t[i] >= 32 && t[i] < 127) ? t[i] : '?';
+    for (std::size_t i = 0; i < t.size() && i < max_chars; ++i) s += (t[i] >= 32 && t[i] < 127) ? t[i] : '?';
     if (t.size() > max_chars) s += "...";
     return s + "'";
   }
@@ -344,8 +343,7 @@ class MshReader {
   void read_header() {
     in_.expect("$MeshFormat");
     const std::string_view version = in_.token("the MSH version");
-    if (version != "4.1")
-      in_.fail("MSH version " + Cursor::quote(version) + " is not supported (plaf reads MSH 4.1)");
+    if (version != "4.1") in_.fail("MSH version " + Cursor::quote(version) + " is not supported (plaf reads MSH 4.1)");
     const std::int64_t file_type = in_.integer("file type");
     if (file_type == 1) in_.fail("binary MSH files are not supported (save the mesh as ASCII MSH 4.1)");
     if (file_type != 0) in_.fail("bad file type " + std::to_string(file_type) + " (0 is ASCII)");
@@ -513,7 +511,8 @@ class MshReader {
       if (b.type->dim < Dim - 1) continue;
       if (!b.type->supported)
         in_.fail_at(b.line, "unsupported Gmsh element type " + std::to_string(b.type->code) + " in a " +
-                                std::to_string(Dim) + "D mesh (plaf reads Lagrange lines, triangles, "
+                                std::to_string(Dim) +
+                                "D mesh (plaf reads Lagrange lines, triangles, "
                                 "quadrilaterals, tetrahedra and prisms of order 1..4)");
       CellBlock& out = b.type->dim == Dim ? mesh.block(b.type->type, b.type->order)
                                           : mesh.boundary_block(b.type->type, b.type->order, facet_tag(mesh, b));

@@ -8,6 +8,7 @@
 #include "modules/error.h"
 #include "modules/lagrange.h"
 #include "modules/metric_fields.h"
+#include "modules/writers.h"
 
 namespace plaf {
 
@@ -59,7 +60,7 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
 
   const ConfigNode o = c.child("output");
   r.output.dir = o.get_string("dir", r.output.dir.string());
-  r.output.formats = o.get_string_list("formats", r.output.formats, {"msh", "vtu", "report", "png"});
+  r.output.formats = o.get_string_list("formats", r.output.formats, writer_registry().names());
   r.output.picture_width = o.get_int("picture_width", r.output.picture_width, 64, 16384);
   r.output.picture_height = o.get_int("picture_height", r.output.picture_height, 64, 16384);
   r.output.histogram_bins = o.get_int("histogram_bins", r.output.histogram_bins, 2, 1000);

@@ -47,8 +47,10 @@ double det_at(const LagrangeElement& e, const double* coords, const double* xi, 
       for (int k = 1; k < n; ++k) j += (coords[k] - coords[0]) * dphi[k];
       return j;
     }
-    case 2: return mapping_jacobian<2>(e, coords, xi, dphi).determinant();
-    default: return mapping_jacobian<3>(e, coords, xi, dphi).determinant();
+    case 2:
+      return mapping_jacobian<2>(e, coords, xi, dphi).determinant();
+    default:
+      return mapping_jacobian<3>(e, coords, xi, dphi).determinant();
   }
 }
 
@@ -61,11 +63,16 @@ struct Degrees {
 
 Degrees det_degrees(CellType type, int q) {
   switch (type) {
-    case CellType::Triangle: return {2, 2 * (q - 1), 0, 0};
-    case CellType::Quadrilateral: return {1, 2 * q - 1, 1, 2 * q - 1};
-    case CellType::Tetrahedron: return {3, 3 * (q - 1), 0, 0};
-    case CellType::Prism: return {2, 3 * q - 2, 1, 3 * q - 1};
-    case CellType::Line: break;
+    case CellType::Triangle:
+      return {2, 2 * (q - 1), 0, 0};
+    case CellType::Quadrilateral:
+      return {1, 2 * q - 1, 1, 2 * q - 1};
+    case CellType::Tetrahedron:
+      return {3, 3 * (q - 1), 0, 0};
+    case CellType::Prism:
+      return {2, 3 * q - 2, 1, 3 * q - 1};
+    case CellType::Line:
+      break;
   }
   return {1, q - 1, 0, 0};
 }
@@ -154,9 +161,8 @@ std::vector<Affine> tet_children() {
   const Eigen::Vector3d p0(0, 0, 0), p1(1, 0, 0), p2(0, 1, 0), p3(0, 0, 1);
   const Eigen::Vector3d m01 = (p0 + p1) / 2, m02 = (p0 + p2) / 2, m03 = (p0 + p3) / 2;
   const Eigen::Vector3d m12 = (p1 + p2) / 2, m13 = (p1 + p3) / 2, m23 = (p2 + p3) / 2;
-  return {simplex_affine(p0, m01, m02, m03),  simplex_affine(m01, p1, m12, m13),
-          simplex_affine(m02, m12, p2, m23),  simplex_affine(m03, m13, m23, p3),
-          simplex_affine(m01, m23, m02, m12), simplex_affine(m01, m23, m12, m13),
+  return {simplex_affine(p0, m01, m02, m03),  simplex_affine(m01, p1, m12, m13),  simplex_affine(m02, m12, p2, m23),
+          simplex_affine(m03, m13, m23, p3),  simplex_affine(m01, m23, m02, m12), simplex_affine(m01, m23, m12, m13),
           simplex_affine(m01, m23, m13, m03), simplex_affine(m01, m23, m03, m02)};
 }
 
@@ -184,11 +190,16 @@ const std::vector<Affine>& children(CellType type) {
   static const std::vector<Affine> tri = triangle_children(), quad = quad_children(), tet = tet_children(),
                                    prism = prism_children(), none;
   switch (type) {
-    case CellType::Triangle: return tri;
-    case CellType::Quadrilateral: return quad;
-    case CellType::Tetrahedron: return tet;
-    case CellType::Prism: return prism;
-    case CellType::Line: break;
+    case CellType::Triangle:
+      return tri;
+    case CellType::Quadrilateral:
+      return quad;
+    case CellType::Tetrahedron:
+      return tet;
+    case CellType::Prism:
+      return prism;
+    case CellType::Line:
+      break;
   }
   return none;
 }

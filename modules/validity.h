@@ -10,10 +10,9 @@
 // dimension: triangles and quadrilaterals in 2D, tetrahedra and prisms in 3D.
 #pragma once
 
+#include <Eigen/Dense>
 #include <memory>
 #include <vector>
-
-#include <Eigen/Dense>
 
 #include "modules/lagrange.h"
 
@@ -27,8 +26,8 @@ struct ValidityOptions {
 };
 
 struct JacobianBounds {
-  bool valid = false;   // det J > 0 at every point of the cell, proven
-  bool proven = false;  // the sign question was decided (false: depth exhausted; valid is false)
+  bool valid = false;                   // det J > 0 at every point of the cell, proven
+  bool proven = false;                  // the sign question was decided (false: depth exhausted; valid is false)
   double min_lower = 0, min_upper = 0;  // min over the cell of det J lies in [min_lower, min_upper]
   double max_lower = 0, max_upper = 0;  // max over the cell of det J lies in [max_lower, max_upper]
   int subdivisions = 0;                 // number of sub-cells examined beyond the cell itself

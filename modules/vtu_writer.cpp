@@ -15,12 +15,23 @@ std::string xml_escape(std::string_view s) {
   std::string out;
   for (char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -48,11 +59,16 @@ int vtk_cell_type(CellType type, int order) {
   check_order(order);
   const bool linear = order == 1;
   switch (type) {
-    case CellType::Line: return linear ? 3 : 68;
-    case CellType::Triangle: return linear ? 5 : 69;
-    case CellType::Quadrilateral: return linear ? 9 : 70;
-    case CellType::Tetrahedron: return linear ? 10 : 71;
-    case CellType::Prism: return linear ? 13 : 73;
+    case CellType::Line:
+      return linear ? 3 : 68;
+    case CellType::Triangle:
+      return linear ? 5 : 69;
+    case CellType::Quadrilateral:
+      return linear ? 9 : 70;
+    case CellType::Tetrahedron:
+      return linear ? 10 : 71;
+    case CellType::Prism:
+      return linear ? 13 : 73;
   }
   return 0;
 }
@@ -107,9 +123,10 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
 
   AtomicFile f(path);
   // 2. Header and points.
-  f.write("<?xml version=\"1.0\"?>\n"
-          "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-          "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"");
+  f.write(
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+      "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"");
   f.write_int(num_nodes);
   f.write("\" NumberOfCells=\"");
   f.write_int(static_cast<std::int64_t>(num_cells));

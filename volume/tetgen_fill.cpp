@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "volume/tetgen_fill.h"
 
-#include <sstream>
+#include <tetgen.h>
 
 #include <Eigen/Geometry>
-#include <tetgen.h>
+#include <sstream>
 
 #include "modules/error.h"
 
@@ -76,8 +76,7 @@ HybridMesh<3> tetgen_fill(const HybridMesh<3>& boundary, const TetFillParams& pa
     // face 0-1-2); swap two vertices for positive volume.
     const Eigen::Vector3d a = mesh.nodes[c[0]], b = mesh.nodes[c[1]], cc = mesh.nodes[c[2]], d = mesh.nodes[c[3]];
     const bool positive = (b - a).cross(cc - a).dot(d - a) > 0;
-    tets.connectivity.insert(tets.connectivity.end(),
-                             {c[0], positive ? c[1] : c[2], positive ? c[2] : c[1], c[3]});
+    tets.connectivity.insert(tets.connectivity.end(), {c[0], positive ? c[1] : c[2], positive ? c[2] : c[1], c[3]});
   }
   return mesh;
 }

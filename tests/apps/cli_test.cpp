@@ -1,16 +1,15 @@
 // SPDX-License-Identifier: MIT
 // End-to-end tests of the plaf CLI: runs the built binary on configs, good and bad.
 #include <doctest/doctest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <algorithm>
-
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -63,7 +62,8 @@ TEST_CASE("cli: run writes msh, vtu, report and png; check re-reads the msh and 
   const fs::path cfg = write(d, "case.yaml", good);
   const Result r = plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
   CHECK(r.code == 0);
-  for (const char* ext : {".msh", ".vtu", ".report.json", ".png"}) CHECK(fs::file_size(d / "out" / (std::string("case") + ext)) > 0);
+  for (const char* ext : {".msh", ".vtu", ".report.json", ".png"})
+    CHECK(fs::file_size(d / "out" / (std::string("case") + ext)) > 0);
   CHECK(count_outputs(d / "out") == 4);  // no temporaries left behind
   std::ifstream report(d / "out" / "case.report.json");
   std::stringstream s;
@@ -98,7 +98,7 @@ TEST_CASE("cli: bad inputs give one clear error line, exit code 1 and no output 
     const Result r = plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
     CHECK(r.code == 1);
     CHECK(r.err.find(c.message) != std::string::npos);
-    CHECK(r.err.find(cfg.string()) != std::string::npos);  // names the file
+    CHECK(r.err.find(cfg.string()) != std::string::npos);      // names the file
     CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);  // one line
     CHECK(count_outputs(d / "out") == 0);
     fs::remove_all(d);

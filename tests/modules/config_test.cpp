@@ -11,9 +11,10 @@
 using namespace plaf;
 
 TEST_CASE("config: values, defaults and nested maps") {
-  const ConfigNode c = ConfigNode::load_string("order: 3\nmetric:\n  type: uniform\n  h: 0.25\nflag: true\n"
-                                               "formats: [msh, vtu]\n",
-                                               "run.yaml");
+  const ConfigNode c = ConfigNode::load_string(
+      "order: 3\nmetric:\n  type: uniform\n  h: 0.25\nflag: true\n"
+      "formats: [msh, vtu]\n",
+      "run.yaml");
   CHECK(c.get_int("order", 1, 1, 4) == 3);
   CHECK(c.get_bool("flag", false));
   CHECK(c.get_double("missing", 7.5) == 7.5);
@@ -32,12 +33,10 @@ TEST_CASE("config: an unknown key is an error naming file, line, column and key"
 }
 
 TEST_CASE("config: wrong types and out-of-range values name the key and the value") {
-  const ConfigNode c =
-      ConfigNode::load_string("order: 7\nh: -0.5\nname: [a]\nx: abc\nq: -1\nmode: fast\n", "bad.yaml");
+  const ConfigNode c = ConfigNode::load_string("order: 7\nh: -0.5\nname: [a]\nx: abc\nq: -1\nmode: fast\n", "bad.yaml");
   CHECK_THROWS_WITH_AS(c.get_int("order", 3, 1, 4), "bad.yaml:1:8: order: 7 is outside 1..4", ConfigError);
   CHECK_THROWS_WITH_AS(c.get_positive("h", 1), "bad.yaml:2:4: h: must be positive, got -0.5", ConfigError);
-  CHECK_THROWS_WITH_AS(c.get_string("name", ""), "bad.yaml:3:7: name: expected a word, got a list or map",
-                       ConfigError);
+  CHECK_THROWS_WITH_AS(c.get_string("name", ""), "bad.yaml:3:7: name: expected a word, got a list or map", ConfigError);
   CHECK_THROWS_WITH_AS(c.get_double("x", 0), "bad.yaml:4:4: x: expected a number, got 'abc'", ConfigError);
   CHECK_THROWS_WITH_AS(c.get_int("q", 3, 1, 4), "bad.yaml:5:4: q: -1 is outside 1..4", ConfigError);
   CHECK_THROWS_WITH_AS(c.get_choice("mode", "slow", {"slow", "exact"}),

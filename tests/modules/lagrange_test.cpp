@@ -16,8 +16,8 @@ using namespace plaf;
 
 namespace {
 
-constexpr CellType all_types[] = {CellType::Line, CellType::Triangle, CellType::Quadrilateral,
-                                  CellType::Tetrahedron, CellType::Prism};
+constexpr CellType all_types[] = {CellType::Line, CellType::Triangle, CellType::Quadrilateral, CellType::Tetrahedron,
+                                  CellType::Prism};
 
 // A random point inside the reference cell.
 std::array<double, 3> random_point(CellType t, std::mt19937& rng) {
@@ -130,6 +130,5 @@ TEST_CASE("lagrange: edge and facet nodes lie on their edge/facet, Q+1 per edge"
 
 TEST_CASE("lagrange: an order outside 1..4 is a ConfigError naming the order") {
   CHECK_THROWS_AS(lagrange_element(CellType::Triangle, 0), ConfigError);
-  CHECK_THROWS_WITH_AS(lagrange_element(CellType::Quadrilateral, 7), "geometry order 7 is outside 1..4",
-                       ConfigError);
+  CHECK_THROWS_WITH_AS(lagrange_element(CellType::Quadrilateral, 7), "geometry order 7 is outside 1..4", ConfigError);
 }

@@ -23,7 +23,9 @@ Matrix2d rotation(double a) {
   return r;
 }
 
-double rel_diff(const Matrix2d& a, const Matrix2d& b) { return (a - b).norm() / b.norm(); }
+double rel_diff(const Matrix2d& a, const Matrix2d& b) {
+  return (a - b).norm() / b.norm();
+}
 
 }  // namespace
 

@@ -2,6 +2,7 @@
 #include "modules/msh_io.h"
 
 #include <doctest/doctest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -18,8 +19,6 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <unistd.h>
 
 #include "modules/atomic_file.h"
 #include "modules/error.h"
@@ -104,8 +103,7 @@ struct LatticeMesh {
           auto& use = facets[key];
           ++use.first;
           use.second = nodes;
-          kinds[key] = {Dim == 2 ? CellType::Line : (nv == 3 ? CellType::Triangle : CellType::Quadrilateral),
-                        b.order};
+          kinds[key] = {Dim == 2 ? CellType::Line : (nv == 3 ? CellType::Triangle : CellType::Quadrilateral), b.order};
         }
     }
     for (const auto& [key, use] : facets) {
@@ -263,9 +261,8 @@ TEST_CASE("io: MSH round trip in 3D: tetrahedra + prisms of every order, and mix
   TempDir dir("msh3d");
   for (int q = 0; q <= max_order; ++q) {
     INFO("order ", q, " (0: mixed)");
-    const HybridMesh<3> mesh = annulus_sector<3>(2, 2, 2, 1.0, [&](int i, int j, int k) {
-      return q > 0 ? q : 1 + (i + 2 * j + k) % max_order;
-    });
+    const HybridMesh<3> mesh = annulus_sector<3>(
+        2, 2, 2, 1.0, [&](int i, int j, int k) { return q > 0 ? q : 1 + (i + 2 * j + k) % max_order; });
     if (q > 0) REQUIRE(check_conformity(mesh).ok);
     write_msh41(mesh, dir / "m.msh");
     const MshMesh back = read_msh41(dir / "m.msh");
@@ -583,10 +580,10 @@ TEST_CASE("io: MSH reader accepts a minimal file without $Entities; facets witho
   REQUIRE(m.mesh2.boundary.size() == 1);
   CHECK(m.mesh2.boundary[0].connectivity == std::vector<NodeId>{0, 1});
   // Sparse node tags map to contiguous indices in file order.
-  write_text(dir / "sparse.msh", replace(replace(replace(replace(minimal_msh, "1 3 1 3", "1 3 10 3000"), "1\n2\n3\n",
-                                                                 "3000\n10\n200\n"),
-                                                         "1 1 2 3", "1 200 3000 10"),
-                                         "2 1 2\n$End", "2 3000 10\n$End"));
+  write_text(dir / "sparse.msh",
+             replace(replace(replace(replace(minimal_msh, "1 3 1 3", "1 3 10 3000"), "1\n2\n3\n", "3000\n10\n200\n"),
+                             "1 1 2 3", "1 200 3000 10"),
+                     "2 1 2\n$End", "2 3000 10\n$End"));
   const MshMesh s = read_msh41(dir / "sparse.msh");
   CHECK(s.mesh2.cells[0].connectivity == std::vector<NodeId>{2, 0, 1});
   CHECK(s.mesh2.boundary[0].connectivity == std::vector<NodeId>{0, 1});
@@ -616,8 +613,7 @@ TEST_CASE("io: malformed MSH files throw InputError \"path:line: reason\", never
       {"duplicate node tag", replace(m, "1\n2\n3\n", "1\n2\n2\n"), "duplicate node tag 2", 9},
       {"hexahedra", replace(m, "2 1 2 1\n1 1 2 3", "3 1 5 1\n1 1 2 3 1 2 3 1 2"), "unsupported Gmsh element type 5",
        16},
-      {"unknown element type", replace(m, "2 1 2 1", "2 1 999 1"), "unsupported Gmsh element type 999",
-       16},
+      {"unknown element type", replace(m, "2 1 2 1", "2 1 999 1"), "unsupported Gmsh element type 999", 16},
       {"type and entity dimension differ", replace(m, "2 1 2 1", "1 1 2 1"),
        "has dimension 2 but its entity has dimension 1", 16},
       {"more nodes than announced", replace(m, "1 3 1 3", "1 2 1 3"), "more nodes than the 2 announced", 6},
@@ -771,10 +767,18 @@ TEST_CASE("io: MSH writer rejects a broken mesh without leaving a file") {
   TempDir dir("msh_broken");
   HybridMesh<2> mesh = annulus_sector<2>(1, 2, 1, 1.0, [](int, int, int) { return 3; });
   const fs::path p = dir / "m.msh";
-  SUBCASE("node out of range") { mesh.cells[0].connectivity[5] = static_cast<NodeId>(mesh.nodes.size()); }
-  SUBCASE("missing tag") { mesh.boundary[0].tag = 7; }
-  SUBCASE("quote in a tag name") { mesh.tags[0].name = "wall \"a\""; }
-  SUBCASE("partial cell") { mesh.cells[0].connectivity.pop_back(); }
+  SUBCASE("node out of range") {
+    mesh.cells[0].connectivity[5] = static_cast<NodeId>(mesh.nodes.size());
+  }
+  SUBCASE("missing tag") {
+    mesh.boundary[0].tag = 7;
+  }
+  SUBCASE("quote in a tag name") {
+    mesh.tags[0].name = "wall \"a\"";
+  }
+  SUBCASE("partial cell") {
+    mesh.cells[0].connectivity.pop_back();
+  }
   CHECK_THROWS_AS(write_msh41(mesh, p), Error);
   CHECK(fs::is_empty(dir.path));
 }

@@ -18,8 +18,7 @@ using namespace plaf;
 
 namespace {
 
-constexpr CellType cell_types[] = {CellType::Triangle, CellType::Quadrilateral, CellType::Tetrahedron,
-                                   CellType::Prism};
+constexpr CellType cell_types[] = {CellType::Triangle, CellType::Quadrilateral, CellType::Tetrahedron, CellType::Prism};
 
 using Coords = std::vector<double>;
 using Point = std::array<double, 3>;
@@ -71,9 +70,12 @@ std::vector<Point> dense_points(CellType t) {
   // 861 (triangle), 1681 (quadrilateral), 1140 (tetrahedron) and 1800 (prism) points.
   switch (t) {
     case CellType::Triangle:
-    case CellType::Quadrilateral: return dense_points(t, 40);
-    case CellType::Tetrahedron: return dense_points(t, 17);
-    default: return dense_points(t, 14);
+    case CellType::Quadrilateral:
+      return dense_points(t, 40);
+    case CellType::Tetrahedron:
+      return dense_points(t, 17);
+    default:
+      return dense_points(t, 14);
   }
 }
 

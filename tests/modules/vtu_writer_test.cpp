@@ -2,6 +2,7 @@
 #include "modules/vtu_writer.h"
 
 #include <doctest/doctest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -13,8 +14,6 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
 #include "modules/error.h"
 
 using namespace plaf;
@@ -22,8 +21,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr CellType all_types[] = {CellType::Line, CellType::Triangle, CellType::Quadrilateral,
-                                  CellType::Tetrahedron, CellType::Prism};
+constexpr CellType all_types[] = {CellType::Line, CellType::Triangle, CellType::Quadrilateral, CellType::Tetrahedron,
+                                  CellType::Prism};
 
 struct TempDir {
   fs::path path;
@@ -212,11 +211,21 @@ TEST_CASE("io: VTU writer rejects bad fields and broken blocks without leaving a
   HybridMesh<2> mesh = affine_soup<2>(rng, maps);
   const std::vector<double> ok(mesh.num_cells(), 1.0);
   std::vector<CellField> fields;
-  SUBCASE("wrong length") { fields = {{"q", std::vector<double>(mesh.num_cells() + 1, 1.0)}}; }
-  SUBCASE("reserved name") { fields = {{"block", ok}}; }
-  SUBCASE("repeated name") { fields = {{"q", ok}, {"q", ok}}; }
-  SUBCASE("node out of range") { mesh.cells[1].connectivity[0] = -1; }
-  SUBCASE("facet block among the cells") { mesh.cells[0].type = CellType::Line; }
+  SUBCASE("wrong length") {
+    fields = {{"q", std::vector<double>(mesh.num_cells() + 1, 1.0)}};
+  }
+  SUBCASE("reserved name") {
+    fields = {{"block", ok}};
+  }
+  SUBCASE("repeated name") {
+    fields = {{"q", ok}, {"q", ok}};
+  }
+  SUBCASE("node out of range") {
+    mesh.cells[1].connectivity[0] = -1;
+  }
+  SUBCASE("facet block among the cells") {
+    mesh.cells[0].type = CellType::Line;
+  }
   CHECK_THROWS_AS(write_vtu(mesh, dir.path / "m.vtu", fields), Error);
   CHECK(fs::is_empty(dir.path));
 }

@@ -50,7 +50,8 @@ TEST_CASE("volume: TetGen fills a box with positive tets whose volumes sum to th
     double vol = 0;
     for (std::size_t i = 0; i < tets.size(); ++i) {
       const NodeId* c = tets.cell(i);
-      const double v = (m.nodes[c[1]] - m.nodes[c[0]]).cross(m.nodes[c[2]] - m.nodes[c[0]]).dot(m.nodes[c[3]] - m.nodes[c[0]]) / 6;
+      const double v =
+          (m.nodes[c[1]] - m.nodes[c[0]]).cross(m.nodes[c[2]] - m.nodes[c[0]]).dot(m.nodes[c[3]] - m.nodes[c[0]]) / 6;
       CHECK(v > 0);
       vol += v;
     }

@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: MIT
+// The registry of output writers, selected by `output.formats`. Each writes <base>.<ext>
+// atomically from the mesh, its per-cell quality and the report.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "modules/hybrid_mesh.h"
+#include "modules/quality.h"
+#include "modules/registry.h"
+#include "modules/run_config.h"
+
+namespace plaf {
+
+struct WriteJob {
+  const HybridMesh<2>& mesh;
+  const CellQuality& per_cell;
+  const QualityReport& report;
+  const RunConfig& config;
+  std::filesystem::path base;  // output path without extension
+};
+
+using Writer2Registry = Registry<void(const WriteJob&)>;
+// Built-in: msh (Gmsh 4.1), vtu (VTK Lagrange cells), png (picture), report (JSON).
+Writer2Registry& writer_registry();
+
+}  // namespace plaf
