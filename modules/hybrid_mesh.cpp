@@ -11,10 +11,14 @@ namespace plaf {
 
 const char* boundary_kind_name(BoundaryKind kind) {
   switch (kind) {
-    case BoundaryKind::Wall: return "wall";
-    case BoundaryKind::Farfield: return "farfield";
-    case BoundaryKind::Symmetry: return "symmetry";
-    case BoundaryKind::Named: return "named";
+    case BoundaryKind::Wall:
+      return "wall";
+    case BoundaryKind::Farfield:
+      return "farfield";
+    case BoundaryKind::Symmetry:
+      return "symmetry";
+    case BoundaryKind::Named:
+      return "named";
   }
   return "?";
 }
@@ -59,8 +63,21 @@ struct FacetKeyHash {
 struct FacetUse {
   int count = 0;
   bool boundary = false;
-  std::vector<NodeId> nodes;  // sorted high-order nodes of the first use
+  std::array<NodeId, 2> around{-1, -1};  // successor and predecessor of the smallest vertex, first use
+  std::vector<NodeId> nodes;             // sorted high-order nodes of the first use
 };
+
+// The successor and predecessor of the smallest vertex in the facet's cyclic vertex order: two
+// cells on opposite sides of a facet traverse it in opposite directions (outward-oriented
+// facets of positively oriented cells), so the second use swaps them. For an edge (2 vertices)
+// the "successor" is the second vertex.
+std::array<NodeId, 2> around_min(const NodeId* cell, const std::vector<int>& local, int nv) {
+  int m = 0;
+  for (int v = 1; v < nv; ++v)
+    if (cell[local[v]] < cell[local[m]]) m = v;
+  if (nv == 2) return {cell[local[1]], cell[local[0]]};
+  return {cell[local[(m + 1) % nv]], cell[local[(m + nv - 1) % nv]]};
+}
 
 FacetKey make_key(const NodeId* cell, const std::vector<int>& local, int nv) {
   FacetKey k{-1, -1, -1, -1};
@@ -109,11 +126,20 @@ ConformityReport check_conformity(const HybridMesh<Dim>& mesh) {
         for (int l : local) sorted.push_back(c[l]);
         std::sort(sorted.begin(), sorted.end());
         FacetUse& use = facets[key];
+        const auto around = around_min(c, local, facet_vertices(b.type, f));
         if (use.count == 0) {
           use.nodes = sorted;
-        } else if (use.nodes != sorted) {
-          ++r.node_mismatches;
-          problem("cells sharing the " + describe(key) + " have different high-order nodes on it");
+          use.around = around;
+        } else {
+          if (use.nodes != sorted) {
+            ++r.node_mismatches;
+            problem("cells sharing the " + describe(key) + " have different high-order nodes on it");
+          }
+          if (use.count == 1 && !(around[0] == use.around[1] && around[1] == use.around[0])) {
+            ++r.orientation_mismatches;
+            problem("the two cells sharing the " + describe(key) +
+                    " lie on the same side of it (a duplicated, folded or mis-oriented cell)");
+          }
         }
         ++use.count;
       }
@@ -131,6 +157,12 @@ ConformityReport check_conformity(const HybridMesh<Dim>& mesh) {
         problem("boundary " + describe(key) + " is not a facet of any cell");
       } else {
         it->second.boundary = true;
+        sorted.assign(b.cell(i), b.cell(i) + b.nodes_per_cell());
+        std::sort(sorted.begin(), sorted.end());
+        if (sorted != it->second.nodes) {
+          ++r.node_mismatches;
+          problem("boundary " + describe(key) + " has other high-order nodes than the cell it bounds");
+        }
       }
     }
   }

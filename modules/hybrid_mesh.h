@@ -7,11 +7,10 @@
 // dimension Dim-1 (lines in 2D; triangles/quadrilaterals in 3D) carrying the index of their tag.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "modules/lagrange.h"
 
@@ -61,13 +60,14 @@ struct HybridMesh {
 
 struct ConformityReport {
   bool ok = true;
-  std::size_t interior_facets = 0;   // shared by exactly two cells with the same high-order nodes
-  std::size_t boundary_facets = 0;   // used by one cell and listed in a boundary block
-  std::size_t open_facets = 0;       // used by one cell but in no boundary block (a hole or crack)
-  std::size_t overshared_facets = 0; // used by three or more cells
-  std::size_t node_mismatches = 0;   // shared by two cells whose high-order facet nodes differ
-  std::size_t stray_boundary = 0;    // boundary facets that are not a facet of any cell
-  std::string first_problem;         // a one-line description of the first problem found
+  std::size_t interior_facets = 0;         // shared by exactly two cells with the same high-order nodes
+  std::size_t boundary_facets = 0;         // used by one cell and listed in a boundary block
+  std::size_t open_facets = 0;             // used by one cell but in no boundary block (a hole or crack)
+  std::size_t overshared_facets = 0;       // used by three or more cells
+  std::size_t node_mismatches = 0;         // high-order facet nodes differ between the cells (or boundary) sharing it
+  std::size_t orientation_mismatches = 0;  // two cells on the same side of a facet (duplicate, fold)
+  std::size_t stray_boundary = 0;          // boundary facets that are not a facet of any cell
+  std::string first_problem;               // a one-line description of the first problem found
 };
 
 // Every interior facet shared by exactly two cells with identical high-order facet nodes, and

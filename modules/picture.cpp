@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "modules/picture.h"
 
+#include <cairo.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include <cairo.h>
 
 #include "modules/atomic_file.h"
 #include "modules/error.h"
@@ -86,10 +86,18 @@ void draw_mesh(cairo_t* cr, const View& v, const HybridMesh<2>& mesh, const std:
     const LagrangeElement& e = lagrange_element(b.type, b.order);
     const BoundaryKind kind = b.tag >= 0 ? mesh.tags[b.tag].kind : BoundaryKind::Named;
     switch (kind) {
-      case BoundaryKind::Wall: cairo_set_source_rgb(cr, 0.0, 0.0, 0.0); break;
-      case BoundaryKind::Farfield: cairo_set_source_rgb(cr, 0.1, 0.3, 0.8); break;
-      case BoundaryKind::Symmetry: cairo_set_source_rgb(cr, 0.1, 0.6, 0.2); break;
-      case BoundaryKind::Named: cairo_set_source_rgb(cr, 0.5, 0.2, 0.6); break;
+      case BoundaryKind::Wall:
+        cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+        break;
+      case BoundaryKind::Farfield:
+        cairo_set_source_rgb(cr, 0.1, 0.3, 0.8);
+        break;
+      case BoundaryKind::Symmetry:
+        cairo_set_source_rgb(cr, 0.1, 0.6, 0.2);
+        break;
+      case BoundaryKind::Named:
+        cairo_set_source_rgb(cr, 0.5, 0.2, 0.6);
+        break;
     }
     cairo_set_line_width(cr, 2.5 * line_width);
     for (std::size_t i = 0; i < b.size(); ++i) {
@@ -120,21 +128,28 @@ bool is_curved(const HybridMesh<2>& mesh, const CellBlock& b, std::size_t i, dou
   const LagrangeElement& e = lagrange_element(b.type, b.order);
   const LagrangeElement& lin = lagrange_element(b.type, 1);
   const NodeId* c = b.cell(i);
-  double size = 0;
+  double size = 0, magnitude = 0;
   for (int k = 1; k < lin.size(); ++k) size = std::max(size, (mesh.nodes[c[k]] - mesh.nodes[c[0]]).norm());
+  for (int k = 0; k < e.size(); ++k) magnitude = std::max(magnitude, mesh.nodes[c[k]].cwiseAbs().maxCoeff());
+  // Stored coordinates are rounded to a few ulps of their magnitude, which exceeds rel_tol * size
+  // for a small cell far from the origin: such offsets are no curvature.
+  const double tol = rel_tol * size + 16 * std::numeric_limits<double>::epsilon() * magnitude;
   double phi[8];
   for (int k = lin.size(); k < e.size(); ++k) {
     const auto xi = e.ref_node(k);
     lin.eval(xi.data(), phi);
     Eigen::Vector2d x = Eigen::Vector2d::Zero();
     for (int m = 0; m < lin.size(); ++m) x += phi[m] * mesh.nodes[c[m]];
-    if ((x - mesh.nodes[c[k]]).norm() > rel_tol * size) return true;
+    if ((x - mesh.nodes[c[k]]).norm() > tol) return true;
   }
   return false;
 }
 
 void write_png(const HybridMesh<2>& mesh, const std::vector<std::uint8_t>& valid, const std::filesystem::path& path,
                const PictureOptions& options) {
+  if (!valid.empty() && valid.size() != mesh.num_cells())
+    throw InputError(path.string() + ": " + std::to_string(valid.size()) + " validity flags for " +
+                     std::to_string(mesh.num_cells()) + " cells");
   double x_min = std::numeric_limits<double>::infinity(), y_min = x_min, x_max = -x_min, y_max = -x_min;
   for (const auto& p : mesh.nodes) {
     x_min = std::min(x_min, p[0]);

@@ -28,18 +28,24 @@ Eigen::Matrix3d regular_cell_map(CellType t) {
       w.col(1) = Eigen::Vector3d(0.5, s3 / 2, 0);
       w.col(2) = Eigen::Vector3d(0.5, s3 / 6, std::sqrt(2.0 / 3.0));
       break;
-    default: break;
+    default:
+      break;
   }
   return w;
 }
 
 std::array<double, 3> centroid(CellType t) {
   switch (t) {
-    case CellType::Triangle: return {1.0 / 3, 1.0 / 3, 0};
-    case CellType::Quadrilateral: return {0.5, 0.5, 0};
-    case CellType::Tetrahedron: return {0.25, 0.25, 0.25};
-    case CellType::Prism: return {1.0 / 3, 1.0 / 3, 0.5};
-    default: return {0.5, 0, 0};
+    case CellType::Triangle:
+      return {1.0 / 3, 1.0 / 3, 0};
+    case CellType::Quadrilateral:
+      return {0.5, 0.5, 0};
+    case CellType::Tetrahedron:
+      return {0.25, 0.25, 0.25};
+    case CellType::Prism:
+      return {1.0 / 3, 1.0 / 3, 0.5};
+    default:
+      return {0.5, 0, 0};
   }
 }
 
@@ -54,7 +60,9 @@ double aspect_ratio(const LagrangeElement& e, const double* coords, double* grad
   return s[Dim - 1] > 0 ? s[0] / s[Dim - 1] : std::numeric_limits<double>::infinity();
 }
 
-std::string type_key(const CellBlock& b) { return std::string(cell_name(b.type)) + "_Q" + std::to_string(b.order); }
+std::string type_key(const CellBlock& b) {
+  return std::string(cell_name(b.type)) + "_Q" + std::to_string(b.order);
+}
 
 std::string json_number(double x) {
   if (!std::isfinite(x)) return "null";
@@ -66,6 +74,13 @@ std::string json_number(double x) {
 std::string json_string(const std::string& x) {
   std::string out = "\"";
   for (char ch : x) {
+    const auto u = static_cast<unsigned char>(ch);
+    if (u < 0x20) {  // control characters may not appear raw in a JSON string (RFC 8259, Sec. 7)
+      out += "\\u00";
+      out += "0123456789abcdef"[u >> 4];
+      out += "0123456789abcdef"[u & 0xf];
+      continue;
+    }
     if (ch == '"' || ch == '\\') out += '\\';
     out += ch;
   }
@@ -75,8 +90,8 @@ std::string json_string(const std::string& x) {
 }  // namespace
 
 template <int Dim>
-QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>* metric,
-                             const QualityOptions& options, CellQuality* per_cell) {
+QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>* metric, const QualityOptions& options,
+                             CellQuality* per_cell) {
   QualityReport r;
   JacobianCertifier certifier(options.validity);
   r.scaled_jacobian_min = std::numeric_limits<double>::infinity();
@@ -128,8 +143,8 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
         const NodeId* c = b.cell(i);
         for (std::size_t k = 0; k < topo.edges.size(); ++k) {
           const NodeId v0 = c[topo.edges[k][0]], v1 = c[topo.edges[k][1]];
-          const std::uint64_t key = (static_cast<std::uint64_t>(std::min(v0, v1)) << 32) |
-                                    static_cast<std::uint32_t>(std::max(v0, v1));
+          const std::uint64_t key =
+              (static_cast<std::uint64_t>(std::min(v0, v1)) << 32) | static_cast<std::uint32_t>(std::max(v0, v1));
           if (!seen.insert(key).second) continue;
           // Gmsh line order: the two ends, then the interior nodes.
           const auto& en = e.edge_nodes(static_cast<int>(k));
@@ -145,8 +160,9 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
           r.metric.min = std::min(r.metric.min, len);
           r.metric.max = std::max(r.metric.max, len);
           if (len >= 1 / std::sqrt(2.0) && len <= std::sqrt(2.0)) ++unit;
+          // Clamped as a double: a collapsed edge (len 0) gives pos = -inf, whose cast is undefined.
           const double pos = (std::log2(len) + 3.0) / 6.0 * bins;
-          r.metric.histogram[std::clamp(static_cast<int>(std::floor(pos)), 0, bins - 1)]++;
+          r.metric.histogram[pos > 0 ? static_cast<int>(std::min(std::floor(pos), bins - 1.0)) : 0]++;
         }
       }
     }
@@ -190,8 +206,8 @@ std::string report_json(const QualityReport& r) {
   s << "  \"conformity\": {\"ok\": " << (c.ok ? "true" : "false") << ", \"interior_facets\": " << c.interior_facets
     << ", \"boundary_facets\": " << c.boundary_facets << ", \"open_facets\": " << c.open_facets
     << ", \"overshared_facets\": " << c.overshared_facets << ", \"node_mismatches\": " << c.node_mismatches
-    << ", \"stray_boundary\": " << c.stray_boundary << ", \"first_problem\": " << json_string(c.first_problem)
-    << "},\n";
+    << ", \"orientation_mismatches\": " << c.orientation_mismatches << ", \"stray_boundary\": " << c.stray_boundary
+    << ", \"first_problem\": " << json_string(c.first_problem) << "},\n";
   // Extra sections: group "a.b" keys under "a".
   std::map<std::string, std::vector<std::pair<std::string, std::string>>> groups;
   for (const auto& [k, v] : r.extra) {
@@ -227,7 +243,9 @@ std::string report_summary(const QualityReport& r) {
     s << "  metric edge lengths: " << r.metric.count << " edges, " << 100.0 * r.metric.unit_fraction
       << "% in [1/sqrt2, sqrt2], min " << r.metric.min << ", max " << r.metric.max << '\n';
   s << "  conformity: " << (r.conformity.ok ? "ok" : "FAILED: " + r.conformity.first_problem) << '\n';
-  if (!r.ok()) s << "  MESH FAILED: " << r.cells_invalid << " invalid cells" << (r.conformity.ok ? "" : ", not conforming") << '\n';
+  if (!r.ok())
+    s << "  MESH FAILED: " << r.cells_invalid << " invalid cells" << (r.conformity.ok ? "" : ", not conforming")
+      << '\n';
   return s.str();
 }
 
