@@ -214,6 +214,25 @@ std::vector<double> ConfigNode::get_double_list(const std::string& key, const st
   return out;
 }
 
+std::vector<std::array<double, 2>> ConfigNode::get_point_list(const std::string& key) const {
+  const YAML::Node* n = value(key);
+  std::vector<std::array<double, 2>> out;
+  if (!n) return out;
+  const std::string what = dotted(s_->path, key) + ": expected a list of points like [[0.5, 0.1], [1, 0]]";
+  if (!n->IsSequence()) throw ConfigError(position(s_->file, n->Mark()) + ": " + what);
+  for (const auto& item : *n) {
+    if (!item.IsSequence() || item.size() != 2) throw ConfigError(position(s_->file, item.Mark()) + ": " + what);
+    try {
+      out.push_back({item[0].as<double>(), item[1].as<double>()});
+    } catch (const YAML::Exception&) {
+      throw ConfigError(position(s_->file, item.Mark()) + ": " + what);
+    }
+    if (!std::isfinite(out.back()[0]) || !std::isfinite(out.back()[1]))
+      throw ConfigError(position(s_->file, item.Mark()) + ": " + what);
+  }
+  return out;
+}
+
 ConfigNode ConfigNode::child(const std::string& key) const {
   s_->asked.insert(key);
   auto c = std::make_shared<State>();
@@ -231,6 +250,35 @@ ConfigNode ConfigNode::child(const std::string& key) const {
   }
   s_->children.push_back(c);
   return ConfigNode(c);
+}
+
+std::vector<ConfigNode> ConfigNode::child_list(const std::string& key) const {
+  s_->asked.insert(key);
+  std::vector<ConfigNode> out;
+  const YAML::Node n = lookup(s_->node, key);
+  if (!n.IsDefined() || n.IsNull()) return out;
+  if (!n.IsSequence())
+    throw ConfigError(position(s_->file, n.Mark()) + ": " + dotted(s_->path, key) + ": expected a list of maps");
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const YAML::Node item = n[i];
+    auto c = std::make_shared<State>();
+    c->file = s_->file;
+    c->path = dotted(s_->path, key) + "[" + std::to_string(i) + "]";
+    if (!item.IsMap()) throw ConfigError(position(s_->file, item.Mark()) + ": " + c->path + ": expected a map of keys");
+    c->node = item;
+    c->mark = item.Mark();
+    s_->children.push_back(c);
+    out.push_back(ConfigNode(c));
+  }
+  return out;
+}
+
+std::string ConfigNode::get_path(const std::string& key, const std::string& fallback) const {
+  const std::string v = get_string(key, fallback);
+  if (v.empty()) return v;
+  const std::filesystem::path p(v);
+  if (p.is_absolute()) return v;
+  return (std::filesystem::path(s_->file).parent_path() / p).lexically_normal().string();
 }
 
 void ConfigNode::finish() const {

@@ -4,6 +4,7 @@
 // "file:line:column: key.path: reason" (lines and columns 1-based).
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -38,8 +39,14 @@ class ConfigNode {
   std::vector<std::string> get_string_list(const std::string& key, const std::vector<std::string>& fallback,
                                            const std::vector<std::string>& allowed) const;
   std::vector<double> get_double_list(const std::string& key, const std::vector<double>& fallback) const;
+  // A list of points [[x, y], ...] (empty when absent).
+  std::vector<std::array<double, 2>> get_point_list(const std::string& key) const;
   // A nested map (empty when absent: every key takes its default).
   ConfigNode child(const std::string& key) const;
+  // A list of maps (empty when absent), e.g. `bodies: [{file: a.dat}, {file: b.dat}]`.
+  std::vector<ConfigNode> child_list(const std::string& key) const;
+  // A path value, resolved relative to the folder of the config file (absolute paths stay).
+  std::string get_path(const std::string& key, const std::string& fallback) const;
 
   // Throws on the first key of this map or any child read through child() that was never asked for.
   void finish() const;

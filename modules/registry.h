@@ -33,15 +33,17 @@ class Registry<R(Args...)> {
     for (const auto& kv : factories_) out.push_back(kv.first);
     return out;
   }
+  // Throws ConfigError "where: unknown <what> 'name' (known: ...)" unless name is registered.
+  void require(const std::string& name, const std::string& where) const {
+    if (contains(name)) return;
+    std::string known;
+    for (const auto& kv : factories_) known += (known.empty() ? "" : ", ") + kv.first;
+    throw ConfigError(where + ": unknown " + what_ + " '" + name + "' (known: " + known + ")");
+  }
   // where: "file:line:col: key" of the `type:` value, for the message.
   R create(const std::string& name, const std::string& where, Args... args) const {
-    auto it = factories_.find(name);
-    if (it == factories_.end()) {
-      std::string known;
-      for (const auto& kv : factories_) known += (known.empty() ? "" : ", ") + kv.first;
-      throw ConfigError(where + ": unknown " + what_ + " '" + name + "' (known: " + known + ")");
-    }
-    return it->second(std::forward<Args>(args)...);
+    require(name, where);
+    return factories_.find(name)->second(std::forward<Args>(args)...);
   }
 
  private:

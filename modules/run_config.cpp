@@ -18,6 +18,35 @@ bool OutputParams::wants(const std::string& f) const {
 
 namespace {
 
+std::array<double, 2> get_pair(const ConfigNode& n, const std::string& key, std::array<double, 2> fallback) {
+  const std::vector<double> v = n.get_double_list(key, {fallback[0], fallback[1]});
+  if (v.size() != 2) throw ConfigError(n.where(key) + ": expected two numbers [a, b]");
+  return {v[0], v[1]};
+}
+
+void parse_airfoils(const ConfigNode& g, AirfoilsParams& a) {
+  const std::vector<ConfigNode> bodies = g.child_list("bodies");
+  if (bodies.empty()) throw ConfigError(g.where("bodies") + ": give at least one body: [{file: contour.dat}]");
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const ConfigNode& b = bodies[i];
+    BodyParams body;
+    body.file = b.get_path("file", "");
+    if (body.file.empty()) throw ConfigError(b.where() + ": file is required");
+    body.name = b.get_string("name", i == 0 ? "wall" : "wall_" + std::to_string(i + 1));
+    body.corners = b.get_point_list("corners");
+    a.bodies.push_back(body);
+  }
+  a.corner_angle_deg = g.get_in_range("corner_angle_deg", a.corner_angle_deg, 0.0, 180.0);
+  const ConfigNode f = g.child("farfield");
+  FarfieldParams& ff = a.farfield;
+  ff.shape = f.get_choice("shape", ff.shape, {"circle", "rectangle"});
+  ff.radius = f.get_positive("radius", ff.radius);
+  ff.size = get_pair(f, "size", ff.size);
+  if (!(ff.size[0] > 0 && ff.size[1] > 0)) throw ConfigError(f.where("size") + ": sizes must be positive");
+  ff.has_center = f.has("center");
+  ff.center = get_pair(f, "center", ff.center);
+}
+
 RunConfig parse(const ConfigNode& c, const std::string& stem) {
   RunConfig r;
   r.name = c.get_string("name", stem);
@@ -26,7 +55,7 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   r.order = c.get_int("order", r.order, 1, max_order);
 
   const ConfigNode g = c.child("geometry");
-  r.geometry.type = g.get_choice("type", r.geometry.type, {"annulus"});
+  r.geometry.type = g.get_choice("type", r.geometry.type, {"annulus", "airfoils"});
   r.geometry.where = g.where("type");
   if (r.geometry.type == "annulus") {
     AnnulusParams& a = r.geometry.annulus;
@@ -35,12 +64,14 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     if (a.r_outer <= a.r_inner) throw ConfigError(g.where("r_outer") + ": must be larger than r_inner");
     a.angle_deg = g.get_in_range("angle_deg", a.angle_deg, 1e-6, 360.0);
     a.triangles = g.get_choice("cells", "quad", {"quad", "tri"}) == "tri";
+  } else if (r.geometry.type == "airfoils") {
+    parse_airfoils(g, r.geometry.airfoils);
   }
 
   const ConfigNode m = c.child("metric");
   r.metric.type = m.get_string("type", r.metric.type);
   r.metric.where = m.where("type");
-  if (!metric_field_registry().contains(r.metric.type)) make_metric_field(r);  // throws, listing the known types
+  metric_field_registry().require(r.metric.type, r.metric.where);
   if (r.metric.type == "uniform") {
     UniformMetricParams& u = r.metric.uniform;
     u.h = m.get_positive("h", u.h);
@@ -52,6 +83,23 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
         if (!(s > 0)) throw ConfigError(m.where("sizes") + ": sizes must be positive");
     }
     u.angle_deg = m.get_double("angle_deg", u.angle_deg);
+  } else if (r.metric.type == "wall_power_law") {
+    WallLawParams& w = r.metric.wall_law;
+    w.h0 = m.get_positive("h0", w.h0);
+    w.growth = m.get_in_range("growth", w.growth, 1.0 + 1e-9, 10.0);
+    w.exponential = m.get_choice("law", "linear", {"linear", "exponential"}) == "exponential";
+    w.delta = m.get_positive("delta", w.h0);
+    w.h_max = m.get_positive("h_max", w.h_max);
+    w.h_wall_max = m.get_positive("h_wall_max", w.h_wall_max);
+    w.curvature_factor = m.get_positive("curvature_factor", w.curvature_factor);
+    w.h_corner = m.get_positive("h_corner", w.h_corner);
+    if (w.h0 > w.h_max) throw ConfigError(m.where("h0") + ": must not exceed h_max");
+  } else if (r.metric.type == "background") {
+    BackgroundParams& b = r.metric.background;
+    b.file = m.get_path("file", "");
+    if (b.file.empty()) throw ConfigError(m.where() + ": file is required for a background metric");
+    b.sol = m.get_path("sol", "");
+    b.mean = m.get_choice("mean", b.mean, {"log_euclidean", "affine_invariant"});
   }
 
   const ConfigNode v = c.child("validity");
@@ -64,6 +112,15 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   r.output.picture_width = o.get_int("picture_width", r.output.picture_width, 64, 16384);
   r.output.picture_height = o.get_int("picture_height", r.output.picture_height, 64, 16384);
   r.output.histogram_bins = o.get_int("histogram_bins", r.output.histogram_bins, 2, 1000);
+  for (const ConfigNode& z : o.child_list("zooms")) {
+    OutputParams::Zoom zoom;
+    zoom.label = z.get_string("label", "");
+    const std::vector<double> box = z.get_double_list("box", {});
+    if (box.size() != 4 || !(box[1] > box[0]) || !(box[3] > box[2]))
+      throw ConfigError(z.where("box") + ": expected [x_min, x_max, y_min, y_max] with min < max");
+    zoom.box = {box[0], box[1], box[2], box[3]};
+    r.output.zooms.push_back(zoom);
+  }
 
   c.finish();
   return r;

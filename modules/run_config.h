@@ -13,11 +13,38 @@
 //     r_outer: <>r_inner>   outer radius                          default: 2
 //     angle_deg: <0..360]   sector angle (360 = full annulus)     default: 360
 //     cells: quad|tri       quads, or each quad split in two tris default: quad
+//   geometry:
+//     type: airfoils        bodies from coordinate files (airfoil_io.h), splines with corners
+//     bodies:               a list, one map per body:
+//       - file: <path>      Selig or Lednicer file, relative to the config file   (required)
+//         name: <word>      boundary tag of the body                  default: wall, wall_2, ...
+//         corners: [[x, y], ...]  extra corners: the nearest contour points   default: none
+//     corner_angle_deg: <0..180>  turning angle above which a point is a corner   default: 30
+//     farfield:
+//       shape: circle|rectangle                                   default: circle
+//       radius: <>0>        circle radius                         default: 20
+//       size: [w, h]        rectangle width and height            default: [40, 40]
+//       center: [x, y]      default: the centre of the bodies' bounding box
 //   metric:
 //     type: uniform         one metric everywhere
 //     h: <>0>               isotropic size                        default: 0.25
 //     sizes: [h1, h2]       anisotropic sizes (instead of h)      default: none
 //     angle_deg: <deg>      direction of h1 from the x axis       default: 0
+//   metric:
+//     type: wall_power_law  boundary-layer metric of the paper's eq. (6) (wall_metric.h)
+//     h0: <>0>              first layer height                    default: 0.005
+//     growth: <>1>          layer growth factor g                 default: 1.2
+//     law: linear|exponential   h_perp = h0 + (g-1) d, or h0 g^(d/delta)   default: linear
+//     delta: <>0>           growth distance of the exponential law    default: h0
+//     h_max: <>0>           isotropic size far from the walls     default: 1
+//     h_wall_max: <>0>      largest size along a wall             default: 0.05
+//     curvature_factor: <>0>  size along a wall = factor x radius of curvature   default: 0.25
+//     h_corner: <>0>        size along a wall at a corner (grows by g away)   default: 0.01
+//   metric:
+//     type: background      metric at the nodes of a background mesh (background_metric.h)
+//     file: <path>          Gmsh .msh with a tensor $NodeData view, or a libMeshb .mesh  (required)
+//     sol: <path>           the .sol of a .mesh file              default: none
+//     mean: log_euclidean|affine_invariant                        default: log_euclidean
 //   validity:
 //     rel_tol: <0..1>       Bezier bounds refined to this         default: 0.01
 //     max_depth: <1..20>    subdivision depth limit               default: 12
@@ -27,8 +54,12 @@
 //     picture_width: <px>   PNG width                             default: 1600
 //     picture_height: <px>  PNG height                            default: 1200
 //     histogram_bins: <n>   bins of the metric edge-length histogram  default: 12
+//     zooms:                inset panels of the picture, a list of maps:
+//       - label: <text>
+//         box: [x_min, x_max, y_min, y_max]
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -42,10 +73,31 @@ struct AnnulusParams {
   bool triangles = false;
 };
 
+struct BodyParams {
+  std::string file;
+  std::string name;
+  std::vector<std::array<double, 2>> corners;
+};
+
+struct FarfieldParams {
+  std::string shape = "circle";
+  double radius = 20.0;
+  std::array<double, 2> size = {40.0, 40.0};
+  bool has_center = false;
+  std::array<double, 2> center = {0.0, 0.0};
+};
+
+struct AirfoilsParams {
+  std::vector<BodyParams> bodies;
+  double corner_angle_deg = 30.0;
+  FarfieldParams farfield;
+};
+
 struct GeometryParams {
   std::string type = "annulus";
   std::string where;  // "file:line:col: geometry.type" for plugin errors
   AnnulusParams annulus;
+  AirfoilsParams airfoils;
 };
 
 struct UniformMetricParams {
@@ -54,10 +106,29 @@ struct UniformMetricParams {
   double angle_deg = 0.0;
 };
 
+struct WallLawParams {
+  double h0 = 0.005;
+  double growth = 1.2;
+  bool exponential = false;
+  double delta = 0.0;  // 0: h0
+  double h_max = 1.0;
+  double h_wall_max = 0.05;
+  double curvature_factor = 0.25;
+  double h_corner = 0.01;
+};
+
+struct BackgroundParams {
+  std::string file;
+  std::string sol;
+  std::string mean = "log_euclidean";
+};
+
 struct MetricParams {
   std::string type = "uniform";
   std::string where;
   UniformMetricParams uniform;
+  WallLawParams wall_law;
+  BackgroundParams background;
 };
 
 struct ValidityParams {
@@ -71,6 +142,11 @@ struct OutputParams {
   int picture_width = 1600;
   int picture_height = 1200;
   int histogram_bins = 12;
+  struct Zoom {
+    std::string label;
+    std::array<double, 4> box;  // x_min, x_max, y_min, y_max
+  };
+  std::vector<Zoom> zooms;
   bool wants(const std::string& f) const;
 };
 

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+// The metric-conforming high-order surface mesh of 2D loops (paper Sec. II.B, first paragraph):
+// "The location of linear (Q = 1) nodes along the spline is determined by equidistribution of
+// metric-based length along the spline. High-order nodes are then added by uniformly subdividing
+// the arc-length distance between adjacent linear nodes. Corner nodes are constrained to be
+// Q = 1 nodes."
+// On each corner-to-corner segment of a loop (the whole loop if it has no corner), the number of
+// elements is the rounded metric length of the segment (at least 1).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "modules/front.h"
+#include "modules/geometry2d.h"
+#include "modules/metric.h"
+
+namespace plaf {
+
+CurvedFront<2> mesh_surface(const Geometry2D& geometry, const MetricField<2>& metric, int order);
+
+struct SurfaceLoopStats {
+  std::string tag;
+  std::size_t elements = 0, nodes = 0;
+  double metric_length_min = 0, metric_length_max = 0;
+};
+
+struct SurfaceStats {
+  std::vector<SurfaceLoopStats> loops;
+  double metric_length_min = 0, metric_length_max = 0;
+  double unit_fraction = 0;        // elements with metric length in [1/sqrt 2, sqrt 2]
+  std::size_t short_segments = 0;  // corner-to-corner segments shorter than 1/sqrt 2 in the metric
+};
+
+// Metric lengths of the curved elements (Gauss quadrature on each Lagrange edge).
+SurfaceStats surface_stats(const CurvedFront<2>& front, const MetricField<2>& metric);
+
+}  // namespace plaf

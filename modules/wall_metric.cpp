@@ -1,0 +1,61 @@
+// SPDX-License-Identifier: MIT
+#include "modules/wall_metric.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "modules/error.h"
+
+namespace plaf {
+
+WallPowerLawField::WallPowerLawField(std::vector<SplineLoop> walls, const WallLawParams& params)
+    : walls_(std::move(walls)), p_(params) {
+  if (walls_.empty()) throw InputError("wall_power_law metric: the geometry has no wall");
+  for (const SplineLoop& w : walls_)
+    for (int c : w.corners()) corners_.push_back(w.points()[c]);
+  if (p_.delta <= 0) p_.delta = p_.h0;
+}
+
+double WallPowerLawField::normal_size(double d) const {
+  const double h = p_.exponential ? p_.h0 * std::pow(p_.growth, d / p_.delta) : p_.h0 + (p_.growth - 1) * d;
+  return std::min(h, p_.h_max);
+}
+
+WallPowerLawField::Sizes WallPowerLawField::sizes(const Eigen::Vector2d& x) const {
+  // 1. The closest wall point over all walls.
+  const SplineLoop* wall = nullptr;
+  SplineLoop::Closest best{0, x, std::numeric_limits<double>::infinity()};
+  for (const SplineLoop& w : walls_) {
+    const SplineLoop::Closest c = w.closest_point(x);
+    if (c.distance < best.distance) {
+      best = c;
+      wall = &w;
+    }
+  }
+  Sizes s;
+  s.distance = best.distance;
+  // On (or numerically on) the wall, the direction to it is undefined: use the wall normal.
+  const double on_wall = 1e-12 * std::max(1.0, x.norm());
+  s.normal_direction = best.distance > on_wall ? Eigen::Vector2d((x - best.point) / best.distance)
+                                               : wall->normal(best.t);
+
+  // 2. Sizes.
+  s.normal = normal_size(best.distance);
+  const double kappa = std::abs(wall->curvature(best.t));
+  double h_par = kappa > 0 ? std::min(p_.h_wall_max, p_.curvature_factor / kappa) : p_.h_wall_max;
+  for (const Eigen::Vector2d& c : corners_)
+    h_par = std::min(h_par, p_.h_corner + (p_.growth - 1) * (best.point - c).norm());
+  s.tangential = std::min(p_.h_max, std::max(h_par, s.normal));
+  return s;
+}
+
+Metric<2> WallPowerLawField::evaluate(const Eigen::Vector2d& x) const {
+  const Sizes s = sizes(x);
+  Eigen::Matrix2d r;
+  r.col(0) = Eigen::Vector2d(-s.normal_direction[1], s.normal_direction[0]);
+  r.col(1) = s.normal_direction;
+  return Metric<2>::from_directions(r, Eigen::Vector2d(s.tangential, s.normal));
+}
+
+}  // namespace plaf
