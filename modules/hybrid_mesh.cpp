@@ -75,6 +75,7 @@ std::array<NodeId, 2> around_min(const NodeId* cell, const std::vector<int>& loc
   int m = 0;
   for (int v = 1; v < nv; ++v)
     if (cell[local[v]] < cell[local[m]]) m = v;
+  if (nv == 1) return {local[0] == 0 ? 0 : 1, local[0] == 0 ? 1 : 0};  // a line's start or end
   if (nv == 2) return {cell[local[1]], cell[local[0]]};
   return {cell[local[(m + 1) % nv]], cell[local[(m + nv - 1) % nv]]};
 }
@@ -100,6 +101,14 @@ int facet_vertices(CellType cell, int facet) {
 
 template <int Dim>
 ConformityReport check_conformity(const HybridMesh<Dim>& mesh) {
+  // A mesh of boundary facets alone (a surface mesh) is checked as a mesh of those facets: closed
+  // loops (2D) or closed surfaces (3D) with consistently oriented, shared high-order nodes.
+  if (mesh.cells.empty() && !mesh.boundary.empty()) {
+    HybridMesh<Dim> surface;
+    surface.cells = mesh.boundary;
+    for (CellBlock& b : surface.cells) b.tag = -1;
+    return check_conformity(surface);
+  }
   ConformityReport r;
   std::unordered_map<FacetKey, FacetUse, FacetKeyHash> facets;
   facets.reserve(mesh.num_cells() * 3);

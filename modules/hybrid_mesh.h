@@ -71,7 +71,9 @@ struct ConformityReport {
 };
 
 // Every interior facet shared by exactly two cells with identical high-order facet nodes, and
-// every facet used once listed in a boundary block. Hash-based: O(number of facets).
+// every facet used once listed in a boundary block; the two cells of a facet on opposite sides
+// of it. A mesh of boundary facets alone (a surface mesh) is checked as a mesh of those facets:
+// closed, consistently oriented loops (2D) or surfaces (3D). Hash-based: O(number of facets).
 template <int Dim>
 ConformityReport check_conformity(const HybridMesh<Dim>& mesh);
 

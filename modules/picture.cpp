@@ -111,6 +111,13 @@ void draw_mesh(cairo_t* cr, const View& v, const HybridMesh<2>& mesh, const std:
           cairo_line_to(cr, v.px(x[0]), v.py(x[1]));
       }
       cairo_stroke(cr);
+      // A surface mesh alone (no cells): show its nodes, linear ones larger than high-order ones.
+      if (mesh.cells.empty())
+        for (int k = 0; k < b.nodes_per_cell(); ++k) {
+          const Eigen::Vector2d& x = mesh.nodes[c[k]];
+          cairo_arc(cr, v.px(x[0]), v.py(x[1]), (k < 2 ? 3.0 : 1.8) * line_width, 0, 2 * M_PI);
+          cairo_fill(cr);
+        }
     }
   }
 }

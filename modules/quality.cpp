@@ -230,6 +230,11 @@ std::string report_json(const QualityReport& r) {
 std::string report_summary(const QualityReport& r) {
   std::ostringstream s;
   s << std::setprecision(4);
+  if (r.cells_total == 0) {
+    s << r.name << ": no cells (a surface mesh alone)\n  conformity: "
+      << (r.conformity.ok ? "ok" : "FAILED: " + r.conformity.first_problem) << '\n';
+    return s.str();
+  }
   s << r.name << ": " << r.cells_total << " cells (";
   bool first = true;
   for (const auto& [k, n] : r.cells_by_type) {

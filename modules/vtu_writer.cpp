@@ -95,7 +95,11 @@ template <int Dim>
 void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, const std::vector<CellField>& fields) {
   // 1. Validate before touching the file system.
   auto fail = [&](const std::string& why) { throw Error("cannot write " + path.string() + ": " + why); };
-  const std::size_t num_cells = mesh.num_cells();
+  // A mesh without cells (a surface mesh alone) is written as its boundary facets.
+  const std::vector<CellBlock>& blocks = mesh.cells.empty() ? mesh.boundary : mesh.cells;
+  std::size_t num_cells = 0;
+  for (const CellBlock& b : blocks) num_cells += b.size();
+  const int block_dim = mesh.cells.empty() ? Dim - 1 : Dim;
   const auto num_nodes = static_cast<NodeId>(mesh.nodes.size());
   for (std::size_t i = 0; i < fields.size(); ++i) {
     const CellField& fi = fields[i];
@@ -108,8 +112,8 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
            std::to_string(num_cells) + " cells");
   }
   std::vector<std::vector<int>> perms;
-  for (const CellBlock& b : mesh.cells) {
-    if (ref_dim(b.type) != Dim || b.order < 1 || b.order > max_order)
+  for (const CellBlock& b : blocks) {
+    if (ref_dim(b.type) != block_dim || b.order < 1 || b.order > max_order)
       fail(std::string("a ") + cell_name(b.type) + " block of order " + std::to_string(b.order) +
            " is not a volume block of this mesh");
     if (b.connectivity.size() % static_cast<std::size_t>(b.nodes_per_cell()) != 0)
@@ -148,8 +152,8 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
 
   // 3. Connectivity in VTK order, offsets, types.
   data_array(f, "Int64", "connectivity", 1);
-  for (std::size_t bi = 0; bi < mesh.cells.size(); ++bi) {
-    const CellBlock& b = mesh.cells[bi];
+  for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
+    const CellBlock& b = blocks[bi];
     const std::vector<int>& perm = perms[bi];
     for (std::size_t i = 0; i < b.size(); ++i) {
       const NodeId* c = b.cell(i);
@@ -163,15 +167,15 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
   f.write(end_data_array);
   data_array(f, "Int64", "offsets", 1);
   std::int64_t offset = 0;
-  for (std::size_t bi = 0; bi < mesh.cells.size(); ++bi)
-    for (std::size_t i = 0; i < mesh.cells[bi].size(); ++i) {
+  for (std::size_t bi = 0; bi < blocks.size(); ++bi)
+    for (std::size_t i = 0; i < blocks[bi].size(); ++i) {
       offset += static_cast<std::int64_t>(perms[bi].size());
       f.write_int(offset);
       f.put('\n');
     }
   f.write(end_data_array);
   data_array(f, "UInt8", "types", 1);
-  for (const CellBlock& b : mesh.cells) {
+  for (const CellBlock& b : blocks) {
     const int type = vtk_cell_type(b.type, b.order);
     for (std::size_t i = 0; i < b.size(); ++i) {
       f.write_int(type);
@@ -184,8 +188,8 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
   // 4. Cell data: block index, the caller's fields, the Lagrange degrees.
   f.write("      <CellData Scalars=\"block\" HigherOrderDegrees=\"HigherOrderDegrees\">\n");
   data_array(f, "Int32", "block", 1);
-  for (std::size_t bi = 0; bi < mesh.cells.size(); ++bi)
-    for (std::size_t i = 0; i < mesh.cells[bi].size(); ++i) {
+  for (std::size_t bi = 0; bi < blocks.size(); ++bi)
+    for (std::size_t i = 0; i < blocks[bi].size(); ++i) {
       f.write_int(static_cast<std::int64_t>(bi));
       f.put('\n');
     }
@@ -199,7 +203,7 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
     f.write(end_data_array);
   }
   data_array(f, "Int32", "HigherOrderDegrees", 3);
-  for (const CellBlock& b : mesh.cells) {
+  for (const CellBlock& b : blocks) {
     const int dim = ref_dim(b.type);
     for (std::size_t i = 0; i < b.size(); ++i)
       for (int d = 0; d < 3; ++d) {

@@ -24,6 +24,10 @@ void write_vtu_file(const WriteJob& j) {
     for (double& x : v) x = std::clamp(x, std::numeric_limits<double>::lowest(), std::numeric_limits<double>::max());
     return v;
   };
+  if (j.mesh.cells.empty()) {  // a surface mesh alone: its lines, no per-cell quality
+    write_vtu(j.mesh, j.base.string() + ".vtu");
+    return;
+  }
   const std::vector<double> valid(j.per_cell.valid.begin(), j.per_cell.valid.end());
   write_vtu(j.mesh, j.base.string() + ".vtu",
             {{"valid", valid},
@@ -36,6 +40,7 @@ void write_picture(const WriteJob& j) {
   po.width = j.config.output.picture_width;
   po.height = j.config.output.picture_height;
   po.title = j.config.name + " (Q=" + std::to_string(j.config.order) + ")";
+  for (const auto& z : j.config.output.zooms) po.zooms.push_back({z.label, z.box[0], z.box[1], z.box[2], z.box[3]});
   write_png(j.mesh, j.per_cell.valid, j.base.string() + ".png", po);
 }
 

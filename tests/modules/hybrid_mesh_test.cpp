@@ -359,3 +359,24 @@ TEST_CASE("mesh: gather_coords returns the cell's nodes in connectivity order") 
     for (int d = 0; d < 3; ++d)
       CHECK(x[static_cast<std::size_t>(3 * k + d)] == s.mesh.nodes[static_cast<std::size_t>(b.cell(1)[k])][d]);
 }
+
+TEST_CASE("mesh: a surface mesh alone is checked as closed, consistently oriented loops") {
+  // Two order-2 line elements around a "loop" 0 -> 1 -> 0 with mid nodes 2 and 3.
+  HybridMesh<2> m;
+  m.nodes.resize(6);
+  const int wall = m.add_tag("wall", BoundaryKind::Wall);
+  CellBlock& b = m.boundary_block(CellType::Line, 2, wall);
+  b.connectivity = {0, 1, 2, 1, 4, 3, 4, 0, 5};  // 0 -> 1 -> 4 -> 0, Gmsh order: ends, middle
+  ConformityReport r = check_conformity(m);
+  CHECK(r.ok);
+  CHECK(r.interior_facets == 3);
+  // Reversing one element breaks the orientation at both its ends.
+  b.connectivity = {0, 1, 2, 4, 1, 3, 4, 0, 5};
+  r = check_conformity(m);
+  CHECK_FALSE(r.ok);
+  CHECK(r.orientation_mismatches == 2);
+  // An open loop leaves two ends used once.
+  b.connectivity = {0, 1, 2, 1, 4, 3};
+  r = check_conformity(m);
+  CHECK(r.open_facets == 2);
+}
