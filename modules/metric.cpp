@@ -95,15 +95,6 @@ double total_weight(std::span<const Metric<Dim>> metrics, std::span<const double
 template <int Dim>
 using Mat = Eigen::Matrix<double, Dim, Dim>;
 
-// Symmetric square root and inverse square root of an SPD matrix.
-template <int Dim>
-void sqrt_and_inv_sqrt(const Mat<Dim>& m, Mat<Dim>& s, Mat<Dim>& si) {
-  Eigen::SelfAdjointEigenSolver<Mat<Dim>> es(m);
-  const Eigen::Matrix<double, Dim, 1> r = es.eigenvalues().array().sqrt().matrix();
-  s = es.eigenvectors() * r.asDiagonal() * es.eigenvectors().transpose();
-  si = es.eigenvectors() * r.cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
-}
-
 template <int Dim>
 Mat<Dim> sym_fn(const Mat<Dim>& m, double (*fn)(double)) {
   Eigen::SelfAdjointEigenSolver<Mat<Dim>> es(0.5 * (m + m.transpose()));
@@ -133,34 +124,52 @@ Metric<Dim> log_euclidean_mean(std::span<const Metric<Dim>> metrics, std::span<c
 template <int Dim>
 Metric<Dim> affine_invariant_mean(std::span<const Metric<Dim>> metrics, std::span<const double> weights) {
   const double w = total_weight(metrics, weights);
-  // Riemannian gradient descent for the Karcher mean, from the log-Euclidean mean (exact for
-  // commuting metrics): X <- X^1/2 exp(tau * sum w_i log(X^-1/2 M_i X^-1/2)) X^1/2. The unit step
-  // (tau = 1) oscillates for strongly anisotropic, far-apart metrics, so tau is halved whenever
-  // a step does not reduce the gradient norm.
-  auto gradient = [&](const Mat<Dim>& x, Mat<Dim>& s, Mat<Dim>& si) {
-    sqrt_and_inv_sqrt<Dim>(x, s, si);
+  // The minimiser of sum w_i d(X, M_i)^2 with d(X, M) = |log(X^-1/2 M X^-1/2)|_F, by steepest
+  // descent along geodesics in a whitened frame X = E E^T, from the log-Euclidean mean (exact for
+  // commuting metrics). With W_i = E^-1 M_i E^-T the descent direction is T = sum w_i log W_i and
+  // the geodesic X(tau) = E exp(tau T) E^T. The step tau is the secant root of the directional
+  // derivative phi'(tau) = -<T(tau), T> between tau = 0 (-|T|^2) and tau = 1; the objective is
+  // geodesically convex, so the step stays in (0, 1] and never overshoots (a unit step, the
+  // plain fixed-point iteration, oscillates for strongly anisotropic, far-apart metrics).
+  const std::size_t n = metrics.size();
+  Mat<Dim> e = Metric<Dim>::exp(0.5 * log_euclidean_mean(metrics, weights).log()).matrix();
+  std::vector<Mat<Dim>> wm(n), wl(n), wm1(n), wl1(n);
+  const Mat<Dim> e_inv = e.inverse();
+  for (std::size_t i = 0; i < n; ++i) {
+    wm[i] = e_inv * metrics[i].matrix() * e_inv.transpose();
+    wl[i] = sym_fn<Dim>(wm[i], log_fn);
+  }
+  auto direction = [&](const std::vector<Mat<Dim>>& logs) {
     Mat<Dim> t = Mat<Dim>::Zero();
-    for (std::size_t i = 0; i < metrics.size(); ++i)
-      if (weights[i] > 0) t += (weights[i] / w) * sym_fn<Dim>(si * metrics[i].matrix() * si, log_fn);
+    for (std::size_t i = 0; i < n; ++i)
+      if (weights[i] > 0) t += (weights[i] / w) * logs[i];
     return t;
   };
-  Mat<Dim> x = log_euclidean_mean(metrics, weights).matrix(), s, si, s_new, si_new;
-  Mat<Dim> t = gradient(x, s, si);
-  double tau = 1.0;
-  for (int it = 0; it < 200 && t.norm() > 1e-13; ++it) {
-    Mat<Dim> x_new = s * sym_fn<Dim>(tau * t, exp_fn) * s;
-    x_new = (0.5 * (x_new + x_new.transpose())).eval();
-    const Mat<Dim> t_new = gradient(x_new, s_new, si_new);
-    if (t_new.norm() < t.norm() || tau < 1e-3) {
-      x = x_new;
-      t = t_new;
-      s = s_new;
-      si = si_new;
-    } else {
-      tau *= 0.5;
+  for (int it = 0; it < 100; ++it) {
+    const Mat<Dim> t = direction(wl);
+    const double g2 = t.squaredNorm();
+    if (g2 <= 1e-24) break;
+    Mat<Dim> r = sym_fn<Dim>(-0.5 * t, exp_fn);
+    for (std::size_t i = 0; i < n; ++i) {
+      wm1[i] = r * wm[i] * r;
+      wl1[i] = sym_fn<Dim>(wm1[i], log_fn);
     }
+    const double slope1 = -direction(wl1).cwiseProduct(t).sum();  // phi'(1)
+    const double tau = slope1 > 0 ? g2 / (g2 + slope1) : 1.0;
+    if (tau >= 0.999) {
+      std::swap(wm, wm1);
+      std::swap(wl, wl1);
+    } else {
+      r = sym_fn<Dim>(-0.5 * tau * t, exp_fn);
+      for (std::size_t i = 0; i < n; ++i) {
+        wm[i] = r * wm[i] * r;
+        wl[i] = sym_fn<Dim>(wm[i], log_fn);
+      }
+    }
+    e = (e * sym_fn<Dim>(0.5 * (tau >= 0.999 ? 1.0 : tau) * t, exp_fn)).eval();
   }
-  return Metric<Dim>::from_matrix(x);
+  const Mat<Dim> x = e * e.transpose();
+  return Metric<Dim>::from_matrix(0.5 * (x + x.transpose()));
 }
 
 template <int Dim>
