@@ -12,8 +12,10 @@ namespace plaf {
 WallPowerLawField::WallPowerLawField(std::vector<SplineLoop> walls, const WallLawParams& params)
     : walls_(std::move(walls)), p_(params) {
   if (walls_.empty()) throw InputError("wall_power_law metric: the geometry has no wall");
-  for (const SplineLoop& w : walls_)
+  for (const SplineLoop& w : walls_) {
     for (int c : w.corners()) corners_.push_back(w.points()[c]);
+    length_scale_ = std::max(length_scale_, w.length());
+  }
   if (p_.delta <= 0) p_.delta = p_.h0;
 }
 
@@ -35,10 +37,23 @@ WallPowerLawField::Sizes WallPowerLawField::sizes(const Eigen::Vector2d& x) cons
   }
   Sizes s;
   s.distance = best.distance;
-  // On (or numerically on) the wall, the direction to it is undefined: use the wall normal.
-  const double on_wall = 1e-12 * std::max(1.0, x.norm());
-  s.normal_direction = best.distance > on_wall ? Eigen::Vector2d((x - best.point) / best.distance)
-                                               : wall->normal(best.t);
+  // The normal: at a smooth closest point x - p is along the wall normal, so use the exact spline
+  // normal with the sign of x - p (the closest point's own rounding, ~1e-12 of the geometry,
+  // would otherwise tilt the direction of a tiny x - p arbitrarily). At a corner the normals of
+  // the two sides differ and x - p points into the corner's fan: use it, unless x is on the wall.
+  const Eigen::Vector2d wall_normal = wall->normal(best.t);
+  const double on_wall = 1e-9 * length_scale_;
+  bool at_corner = false;
+  for (int c : wall->corners()) {
+    const double dt = std::abs(best.t - c);
+    at_corner = at_corner || std::min(dt, wall->period() - dt) < 1e-9;
+  }
+  if (best.distance <= on_wall)
+    s.normal_direction = wall_normal;
+  else if (at_corner)
+    s.normal_direction = (x - best.point) / best.distance;
+  else
+    s.normal_direction = (x - best.point).dot(wall_normal) >= 0 ? wall_normal : Eigen::Vector2d(-wall_normal);
 
   // 2. Sizes.
   s.normal = normal_size(best.distance);

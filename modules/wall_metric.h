@@ -14,8 +14,9 @@
 // closest wall point, clipped near corners to h_corner + (g - 1) s (s: distance of the closest
 // wall point to the nearest corner), and never below h_perp, so that far from the walls the
 // metric becomes isotropic; every size is capped at h_max.
-// Directions: the normal is the direction from the closest wall point (found with each loop's
-// spatial index, spline_loop.h), the wall normal on the wall itself.
+// Directions: the normal is the wall normal at the closest wall point (found with each loop's
+// spatial index, spline_loop.h), pointing towards x; near a corner, the direction from the
+// corner to x.
 #pragma once
 
 #include <vector>
@@ -43,6 +44,7 @@ class WallPowerLawField final : public MetricField<2> {
  private:
   std::vector<SplineLoop> walls_;
   std::vector<Eigen::Vector2d> corners_;
+  double length_scale_ = 0;  // the longest wall: the scale of "on the wall"
   WallLawParams p_;
 };
 

@@ -79,3 +79,18 @@ TEST_CASE("wall metric: tangential size from curvature, corners and the far-fiel
   const WallPowerLawField fc({SplineLoop(c, {}, "circle")}, params());
   CHECK(fc.sizes(Vector2d(0.1, 0.0)).tangential == doctest::Approx(0.025).epsilon(6e-4));
 }
+
+TEST_CASE("wall metric: a point a rounding error off a curved wall keeps the wall's directions") {
+  // Regression: x - p of ~1e-12 (the closest point's own rounding) once set the "normal".
+  std::vector<Vector2d> c;
+  for (int i = 0; i < 64; ++i) c.emplace_back(std::cos(-2 * M_PI * i / 64), 0.3 * std::sin(-2 * M_PI * i / 64));
+  const SplineLoop loop(c, {}, "ellipse");
+  const WallPowerLawField f({loop}, params());
+  for (double t = 0.05; t < 64; t += 0.37)
+    for (double eps : {0.0, 3e-12, -3e-12, 1e-9}) {
+      const Vector2d x = loop.point(t) + eps * loop.tangent(t) + std::abs(eps) * loop.normal(t);
+      const auto s = f.sizes(x);
+      CHECK(f.evaluate(x).size_along(loop.tangent(t)) == doctest::Approx(s.tangential).epsilon(1e-6));
+      CHECK(std::abs(s.normal_direction.dot(loop.normal(t))) == doctest::Approx(1.0).epsilon(1e-9));
+    }
+}
