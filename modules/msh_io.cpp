@@ -523,7 +523,9 @@ class MshReader {
   MshMesh assemble() {
     MshMesh result;
     for (const RawBlock& b : blocks_) result.dim = std::max(result.dim, b.type->dim);
-    if (result.dim < 2) in_.fail_at(elements_line_, "no 2D or 3D elements in $Elements");
+    // Lines alone are a 2D surface mesh (boundary loops without cells).
+    if (result.dim == 1) result.dim = 2;
+    if (result.dim < 2) in_.fail_at(elements_line_, "no line, 2D or 3D elements in $Elements");
     if (result.dim == 2) {
       // The mesh must lie in the plane z = 0, up to round-off relative to its extent.
       constexpr double planar_z_tol_rel = 1e-10;

@@ -628,7 +628,10 @@ TEST_CASE("io: malformed MSH files throw InputError \"path:line: reason\", never
        "unknown node tag 1", 10},
       {"elements before nodes", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Elements\n0 0 0 0\n$EndElements\n",
        "$Elements must come after $Nodes", 4},
-      {"only lines", replace(m, "2 1 2 1\n1 1 2 3\n", "1 1 1 1\n1 1 2\n"), "no 2D or 3D elements", 14},
+      {"only points",
+       "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 1 1 1\n0 1 0 1\n1\n0 0 0\n$EndNodes\n"
+       "$Elements\n1 1 1 1\n0 1 15 1\n1 1\n$EndElements\n",
+       "no line, 2D or 3D elements", 10},
       {"node off the plane", replace(m, "0 1 0\n$EndNodes", "0 1 0.25\n$EndNodes"), "off the plane z = 0", 12},
       {"unknown entity", replace(m, "$Nodes", "$Entities\n0 0 1 0\n1 0 0 0 1 1 0 0 0\n$EndEntities\n$Nodes"),
        "entity (dimension 1, tag 5) missing from $Entities", 22},
@@ -638,7 +641,7 @@ TEST_CASE("io: malformed MSH files throw InputError \"path:line: reason\", never
       {"garbage after the header", replace(m, "$Nodes", "\x01\x02\xff"), "expected a section such as $Nodes", 4},
   };
   for (const Case& c : cases) {
-    INFO(c.what);
+    INFO(std::string(c.what));
     const fs::path p = dir / "bad.msh";
     write_text(p, c.text);
     std::string message;
@@ -647,7 +650,7 @@ TEST_CASE("io: malformed MSH files throw InputError \"path:line: reason\", never
     } catch (const InputError& e) {
       message = e.what();
     }
-    REQUIRE_MESSAGE(!message.empty(), "no InputError for: ", c.what);
+    REQUIRE_MESSAGE(!message.empty(), "no InputError for: ", std::string(c.what));
     CHECK_MESSAGE(message.find(c.fragment) != std::string::npos, message);
     CHECK(message.find('\n') == std::string::npos);
     CHECK(message.rfind(p.string() + ":", 0) == 0);
@@ -781,4 +784,19 @@ TEST_CASE("io: MSH writer rejects a broken mesh without leaving a file") {
   }
   CHECK_THROWS_AS(write_msh41(mesh, p), Error);
   CHECK(fs::is_empty(dir.path));
+}
+
+TEST_CASE("io: a file of lines alone reads as a 2D surface mesh (boundary loops, no cells)") {
+  TempDir dir("msh_lines");
+  HybridMesh<2> m;
+  m.nodes = {{0, 0}, {1, 0}, {0, 1}, {0.5, -0.1}, {0.6, 0.6}, {-0.1, 0.5}};
+  const int wall = m.add_tag("wall", BoundaryKind::Wall);
+  m.boundary_block(CellType::Line, 2, wall).connectivity = {0, 1, 3, 1, 2, 4, 2, 0, 5};
+  write_msh41(m, dir / "loop.msh");
+  const MshMesh r = read_msh41(dir / "loop.msh");
+  CHECK(r.dim == 2);
+  CHECK(r.mesh2.cells.empty());
+  REQUIRE(r.mesh2.boundary.size() == 1);
+  CHECK(r.mesh2.boundary[0].connectivity == m.boundary[0].connectivity);
+  CHECK(r.mesh2.tags.at(static_cast<std::size_t>(r.mesh2.boundary[0].tag)).kind == BoundaryKind::Wall);
 }
