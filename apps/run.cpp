@@ -4,16 +4,19 @@
 
 #include <chrono>
 #include <iomanip>
+#include <iostream>
+#include <limits>
 #include <optional>
 #include <sstream>
-#include <iostream>
 #include <string>
 
+#include "layers/grow_layers.h"
 #include "modules/annulus.h"
 #include "modules/error.h"
 #include "modules/geometry2d.h"
 #include "modules/metric_fields.h"
 #include "modules/msh_io.h"
+#include "modules/picture.h"
 #include "modules/quality.h"
 #include "modules/run_config.h"
 #include "modules/surface_mesh.h"
@@ -40,23 +43,89 @@ class StageClock {
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
-// The mesh of the run and, for spline geometries, the surface front it was built from.
-struct MeshStage {
-  HybridMesh<2> mesh;
-  std::optional<CurvedFront<2>> front;
-};
-
-MeshStage mesh_geometry(const RunConfig& c, const Geometry2D& geometry, const MetricField<2>& metric) {
-  if (c.geometry.type == "annulus") return {mesh_annulus(c.geometry.annulus, c.order, metric), std::nullopt};
-  CurvedFront<2> front = mesh_surface(geometry, metric, c.order);
-  HybridMesh<2> mesh = front_mesh(front);
-  return {std::move(mesh), std::move(front)};
-}
-
 std::string json_num(double x) {
   std::ostringstream s;
   s << std::setprecision(10) << x;
   return s.str();
+}
+
+// The mesh of the run and, for spline geometries, the surface front it was built from and the
+// layers grown from it.
+struct MeshStage {
+  HybridMesh<2> mesh;
+  std::optional<CurvedFront<2>> front;
+  std::optional<layers::LayerResult> layers;
+};
+
+layers::LayerParams layer_params(const LayersParams& c) {
+  layers::LayerParams p;
+  p.max_layers = c.max;
+  p.stop_when_linear = c.stop_when_linear;
+  p.f_atten = c.f_atten;
+  p.corner_angle_deg = c.corner_angle_deg;
+  p.fan_angle_deg = c.fan_angle_deg;
+  p.integrate_height = c.integrate_height;
+  p.smooth_normals = c.smooth_normals;
+  p.isotropic_stop = c.isotropic_stop;
+  return p;
+}
+
+MeshStage mesh_geometry(const RunConfig& c, const Geometry2D& geometry, const MetricField<2>& metric) {
+  if (c.geometry.type == "annulus")
+    return {mesh_annulus(c.geometry.annulus, c.order, metric), std::nullopt, std::nullopt};
+  CurvedFront<2> front = mesh_surface(geometry, metric, c.order);
+  if (!c.layers.enabled) {
+    HybridMesh<2> mesh = front_mesh(front);
+    return {std::move(mesh), std::move(front), std::nullopt};
+  }
+  // Layers alone (no fill yet): the outermost front is tagged "layers_outer".
+  layers::LayerResult lr = layers::grow_layers(front, geometry, metric, layer_params(c.layers));
+  HybridMesh<2> mesh = lr.mesh;
+  const int outer = mesh.add_tag("layers_outer", BoundaryKind::Named);
+  CellBlock& b = mesh.boundary_block(CellType::Line, c.order, outer);
+  for (const FrontLoop& l : lr.outer.loops)
+    b.connectivity.insert(b.connectivity.end(), l.elements.begin(), l.elements.end());
+  compact_nodes(mesh);  // the farfield's surface nodes are not part of a layers-only mesh
+  return {std::move(mesh), std::move(front), std::move(lr)};
+}
+
+// layers.* report keys and a per-layer table from the certified per-cell quality.
+void report_layers(const layers::LayerResult& lr, const HybridMesh<2>& mesh, const CellQuality& pc,
+                   QualityReport& report) {
+  std::string table = "[";
+  std::cout << "  layer  cells  curved  max_clip/h  min_scaled_J  max_aspect\n";
+  for (std::size_t k = 0; k < lr.layers.size(); ++k) {
+    const layers::LayerStats& st = lr.layers[k];
+    std::size_t curved = 0;
+    double min_sj = std::numeric_limits<double>::infinity(), max_ar = 0;
+    for (std::size_t c = st.first_cell; c < st.first_cell + st.cells; ++c) {
+      if (is_curved(mesh, mesh.cells[0], c)) ++curved;
+      min_sj = std::min(min_sj, pc.scaled_jacobian[c]);
+      max_ar = std::max(max_ar, pc.aspect_ratio[c]);
+    }
+    table += std::string(k ? ", " : "") + "{\"layer\": " + std::to_string(st.layer) +
+             ", \"cells\": " + std::to_string(st.cells) + ", \"curved_cells\": " + std::to_string(curved) +
+             ", \"max_clipped_over_height\": " + json_num(st.max_clipped_rel) +
+             ", \"linear\": " + (st.linear ? "true" : "false") + ", \"min_scaled_jacobian\": " + json_num(min_sj) +
+             ", \"max_aspect_ratio\": " + json_num(max_ar) + ", \"shrunk\": " + std::to_string(st.shrunk_nodes) + "}";
+    std::cout << std::setw(7) << st.layer << std::setw(7) << st.cells << std::setw(8) << curved << std::setw(12)
+              << std::setprecision(3) << st.max_clipped_rel << std::setw(14) << min_sj << std::setw(12) << max_ar
+              << '\n';
+  }
+  table += "]";
+  std::string events = "[";
+  for (std::size_t k = 0; k < lr.events.size(); ++k) {
+    std::string e;
+    for (char ch : lr.events[k]) e += ch == '"' ? '\'' : ch;
+    events += std::string(k ? ", " : "") + "\"" + e + "\"";
+    std::cout << "  layers: " << lr.events[k] << '\n';
+  }
+  events += "]";
+  report.extra.push_back({"layers.count", std::to_string(lr.layers.size())});
+  report.extra.push_back({"layers.linear_after", std::to_string(lr.linear_after)});
+  report.extra.push_back({"layers.table", table});
+  report.extra.push_back({"layers.events", events});
+  std::cout << "  layers: " << lr.layers.size() << ", front linear after layer " << lr.linear_after << '\n';
 }
 
 // Surface statistics as report keys surface.*; a summary line per loop on stdout.
@@ -114,6 +183,7 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
   QualityReport report = assess_quality<2>(mesh, metric.get(), qo, &per_cell);
   report.name = c.name;
   if (stage.front) report_surface(*stage.front, *metric, report);
+  if (stage.layers) report_layers(*stage.layers, mesh, per_cell, report);
   clock.done("quality", std::to_string(report.cells_invalid) + " invalid cells");
 
   // 6. Outputs, each written atomically; the report last, with every stage's time.

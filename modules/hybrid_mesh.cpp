@@ -193,6 +193,26 @@ ConformityReport check_conformity(const HybridMesh<Dim>& mesh) {
   return r;
 }
 
+template <int Dim>
+void compact_nodes(HybridMesh<Dim>& mesh) {
+  std::vector<NodeId> map(mesh.nodes.size(), -1);
+  for (const auto* blocks : {&mesh.cells, &mesh.boundary})
+    for (const CellBlock& b : *blocks)
+      for (NodeId v : b.connectivity) map[static_cast<std::size_t>(v)] = 0;
+  NodeId next = 0;
+  for (std::size_t i = 0; i < map.size(); ++i)
+    if (map[i] == 0) {
+      mesh.nodes[static_cast<std::size_t>(next)] = mesh.nodes[i];
+      map[i] = next++;
+    }
+  mesh.nodes.resize(static_cast<std::size_t>(next));
+  for (auto* blocks : {&mesh.cells, &mesh.boundary})
+    for (CellBlock& b : *blocks)
+      for (NodeId& v : b.connectivity) v = map[static_cast<std::size_t>(v)];
+}
+
+template void compact_nodes(HybridMesh<2>&);
+template void compact_nodes(HybridMesh<3>&);
 template struct HybridMesh<2>;
 template struct HybridMesh<3>;
 template ConformityReport check_conformity(const HybridMesh<2>&);

@@ -58,6 +58,10 @@ struct HybridMesh {
   int add_tag(const std::string& name, BoundaryKind kind);
 };
 
+// Drops the nodes no cell or boundary facet uses and renumbers the rest (order kept).
+template <int Dim>
+void compact_nodes(HybridMesh<Dim>& mesh);
+
 struct ConformityReport {
   bool ok = true;
   std::size_t interior_facets = 0;         // shared by exactly two cells with the same high-order nodes

@@ -33,6 +33,10 @@ void parse_airfoils(const ConfigNode& g, AirfoilsParams& a) {
     body.file = b.get_path("file", "");
     if (body.file.empty()) throw ConfigError(b.where() + ": file is required");
     body.name = b.get_string("name", i == 0 ? "wall" : "wall_" + std::to_string(i + 1));
+    // A body tagged "farfield" would merge with the farfield loop's tag (and make it a wall).
+    if (body.name.empty() || body.name == "farfield")
+      throw ConfigError(b.where("name") + ": '" + body.name +
+                        "' cannot tag a body (\"farfield\" is the farfield's tag)");
     body.corners = b.get_point_list("corners");
     a.bodies.push_back(body);
   }
@@ -86,7 +90,8 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   } else if (r.metric.type == "wall_power_law") {
     WallLawParams& w = r.metric.wall_law;
     w.h0 = m.get_positive("h0", w.h0);
-    w.growth = m.get_in_range("growth", w.growth, 1.0 + 1e-9, 10.0);
+    w.growth = m.get_in_range("growth", w.growth, 1.0, 10.0);
+    if (!(w.growth > 1)) throw ConfigError(m.where("growth") + ": must be larger than 1 (layers grow)");
     w.exponential = m.get_choice("law", "linear", {"linear", "exponential"}) == "exponential";
     w.delta = m.get_positive("delta", w.h0);
     w.h_max = m.get_positive("h_max", w.h_max);
@@ -100,6 +105,21 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     if (b.file.empty()) throw ConfigError(m.where() + ": file is required for a background metric");
     b.sol = m.get_path("sol", "");
     b.mean = m.get_choice("mean", b.mean, {"log_euclidean", "affine_invariant"});
+  }
+
+  if (c.has("layers")) {
+    const ConfigNode l = c.child("layers");
+    LayersParams& lp = r.layers;
+    lp.enabled = true;
+    lp.max = l.get_int("max", lp.max, 0, 10000);
+    lp.stop_when_linear = l.get_bool("stop_when_linear", lp.stop_when_linear);
+    lp.f_atten = l.get_in_range("f_atten", lp.f_atten, 0.0, 1.0);
+    lp.corner_angle_deg = l.get_in_range("corner_angle_deg", lp.corner_angle_deg, 1.0, 179.0);
+    lp.fan_angle_deg = l.get_in_range("fan_angle_deg", lp.fan_angle_deg, 5.0, 90.0);
+    lp.integrate_height = l.get_choice("height", "size", {"size", "integrate"}) == "integrate";
+    lp.smooth_normals = l.get_bool("smooth_normals", lp.smooth_normals);
+    lp.isotropic_stop = l.get_choice("isotropic_stop", lp.isotropic_stop, {"off", "any", "all"});
+    if (r.geometry.type != "airfoils") throw ConfigError(l.where() + ": layers need a spline geometry (type airfoils)");
   }
 
   const ConfigNode v = c.child("validity");

@@ -45,6 +45,15 @@
 //     file: <path>          Gmsh .msh with a tensor $NodeData view, or a libMeshb .mesh  (required)
 //     sol: <path>           the .sol of a .mesh file              default: none
 //     mean: log_euclidean|affine_invariant                        default: log_euclidean
+//   layers:                 prismatic layers grown from the walls (layers/grow_layers.h); absent: none
+//     max: <0..10000>       number of layers                      default: 24
+//     stop_when_linear: <bool>  stop after the first linear front  default: false
+//     f_atten: <0..1>       curvature attenuation fraction (Fig. 5)   default: 0.2
+//     corner_angle_deg: <>0>  turning angle of a corner           default: 30
+//     fan_angle_deg: <>0>   largest angle between fan normals     default: 45
+//     height: size|integrate  metric size along the normal, or unit metric length   default: size
+//     smooth_normals: <bool>  smooth the normals of each layer    default: false
+//     isotropic_stop: off|any|all  stop where the metric is isotropic   default: off
 //   validity:
 //     rel_tol: <0..1>       Bezier bounds refined to this         default: 0.01
 //     max_depth: <1..20>    subdivision depth limit               default: 12
@@ -131,6 +140,18 @@ struct MetricParams {
   BackgroundParams background;
 };
 
+struct LayersParams {
+  bool enabled = false;
+  int max = 24;
+  bool stop_when_linear = false;
+  double f_atten = 0.2;
+  double corner_angle_deg = 30.0;
+  double fan_angle_deg = 45.0;
+  bool integrate_height = false;
+  bool smooth_normals = false;
+  std::string isotropic_stop = "off";
+};
+
 struct ValidityParams {
   double rel_tol = 0.01;
   int max_depth = 12;
@@ -156,6 +177,7 @@ struct RunConfig {
   int order = 3;
   GeometryParams geometry;
   MetricParams metric;
+  LayersParams layers;
   ValidityParams validity;
   OutputParams output;
 };

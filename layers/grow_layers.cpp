@@ -1,0 +1,377 @@
+// SPDX-License-Identifier: MIT
+// Prismatic layers in 2D (see grow_layers.h for the steps and the paper's sections).
+#include "layers/grow_layers.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "modules/error.h"
+#include "modules/validity.h"
+
+namespace plaf::layers {
+
+namespace {
+
+using Vec = Eigen::Vector2d;
+
+Vec left_normal(const Vec& t) {
+  return Vec(-t.y(), t.x());
+}
+double signed_angle(const Vec& a, const Vec& b) {
+  return std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+}
+Vec rotate(const Vec& v, double a) {
+  return Vec(std::cos(a) * v.x() - std::sin(a) * v.y(), std::sin(a) * v.x() + std::cos(a) * v.y());
+}
+
+// Where a linear node's layer ends: one top for regular and concave nodes, a fan for convex ones.
+struct VertexTop {
+  enum class Kind { Regular, Concave, Convex } kind = Kind::Regular;
+  std::vector<Vec> normals;                  // fan normals n_0 (left panel) .. n_m (right panel); one otherwise
+  std::vector<Vec> tops;                     // P_k
+  std::vector<std::vector<NodeId>> columns;  // Q node ids (j = 1..Q) per top
+};
+
+class LoopLayer {
+ public:
+  LoopLayer(HybridMesh<2>& mesh, const MetricField<2>& metric, const LayerParams& p, int q)
+      : mesh_(mesh), metric_(metric), p_(p), q_(q) {}
+
+  // The layer's height along unit normal n at x (Sec. II.B): the metric size, or the distance
+  // to unit metric length along the normal.
+  double height(const Vec& x, const Vec& n) const {
+    const double h = metric_.evaluate(x).size_along(n);
+    if (!p_.integrate_height) return h;
+    // Unit metric length along x + s n: Newton-secant on L(s) = int_0^s |n|_M(x + t n) dt.
+    auto length = [&](double s) {
+      static const double gx[3] = {0.5 - std::sqrt(0.15), 0.5, 0.5 + std::sqrt(0.15)};
+      static const double gw[3] = {5.0 / 18, 8.0 / 18, 5.0 / 18};
+      double l = 0;
+      for (int g = 0; g < 3; ++g) l += gw[g] * s / metric_.evaluate(x + gx[g] * s * n).size_along(n);
+      return l;
+    };
+    double s = h;
+    for (int it = 0; it < 8; ++it) {
+      const double l = length(s);
+      if (std::abs(l - 1) < 1e-10) break;
+      s /= l;
+    }
+    return s;
+  }
+
+  NodeId add_node(const Vec& x) {
+    mesh_.nodes.push_back(x);
+    return static_cast<NodeId>(mesh_.nodes.size() - 1);
+  }
+
+  // Column of Q nodes from base (excluded) to top (included), uniform.
+  std::vector<NodeId> column(const Vec& base, const Vec& top) {
+    std::vector<NodeId> c;
+    for (int j = 1; j <= q_; ++j) c.push_back(add_node(base + (static_cast<double>(j) / q_) * (top - base)));
+    return c;
+  }
+
+  HybridMesh<2>& mesh_;
+  const MetricField<2>& metric_;
+  const LayerParams& p_;
+  int q_;
+};
+
+struct BuiltLayer {
+  std::vector<NodeId> cells;          // quads, Gmsh order
+  std::vector<std::size_t> cell_seq;  // per cell: the sequence index of its first base node
+  std::vector<int> cell_span;         // per cell: how many sequence indices its base spans
+  FrontLoop top;
+  double max_clipped_rel = 0;
+  bool linear = true;
+};
+
+// One layer on one loop; `scale` multiplies the height of every node of the loop sequence.
+BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometry2D& geometry, const FrontLoop& loop,
+                       bool first_layer, const std::vector<double>& scale) {
+  const int q = g.q_;
+  const std::size_t ne = loop.size();
+  const std::size_t n = ne * static_cast<std::size_t>(q);
+  const auto& x = g.mesh_.nodes;
+  auto el = [&](std::size_t e) { return loop.elements.data() + e * static_cast<std::size_t>(q + 1); };
+  // 1. The loop as a sequence of nodes: element e's start, then its interior nodes.
+  std::vector<NodeId> seq(n);
+  for (std::size_t e = 0; e < ne; ++e) {
+    seq[e * q] = el(e)[0];
+    for (int k = 1; k < q; ++k) seq[e * q + k] = el(e)[1 + k];
+  }
+  // By value: add_node appends to the node array, which may move it.
+  auto at = [&](std::size_t i) -> Vec { return x[seq[i % n]]; };
+  std::vector<Vec> panel(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec d = at(i + 1) - at(i);
+    if (!(d.norm() > 0)) throw MesherError("layers: two consecutive front nodes coincide on loop " + loop.tag);
+    panel[i] = d.normalized();
+  }
+  // 2. Normals: the spline's on the first layer, averaged panel normals afterwards.
+  const SplineLoop* spline = first_layer && loop.geometry_loop >= 0
+                                 ? &geometry.loops[static_cast<std::size_t>(loop.geometry_loop)].loop
+                                 : nullptr;
+  std::vector<Vec> normal(n);
+  std::vector<double> turning(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec& before = panel[(i + n - 1) % n];
+    turning[i] = signed_angle(before, panel[i]);
+    normal[i] = (left_normal(before) + left_normal(panel[i])).normalized();
+    const NodeId id = seq[i];
+    const bool vertex = i % q == 0;
+    const bool corner = vertex && std::abs(turning[i]) > g.p_.corner_angle_deg * M_PI / 180;
+    if (spline && !corner && static_cast<std::size_t>(id) < front0.params.size())
+      normal[i] = spline->normal(front0.params[id]);
+  }
+  if (g.p_.smooth_normals) {
+    std::vector<Vec> s = normal;
+    for (std::size_t i = 0; i < n; ++i)
+      if (!(i % q == 0 && std::abs(turning[i]) > g.p_.corner_angle_deg * M_PI / 180))
+        s[i] = (normal[(i + n - 1) % n] + 2 * normal[i] + normal[(i + 1) % n]).normalized();
+    normal = s;
+  }
+
+  // 3. Tops of the linear nodes: regular, concave (merged normal) or convex (fan).
+  const double corner = g.p_.corner_angle_deg * M_PI / 180;
+  std::vector<VertexTop> vt(ne);
+  for (std::size_t e = 0; e < ne; ++e) {
+    const std::size_t i = e * q;
+    const Vec c = at(i);
+    VertexTop& v = vt[e];
+    const Vec n_left = left_normal(panel[(i + n - 1) % n]), n_right = left_normal(panel[i]);
+    if (turning[i] > corner) {
+      // Concave (left turn). Sec. II.B makes the intersection of the neighbours' normals the
+      // vertex of a single element spanning both panels; with panels long against the layer
+      // height that vertex lies far out and distorts the neighbours, so we use the robust merged
+      // normal instead: the bisector, long enough (h / cos(half angle)) that both panels' layers
+      // keep the height h — the intersection of the two offset panels.
+      v.kind = VertexTop::Kind::Concave;
+      const Vec m = (n_left + n_right).normalized();
+      const double h = g.height(c, m) * scale[i];
+      v.normals = {m};
+      v.tops = {c + h / std::max(m.dot(n_left), 0.1) * m};
+    } else if (turning[i] < -corner) {
+      // Convex (right turn), Fig. 4: normals dividing the corner angle equally.
+      v.kind = VertexTop::Kind::Convex;
+      const int m = std::max(1, static_cast<int>(std::ceil(-turning[i] / (g.p_.fan_angle_deg * M_PI / 180) - 1e-9)));
+      // The heights of the fan normals go linearly from the left panel's normal to the right
+      // one's: the metric size along an in-between normal can differ (along the wall at a
+      // corner), and unequal neighbouring heights would fold the kites built from them.
+      const double h_first = g.height(c, n_left) * scale[i], h_last = g.height(c, n_right) * scale[i];
+      for (int k = 0; k <= m; ++k) {
+        const Vec nk = rotate(n_left, turning[i] * k / m);
+        v.normals.push_back(nk);
+        v.tops.push_back(c + (h_first + (h_last - h_first) * k / m) * nk);
+      }
+    } else {
+      v.normals = {normal[i]};
+      v.tops = {c + g.height(c, normal[i]) * scale[i] * normal[i]};
+    }
+    for (const Vec& t : v.tops) v.columns.push_back(g.column(c, t));
+  }
+  auto right_column = [&](std::size_t e) -> const std::vector<NodeId>& { return vt[e % ne].columns.back(); };
+  auto left_column = [&](std::size_t e) -> const std::vector<NodeId>& { return vt[e % ne].columns.front(); };
+  auto right_top = [&](std::size_t e) { return vt[e % ne].tops.back(); };
+  auto left_top = [&](std::size_t e) { return vt[e % ne].tops.front(); };
+
+  BuiltLayer out;
+  out.top.tag = loop.tag;
+  out.top.kind = loop.kind;
+  out.top.geometry_loop = loop.geometry_loop;
+  const LagrangeElement& quad = lagrange_element(CellType::Quadrilateral, q);
+  std::vector<NodeId> grid(static_cast<std::size_t>((q + 1) * (q + 1)));
+  auto g_at = [&](int u, int v) -> NodeId& { return grid[static_cast<std::size_t>(v * (q + 1) + u)]; };
+  auto emit_cell = [&](std::size_t seq_first, int span) {
+    for (const Lattice& l : quad.lattice()) out.cells.push_back(g_at(l[0], l[1]));
+    out.cell_seq.push_back(seq_first);
+    out.cell_span.push_back(span);
+  };
+  auto emit_front = [&](NodeId a, NodeId b, const std::vector<NodeId>& interior) {
+    out.top.elements.push_back(a);
+    out.top.elements.push_back(b);
+    out.top.elements.insert(out.top.elements.end(), interior.begin(), interior.end());
+    out.top.corner.push_back(0);
+  };
+
+  for (std::size_t e = 0; e < ne; ++e) {
+    // 4a. The fan at the start vertex of element e (kites between adjacent fan normals).
+    const VertexTop& v = vt[e];
+    const std::size_t iv = e * q;
+    for (std::size_t k = 0; k + 1 < v.tops.size(); ++k) {
+      const Vec& pk = v.tops[k];
+      const Vec& pk1 = v.tops[k + 1];
+      // X_k: perpendiculars to n_k at P_k and to n_k+1 at P_k+1 intersect.
+      const Vec tk = left_normal(v.normals[k]), tk1 = left_normal(v.normals[k + 1]);
+      Eigen::Matrix2d a;
+      a.col(0) = tk;
+      a.col(1) = -tk1;
+      const Vec st = a.colPivHouseholderQr().solve(pk1 - pk);
+      const Vec xk = pk + st[0] * tk;
+      const Vec c = at(iv);
+      // Kite lattice: (0,0) C, (Q,0) P_k+1, (Q,Q) X_k, (0,Q) P_k; bilinear.
+      g_at(0, 0) = seq[iv];
+      for (int j = 1; j <= q; ++j) {
+        g_at(j, 0) = v.columns[k + 1][j - 1];
+        g_at(0, j) = v.columns[k][j - 1];
+      }
+      for (int vv = 1; vv <= q; ++vv)
+        for (int u = 1; u <= q; ++u) {
+          const double s = static_cast<double>(u) / q, t = static_cast<double>(vv) / q;
+          g_at(u, vv) = g.add_node((1 - s) * (1 - t) * c + s * (1 - t) * pk1 + s * t * xk + (1 - s) * t * pk);
+        }
+      emit_cell(iv, 1);
+      std::vector<NodeId> inner;
+      for (int u = 1; u < q; ++u) inner.push_back(g_at(u, q));
+      emit_front(g_at(0, q), g_at(q, q), inner);
+      inner.clear();
+      for (int vv = q - 1; vv >= 1; --vv) inner.push_back(g_at(q, vv));
+      emit_front(g_at(q, q), g_at(q, 0), inner);
+    }
+
+    // 4b. The regular element e: tops of its high-order nodes, attenuated (Fig. 5).
+    const Vec a_top = right_top(e), b_top = left_top(e + 1);
+    std::vector<Vec> tops(static_cast<std::size_t>(q + 1));
+    for (int k = 1; k < q; ++k) {
+      const std::size_t i = iv + k;
+      const double h = g.height(at(i), normal[i]) * scale[i];
+      Vec top = at(i) + h * normal[i];
+      const Vec target = a_top + (static_cast<double>(k) / q) * (b_top - a_top);
+      Vec d = target - top;
+      const double limit = g.p_.f_atten * h;
+      const double need = d.norm();
+      if (need > limit) {
+        d *= limit / need;
+        out.linear = false;
+        out.max_clipped_rel = std::max(out.max_clipped_rel, need / h);
+      }
+      tops[static_cast<std::size_t>(k)] = top + d;
+    }
+    const NodeId* base = el(e);
+    for (int u = 0; u <= q; ++u) g_at(u, 0) = u == 0 ? base[0] : u == q ? base[1] : base[1 + u];
+    for (int j = 1; j <= q; ++j) {
+      g_at(0, j) = right_column(e)[j - 1];
+      g_at(q, j) = left_column(e + 1)[j - 1];
+    }
+    for (int u = 1; u < q; ++u) {
+      const Vec b = x[base[1 + u]];
+      const Vec top = tops[static_cast<std::size_t>(u)];
+      for (int j = 1; j <= q; ++j) g_at(u, j) = g.add_node(b + (static_cast<double>(j) / q) * (top - b));
+    }
+    emit_cell(iv, q);
+    std::vector<NodeId> inner;
+    for (int u = 1; u < q; ++u) inner.push_back(g_at(u, q));
+    emit_front(g_at(0, q), g_at(q, q), inner);
+  }
+  return out;
+}
+
+}  // namespace
+
+LayerResult grow_layers(const CurvedFront<2>& front, const Geometry2D& geometry, const MetricField<2>& metric,
+                        const LayerParams& p) {
+  check_order(front.order);
+  const int q = front.order;
+  LayerResult r;
+  r.mesh.nodes = front.nodes;
+  CellBlock quads{CellType::Quadrilateral, q, -1, {}};
+  std::vector<FrontLoop> loops;
+  for (const FrontLoop& l : front.loops) {
+    if (l.kind != BoundaryKind::Wall) continue;
+    const int tag = r.mesh.add_tag(l.tag, l.kind);
+    CellBlock& b = r.mesh.boundary_block(CellType::Line, q, tag);
+    b.connectivity.insert(b.connectivity.end(), l.elements.begin(), l.elements.end());
+    loops.push_back(l);
+  }
+  std::vector<bool> growing(loops.size(), true);
+  JacobianCertifier certifier;
+  LoopLayer g(r.mesh, metric, p, q);
+  std::vector<double> coords;
+  for (int layer = 1; layer <= p.max_layers; ++layer) {
+    LayerStats st;
+    st.layer = layer;
+    st.first_cell = quads.size();
+    bool any = false, all_linear = true;
+    for (std::size_t li = 0; li < loops.size(); ++li) {
+      if (!growing[li]) continue;
+      const FrontLoop& loop = loops[li];
+      const std::size_t n = loop.size() * static_cast<std::size_t>(q);
+      // Isotropic stop: the layer would be as tall as the metric's largest size.
+      if (p.isotropic_stop != "off") {
+        std::size_t iso = 0, total = 0;
+        for (std::size_t e = 0; e < loop.size(); ++e) {
+          const Vec& c = r.mesh.nodes[loop.elements[e * static_cast<std::size_t>(q + 1)]];
+          const Metric<2> m = metric.evaluate(c);
+          const auto d = m.decompose();
+          ++total;
+          if (d.sizes[0] >= 0.999 * d.sizes[1]) ++iso;
+        }
+        if ((p.isotropic_stop == "all" && iso == total) || (p.isotropic_stop == "any" && iso > 0)) {
+          growing[li] = false;
+          r.events.push_back("layer " + std::to_string(layer) + ", loop " + loop.tag +
+                             ": stopped, the metric is isotropic at " + std::to_string(iso) + " of " +
+                             std::to_string(total) + " nodes");
+          continue;
+        }
+      }
+      std::vector<double> scale(n, 1.0);
+      bool accepted = false;
+      BuiltLayer built;
+      for (int attempt = 0; attempt <= p.shrink_attempts && !accepted; ++attempt) {
+        const std::size_t nodes_before = r.mesh.nodes.size();
+        built = build_layer(g, front, geometry, loop, layer == 1, scale);
+        // Certify every new cell; shrink the heights under the invalid ones.
+        const int npc = num_nodes(CellType::Quadrilateral, q);
+        coords.resize(static_cast<std::size_t>(npc) * 2);
+        std::vector<std::size_t> bad;
+        for (std::size_t c = 0; c * npc < built.cells.size(); ++c) {
+          for (int k = 0; k < npc; ++k)
+            for (int d = 0; d < 2; ++d)
+              coords[static_cast<std::size_t>(2 * k + d)] = r.mesh.nodes[built.cells[c * npc + k]][d];
+          if (!certifier.certify(CellType::Quadrilateral, q, coords.data()).valid) bad.push_back(c);
+        }
+        if (bad.empty()) {
+          accepted = true;
+          break;
+        }
+        r.mesh.nodes.resize(nodes_before);
+        (void)npc;
+        for (std::size_t c : bad)
+          for (int s = -1; s <= built.cell_span[c] + 1; ++s) {
+            const std::size_t i = (built.cell_seq[c] + n - 1 + static_cast<std::size_t>(s + 1)) % n;
+            scale[i] *= 0.5;
+          }
+        st.shrunk_nodes += bad.size();
+        const Vec where = r.mesh.nodes[built.cells[bad[0] * static_cast<std::size_t>(npc)]];
+        r.events.push_back("layer " + std::to_string(layer) + ", loop " + loop.tag + ": " + std::to_string(bad.size()) +
+                           " invalid cells (first at " + std::to_string(where.x()) + ", " + std::to_string(where.y()) +
+                           "), heights halved around them");
+      }
+      if (!accepted) {
+        growing[li] = false;
+        r.events.push_back("layer " + std::to_string(layer) + ", loop " + loop.tag +
+                           ": stopped, cells still invalid after " + std::to_string(p.shrink_attempts) + " shrinks");
+        continue;
+      }
+      any = true;
+      quads.connectivity.insert(quads.connectivity.end(), built.cells.begin(), built.cells.end());
+      st.max_clipped_rel = std::max(st.max_clipped_rel, built.max_clipped_rel);
+      all_linear = all_linear && built.linear;
+      loops[li] = std::move(built.top);
+    }
+    if (!any) break;
+    st.cells = quads.size() - st.first_cell;
+    st.linear = all_linear;
+    r.layers.push_back(st);
+    if (st.linear && r.linear_after < 0) r.linear_after = layer;
+    if (st.linear && p.stop_when_linear) break;
+  }
+  if (!quads.connectivity.empty()) r.mesh.cells.push_back(std::move(quads));
+  r.outer.order = q;
+  r.outer.nodes = r.mesh.nodes;
+  r.outer.loops = loops;
+  return r;
+}
+
+}  // namespace plaf::layers

@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: MIT
+// Implements the prismatic layers of K. J. Fidkowski, "Anisotropic Metric-Based Curved Meshing
+// Using Prismatic Layers" (PLAF), Sec. II.A-B, Fig. 4 and 5, in 2D: curved quadrilaterals of
+// order Q grown layer by layer along the normals of a curved front.
+//
+// One layer, for every body loop of the front:
+//  1. normals at every node, linear and high-order: the spline normal on the first layer, the
+//     average of the adjacent panel normals afterwards (Sec. II.B);
+//  2. corners by the turning angle at linear nodes: a right turn (convex) beyond the threshold
+//     gets a fan of extra normals dividing the corner angle, each pair of adjacent normals
+//     bounding one element whose outer edges come from intersecting perpendiculars at the normal
+//     end points, high-order nodes uniform in the bilinear quad (Fig. 4); a left turn (concave)
+//     gets the merged normal described in grow_layers.cpp;
+//  3. heights: the metric's size along the normal, h = 1/sqrt(n^T M n), at the front node (or the
+//     distance to unit metric length along the normal); high-order nodes uniform along it;
+//  4. curvature attenuation (Fig. 5): the new front's high-order nodes move toward their linear
+//     positions by at most f_atten times the local height; the displacement is propagated
+//     linearly into the element; a front is linear when no move was clipped;
+//  5. every new element is certified (validity.h); where one is invalid the layer is shrunk
+//     there (heights halved) and retried, and a loop that still fails stops growing.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "modules/front.h"
+#include "modules/geometry2d.h"
+#include "modules/hybrid_mesh.h"
+#include "modules/metric.h"
+
+namespace plaf::layers {
+
+struct LayerParams {
+  int max_layers = 24;
+  bool stop_when_linear = false;
+  double f_atten = 0.2;
+  double corner_angle_deg = 30.0;  // |turning angle| above which a linear node is a corner
+  double fan_angle_deg = 45.0;     // largest angle between adjacent normals of a convex fan
+  bool integrate_height = false;   // unit metric length along the normal instead of the size
+  bool smooth_normals = false;     // one Laplacian pass over the normals of each new layer
+  // Stop when the layer would be at least as tall as the metric's largest size at every node
+  // ("all"), at any node ("any"), or never ("off").
+  std::string isotropic_stop = "off";
+  int shrink_attempts = 4;
+};
+
+struct LayerStats {
+  int layer = 0;  // 1-based
+  std::size_t cells = 0;
+  double max_clipped_rel = 0;    // largest attenuation move still needed / height (0 if linear)
+  bool linear = false;           // the new front is linear
+  std::size_t shrunk_nodes = 0;  // nodes whose height was reduced to keep cells valid
+  std::size_t first_cell = 0;    // this layer's cells in LayerResult::mesh block order
+};
+
+struct LayerResult {
+  HybridMesh<2> mesh;    // quadrilaterals of order Q; tags: the wall loops and "layers_outer"
+  CurvedFront<2> outer;  // the outermost front (same orientation as the input loops)
+  std::vector<LayerStats> layers;
+  int linear_after = -1;            // 1-based index of the first layer with a linear front, -1 if none
+  std::vector<std::string> events;  // what stopped or shrank growth, one line each
+};
+
+// Grows layers from the wall loops of `front` (loops of kind Wall); other loops are ignored.
+LayerResult grow_layers(const CurvedFront<2>& front, const Geometry2D& geometry, const MetricField<2>& metric,
+                        const LayerParams& params);
+
+}  // namespace plaf::layers
