@@ -129,8 +129,9 @@ void report_layers(const layers::LayerResult& lr, const HybridMesh<2>& mesh, con
 }
 
 // Surface statistics as report keys surface.*; a summary line per loop on stdout.
-void report_surface(const CurvedFront<2>& front, const MetricField<2>& metric, QualityReport& report) {
-  const SurfaceStats s = surface_stats(front, metric);
+void report_surface(const CurvedFront<2>& front, const Geometry2D& geometry, const MetricField<2>& metric,
+                    QualityReport& report) {
+  const SurfaceStats s = surface_stats(front, geometry, metric);
   std::string loops = "[";
   for (std::size_t k = 0; k < s.loops.size(); ++k) {
     const SurfaceLoopStats& l = s.loops[k];
@@ -182,7 +183,7 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
   CellQuality per_cell;
   QualityReport report = assess_quality<2>(mesh, metric.get(), qo, &per_cell);
   report.name = c.name;
-  if (stage.front) report_surface(*stage.front, *metric, report);
+  if (stage.front) report_surface(*stage.front, geometry, *metric, report);
   if (stage.layers) report_layers(*stage.layers, mesh, per_cell, report);
   clock.done("quality", std::to_string(report.cells_invalid) + " invalid cells");
 

@@ -128,7 +128,7 @@ HybridMesh<2> front_mesh(const CurvedFront<2>& front) {
   return mesh;
 }
 
-SurfaceStats surface_stats(const CurvedFront<2>& front, const MetricField<2>& metric) {
+SurfaceStats surface_stats(const CurvedFront<2>& front, const Geometry2D& geometry, const MetricField<2>& metric) {
   SurfaceStats s;
   s.metric_length_min = std::numeric_limits<double>::infinity();
   s.metric_length_max = 0;
@@ -144,9 +144,18 @@ SurfaceStats surface_stats(const CurvedFront<2>& front, const MetricField<2>& me
     double run_len = 0;
     for (std::size_t e = 0; e < l.size(); ++e) {
       const NodeId* el = front.element(l, e);
-      for (int k = 0; k <= front.order; ++k)
-        for (int d = 0; d < 2; ++d) coords[2 * k + d] = front.nodes[el[k]][d];
-      const double len = metric_length_curved<2>(metric, coords.data(), front.order);
+      double len = 0;
+      if (l.geometry_loop >= 0) {
+        const SplineLoop& loop = geometry.loops[static_cast<std::size_t>(l.geometry_loop)].loop;
+        const double ta = front.params[el[0]];
+        double tb = front.params[el[1]];
+        if (tb <= ta) tb += loop.period();
+        len = metric_length_table(loop, metric, ta, tb).length.back();
+      } else {
+        for (int k = 0; k <= front.order; ++k)
+          for (int d = 0; d < 2; ++d) coords[2 * k + d] = front.nodes[el[k]][d];
+        len = metric_length_curved<2>(metric, coords.data(), front.order);
+      }
       ls.metric_length_min = std::min(ls.metric_length_min, len);
       ls.metric_length_max = std::max(ls.metric_length_max, len);
       ++total;

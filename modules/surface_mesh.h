@@ -32,7 +32,10 @@ struct SurfaceStats {
   std::size_t short_segments = 0;  // corner-to-corner segments shorter than 1/sqrt 2 in the metric
 };
 
-// Metric lengths of the curved elements (Gauss quadrature on each Lagrange edge).
-SurfaceStats surface_stats(const CurvedFront<2>& front, const MetricField<2>& metric);
+// Metric lengths of the surface elements along the geometry's splines (what the surface mesh
+// equidistributed). Measuring the order-Q Lagrange edges instead would add their tangent
+// deviation from the spline, which a boundary-layer metric (normal size h0 ~ 1e-5 at the wall)
+// weighs heavily: that is the curved edge's interpolation error, not the spacing.
+SurfaceStats surface_stats(const CurvedFront<2>& front, const Geometry2D& geometry, const MetricField<2>& metric);
 
 }  // namespace plaf

@@ -34,7 +34,7 @@ TEST_CASE("surface: a circle under a uniform metric gets round(2 pi R / h) eleme
     REQUIRE(f.loops.size() == 1);
     CHECK(f.loops[0].size() == static_cast<std::size_t>(std::lround(2 * M_PI * r / h)));  // 63
     CHECK(f.nodes.size() == f.loops[0].size() * q);
-    const SurfaceStats s = surface_stats(f, m);
+    const SurfaceStats s = surface_stats(f, one_loop(circle(r, 128)), m);
     CHECK(s.unit_fraction == 1.0);
     CHECK(s.metric_length_min > 0.99);
     CHECK(s.metric_length_max < 1.01);
@@ -83,5 +83,5 @@ TEST_CASE("surface: corners are linear nodes and each side gets its own rounded 
   const UniformMetricField<2> coarse(Metric<2>::isotropic(2.0));
   const CurvedFront<2> fc = mesh_surface(one_loop(rect), coarse, 1);
   CHECK(fc.loops[0].size() == 4);
-  CHECK(surface_stats(fc, coarse).short_segments == 2);  // the two sides of length 1 (metric 0.5)
+  CHECK(surface_stats(fc, one_loop(rect), coarse).short_segments == 2);  // the two sides of length 1 (metric 0.5)
 }
