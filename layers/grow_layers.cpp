@@ -233,21 +233,15 @@ BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometr
     // 4b. The regular element e: tops of its high-order nodes, attenuated (Fig. 5).
     const Vec a_top = right_top(e), b_top = left_top(e + 1);
     std::vector<Vec> tops(static_cast<std::size_t>(q + 1));
+    std::vector<double> heights(static_cast<std::size_t>(q + 1), 0.0);
     for (int k = 1; k < q; ++k) {
       const std::size_t i = iv + k;
-      const double h = g.height(at(i), normal[i]) * scale[i];
-      Vec top = at(i) + h * normal[i];
-      const Vec target = a_top + (static_cast<double>(k) / q) * (b_top - a_top);
-      Vec d = target - top;
-      const double limit = g.p_.f_atten * h;
-      const double need = d.norm();
-      if (need > limit) {
-        d *= limit / need;
-        out.linear = false;
-        out.max_clipped_rel = std::max(out.max_clipped_rel, need / h);
-      }
-      tops[static_cast<std::size_t>(k)] = top + d;
+      heights[static_cast<std::size_t>(k)] = g.height(at(i), normal[i]) * scale[i];
+      tops[static_cast<std::size_t>(k)] = at(i) + heights[static_cast<std::size_t>(k)] * normal[i];
     }
+    const double clipped = attenuate(tops, a_top, b_top, heights, g.p_.f_atten);
+    if (clipped > 0) out.linear = false;
+    out.max_clipped_rel = std::max(out.max_clipped_rel, clipped);
     const NodeId* base = el(e);
     for (int u = 0; u <= q; ++u) g_at(u, 0) = u == 0 ? base[0] : u == q ? base[1] : base[1 + u];
     for (int j = 1; j <= q; ++j) {
@@ -268,6 +262,23 @@ BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometr
 }
 
 }  // namespace
+
+double attenuate(std::vector<Vec>& tops, const Vec& a, const Vec& b, const std::vector<double>& heights,
+                 double f_atten) {
+  const std::size_t q = tops.size() - 1;
+  double clipped = 0;
+  for (std::size_t k = 1; k < q; ++k) {
+    const Vec target = a + (static_cast<double>(k) / static_cast<double>(q)) * (b - a);
+    Vec d = target - tops[k];
+    const double need = d.norm(), limit = f_atten * heights[k];
+    if (need > limit) {
+      d *= limit / need;
+      clipped = std::max(clipped, need / heights[k]);
+    }
+    tops[k] += d;
+  }
+  return clipped;
+}
 
 LayerResult grow_layers(const CurvedFront<2>& front, const Geometry2D& geometry, const MetricField<2>& metric,
                         const LayerParams& p) {

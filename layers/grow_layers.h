@@ -61,6 +61,13 @@ struct LayerResult {
   std::vector<std::string> events;  // what stopped or shrank growth, one line each
 };
 
+// Curvature attenuation of one new front element (Fig. 5): moves the interior top nodes
+// tops[1..Q-1] toward their linear positions a + (k/Q)(b - a) by at most f_atten * heights[k].
+// Returns the largest needed move over its height among the clipped nodes (0 when none was
+// clipped, i.e. the element is now linear).
+double attenuate(std::vector<Eigen::Vector2d>& tops, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                 const std::vector<double>& heights, double f_atten);
+
 // Grows layers from the wall loops of `front` (loops of kind Wall); other loops are ignored.
 LayerResult grow_layers(const CurvedFront<2>& front, const Geometry2D& geometry, const MetricField<2>& metric,
                         const LayerParams& params);

@@ -1,0 +1,184 @@
+// SPDX-License-Identifier: MIT
+#include "layers/grow_layers.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <random>
+
+#include "modules/airfoil_io.h"
+#include "modules/picture.h"
+#include "modules/quality.h"
+#include "modules/surface_mesh.h"
+#include "modules/wall_metric.h"
+
+using namespace plaf;
+using Eigen::Vector2d;
+
+namespace {
+
+Geometry2D body(std::vector<Vector2d> points, std::vector<int> corners) {
+  Geometry2D g;
+  g.loops.push_back({SplineLoop(std::move(points), std::move(corners), "body"), "wall", BoundaryKind::Wall});
+  return g;
+}
+
+// Certified validity and conformity of the layer mesh (its outer front tagged, so it closes).
+QualityReport check(const layers::LayerResult& r) {
+  HybridMesh<2> m = r.mesh;
+  const int outer = m.add_tag("outer", BoundaryKind::Named);
+  CellBlock& b = m.boundary_block(CellType::Line, r.outer.order, outer);
+  for (const FrontLoop& l : r.outer.loops)
+    b.connectivity.insert(b.connectivity.end(), l.elements.begin(), l.elements.end());
+  return assess_quality<2>(m, nullptr, QualityOptions{});
+}
+
+// A clockwise polygon body with one corner of interior (body-side) angle `angle_deg` at the
+// origin, opening to the right, and a rounded far end.
+std::vector<Vector2d> wedge(double angle_deg) {
+  const double a = angle_deg * M_PI / 360;  // half angle
+  std::vector<Vector2d> p = {{0, 0}};
+  const double len = 1.0;
+  // Upper side from the tip to the far end, round cap, lower side back (clockwise: upper side
+  // has the body below it... traverse tip -> upper -> cap -> lower keeps the body on the right).
+  for (int i = 1; i <= 8; ++i) p.emplace_back(len * i / 8 * std::cos(a), len * i / 8 * std::sin(a));
+  const Vector2d c(len * std::cos(a), 0);
+  const double rc = len * std::sin(a);
+  for (int i = 1; i < 16; ++i) {
+    const double t = M_PI / 2 - M_PI * i / 16;
+    p.push_back(c + rc * Vector2d(std::cos(t), std::sin(t)));
+  }
+  for (int i = 8; i >= 1; --i) p.emplace_back(len * i / 8 * std::cos(a), -len * i / 8 * std::sin(a));
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("layers: on a circle with the wall law, layer k has height h0 g^k and the analytic radius") {
+  const double r0 = 1.0, h0 = 1e-3, g = 1.2;
+  std::vector<Vector2d> c;
+  for (int i = 0; i < 128; ++i) c.emplace_back(r0 * std::cos(-2 * M_PI * i / 128), r0 * std::sin(-2 * M_PI * i / 128));
+  const Geometry2D geo = body(c, {});
+  WallLawParams w;
+  w.h0 = h0;
+  w.growth = g;
+  w.h_max = 10;
+  w.h_wall_max = 0.1;
+  const WallPowerLawField metric({geo.loops[0].loop}, w);
+  const CurvedFront<2> front = mesh_surface(geo, metric, 2);
+  layers::LayerParams p;
+  p.max_layers = 12;
+  const layers::LayerResult r = layers::grow_layers(front, geo, metric, p);
+  REQUIRE(r.layers.size() == 12);
+  CHECK(check(r).ok());
+  // The outer front's vertices lie at radius r0 + h0 (g^K - 1)/(g - 1) (geometric layers).
+  const double expected = r0 + h0 * (std::pow(g, 12) - 1) / (g - 1);
+  for (const FrontLoop& l : r.outer.loops)
+    for (std::size_t e = 0; e < l.size(); ++e)
+      CHECK(r.mesh.nodes[l.elements[e * 3]].norm() == doctest::Approx(expected).epsilon(1e-6));
+}
+
+TEST_CASE("layers: attenuation moves no node by more than f_atten times its height") {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int q = 2 + trial % 3;
+    std::vector<Vector2d> tops(static_cast<std::size_t>(q + 1)), before;
+    std::vector<double> h(static_cast<std::size_t>(q + 1));
+    const Vector2d a(0, 0), b(1, 0);
+    for (int k = 1; k < q; ++k) {
+      tops[static_cast<std::size_t>(k)] = Vector2d(static_cast<double>(k) / q + 0.1 * u(rng), 0.3 * u(rng));
+      h[static_cast<std::size_t>(k)] = 0.05 + 0.05 * (u(rng) + 1);
+    }
+    before = tops;
+    const double clipped = layers::attenuate(tops, a, b, h, 0.2);
+    bool all_reached = true;
+    for (int k = 1; k < q; ++k) {
+      const auto i = static_cast<std::size_t>(k);
+      const Vector2d target = a + (static_cast<double>(k) / q) * (b - a);
+      CHECK((tops[i] - before[i]).norm() <= 0.2 * h[i] * (1 + 1e-12));
+      const bool reached = (tops[i] - target).norm() < 1e-12;
+      all_reached = all_reached && reached;
+      // Either the node reached its linear position, or it moved the full allowance toward it.
+      if (!reached) CHECK((tops[i] - before[i]).norm() == doctest::Approx(0.2 * h[i]));
+    }
+    CHECK((clipped == 0) == all_reached);
+  }
+}
+
+TEST_CASE("layers: convex corners of 90, 150 and 179 degrees get fans of valid cells") {
+  for (double turn : {90.0, 150.0, 179.0}) {
+    INFO("turning ", turn);
+    // Interior angle of the body at the tip = 180 - turning.
+    const Geometry2D geo = body(wedge(180.0 - turn), {0});
+    const UniformMetricField<2> metric(Metric<2>::isotropic(0.05));
+    const CurvedFront<2> front = mesh_surface(geo, metric, 3);
+    layers::LayerParams p;
+    p.max_layers = 3;
+    const UniformMetricField<2> thin(Metric<2>::from_directions(Eigen::Matrix2d::Identity(), Vector2d(0.01, 0.01)));
+    const layers::LayerResult r = layers::grow_layers(front, geo, thin, p);
+    CHECK(r.layers.size() == 3);
+    const QualityReport q = check(r);
+    CHECK(q.cells_invalid == 0);
+    CHECK(q.conformity.ok);
+    // A fan: more cells in the first layer than front elements.
+    CHECK(r.layers[0].cells > front.loops[0].size());
+  }
+}
+
+TEST_CASE("layers: a concave 90 degree corner gets valid cells") {
+  // An L-shaped body (clockwise): the corner at (1, 1) turns left by 90 degrees.
+  const std::vector<Vector2d> l = {{0, 0}, {0, 2}, {1, 2}, {1, 1}, {2, 1}, {2, 0}};
+  const Geometry2D geo = body(l, {0, 1, 2, 3, 4, 5});
+  const UniformMetricField<2> metric(Metric<2>::isotropic(0.1));
+  for (int q = 1; q <= 4; ++q) {
+    const CurvedFront<2> front = mesh_surface(geo, metric, q);
+    layers::LayerParams p;
+    p.max_layers = 4;
+    const UniformMetricField<2> thin(Metric<2>::isotropic(0.02));
+    const layers::LayerResult r = layers::grow_layers(front, geo, thin, p);
+    CHECK(r.layers.size() == 4);
+    const QualityReport qr = check(r);
+    CHECK(qr.cells_invalid == 0);
+    CHECK(qr.conformity.ok);
+  }
+}
+
+TEST_CASE("layers: Q = 1..4 on the E387 give valid, conforming layers") {
+  BodyContour c = read_body_contour(PLAF_SHARED_DATA "/airfoils/e387.dat");
+  const Geometry2D geo = body(c.points, c.corners);
+  WallLawParams w;
+  w.h0 = 0.005;
+  w.h_max = 10;
+  w.h_wall_max = 0.05;
+  w.curvature_factor = 0.3;
+  const WallPowerLawField metric({geo.loops[0].loop}, w);
+  for (int q = 1; q <= 4; ++q) {
+    INFO("Q = ", q);
+    const CurvedFront<2> front = mesh_surface(geo, metric, q);
+    layers::LayerParams p;
+    p.max_layers = 8;
+    p.corner_angle_deg = 70;
+    const layers::LayerResult r = layers::grow_layers(front, geo, metric, p);
+    CHECK(r.layers.size() == 8);
+    const QualityReport qr = check(r);
+    CHECK(qr.cells_invalid == 0);
+    CHECK(qr.conformity.ok);
+  }
+}
+
+TEST_CASE("layers: growing from a straight wall leaves every element straight") {
+  // A long thin rectangle: its sides are straight, its corners convex.
+  const Geometry2D geo = body({{0, 0}, {0, 0.5}, {4, 0.5}, {4, 0}}, {0, 1, 2, 3});
+  const UniformMetricField<2> metric(Metric<2>::isotropic(0.2));
+  const CurvedFront<2> front = mesh_surface(geo, metric, 3);
+  layers::LayerParams p;
+  p.max_layers = 5;
+  const UniformMetricField<2> thin(Metric<2>::isotropic(0.03));
+  const layers::LayerResult r = layers::grow_layers(front, geo, thin, p);
+  REQUIRE(r.layers.size() == 5);
+  CHECK(r.linear_after == 1);
+  const CellBlock& b = r.mesh.cells.at(0);
+  for (std::size_t i = 0; i < b.size(); ++i) CHECK_FALSE(is_curved(r.mesh, b, i, 1e-10));
+  CHECK(check(r).ok());
+}
