@@ -33,6 +33,8 @@ constexpr double coincident_rel = 1e-13;
 // relative difference (the 16-point value is then accurate far beyond it).
 constexpr double quadrature_rel = 1e-13;
 constexpr int quadrature_max_depth = 30;
+// The closest-point Newton iteration on a piece (u in [0, 1]) stops when its step is this small.
+constexpr double newton_step_tol = 4 * std::numeric_limits<double>::epsilon();
 
 double cross(const Vector2d& a, const Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
@@ -464,6 +466,10 @@ SplineLoop::Closest SplineLoop::closest_point_on_piece(int piece, const Eigen::V
         else
           hi = u;
         const double d = df(u);
+        // Converged: Newton approaches the root from one side, so the bracket need not shrink;
+        // without this stop, rounding noise in f later sends the step out of the bracket and
+        // the bisection fallback restarts from the bracket's far end.
+        if (d != 0.0 && std::abs(fu / d) <= newton_step_tol) break;
         double next = d != 0.0 ? u - fu / d : 0.5 * (lo + hi);
         if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
         if (next == u || hi - lo <= 2.0 * std::numeric_limits<double>::epsilon()) break;

@@ -1,0 +1,392 @@
+// SPDX-License-Identifier: MIT
+// End-to-end runs of every shipped configs/*.yaml, and of a background-metric case written here
+// in both background formats.
+#include <doctest/doctest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "modules/run_config.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_text(const fs::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+// A fresh directory under the system temp dir, removed with everything in it at scope exit.
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& name)
+      : path(fs::temp_directory_path() / ("plaf_" + name + "_" + std::to_string(::getpid()))) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    fs::remove_all(path, ignored);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+};
+
+// ---- the report JSON (report_json's layout: flat objects, numbers, one "loops" array) -------
+
+// The text of the value of "key" at or after `from` (up to the next ',', '}' or ']').
+std::string json_value(const std::string& json, const std::string& key, std::size_t from = 0) {
+  const std::string quoted = "\"" + key + "\": ";
+  const std::size_t at = json.find(quoted, from);
+  if (at == std::string::npos) return "";
+  const std::size_t b = at + quoted.size();
+  return json.substr(b, json.find_first_of(",}]\n", b) - b);
+}
+
+double json_number(const std::string& json, const std::string& key, std::size_t from = 0) {
+  const std::string v = json_value(json, key, from);
+  return v.empty() ? NAN : std::strtod(v.c_str(), nullptr);
+}
+
+struct LoopReport {
+  std::string tag;
+  long elements = -1, nodes = -1;
+  double metric_length_min = NAN, metric_length_max = NAN;
+};
+
+struct SurfaceReport {
+  std::vector<LoopReport> loops;
+  long order = -1, short_corner_segments = -1;
+  double metric_length_min = NAN, metric_length_max = NAN, unit_fraction = NAN;
+};
+
+SurfaceReport surface_report(const std::string& json) {
+  SurfaceReport s;
+  const std::size_t surface = json.find("\"surface\": {");
+  REQUIRE_MESSAGE(surface != std::string::npos, "the report has no surface section");
+  const std::size_t loops_begin = json.find("\"loops\": [", surface);
+  const std::size_t loops_end = json.find(']', loops_begin);
+  REQUIRE(loops_begin != std::string::npos);
+  for (std::size_t at = json.find('{', loops_begin); at < loops_end; at = json.find('{', at + 1)) {
+    LoopReport l;
+    const std::string tag = json_value(json, "tag", at);
+    l.tag = tag.substr(1, tag.size() - 2);
+    l.elements = std::lround(json_number(json, "elements", at));
+    l.nodes = std::lround(json_number(json, "nodes", at));
+    l.metric_length_min = json_number(json, "metric_length_min", at);
+    l.metric_length_max = json_number(json, "metric_length_max", at);
+    s.loops.push_back(l);
+  }
+  s.order = std::lround(json_number(json, "order", surface));
+  s.metric_length_min = json_number(json, "metric_length_min", loops_end);
+  s.metric_length_max = json_number(json, "metric_length_max", loops_end);
+  s.unit_fraction = json_number(json, "unit_fraction", loops_end);
+  s.short_corner_segments = std::lround(json_number(json, "short_corner_segments", loops_end));
+  return s;
+}
+
+// ---- the line elements of an MSH 4.1 file, per physical name ---------------------------------
+
+// Node tags of each line element (Gmsh order: the two ends, then the interior nodes), grouped by
+// the physical name of the curve entity that holds them.
+std::map<std::string, std::vector<std::vector<long>>> msh_line_loops(const fs::path& path) {
+  std::istringstream in(read_text(path));
+  std::map<long, std::string> physical_name;
+  std::map<long, long> curve_physical;
+  std::map<std::string, std::vector<std::vector<long>>> loops;
+  std::string section;
+  while (in >> section) {
+    if (section == "$PhysicalNames") {
+      long n, dim, tag;
+      in >> n;
+      for (long i = 0; i < n; ++i) {
+        std::string name;
+        in >> dim >> tag;
+        std::getline(in, name);  // the quoted name may hold blanks
+        physical_name[tag] = name.substr(name.find('"') + 1, name.rfind('"') - name.find('"') - 1);
+      }
+    } else if (section == "$Entities") {
+      long points, curves, surfaces, volumes;
+      in >> points >> curves >> surfaces >> volumes;
+      REQUIRE(points == 0);
+      for (long i = 0; i < curves; ++i) {
+        long tag, num_physical, physical, num_bounding;
+        double box[6];
+        in >> tag;
+        for (double& b : box) in >> b;
+        in >> num_physical;
+        REQUIRE(num_physical == 1);
+        in >> physical >> num_bounding;
+        REQUIRE(num_bounding == 0);
+        curve_physical[tag] = physical;
+      }
+      std::getline(in, section, '$');  // the surfaces are of no interest here
+      in >> section;
+      REQUIRE(section == "EndEntities");
+    } else if (section == "$Elements") {
+      long blocks, total, min_tag, max_tag;
+      in >> blocks >> total >> min_tag >> max_tag;
+      for (long b = 0; b < blocks; ++b) {
+        long dim, entity, type, n;
+        in >> dim >> entity >> type >> n;
+        if (dim != 1) {  // cells: skip the rest of the header line and one line per cell
+          std::string line;
+          for (long e = 0; e <= n; ++e) std::getline(in, line);
+          continue;
+        }
+        // Gmsh line types: 1 (2 nodes), 8 (3), 26 (4), 27 (5).
+        const int per = type == 1 ? 2 : type == 8 ? 3 : type == 26 ? 4 : type == 27 ? 5 : 0;
+        REQUIRE(per > 0);
+        auto& loop = loops[physical_name.at(curve_physical.at(entity))];
+        for (long e = 0; e < n; ++e) {
+          long tag;
+          in >> tag;
+          std::vector<long> nodes(static_cast<std::size_t>(per));
+          for (long& v : nodes) in >> v;
+          loop.push_back(nodes);
+        }
+      }
+    }
+  }
+  return loops;
+}
+
+// ---- running plaf ------------------------------------------------------------------------
+
+struct Run {
+  fs::path config, out;
+  std::string name;
+  bool airfoils = false;
+  int code = -1;
+  std::string err;
+};
+
+// Runs `plaf run CONFIG --out OUT` for every run at once (background shell jobs), then collects
+// the exit codes and stderr.
+void run_all(std::vector<Run>& runs, const fs::path& scratch) {
+  std::string cmd;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const std::string k = (scratch / std::to_string(i)).string();
+    cmd += "( " + std::string(PLAF_EXE) + " run '" + runs[i].config.string() + "' --out '" + runs[i].out.string() +
+           "' > /dev/null 2> '" + k + ".err'; echo $? > '" + k + ".rc' ) & ";
+  }
+  cmd += "wait";
+  const int status = std::system(cmd.c_str());
+  REQUIRE(WIFEXITED(status));
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const fs::path k = scratch / std::to_string(i);
+    runs[i].code = std::atoi(read_text(k.string() + ".rc").c_str());
+    runs[i].err = read_text(k.string() + ".err");
+  }
+}
+
+// Every configs/*.yaml, run once per test binary into one temp dir.
+struct ShippedRuns {
+  TempDir dir{"configs"};
+  std::vector<Run> runs;
+  ShippedRuns() {
+    std::vector<fs::path> configs;
+    for (const auto& e : fs::directory_iterator(PLAF_CONFIGS))
+      if (e.path().extension() == ".yaml") configs.push_back(e.path());
+    std::sort(configs.begin(), configs.end());
+    for (const fs::path& c : configs) {
+      const plaf::RunConfig rc = plaf::load_run_config(c);
+      runs.push_back({c, dir.path / c.stem(), rc.name, rc.geometry.type == "airfoils", -1, ""});
+    }
+    run_all(runs, dir.path);
+  }
+};
+
+const std::vector<Run>& shipped_runs() {
+  static const ShippedRuns shipped;
+  return shipped.runs;
+}
+
+const double unit_lo = 1 / std::sqrt(2.0), unit_hi = std::sqrt(2.0);
+
+}  // namespace
+
+TEST_CASE("configs: every shipped config runs, writes msh, vtu, report and png, and is valid and conforming") {
+  const std::vector<Run>& runs = shipped_runs();
+  REQUIRE_FALSE(runs.empty());
+  for (const Run& r : runs) {
+    INFO(r.config.string() << "\n" << r.err);
+    CHECK(r.code == 0);
+    for (const char* ext : {".msh", ".vtu", ".report.json", ".png"}) {
+      const fs::path p = r.out / (r.name + ext);
+      CHECK_MESSAGE((fs::exists(p) && fs::file_size(p) > 0), p.string());
+    }
+    const std::string report = read_text(r.out / (r.name + ".report.json"));
+    CHECK(json_value(report, "invalid") == "0");
+    CHECK(json_value(report, "ok", report.find("\"conformity\"")) == "true");
+    CHECK(json_value(report, "name") == "\"" + r.name + "\"");
+  }
+}
+
+TEST_CASE("configs: airfoil surface elements have unit metric length and closed loops of elements x order nodes") {
+  int airfoil_runs = 0;
+  for (const Run& r : shipped_runs()) {
+    if (!r.airfoils) continue;
+    ++airfoil_runs;
+    INFO(r.config.string());
+    const plaf::RunConfig config = plaf::load_run_config(r.config);
+    const std::string report = read_text(r.out / (r.name + ".report.json"));
+    const SurfaceReport s = surface_report(report);
+    const long q = config.order;
+    CHECK(s.order == q);
+    // Loops: the bodies, then the farfield.
+    REQUIRE(s.loops.size() == config.geometry.airfoils.bodies.size() + 1);
+    CHECK(s.loops.back().tag == "farfield");
+    long elements = 0;
+    for (const LoopReport& l : s.loops) {
+      INFO(l.tag);
+      CHECK(l.elements > 0);
+      CHECK(l.nodes == l.elements * q);  // closed: each element adds its first end and q - 1 interior nodes
+      CHECK(l.metric_length_max <= unit_hi);
+      elements += l.elements;
+    }
+    // Lengths within [1/sqrt 2, sqrt 2] but for the single elements of corner-to-corner segments
+    // too short for one unit element (a blunt trailing edge).
+    CHECK(s.metric_length_max <= unit_hi);
+    CHECK((1 - s.unit_fraction) * static_cast<double>(elements) <=
+          static_cast<double>(s.short_corner_segments) + 1e-6 * static_cast<double>(elements));
+    if (s.short_corner_segments == 0) CHECK(s.metric_length_min >= unit_lo);
+
+    // The written mesh: per tag, a closed chain of elements (each one's second end is the next
+    // one's first end) with elements x order distinct nodes. Every body is a boundary of the
+    // mesh; the farfield is one when the run writes the surface alone (no cells), but not when
+    // cells cover only part of the domain (layers without a fill).
+    const auto msh = msh_line_loops(r.out / (r.name + ".msh"));
+    const bool surface_only = json_value(report, "total") == "0";
+    for (const LoopReport& l : s.loops) {
+      INFO(l.tag);
+      if (l.tag == "farfield" && !surface_only && msh.count(l.tag) == 0) continue;
+      REQUIRE(msh.count(l.tag) == 1);
+      const auto& els = msh.at(l.tag);
+      CHECK(static_cast<long>(els.size()) == l.elements);
+      std::set<long> distinct;
+      for (std::size_t e = 0; e < els.size(); ++e) {
+        CHECK(static_cast<long>(els[e].size()) == q + 1);
+        CHECK(els[e][1] == els[(e + 1) % els.size()][0]);
+        distinct.insert(els[e].begin(), els[e].end());
+      }
+      CHECK(static_cast<long>(distinct.size()) == l.elements * q);
+    }
+  }
+  CHECK(airfoil_runs > 0);
+}
+
+TEST_CASE("configs: a background metric from .mesh/.sol and from MSH 4.1 gives the same surface mesh") {
+  // Background: the square [-5.5, 6.5] x [-6, 6] in 12 x 12 unit cells, each split in two, with
+  // the isotropic size h(x) = h0 exp(a . x). log M = -2 log h I is linear in x, so the
+  // log-Euclidean barycentric interpolation of the vertex metrics reproduces M(x) exactly.
+  const double h0 = 0.2;
+  const Eigen::Vector2d a(0.15, 0.05);
+  constexpr int cells = 12;
+  const Eigen::Vector2d origin(-5.5, -6.0);
+  std::vector<Eigen::Vector2d> nodes;
+  std::vector<double> m;  // 1 / h^2 at each node
+  for (int j = 0; j <= cells; ++j)
+    for (int i = 0; i <= cells; ++i) {
+      nodes.push_back(origin + Eigen::Vector2d(i, j));
+      const double h = h0 * std::exp(a.dot(nodes.back()));
+      m.push_back(1 / (h * h));
+    }
+  std::vector<std::array<int, 3>> triangles;  // 1-based
+  const auto id = [](int i, int j) { return 1 + j * (cells + 1) + i; };
+  for (int j = 0; j < cells; ++j)
+    for (int i = 0; i < cells; ++i) {
+      triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+
+  const TempDir d("configs_background");
+  std::ostringstream mesh, sol, msh;
+  for (auto* s : {&mesh, &sol, &msh}) s->precision(17);
+  mesh << "MeshVersionFormatted 2\nDimension 2\nVertices\n" << nodes.size() << "\n";
+  for (const auto& p : nodes) mesh << p[0] << " " << p[1] << " 0\n";
+  mesh << "Triangles\n" << triangles.size() << "\n";
+  for (const auto& t : triangles) mesh << t[0] << " " << t[1] << " " << t[2] << " 0\n";
+  mesh << "End\n";
+  sol << "MeshVersionFormatted 2\nDimension 2\nSolAtVertices\n" << nodes.size() << "\n1 3\n";
+  for (double v : m) sol << v << " 0 " << v << "\n";
+  sol << "End\n";
+  msh << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 " << nodes.size() << " 1 " << nodes.size() << "\n2 1 0 "
+      << nodes.size() << "\n";
+  for (std::size_t i = 1; i <= nodes.size(); ++i) msh << i << "\n";
+  for (const auto& p : nodes) msh << p[0] << " " << p[1] << " 0\n";
+  msh << "$EndNodes\n$Elements\n1 " << triangles.size() << " 1 " << triangles.size() << "\n2 1 2 " << triangles.size()
+      << "\n";
+  for (std::size_t e = 0; e < triangles.size(); ++e)
+    msh << e + 1 << " " << triangles[e][0] << " " << triangles[e][1] << " " << triangles[e][2] << "\n";
+  // One view of 3x3 tensors, row-major: diag(1/h^2, 1/h^2, 1).
+  msh << "$EndElements\n$NodeData\n1\n\"metric\"\n1\n0\n3\n0\n9\n" << nodes.size() << "\n";
+  for (std::size_t i = 0; i < nodes.size(); ++i) msh << i + 1 << " " << m[i] << " 0 0 0 " << m[i] << " 0 0 0 1\n";
+  msh << "$EndNodeData\n";
+  write_text(d.path / "bg.mesh", mesh.str());
+  write_text(d.path / "bg.sol", sol.str());
+  write_text(d.path / "bg.msh", msh.str());
+
+  // NACA 0012 in a farfield circle of radius 5 about (0.5, 0), inside the background square.
+  const double r = 5;
+  const Eigen::Vector2d c(0.5, 0.0);
+  const std::string geometry =
+      "name: bg\ngeometry:\n  type: airfoils\n  bodies:\n    - file: " + std::string(PLAF_SHARED_DATA) +
+      "/airfoils/naca0012.dat\n  farfield: {shape: circle, radius: 5, center: [0.5, 0]}\n"
+      "output: {formats: [msh, report]}\n";
+  write_text(d.path / "meshb.yaml", geometry + "metric: {type: background, file: bg.mesh, sol: bg.sol}\n");
+  write_text(d.path / "msh.yaml", geometry + "metric: {type: background, file: bg.msh}\n");
+  std::vector<Run> runs = {{d.path / "meshb.yaml", d.path / "out_meshb", "bg", true, -1, ""},
+                           {d.path / "msh.yaml", d.path / "out_msh", "bg", true, -1, ""}};
+  run_all(runs, d.path);
+  for (const Run& run : runs) {
+    INFO(run.err);
+    REQUIRE(run.code == 0);
+  }
+
+  // The same metric at the same nodes: the same surface mesh, bit for bit.
+  const std::string report_meshb = read_text(d.path / "out_meshb" / "bg.report.json");
+  const SurfaceReport sb = surface_report(report_meshb);
+  const SurfaceReport sm = surface_report(read_text(d.path / "out_msh" / "bg.report.json"));
+  REQUIRE(sb.loops.size() == 2);
+  REQUIRE(sm.loops.size() == 2);
+  for (std::size_t k = 0; k < 2; ++k) {
+    CHECK(sb.loops[k].elements == sm.loops[k].elements);
+    CHECK(sb.loops[k].metric_length_min == sm.loops[k].metric_length_min);
+    CHECK(sb.loops[k].metric_length_max == sm.loops[k].metric_length_max);
+  }
+  CHECK(read_text(d.path / "out_meshb" / "bg.msh") == read_text(d.path / "out_msh" / "bg.msh"));
+
+  // The circle x = c + r (cos t, sin t) has metric length
+  //   \int_0^{2 pi} r / h(x) dt = (r / h0) e^{-a.c} \int_0^{2 pi} e^{-r |a| cos(t - phi)} dt
+  //                             = (2 pi r / h0) e^{-a.c} I_0(r |a|)
+  // (I_0: the modified Bessel function, I_0(z) = (1/pi) \int_0^pi e^{z cos t} dt); here 169.40.
+  const double length = 2 * M_PI * r / h0 * std::exp(-a.dot(c)) * std::cyl_bessel_i(0.0, r * a.norm());
+  const LoopReport& far = sb.loops[1];
+  CHECK(far.tag == "farfield");
+  CHECK(std::abs(static_cast<double>(far.elements) - length) <= 1);
+  // Equidistributed: every element has the metric length length / elements (to the resolution of
+  // the equidistribution table).
+  CHECK(far.metric_length_min == doctest::Approx(length / static_cast<double>(far.elements)).epsilon(1e-3));
+  CHECK(far.metric_length_max == doctest::Approx(length / static_cast<double>(far.elements)).epsilon(1e-3));
+  CHECK(json_value(report_meshb, "invalid") == "0");
+}
