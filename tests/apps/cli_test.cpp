@@ -57,7 +57,7 @@ const std::string good = "order: 2\ngeometry: {type: annulus, angle_deg: 90}\nme
 
 }  // namespace
 
-TEST_CASE("cli: run writes msh, vtu, report and png; check re-reads the msh and certifies it") {
+TEST_CASE("cli: run writes msh, vtu, report and png, check re-reads the msh and certifies it") {
   const fs::path d = fresh_dir("run");
   const fs::path cfg = write(d, "case.yaml", good);
   const Result r = plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);

@@ -259,7 +259,7 @@ TEST_CASE("background: log-Euclidean interpolation reproduces a field linear in 
   }
 }
 
-TEST_CASE("background: affine-invariant interpolation commutes with congruence; means agree for commuting metrics") {
+TEST_CASE("background: affine-invariant interpolation commutes with congruence, means agree for commuting metrics") {
   BackgroundMesh mesh = perturbed_square(6, 1.0, Vector2d::Zero(), 11);
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> u01(0.0, 1.0);

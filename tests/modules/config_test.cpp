@@ -50,7 +50,7 @@ TEST_CASE("config: syntax errors, non-map documents and missing files") {
   CHECK_THROWS_AS(ConfigNode::load_file("/nonexistent/run.yaml"), InputError);
 }
 
-TEST_CASE("registry: plugins by name; an unknown name lists the known ones") {
+TEST_CASE("registry: plugins by name, an unknown name lists the known ones") {
   Registry<std::unique_ptr<int>(int)> r("widget");
   r.add("double", [](int x) { return std::make_unique<int>(2 * x); });
   r.add("square", [](int x) { return std::make_unique<int>(x * x); });

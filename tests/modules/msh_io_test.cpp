@@ -570,7 +570,7 @@ std::string replace(std::string s, const std::string& from, const std::string& t
 
 }  // namespace
 
-TEST_CASE("io: MSH reader accepts a minimal file without $Entities; facets without physicals get entity tags") {
+TEST_CASE("io: MSH reader accepts a minimal file without $Entities, facets without physicals get entity tags") {
   TempDir dir("msh_minimal");
   write_text(dir / "m.msh", minimal_msh);
   const MshMesh m = read_msh41(dir / "m.msh");

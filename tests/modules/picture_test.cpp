@@ -126,7 +126,7 @@ TEST_CASE("picture: the invalid cell is red and straight cells light blue, in an
   }
 }
 
-TEST_CASE("picture: curved annulus cells are light orange; the same cells at Q = 1 are straight") {
+TEST_CASE("picture: curved annulus cells are light orange, the same cells at Q = 1 are straight") {
   // A quarter annulus r in [1, 2] with size 0.8: the mid-radius arc 1.5 pi/2 = 2.36 measures 2.9,
   // rounded to 3 cells of 30 degrees; the radial line measures 1.25, rounded to 1 (annulus.h).
   // The bounding box [0, 2]^2 is centred in the square picture, so its centre pixel shows model

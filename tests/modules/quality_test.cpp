@@ -321,7 +321,7 @@ TEST_CASE("quality: aspect ratio and validity are invariant under rotation, tran
   }
 }
 
-TEST_CASE("quality: cells_by_type and cells_total count every block; a quad/triangle mix conforms") {
+TEST_CASE("quality: cells_by_type and cells_total count every block, a quad/triangle mix conforms") {
   for (int q = 1; q <= max_order; ++q) {
     INFO("Q=", q);
     // Columns 0..k-1 quadrilaterals, k..nx-1 split squares, on one node lattice.
@@ -358,7 +358,7 @@ TEST_CASE("quality: cells_by_type and cells_total count every block; a quad/tria
   }
 }
 
-TEST_CASE("quality: one mirrored cell is the one invalid cell; the report fails and the flags mark it") {
+TEST_CASE("quality: one mirrored cell is the one invalid cell, the report fails and the flags mark it") {
   for (int q = 1; q <= max_order; ++q)
     for (const CellType t : {CellType::Quadrilateral, CellType::Triangle, CellType::Prism}) {
       INFO(std::string(cell_name(t)), " Q=", q);
@@ -527,7 +527,7 @@ TEST_CASE("quality: the annulus mesh has min scaled Jacobian r_in / r_out of its
     }
 }
 
-TEST_CASE("quality: a collapsed (zero-length) edge is measured as 0 and binned lowest; its cell is invalid") {
+TEST_CASE("quality: a collapsed (zero-length) edge is measured as 0 and binned lowest, its cell is invalid") {
   // The unit square with vertex 2 moved onto vertex 1: edge 1-2 has length 0 and det J vanishes
   // at vertex 1, so validity cannot be proven.
   HybridMesh<2> m;

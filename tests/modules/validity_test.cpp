@@ -162,7 +162,7 @@ void check_same(const JacobianBounds& a, const JacobianBounds& b) {
 
 }  // namespace
 
-TEST_CASE("validity: straight cells have constant det J = det A and scaled Jacobian 1; mirrored ones are invalid") {
+TEST_CASE("validity: straight cells have constant det J = det A and scaled Jacobian 1, mirrored ones are invalid") {
   constexpr double coef_rel = 1e-7;
   JacobianCertifier certifier;
   for (CellType t : cell_types)

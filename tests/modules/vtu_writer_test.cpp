@@ -171,7 +171,7 @@ TEST_CASE("io: VTK permutation maps each Gmsh node to the VTK node at the same l
         std::vector<int>{0, 1, 2, 3, 4, 5, 6, 9, 7, 12, 14, 13, 8, 10, 11, 15, 17, 16});
 }
 
-TEST_CASE("io: VTK cell types; order 1 uses linear cells and reverses the wedge base") {
+TEST_CASE("io: VTK cell types, order 1 uses linear cells and reverses the wedge base") {
   const int lagrange[] = {68, 69, 70, 71, 73}, linear[] = {3, 5, 9, 10, 13};
   for (int i = 0; i < 5; ++i) {
     CHECK(vtk_cell_type(all_types[i], 1) == linear[i]);
