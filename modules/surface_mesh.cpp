@@ -79,7 +79,10 @@ CurvedFront<2> mesh_surface(const Geometry2D& geometry, const MetricField<2>& me
       const LengthTable tab = metric_length_table(loop, metric, t0, t1);
       const double total = tab.length.back();
       if (!std::isfinite(total)) throw MesherError("surface mesh: the metric length of " + loop.name() + " is not finite");
-      const long n = std::max(1L, std::lround(total));
+      // The rounded metric length, rounded in log space (at sqrt(n (n + 1)) rather than n + 1/2)
+      // so that every element's length L/n lies in [1/sqrt 2, sqrt 2] whenever L >= 1/sqrt 2.
+      long n = std::max(1L, static_cast<long>(std::floor(total)));
+      if (total > std::sqrt(static_cast<double>(n) * static_cast<double>(n + 1))) ++n;
       if (n > 50'000'000L) throw MesherError("surface mesh: the metric asks for over 5e7 elements on " + loop.name());
       for (long e = 0; e < n; ++e) {
         linear_t.push_back(e == 0 ? t0 : parameter_at_length(tab, total * static_cast<double>(e) / static_cast<double>(n)));

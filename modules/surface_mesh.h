@@ -5,7 +5,9 @@
 // the arc-length distance between adjacent linear nodes. Corner nodes are constrained to be
 // Q = 1 nodes."
 // On each corner-to-corner segment of a loop (the whole loop if it has no corner), the number of
-// elements is the rounded metric length of the segment (at least 1).
+// elements is the metric length L of the segment rounded in log space (n or n + 1 as L is below
+// or above sqrt(n (n + 1)), at least 1), so every element of a segment with L >= 1/sqrt 2 has a
+// metric length in [1/sqrt 2, sqrt 2].
 #pragma once
 
 #include <string>

@@ -85,3 +85,16 @@ TEST_CASE("surface: corners are linear nodes and each side gets its own rounded 
   CHECK(fc.loops[0].size() == 4);
   CHECK(surface_stats(fc, one_loop(rect), coarse).short_segments == 2);  // the two sides of length 1 (metric 0.5)
 }
+
+TEST_CASE("surface: segments are split in log-rounded counts, keeping every element within [1/sqrt 2, sqrt 2]") {
+  // Sides of metric length L give n = floor(L) or floor(L) + 1 as L is below or above
+  // sqrt(n (n + 1)): L = 1.45 (> sqrt 2) -> 2 elements of 0.725; L = 2.4 (< sqrt 6) -> 2 of 1.2.
+  for (const auto& [side, count] : std::vector<std::pair<double, std::size_t>>{{1.45, 2}, {2.4, 2}, {2.5, 3}}) {
+    const SplineLoop sq({{0, 0}, {0, side}, {side, side}, {side, 0}}, {0, 1, 2, 3}, "square");
+    const UniformMetricField<2> m(Metric<2>::isotropic(1.0));
+    const CurvedFront<2> f = mesh_surface(one_loop(sq), m, 1);
+    CHECK(f.loops[0].size() == 4 * count);
+    const SurfaceStats s = surface_stats(f, one_loop(sq), m);
+    CHECK(s.unit_fraction == 1.0);
+  }
+}
