@@ -83,9 +83,74 @@ struct BuiltLayer {
   std::vector<std::size_t> cell_seq;  // per cell: the sequence index of its first base node
   std::vector<int> cell_span;         // per cell: how many sequence indices its base spans
   FrontLoop top;
+  std::vector<std::size_t> top_seq;  // per new front element: the sequence index it grew from
+  std::vector<int> top_span;         // ... and how many sequence indices its base spans
   double max_clipped_rel = 0;
   bool linear = true;
 };
+
+// Segments of a front loop's polyline through all its nodes (linear and high-order), with the
+// index of the element each belongs to.
+struct Segment {
+  Vec a, b;
+  std::size_t element;
+  std::size_t index;  // position along its polyline
+  bool mine;          // on the new front being checked (else an obstacle)
+};
+
+void polyline(const FrontLoop& l, const std::vector<Vec>& x, int q, bool mine, std::vector<Segment>& out) {
+  std::size_t index = 0;
+  for (std::size_t e = 0; e < l.size(); ++e) {
+    const NodeId* el = l.elements.data() + e * static_cast<std::size_t>(q + 1);
+    NodeId prev = el[0];
+    for (int k = 1; k <= q; ++k) {
+      const NodeId next = k < q ? el[1 + k] : el[1];
+      out.push_back({x[prev], x[next], e, index++, mine});
+      prev = next;
+    }
+  }
+}
+
+double orient(const Vec& a, const Vec& b, const Vec& c) {
+  return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+}
+
+bool cross(const Segment& s, const Segment& t) {
+  const double o1 = orient(s.a, s.b, t.a), o2 = orient(s.a, s.b, t.b);
+  const double o3 = orient(t.a, t.b, s.a), o4 = orient(t.a, t.b, s.b);
+  return ((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0));
+}
+
+// Elements of the new front that cross an obstacle segment or a non-adjacent segment of the new
+// front itself: a sweep over x, O((n + k) log n).
+std::vector<std::size_t> crossings(std::vector<Segment> segs, std::size_t mine_count) {
+  std::sort(segs.begin(), segs.end(),
+            [](const Segment& a, const Segment& b) { return std::min(a.a.x(), a.b.x()) < std::min(b.a.x(), b.b.x()); });
+  std::vector<std::size_t> hits;
+  std::vector<const Segment*> active;
+  for (const Segment& s : segs) {
+    const double x0 = std::min(s.a.x(), s.b.x());
+    std::erase_if(active, [&](const Segment* t) { return std::max(t->a.x(), t->b.x()) < x0; });
+    for (const Segment* t : active) {
+      if (!s.mine && !t->mine) continue;
+      if (s.mine && t->mine) {
+        const std::size_t d = s.index > t->index ? s.index - t->index : t->index - s.index;
+        if (d <= 1 || d + 1 >= mine_count) continue;  // neighbours share a node
+      }
+      if (std::max(s.a.y(), s.b.y()) < std::min(t->a.y(), t->b.y()) ||
+          std::max(t->a.y(), t->b.y()) < std::min(s.a.y(), s.b.y()))
+        continue;
+      if (cross(s, *t)) {
+        if (s.mine) hits.push_back(s.element);
+        if (t->mine) hits.push_back(t->element);
+      }
+    }
+    active.push_back(&s);
+  }
+  std::sort(hits.begin(), hits.end());
+  hits.erase(std::unique(hits.begin(), hits.end()), hits.end());
+  return hits;
+}
 
 // One layer on one loop; `scale` multiplies the height of every node of the loop sequence.
 BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometry2D& geometry, const FrontLoop& loop,
@@ -188,7 +253,9 @@ BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometr
     out.cell_seq.push_back(seq_first);
     out.cell_span.push_back(span);
   };
-  auto emit_front = [&](NodeId a, NodeId b, const std::vector<NodeId>& interior) {
+  auto emit_front = [&](NodeId a, NodeId b, const std::vector<NodeId>& interior, std::size_t seq_first, int span) {
+    out.top_seq.push_back(seq_first);
+    out.top_span.push_back(span);
     out.top.elements.push_back(a);
     out.top.elements.push_back(b);
     out.top.elements.insert(out.top.elements.end(), interior.begin(), interior.end());
@@ -224,10 +291,10 @@ BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometr
       emit_cell(iv, 1);
       std::vector<NodeId> inner;
       for (int u = 1; u < q; ++u) inner.push_back(g_at(u, q));
-      emit_front(g_at(0, q), g_at(q, q), inner);
+      emit_front(g_at(0, q), g_at(q, q), inner, iv, 1);
       inner.clear();
       for (int vv = q - 1; vv >= 1; --vv) inner.push_back(g_at(q, vv));
-      emit_front(g_at(q, q), g_at(q, 0), inner);
+      emit_front(g_at(q, q), g_at(q, 0), inner, iv, 1);
     }
 
     // 4b. The regular element e: tops of its high-order nodes, attenuated (Fig. 5).
@@ -256,7 +323,7 @@ BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometr
     emit_cell(iv, q);
     std::vector<NodeId> inner;
     for (int u = 1; u < q; ++u) inner.push_back(g_at(u, q));
-    emit_front(g_at(0, q), g_at(q, q), inner);
+    emit_front(g_at(0, q), g_at(q, q), inner, iv, q);
   }
   return out;
 }
@@ -342,27 +409,44 @@ LayerResult grow_layers(const CurvedFront<2>& front, const Geometry2D& geometry,
               coords[static_cast<std::size_t>(2 * k + d)] = r.mesh.nodes[built.cells[c * npc + k]][d];
           if (!certifier.certify(CellType::Quadrilateral, q, coords.data()).valid) bad.push_back(c);
         }
+        std::string why = "invalid cells";
+        std::vector<std::pair<std::size_t, int>> shrink;  // (sequence index, span) to shrink
+        for (std::size_t c : bad) shrink.push_back({built.cell_seq[c], built.cell_span[c]});
+        Vec where = bad.empty() ? Vec::Zero() : r.mesh.nodes[built.cells[bad[0] * static_cast<std::size_t>(npc)]];
         if (bad.empty()) {
+          // Collisions: the new front may not cross another loop's front nor itself.
+          std::vector<Segment> segs;
+          polyline(built.top, r.mesh.nodes, q, true, segs);
+          const std::size_t mine = segs.size();
+          for (std::size_t lj = 0; lj < loops.size(); ++lj)
+            if (lj != li) polyline(loops[lj], r.mesh.nodes, q, false, segs);
+          const std::vector<std::size_t> hits = crossings(std::move(segs), mine);
+          for (std::size_t h : hits) shrink.push_back({built.top_seq[h], built.top_span[h]});
+          if (!hits.empty()) {
+            why = "front crossings (a collision)";
+            where = r.mesh.nodes[built.top.elements[hits[0] * static_cast<std::size_t>(q + 1)]];
+          }
+        }
+        if (shrink.empty()) {
           accepted = true;
           break;
         }
         r.mesh.nodes.resize(nodes_before);
-        (void)npc;
-        for (std::size_t c : bad)
-          for (int s = -1; s <= built.cell_span[c] + 1; ++s) {
-            const std::size_t i = (built.cell_seq[c] + n - 1 + static_cast<std::size_t>(s + 1)) % n;
+        for (const auto& [first, span] : shrink)
+          for (int s2 = -1; s2 <= span + 1; ++s2) {
+            const std::size_t i = (first + n - 1 + static_cast<std::size_t>(s2 + 1)) % n;
             scale[i] *= 0.5;
           }
-        st.shrunk_nodes += bad.size();
-        const Vec where = r.mesh.nodes[built.cells[bad[0] * static_cast<std::size_t>(npc)]];
-        r.events.push_back("layer " + std::to_string(layer) + ", loop " + loop.tag + ": " + std::to_string(bad.size()) +
-                           " invalid cells (first at " + std::to_string(where.x()) + ", " + std::to_string(where.y()) +
-                           "), heights halved around them");
+        st.shrunk_nodes += shrink.size();
+        r.events.push_back("layer " + std::to_string(layer) + ", loop " + loop.tag + ": " +
+                           std::to_string(shrink.size()) + " " + why + " (first at " + std::to_string(where.x()) +
+                           ", " + std::to_string(where.y()) + "), heights halved around them");
       }
       if (!accepted) {
         growing[li] = false;
         r.events.push_back("layer " + std::to_string(layer) + ", loop " + loop.tag +
-                           ": stopped, cells still invalid after " + std::to_string(p.shrink_attempts) + " shrinks");
+                           ": stopped, cells still invalid or colliding after " + std::to_string(p.shrink_attempts) +
+                           " shrinks");
         continue;
       }
       any = true;
