@@ -235,7 +235,7 @@ TEST_CASE("quality: aspect ratio of an affine w x h rectangle is max(w, h) / min
 }
 
 TEST_CASE(
-    "quality: regular cells have aspect ratio 1; reference simplices sqrt 3 and 2, prisms of height H max(H, 1/H)") {
+    "quality: regular cells have aspect ratio 1, reference simplices sqrt 3 and 2, prisms of height H max(H, 1/H)") {
   // Regular cells placed independently of W's own coordinates: an equilateral triangle on the
   // unit circle (counter-clockwise), a regular tetrahedron on alternate corners of a cube (edge
   // sqrt 2, positively oriented), a unit square. An affine map that takes a regular simplex onto
