@@ -2,7 +2,7 @@
 """Benchmark: boundary-layer growth, plaf vs Gmsh, in one run.
 
 An ellipse (semi-axes 1 and 0.3) given by N points is meshed with 40 layers, first height h0,
-growth 1.2, order Q = 3:
+growth 1.2, order Q = 3, on a front of about N/3 elements, i.e. ~N nodes (10k by default):
   - plaf:  `plaf run` with `layers: {max: 40}` on the ellipse as a spline body and the wall
            power-law metric sized so the front has ~N linear nodes; the time is plaf's "mesh"
            stage (surface mesh + layers, every layer certified);
@@ -11,7 +11,7 @@ growth 1.2, order Q = 3:
            setOrder(3) — Gmsh fills the rest of the box too, so its time is an upper bound of
            its layer cost; the cell count reported is its quadrilaterals.
 Prints cells, seconds, cells/s and the ratio plaf/gmsh of cells/s. Run by hand after building:
-    /usr/bin/python3 bench/bench_layers.py [--build build] [--points 3333]
+    /usr/bin/python3 bench/bench_layers.py [--build build] [--points 10000]
 """
 import argparse
 import math
@@ -35,7 +35,7 @@ def run_plaf(plaf, work, pts, h0):
         f.write("ellipse\n")
         for x, y in pts + [pts[0]]:
             f.write(f"{x:.15e} {y:.15e}\n")
-    # Tangential size ~ the point spacing, so the surface mesh has about as many elements.
+    # Tangential size 3 point spacings: about N/3 order-3 elements, N front nodes.
     perimeter = sum(math.dist(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts)))
     h_wall = 3 * perimeter / len(pts)
     cfg = os.path.join(work, "ellipse.yaml")
@@ -89,7 +89,7 @@ def run_gmsh(pts, h0):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", default="build")
-    ap.add_argument("--points", type=int, default=3333)
+    ap.add_argument("--points", type=int, default=10000)
     ap.add_argument("--h0", type=float, default=1e-4)
     a = ap.parse_args()
     plaf = os.path.join(a.build, "apps", "plaf")
