@@ -306,7 +306,20 @@ BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometr
       heights[static_cast<std::size_t>(k)] = g.height(at(i), normal[i]) * scale[i];
       tops[static_cast<std::size_t>(k)] = at(i) + heights[static_cast<std::size_t>(k)] * normal[i];
     }
-    const double clipped = attenuate(tops, a_top, b_top, heights, g.p_.f_atten);
+    // A straight element grows a straight top: its high-order tops are the linear interpolation
+    // of its vertex tops (the attenuation target, Fig. 5), whatever the vertex normals. Offsets
+    // along panel normals would bend it wherever the vertex normals are tilted (next to a fan),
+    // only for the attenuation to straighten it again over several layers.
+    bool straight = true;
+    const Vec a0 = at(iv), b0 = at(iv + q);
+    for (int k = 1; k < q && straight; ++k)
+      straight = (at(iv + k) - (a0 + (static_cast<double>(k) / q) * (b0 - a0))).norm() <= 1e-12 * (b0 - a0).norm();
+    double clipped = 0;
+    if (straight)
+      for (int k = 1; k < q; ++k)
+        tops[static_cast<std::size_t>(k)] = a_top + (static_cast<double>(k) / q) * (b_top - a_top);
+    else
+      clipped = attenuate(tops, a_top, b_top, heights, g.p_.f_atten);
     if (clipped > 0) out.linear = false;
     out.max_clipped_rel = std::max(out.max_clipped_rel, clipped);
     const NodeId* base = el(e);
