@@ -314,6 +314,10 @@ BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometr
     const Vec a0 = at(iv), b0 = at(iv + q);
     for (int k = 1; k < q && straight; ++k)
       straight = (at(iv + k) - (a0 + (static_cast<double>(k) / q) * (b0 - a0))).norm() <= 1e-12 * (b0 - a0).norm();
+    // Next to a concave corner the offsets of the high-order nodes run into the corner's merged
+    // normal (at 90 degrees, one h along the wall from the corner they meet its top): the top
+    // is taken straight there too.
+    straight = straight || vt[e].kind == VertexTop::Kind::Concave || vt[(e + 1) % ne].kind == VertexTop::Kind::Concave;
     double clipped = 0;
     if (straight)
       for (int k = 1; k < q; ++k)
