@@ -80,6 +80,9 @@ MeshStage mesh_geometry(const RunConfig& c, const Geometry2D& geometry, const Me
   }
   // Layers alone (no fill yet): the outermost front is tagged "layers_outer".
   layers::LayerResult lr = layers::grow_layers(front, geometry, metric, layer_params(c.layers));
+  if (lr.layers.empty() && c.layers.max > 0)
+    throw MesherError("layers: not even the first layer could be grown (" +
+                      (lr.events.empty() ? std::string("no wall loop") : lr.events.back()) + ")");
   HybridMesh<2> mesh = lr.mesh;
   const int outer = mesh.add_tag("layers_outer", BoundaryKind::Named);
   CellBlock& b = mesh.boundary_block(CellType::Line, c.order, outer);
