@@ -224,7 +224,11 @@ BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometr
       // The heights of the fan normals go linearly from the left panel's normal to the right
       // one's: the metric size along an in-between normal can differ (along the wall at a
       // corner), and unequal neighbouring heights would fold the kites built from them.
-      const double h_first = g.height(c, n_left) * scale[i], h_last = g.height(c, n_right) * scale[i];
+      // At the corner point itself the metric's frame belongs to one side only (the wall normal
+      // is one-sided there), so the size along the other side's normal can be the size along
+      // the wall: every fan normal takes the smaller of the two sides' heights.
+      const double h_corner = std::min(g.height(c, n_left), g.height(c, n_right)) * scale[i];
+      const double h_first = h_corner, h_last = h_corner;
       for (int k = 0; k <= m; ++k) {
         const Vec nk = rotate(n_left, turning[i] * k / m);
         v.normals.push_back(nk);

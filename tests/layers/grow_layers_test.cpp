@@ -3,6 +3,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -181,4 +182,35 @@ TEST_CASE("layers: growing from a straight wall leaves every element straight") 
   const CellBlock& b = r.mesh.cells.at(0);
   for (std::size_t i = 0; i < b.size(); ++i) CHECK_FALSE(is_curved(r.mesh, b, i, 1e-10));
   CHECK(check(r).ok());
+}
+
+TEST_CASE("layers: the 30P-30N elements (coves, cusp, blunt flap) grow valid, conforming layers") {
+  Geometry2D geo;
+  const char* files[] = {"30p30n_slat.dat", "30p30n_main.dat", "30p30n_flap.dat"};
+  std::vector<SplineLoop> walls;
+  for (const char* f : files) {
+    const BodyContour c = read_body_contour(std::string(PLAF_SHARED_DATA "/airfoils/") + f);
+    std::vector<int> corners = detect_corners(c.points, 30.0);
+    corners.insert(corners.end(), c.corners.begin(), c.corners.end());
+    std::sort(corners.begin(), corners.end());
+    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+    geo.loops.push_back({SplineLoop(c.points, corners, f), f, BoundaryKind::Wall});
+    walls.push_back(geo.loops.back().loop);
+  }
+  WallLawParams w;
+  w.h0 = 0.001;
+  w.h_max = 2;
+  w.h_wall_max = 0.03;
+  w.curvature_factor = 0.3;
+  w.h_corner = 0.003;
+  const WallPowerLawField metric(walls, w);
+  const CurvedFront<2> front = mesh_surface(geo, metric, 3);
+  layers::LayerParams p;
+  p.max_layers = 3;
+  p.corner_angle_deg = 60;
+  const layers::LayerResult r = layers::grow_layers(front, geo, metric, p);
+  CHECK(r.layers.size() == 3);
+  const QualityReport q = check(r);
+  CHECK(q.cells_invalid == 0);
+  CHECK(q.conformity.ok);
 }
