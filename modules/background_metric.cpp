@@ -8,10 +8,9 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -20,152 +19,13 @@
 
 #include "modules/error.h"
 #include "modules/msh_io.h"
+#include "modules/text_cursor.h"
 
 namespace plaf {
 namespace {
 
-// ---- text input --------------------------------------------------------------------------
-
-std::string read_text(const std::filesystem::path& path) {
-  std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) throw InputError(path.string() + ":0: cannot read the file: " + ec.message());
-  std::ifstream in(path, std::ios::binary);
-  std::string text(static_cast<std::size_t>(size), '\0');
-  if (!in || !in.read(text.data(), static_cast<std::streamsize>(size)))
-    throw InputError(path.string() + ":0: cannot read the file");
-  return text;
-}
-
-// Whitespace-separated tokens with line tracking; every failure names path:line. With
-// hash_comments, '#' starts a comment that runs to the end of the line (libMeshb ASCII).
-class Cursor {
- public:
-  Cursor(const std::filesystem::path& path, const std::string& text, bool hash_comments)
-      : path_(path), p_(text.data()), end_(text.data() + text.size()), hash_comments_(hash_comments) {}
-
-  std::size_t remaining() const { return static_cast<std::size_t>(end_ - p_); }
-
-  // The line of the next token (or of the end of the file).
-  int line() {
-    skip_space();
-    return line_;
-  }
-  bool at_end() {
-    skip_space();
-    return p_ == end_;
-  }
-
-  [[noreturn]] void fail(const std::string& reason) { fail_at(line(), reason); }
-  [[noreturn]] void fail_at(int line, const std::string& reason) const {
-    throw InputError(path_.string() + ":" + std::to_string(line) + ": " + reason);
-  }
-
-  std::string_view token(const char* what) {
-    skip_space();
-    if (p_ == end_) fail(std::string("unexpected end of file (expected ") + what + ")");
-    const char* b = p_;
-    while (p_ != end_ && !is_space(*p_)) ++p_;
-    return {b, static_cast<std::size_t>(p_ - b)};
-  }
-
-  std::string_view peek() {
-    skip_space();
-    const char* e = p_;
-    while (e != end_ && !is_space(*e)) ++e;
-    return {p_, static_cast<std::size_t>(e - p_)};
-  }
-
-  std::int64_t integer(const char* what) {
-    const std::string_view t = token(what);
-    std::int64_t v = 0;
-    const char* b = t.data() + (t.size() > 1 && t[0] == '+' ? 1 : 0);
-    const auto r = std::from_chars(b, t.data() + t.size(), v);
-    if (r.ec != std::errc() || r.ptr != t.data() + t.size())
-      fail_at(line_, std::string("bad ") + what + " " + quote(t));
-    return v;
-  }
-
-  std::int64_t integer(const char* what, std::int64_t lo, std::int64_t hi) {
-    const std::int64_t v = integer(what);
-    if (v < lo || v > hi)
-      fail_at(line_, std::string(what) + " " + std::to_string(v) + " is outside " + std::to_string(lo) + ".." +
-                         std::to_string(hi));
-    return v;
-  }
-
-  // A count of items that each take at least min_bytes characters of the rest of the file.
-  std::int64_t count(const char* what, std::size_t min_bytes) {
-    const std::int64_t v = integer(what);
-    if (v < 0) fail_at(line_, std::string("negative ") + what + " " + std::to_string(v));
-    if (static_cast<std::uint64_t>(v) > remaining() / min_bytes + 1)
-      fail_at(line_, std::string(what) + " " + std::to_string(v) +
-                         " exceeds what the rest of the file can hold (truncated file?)");
-    return v;
-  }
-
-  double real(const char* what) {
-    const std::string_view t = token(what);
-    double v = 0;
-    const char* b = t.data() + (t.size() > 1 && t[0] == '+' ? 1 : 0);
-    const auto r = std::from_chars(b, t.data() + t.size(), v);
-    if (r.ec != std::errc() || r.ptr != t.data() + t.size() || !std::isfinite(v))
-      fail_at(line_, std::string("bad ") + what + " " + quote(t));
-    return v;
-  }
-
-  void expect(std::string_view keyword) {
-    const std::string_view t = token(keyword.data());
-    if (t != keyword) fail_at(line_, "expected " + std::string(keyword) + ", found " + quote(t));
-  }
-
-  // A double-quoted string (MSH string tags may contain spaces).
-  std::string quoted(const char* what) {
-    skip_space();
-    if (p_ == end_ || *p_ != '"') fail(std::string("expected a double-quoted ") + what);
-    const char* b = ++p_;
-    while (p_ != end_ && *p_ != '"' && *p_ != '\n') ++p_;
-    if (p_ == end_ || *p_ != '"') fail_at(line_, std::string("unterminated ") + what);
-    std::string s(b, static_cast<std::size_t>(p_ - b));
-    ++p_;
-    return s;
-  }
-
-  // A printable excerpt of a token for messages (one line, bounded length).
-  static std::string quote(std::string_view t) {
-    constexpr std::size_t max_chars = 40;
-    std::string s = "'";
-    for (std::size_t i = 0; i < t.size() && i < max_chars; ++i) s += (t[i] >= 32 && t[i] < 127) ? t[i] : '?';
-    if (t.size() > max_chars) s += "...";
-    return s + "'";
-  }
-
- private:
-  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
-  void skip_space() {
-    while (p_ != end_) {
-      if (*p_ == '\n') {
-        ++line_;
-        ++p_;
-      } else if (is_space(*p_)) {
-        ++p_;
-      } else if (hash_comments_ && *p_ == '#') {
-        while (p_ != end_ && *p_ != '\n') ++p_;
-      } else {
-        break;
-      }
-    }
-  }
-
-  const std::filesystem::path& path_;
-  const char* p_;
-  const char* end_;
-  bool hash_comments_;
-  int line_ = 1;
-};
-
 // A 2x2 block read from a file as an SPD metric; the reason names the node and the line.
-Metric<2> metric_from_file(Cursor& in, int line, const Eigen::Matrix2d& m, const std::string& where) {
+Metric<2> metric_from_file(TextCursor& in, int line, const Eigen::Matrix2d& m, const std::string& where) {
   try {
     return Metric<2>::from_matrix(m);
   } catch (const InputError& e) {
@@ -212,7 +72,9 @@ struct MshScan {
   std::vector<NodeDataEntry> entries;
 };
 
-void skip_section(Cursor& in, const std::string& name, int line) {
+// Skips a section the scan does not use, up to the token $End<name> (read_msh41 has already
+// checked the file's structure).
+void skip_section(TextCursor& in, const std::string& name, int line) {
   const std::string end_keyword = "$End" + name;
   while (!in.at_end())
     if (in.token(end_keyword.c_str()) == end_keyword) return;
@@ -220,7 +82,7 @@ void skip_section(Cursor& in, const std::string& name, int line) {
 }
 
 // The mesh itself has been validated by read_msh41; this reads what it does not keep.
-void scan_nodes(Cursor& in, MshScan& scan) {
+void scan_nodes(TextCursor& in, MshScan& scan) {
   const std::int64_t num_blocks = in.count("number of node blocks", 8);
   const std::int64_t num_nodes = in.count("number of nodes", 8);
   in.integer("minimum node tag");
@@ -242,7 +104,7 @@ void scan_nodes(Cursor& in, MshScan& scan) {
 // time), integer tags (time step, number of components, number of entries, [partition]), then
 // one line per entry: node tag and the components. Gmsh stores a tensor row-major (9 values:
 // xx xy xz yx yy yz zx zy zz); a 2D metric uses the xx xy yx yy block.
-void read_node_data(Cursor& in, MshScan& scan, int section_line) {
+void read_node_data(TextCursor& in, MshScan& scan, int section_line) {
   if (scan.view_line > 0)
     in.fail_at(section_line, "a second $NodeData view (the first is at line " + std::to_string(scan.view_line) +
                                  "); a background metric file holds one");
@@ -254,13 +116,13 @@ void read_node_data(Cursor& in, MshScan& scan, int section_line) {
   }
   const std::int64_t num_reals = in.count("number of real tags", 2);
   for (std::int64_t i = 0; i < num_reals; ++i) in.real("real tag");
-  const int integers_line = in.line();
+  const int integers_line = in.next_line();
   const std::int64_t num_integers = in.count("number of integer tags", 2);
   if (num_integers < 3)
     in.fail_at(integers_line, "$NodeData has " + std::to_string(num_integers) +
                                   " integer tags; it needs 3 (time step, number of components, number of entries)");
   in.integer("time step");
-  const int components_line = in.line();
+  const int components_line = in.next_line();
   const std::int64_t components = in.integer("number of components");
   if (components != 9 && components != 4)
     in.fail_at(components_line, "view '" + scan.view_name + "' has " + std::to_string(components) +
@@ -271,7 +133,7 @@ void read_node_data(Cursor& in, MshScan& scan, int section_line) {
   scan.entries.reserve(static_cast<std::size_t>(num_entries));
   std::array<double, 9> v{};
   for (std::int64_t e = 0; e < num_entries; ++e) {
-    const int line = in.line();
+    const int line = in.next_line();
     const std::int64_t tag = in.integer("node tag");
     for (int k = 0; k < per; ++k) v[static_cast<std::size_t>(k)] = in.real("tensor component");
     const int row = per == 9 ? 3 : 2;  // row-major: (i, j) at i * row + j
@@ -283,12 +145,12 @@ void read_node_data(Cursor& in, MshScan& scan, int section_line) {
 }
 
 MshScan scan_msh(const std::filesystem::path& path, const std::string& text) {
-  Cursor in(path, text, false);
+  TextCursor in(path, text);
   MshScan scan;
   while (!in.at_end()) {
-    const int line = in.line();
+    const int line = in.next_line();
     const std::string_view t = in.token("a section");
-    if (t.size() < 2 || t[0] != '$') in.fail_at(line, "expected a section, found " + Cursor::quote(t));
+    if (t.size() < 2 || t[0] != '$') in.fail_at(line, "expected a section, found " + TextCursor::quote(t));
     const std::string name(t.substr(1));
     if (name == "Nodes") {
       scan_nodes(in, scan);
@@ -311,20 +173,38 @@ bool is_keyword(std::string_view t) {
 }
 
 // Skips the data of a keyword plaf does not use: every token up to the next keyword.
-void skip_keyword_data(Cursor& in) {
+void skip_keyword_data(TextCursor& in) {
   while (!in.at_end() && !is_keyword(in.peek())) in.token("data");
 }
 
-void read_meshb_header(Cursor& in) {
+struct MeshbEnd {
+  int line;        // of the End keyword
+  bool dimension;  // whether a Dimension keyword came before it
+};
+
+// Reads a .mesh or .sol up to End: the header, Dimension (which must be 2), and every other
+// keyword through read_section(keyword, line, dimension seen so far), which returns false for a
+// keyword it does not use; the data of those is skipped.
+template <class ReadSection>
+MeshbEnd read_meshb_keywords(TextCursor& in, const ReadSection& read_section) {
   in.expect("MeshVersionFormatted");
   in.integer("mesh version", 1, 4);
-}
-
-void read_meshb_dimension(Cursor& in) {
-  const int line = in.line();
-  const std::int64_t dim = in.integer("dimension");
-  if (dim != 2)
-    in.fail_at(line, "Dimension " + std::to_string(dim) + ": plaf reads 2D background meshes (Dimension 2)");
+  bool dimension = false;
+  while (true) {
+    const int line = in.next_line();
+    const std::string_view kw = in.token("a keyword (the file ends with End)");
+    if (kw == "End") return {line, dimension};
+    if (kw == "Dimension") {
+      const int dim_line = in.next_line();
+      const std::int64_t dim = in.integer("dimension");
+      if (dim != 2)
+        in.fail_at(dim_line, "Dimension " + std::to_string(dim) + ": plaf reads 2D background meshes (Dimension 2)");
+      dimension = true;
+    } else if (!read_section(kw, line, dimension)) {
+      if (!is_keyword(kw)) in.fail_at(line, "expected a keyword, found " + TextCursor::quote(kw));
+      skip_keyword_data(in);
+    }
+  }
 }
 
 }  // namespace
@@ -335,9 +215,9 @@ BackgroundMesh read_background_msh(const std::filesystem::path& path) {
   // 1. The mesh part, validated by the MSH reader; its nodes are in file order.
   const MshMesh msh = read_msh41(path);
   // 2. Node tags and the metric view.
-  const std::string text = read_text(path);
+  const std::string text = read_whole_file(path);
   const MshScan scan = scan_msh(path, text);
-  Cursor in(path, text, false);
+  TextCursor in(path, text);
   if (msh.dim != 2)
     in.fail_at(scan.elements_line, "the background mesh has 3D elements; plaf reads 2D background meshes");
   const HybridMesh<2>& mesh = msh.mesh2;
@@ -378,20 +258,11 @@ BackgroundMesh read_background_meshb(const std::filesystem::path& mesh_path, con
   std::vector<Eigen::Vector2d> nodes;
   std::vector<std::array<NodeId, 3>> triangles;
   {
-    const std::string text = read_text(mesh_path);
-    Cursor in(mesh_path, text, true);
-    read_meshb_header(in);
-    bool dimension = false, vertices = false;
-    int end_line = 0;
-    while (end_line == 0) {
-      const int line = in.line();
-      const std::string_view kw = in.token("a keyword (the file ends with End)");
-      if (kw == "End") {
-        end_line = line;
-      } else if (kw == "Dimension") {
-        read_meshb_dimension(in);
-        dimension = true;
-      } else if (kw == "Vertices") {
+    const std::string text = read_whole_file(mesh_path);
+    TextCursor in(mesh_path, text, true);
+    bool vertices = false;
+    const MeshbEnd end = read_meshb_keywords(in, [&](std::string_view kw, int line, bool dimension) {
+      if (kw == "Vertices") {
         if (!dimension) in.fail_at(line, "Vertices before Dimension");
         if (vertices) in.fail_at(line, "a second Vertices section");
         vertices = true;
@@ -404,7 +275,9 @@ BackgroundMesh read_background_meshb(const std::filesystem::path& mesh_path, con
           in.integer("vertex reference");
           nodes.emplace_back(x, y);
         }
-      } else if (kw == "Triangles" || kw == "Quadrilaterals") {
+        return true;
+      }
+      if (kw == "Triangles" || kw == "Quadrilaterals") {
         if (!vertices) in.fail_at(line, std::string(kw) + " before Vertices");
         const int per = kw == "Triangles" ? 3 : 4;
         const std::int64_t n = in.count("number of elements", 2 * static_cast<std::size_t>(per) + 2);
@@ -417,69 +290,55 @@ BackgroundMesh read_background_meshb(const std::filesystem::path& mesh_path, con
           triangles.push_back({v[0], v[1], v[2]});
           if (per == 4) triangles.push_back({v[0], v[2], v[3]});
         }
-      } else if (is_keyword(kw)) {
-        skip_keyword_data(in);
-      } else {
-        in.fail_at(line, "expected a keyword, found " + Cursor::quote(kw));
+        return true;
       }
-    }
-    if (!dimension) in.fail_at(end_line, "no Dimension keyword");
-    if (!vertices) in.fail_at(end_line, "no Vertices section");
-    if (triangles.empty()) in.fail_at(end_line, "no Triangles or Quadrilaterals: the background mesh has no elements");
+      return false;
+    });
+    if (!end.dimension) in.fail_at(end.line, "no Dimension keyword");
+    if (!vertices) in.fail_at(end.line, "no Vertices section");
+    if (triangles.empty()) in.fail_at(end.line, "no Triangles or Quadrilaterals: the background mesh has no elements");
   }
   // 2. The .sol: SolAtVertices with one symmetric-matrix field (type 3), stored xx xy yy.
   std::vector<Metric<2>> metrics;
-  const std::string text = read_text(sol_path);
-  Cursor in(sol_path, text, true);
-  read_meshb_header(in);
-  bool dimension = false, solution = false;
-  int end_line = 0;
-  while (end_line == 0) {
-    const int line = in.line();
-    const std::string_view kw = in.token("a keyword (the file ends with End)");
-    if (kw == "End") {
-      end_line = line;
-    } else if (kw == "Dimension") {
-      read_meshb_dimension(in);
-      dimension = true;
-    } else if (kw == "SolAtVertices") {
-      if (!dimension) in.fail_at(line, "SolAtVertices before Dimension");
-      if (solution) in.fail_at(line, "a second SolAtVertices section");
-      solution = true;
-      const int count_line = in.line();
-      const std::int64_t n = in.count("number of values", 6);
-      if (static_cast<std::size_t>(n) != nodes.size())
-        in.fail_at(count_line, "SolAtVertices has " + std::to_string(n) + " values but " + mesh_path.string() +
-                                   " has " + std::to_string(nodes.size()) + " vertices");
-      const int types_line = in.line();
-      const std::int64_t num_fields = in.integer("number of fields", 1, 64);
-      std::string types;
-      bool symmetric_matrix = num_fields == 1;
-      for (std::int64_t f = 0; f < num_fields; ++f) {
-        const std::int64_t type = in.integer("field type");
-        types += (f ? " " : "") + std::to_string(type);
-        symmetric_matrix = symmetric_matrix && type == 3;
-      }
-      if (!symmetric_matrix)
-        in.fail_at(types_line, "SolAtVertices has field types '" + types +
-                                   "'; a background metric is one field of type 3 (symmetric matrix)");
-      metrics.reserve(static_cast<std::size_t>(n));
-      for (std::int64_t i = 0; i < n; ++i) {
-        const int value_line = in.line();
-        const double xx = in.real("metric component");
-        const double xy = in.real("metric component");
-        const double yy = in.real("metric component");
-        Eigen::Matrix2d m;
-        m << xx, xy, xy, yy;
-        metrics.push_back(metric_from_file(in, value_line, m, "vertex " + std::to_string(i + 1)));
-      }
-    } else if (is_keyword(kw)) {
-      skip_keyword_data(in);
-    } else {
-      in.fail_at(line, "expected a keyword, found " + Cursor::quote(kw));
+  const std::string text = read_whole_file(sol_path);
+  TextCursor in(sol_path, text, true);
+  bool solution = false;
+  const MeshbEnd end = read_meshb_keywords(in, [&](std::string_view kw, int line, bool dimension) {
+    if (kw != "SolAtVertices") return false;
+    if (!dimension) in.fail_at(line, "SolAtVertices before Dimension");
+    if (solution) in.fail_at(line, "a second SolAtVertices section");
+    solution = true;
+    const int count_line = in.next_line();
+    const std::int64_t n = in.count("number of values", 6);
+    if (static_cast<std::size_t>(n) != nodes.size())
+      in.fail_at(count_line, "SolAtVertices has " + std::to_string(n) + " values but " + mesh_path.string() + " has " +
+                                 std::to_string(nodes.size()) + " vertices");
+    const int types_line = in.next_line();
+    const std::int64_t num_fields = in.integer("number of fields", 1, 64);
+    std::string types;
+    bool symmetric_matrix = num_fields == 1;
+    for (std::int64_t f = 0; f < num_fields; ++f) {
+      const std::int64_t type = in.integer("field type");
+      if (f > 0) types += ' ';
+      types += std::to_string(type);
+      symmetric_matrix = symmetric_matrix && type == 3;
     }
-  }
-  if (!solution) in.fail_at(end_line, "no SolAtVertices section");
+    if (!symmetric_matrix)
+      in.fail_at(types_line, "SolAtVertices has field types '" + types +
+                                 "'; a background metric is one field of type 3 (symmetric matrix)");
+    metrics.reserve(static_cast<std::size_t>(n));
+    for (std::int64_t i = 0; i < n; ++i) {
+      const int value_line = in.next_line();
+      const double xx = in.real("metric component");
+      const double xy = in.real("metric component");
+      const double yy = in.real("metric component");
+      Eigen::Matrix2d m;
+      m << xx, xy, xy, yy;
+      metrics.push_back(metric_from_file(in, value_line, m, "vertex " + std::to_string(i + 1)));
+    }
+    return true;
+  });
+  if (!solution) in.fail_at(end.line, "no SolAtVertices section");
   const std::vector<bool> has_value(nodes.size(), true);
   return compact(std::move(nodes), std::move(triangles), std::move(metrics), has_value, [](std::size_t) {});
 }

@@ -6,10 +6,8 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <string>
@@ -20,6 +18,7 @@
 
 #include "modules/atomic_file.h"
 #include "modules/error.h"
+#include "modules/text_cursor.h"
 
 namespace plaf {
 namespace {
@@ -128,128 +127,6 @@ void check_block(const HybridMesh<Dim>& mesh, const CellBlock& b, int dim, const
 
 // ---- reader ------------------------------------------------------------------------------
 
-// A cursor over the whole file with line tracking; every failure names path:line.
-class Cursor {
- public:
-  Cursor(const std::filesystem::path& path, const std::string& text)
-      : path_(path), p_(text.data()), end_(text.data() + text.size()) {}
-
-  int line() const { return line_; }
-  std::size_t remaining() const { return static_cast<std::size_t>(end_ - p_); }
-
-  [[noreturn]] void fail(const std::string& reason) const { fail_at(line_, reason); }
-  [[noreturn]] void fail_at(int line, const std::string& reason) const {
-    throw InputError(path_.string() + ":" + std::to_string(line) + ": " + reason);
-  }
-
-  // Skips white space; true when the file is exhausted.
-  bool at_end() {
-    skip_space();
-    return p_ == end_;
-  }
-
-  std::string_view token(const char* what) {
-    skip_space();
-    if (p_ == end_) fail(std::string("unexpected end of file (expected ") + what + ")");
-    const char* b = p_;
-    while (p_ != end_ && !is_space(*p_)) ++p_;
-    return {b, static_cast<std::size_t>(p_ - b)};
-  }
-
-  std::int64_t integer(const char* what) {
-    const std::string_view t = token(what);
-    std::int64_t v = 0;
-    const char* b = t.data() + (t.size() > 1 && t[0] == '+' ? 1 : 0);
-    const auto r = std::from_chars(b, t.data() + t.size(), v);
-    if (r.ec != std::errc() || r.ptr != t.data() + t.size()) fail(std::string("bad ") + what + " " + quote(t));
-    return v;
-  }
-
-  // An integer in [lo, hi].
-  std::int64_t integer(const char* what, std::int64_t lo, std::int64_t hi) {
-    const std::int64_t v = integer(what);
-    if (v < lo || v > hi)
-      fail(std::string(what) + " " + std::to_string(v) + " is outside " + std::to_string(lo) + ".." +
-           std::to_string(hi));
-    return v;
-  }
-
-  // A count of items that each take at least min_bytes characters of the rest of the file.
-  std::int64_t count(const char* what, std::size_t min_bytes) {
-    const std::int64_t v = integer(what);
-    if (v < 0) fail(std::string("negative ") + what + " " + std::to_string(v));
-    if (static_cast<std::uint64_t>(v) > remaining() / min_bytes + 1)
-      fail(std::string(what) + " " + std::to_string(v) +
-           " exceeds what the rest of the file can hold (truncated file?)");
-    return v;
-  }
-
-  double real(const char* what) {
-    const std::string_view t = token(what);
-    double v = 0;
-    const char* b = t.data() + (t.size() > 1 && t[0] == '+' ? 1 : 0);
-    const auto r = std::from_chars(b, t.data() + t.size(), v);
-    if (r.ec != std::errc() || r.ptr != t.data() + t.size() || !std::isfinite(v))
-      fail(std::string("bad ") + what + " " + quote(t));
-    return v;
-  }
-
-  void expect(std::string_view keyword) {
-    skip_space();
-    if (p_ == end_) fail("unexpected end of file (expected " + std::string(keyword) + ")");
-    const std::string_view t = token(keyword.data());
-    if (t != keyword) fail("expected " + std::string(keyword) + ", found " + quote(t));
-  }
-
-  // A double-quoted string on the current line (for $PhysicalNames).
-  std::string quoted(const char* what) {
-    while (p_ != end_ && (*p_ == ' ' || *p_ == '\t')) ++p_;
-    if (p_ == end_ || *p_ != '"') fail(std::string("expected a double-quoted ") + what);
-    const char* b = ++p_;
-    while (p_ != end_ && *p_ != '"' && *p_ != '\n') ++p_;
-    if (p_ == end_ || *p_ != '"') fail(std::string("unterminated ") + what);
-    std::string s(b, static_cast<std::size_t>(p_ - b));
-    ++p_;
-    return s;
-  }
-
-  // Skips to the line after the one that starts with end_keyword; fails naming start_line.
-  void skip_section(std::string_view end_keyword, int start_line, std::string_view name) {
-    while (p_ != end_) {
-      skip_space();
-      const char* b = p_;
-      while (p_ != end_ && *p_ != '\n') ++p_;
-      std::string_view l(b, static_cast<std::size_t>(p_ - b));
-      while (!l.empty() && is_space(l.back())) l.remove_suffix(1);
-      if (l == end_keyword) return;
-    }
-    fail_at(start_line, "section $" + std::string(name) + " has no " + std::string(end_keyword));
-  }
-
-  // A printable excerpt of a token for messages (one line, bounded length).
-  static std::string quote(std::string_view t) {
-    constexpr std::size_t max_chars = 40;
-    std::string s = "'";
-    for (std::size_t i = 0; i < t.size() && i < max_chars; ++i) s += (t[i] >= 32 && t[i] < 127) ? t[i] : '?';
-    if (t.size() > max_chars) s += "...";
-    return s + "'";
-  }
-
- private:
-  static bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
-  void skip_space() {
-    while (p_ != end_ && is_space(*p_)) {
-      if (*p_ == '\n') ++line_;
-      ++p_;
-    }
-  }
-
-  const std::filesystem::path& path_;
-  const char* p_;
-  const char* end_;
-  int line_ = 1;
-};
-
 // Maps possibly sparse node tags to contiguous indices in file order.
 class NodeTagMap {
  public:
@@ -319,7 +196,7 @@ class MshReader {
     while (!in_.at_end()) {
       const int line = in_.line();
       const std::string_view t = in_.token("a section");
-      if (t.size() < 2 || t[0] != '$') in_.fail("expected a section such as $Nodes, found " + Cursor::quote(t));
+      if (t.size() < 2 || t[0] != '$') in_.fail("expected a section such as $Nodes, found " + TextCursor::quote(t));
       const std::string name(t.substr(1));
       if (!seen_.insert({name, line}).second) in_.fail("duplicate section $" + name);
       // One reader per known section; a $NodeData reader would be added here, next to $Nodes.
@@ -332,7 +209,7 @@ class MshReader {
       else if (name == "Elements")
         read_elements();
       else
-        in_.skip_section("$End" + name, line, name);
+        in_.skip_to_line("$End" + name, line, name);
     }
     if (!seen_.count("Nodes")) in_.fail("missing $Nodes section");
     if (!seen_.count("Elements")) in_.fail("missing $Elements section");
@@ -343,7 +220,8 @@ class MshReader {
   void read_header() {
     in_.expect("$MeshFormat");
     const std::string_view version = in_.token("the MSH version");
-    if (version != "4.1") in_.fail("MSH version " + Cursor::quote(version) + " is not supported (plaf reads MSH 4.1)");
+    if (version != "4.1")
+      in_.fail("MSH version " + TextCursor::quote(version) + " is not supported (plaf reads MSH 4.1)");
     const std::int64_t file_type = in_.integer("file type");
     if (file_type == 1) in_.fail("binary MSH files are not supported (save the mesh as ASCII MSH 4.1)");
     if (file_type != 0) in_.fail("bad file type " + std::to_string(file_type) + " (0 is ASCII)");
@@ -357,7 +235,7 @@ class MshReader {
       const int dim = static_cast<int>(in_.integer("physical dimension", 0, 3));
       const std::int64_t tag = in_.integer("physical tag");
       const int line = in_.line();
-      std::string name = in_.quoted("physical name");
+      std::string name = in_.quoted_on_line("physical name");
       if (!physical_names_.emplace(std::make_pair(dim, tag), std::move(name)).second)
         in_.fail_at(line, "physical group (dimension " + std::to_string(dim) + ", tag " + std::to_string(tag) +
                               ") is named twice");
@@ -541,7 +419,7 @@ class MshReader {
   }
 
   const std::filesystem::path& path_;
-  Cursor in_;
+  TextCursor in_;
   std::map<std::string, int> seen_;  // section name -> line
   std::map<std::pair<int, std::int64_t>, std::string> physical_names_;
   std::map<std::pair<int, std::int64_t>, std::int64_t> entity_physical_;  // 0: none
@@ -567,7 +445,7 @@ void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path)
   const int num_tags = static_cast<int>(mesh.tags.size());
   for (const BoundaryTag& t : mesh.tags)
     if (t.name.find_first_of("\"\n\r") != std::string::npos)
-      throw Error("cannot write " + path.string() + ": boundary tag name " + Cursor::quote(t.name) +
+      throw Error("cannot write " + path.string() + ": boundary tag name " + TextCursor::quote(t.name) +
                   " contains a quote or a line break");
   for (const CellBlock& b : mesh.cells) check_block(mesh, b, Dim, path);
   std::vector<Box> tag_box(static_cast<std::size_t>(num_tags));
@@ -644,17 +522,7 @@ void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path)
       f.write_int(i);
       f.put('\n');
     }
-    for (const auto& x : mesh.nodes) {
-      f.write_double(x[0]);
-      f.put(' ');
-      f.write_double(x[1]);
-      f.put(' ');
-      if constexpr (Dim == 3)
-        f.write_double(x[2]);
-      else
-        f.put('0');
-      f.put('\n');
-    }
+    for (const auto& x : mesh.nodes) f.write_point_line(x);
   }
   f.write("$EndNodes\n");
 
@@ -695,13 +563,7 @@ void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path)
 }
 
 MshMesh read_msh41(const std::filesystem::path& path) {
-  std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) throw InputError(path.string() + ":0: cannot read the file: " + ec.message());
-  std::ifstream in(path, std::ios::binary);
-  std::string text(static_cast<std::size_t>(size), '\0');
-  if (!in || !in.read(text.data(), static_cast<std::streamsize>(size)))
-    throw InputError(path.string() + ":0: cannot read the file");
+  const std::string text = read_whole_file(path);
   return MshReader(path, text).read();
 }
 

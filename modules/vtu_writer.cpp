@@ -136,17 +136,7 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
   f.write_int(static_cast<std::int64_t>(num_cells));
   f.write("\">\n      <Points>\n");
   data_array(f, "Float64", "Points", 3);
-  for (const auto& x : mesh.nodes) {
-    f.write_double(x[0]);
-    f.put(' ');
-    f.write_double(x[1]);
-    f.put(' ');
-    if constexpr (Dim == 3)
-      f.write_double(x[2]);
-    else
-      f.put('0');
-    f.put('\n');
-  }
+  for (const auto& x : mesh.nodes) f.write_point_line(x);
   f.write(end_data_array);
   f.write("      </Points>\n      <Cells>\n");
 

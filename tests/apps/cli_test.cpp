@@ -2,16 +2,18 @@
 // End-to-end tests of the plaf CLI: runs the built binary on configs, good and bad.
 #include <doctest/doctest.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
+#include "tests/test_support.h"
+
 namespace fs = std::filesystem;
+using plaf::test::read_text;
+using plaf::test::TempDir;
+using plaf::test::write_text;
 
 namespace {
 
@@ -21,27 +23,11 @@ struct Result {
 };
 
 // Runs `plaf args` with stderr captured; stdout discarded.
-Result plaf(const std::string& args, const fs::path& dir) {
+Result run_plaf(const std::string& args, const TempDir& dir) {
   const fs::path err = dir / "stderr.txt";
   const std::string cmd = std::string(PLAF_EXE) + " " + args + " > /dev/null 2> " + err.string();
   const int status = std::system(cmd.c_str());
-  std::ifstream in(err);
-  std::stringstream s;
-  s << in.rdbuf();
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, s.str()};
-}
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("plaf_cli_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
-  const fs::path p = dir / name;
-  std::ofstream(p) << text;
-  return p;
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(err)};
 }
 
 // The files of dir except the captured stderr and the configs written by the test.
@@ -58,19 +44,15 @@ const std::string good = "order: 2\ngeometry: {type: annulus, angle_deg: 90}\nme
 }  // namespace
 
 TEST_CASE("cli: run writes msh, vtu, report and png, check re-reads the msh and certifies it") {
-  const fs::path d = fresh_dir("run");
-  const fs::path cfg = write(d, "case.yaml", good);
-  const Result r = plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
+  const TempDir d("cli_run");
+  const fs::path cfg = write_text(d / "case.yaml", good);
+  const Result r = run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
   CHECK(r.code == 0);
   for (const char* ext : {".msh", ".vtu", ".report.json", ".png"})
     CHECK(fs::file_size(d / "out" / (std::string("case") + ext)) > 0);
   CHECK(count_outputs(d / "out") == 4);  // no temporaries left behind
-  std::ifstream report(d / "out" / "case.report.json");
-  std::stringstream s;
-  s << report.rdbuf();
-  CHECK(s.str().find("\"invalid\": 0") != std::string::npos);
-  CHECK(plaf("check " + (d / "out" / "case.msh").string(), d).code == 0);
-  fs::remove_all(d);
+  CHECK(read_text(d / "out" / "case.report.json").find("\"invalid\": 0") != std::string::npos);
+  CHECK(run_plaf("check " + (d / "out" / "case.msh").string(), d).code == 0);
 }
 
 TEST_CASE("cli: bad inputs give one clear error line, exit code 1 and no output files") {
@@ -86,34 +68,34 @@ TEST_CASE("cli: bad inputs give one clear error line, exit code 1 and no output 
       {"negative order", "order: -2\n", "order: -2 is outside 1..4"},
       {"order 7", "order: 7\n", "order: 7 is outside 1..4"},
       {"negative size", "metric: {type: uniform, h: -0.1}\n", "metric.h: must be positive, got -0.1"},
-      {"unknown metric", "metric: {type: magic}\n", "unknown metric field 'magic' (known: background, uniform, wall_power_law)"},
+      {"unknown metric", "metric: {type: magic}\n",
+       "unknown metric field 'magic' (known: background, uniform, wall_power_law)"},
       {"wrong type", "order: three\n", "order: expected an integer, got 'three'"},
       {"yaml syntax", "order: [3\n", "YAML syntax error"},
       {"radii", "geometry: {type: annulus, r_inner: 2, r_outer: 1}\n", "geometry.r_outer: must be larger than r_inner"},
   };
   for (const Case& c : cases) {
     INFO(std::string(c.name));
-    const fs::path d = fresh_dir("bad");
-    const fs::path cfg = c.config.empty() ? d / "nope.yaml" : write(d, "case.yaml", c.config);
-    const Result r = plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
+    const TempDir d("cli_bad");
+    const fs::path cfg = c.config.empty() ? d / "nope.yaml" : write_text(d / "case.yaml", c.config);
+    const Result r = run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
     CHECK(r.code == 1);
     CHECK(r.err.find(c.message) != std::string::npos);
     CHECK(r.err.find(cfg.string()) != std::string::npos);      // names the file
     CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);  // one line
     CHECK(count_outputs(d / "out") == 0);
-    fs::remove_all(d);
   }
 }
 
 TEST_CASE("cli: usage errors, --help and --version") {
-  const fs::path d = fresh_dir("usage");
-  CHECK(plaf("--help", d).code == 0);
-  CHECK(plaf("--version", d).code == 0);
-  CHECK(plaf("", d).code == 1);
-  CHECK(plaf("frobnicate", d).code == 1);
-  CHECK(plaf("run", d).code == 1);
-  const Result bad_mesh = plaf("check " + write(d, "bad.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n").string(), d);
+  const TempDir d("cli_usage");
+  CHECK(run_plaf("--help", d).code == 0);
+  CHECK(run_plaf("--version", d).code == 0);
+  CHECK(run_plaf("", d).code == 1);
+  CHECK(run_plaf("frobnicate", d).code == 1);
+  CHECK(run_plaf("run", d).code == 1);
+  const Result bad_mesh =
+      run_plaf("check " + write_text(d / "bad.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n").string(), d);
   CHECK(bad_mesh.code == 1);
   CHECK(bad_mesh.err.find("bad.msh") != std::string::npos);
-  fs::remove_all(d);
 }

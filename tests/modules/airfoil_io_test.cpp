@@ -2,52 +2,27 @@
 #include "modules/airfoil_io.h"
 
 #include <doctest/doctest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "modules/error.h"
 #include "modules/spline_loop.h"
+#include "tests/test_support.h"
 
 using namespace plaf;
 using Eigen::Vector2d;
+using test::read_lines;
+using test::TempDir;
+using test::write_text;
 namespace fs = std::filesystem;
 
 namespace {
 
 const fs::path airfoils = fs::path(PLAF_SHARED_DATA) / "airfoils";
-
-// A fresh directory under the system temp dir, removed with everything in it at scope exit.
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name)
-      : path(fs::temp_directory_path() / ("plaf_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-  fs::path operator/(const std::string& file) const { return path / file; }
-};
-
-void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-}
-
-std::vector<std::string> read_lines(const fs::path& p) {
-  std::ifstream in(p);
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
 
 double signed_area(const std::vector<Vector2d>& p) {
   double twice = 0;

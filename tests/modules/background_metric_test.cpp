@@ -2,12 +2,10 @@
 #include "modules/background_metric.h"
 
 #include <doctest/doctest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -18,42 +16,18 @@
 
 #include "modules/error.h"
 #include "modules/msh_io.h"
+#include "tests/test_support.h"
 
 using namespace plaf;
 using Eigen::Matrix2d;
 using Eigen::Vector2d;
 using Eigen::Vector3d;
+using test::read_text;
+using test::TempDir;
+using test::write_text;
 namespace fs = std::filesystem;
 
 namespace {
-
-// A fresh directory under the system temp dir, removed with everything in it at scope exit.
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name)
-      : path(fs::temp_directory_path() / ("plaf_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-  fs::path operator/(const std::string& file) const { return path / file; }
-};
-
-void write_text(const fs::path& p, const std::string& text) {
-  fs::remove(p);  // a fresh file: rewriting by truncation makes ext4 flush it (auto_da_alloc)
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::string replace(std::string s, const std::string& from, const std::string& to) {
   const std::size_t at = s.find(from);

@@ -2,7 +2,6 @@
 #include "modules/msh_io.h"
 
 #include <doctest/doctest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -10,7 +9,6 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <limits>
 #include <map>
@@ -22,38 +20,15 @@
 
 #include "modules/atomic_file.h"
 #include "modules/error.h"
+#include "tests/test_support.h"
 
 using namespace plaf;
+using test::read_text;
+using test::TempDir;
+using test::write_text;
 namespace fs = std::filesystem;
 
 namespace {
-
-// A fresh directory under the system temp dir, removed with everything in it at scope exit.
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name)
-      : path(fs::temp_directory_path() / ("plaf_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-  fs::path operator/(const std::string& file) const { return path / file; }
-};
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-}
 
 // Builds meshes from cells placed on a global integer lattice: a cell of order q with frame
 // (O, A, B, C) has its local lattice point l at O + (l0 (A-O) + l1 (B-O) + l2 (C-O)) / q. Nodes at

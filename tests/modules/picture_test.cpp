@@ -3,7 +3,6 @@
 
 #include <cairo.h>
 #include <doctest/doctest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -16,30 +15,13 @@
 #include "modules/annulus.h"
 #include "modules/error.h"
 #include "tests/modules/structured_mesh.h"
+#include "tests/test_support.h"
 
 using namespace plaf;
+using test::TempDir;
 namespace fs = std::filesystem;
 
 namespace {
-
-// A fresh directory under the system temporary directory, removed with its contents.
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name)
-      : path(fs::temp_directory_path() / ("plaf_picture_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-  std::vector<std::string> entries() const {
-    std::vector<std::string> out;
-    for (const auto& e : fs::directory_iterator(path)) out.push_back(e.path().filename().string());
-    return out;
-  }
-};
 
 struct Rgb {
   int r, g, b;
@@ -99,7 +81,7 @@ TEST_CASE("picture: the invalid cell is red and straight cells light blue, in an
   // margin. The picture centre (150, 100) is then model (1.5, 0.5), the centre of cell 1, and
   // model (0.5, 0.5) and (2.5, 0.5) are at (150 -+ s, 100): x = 60 and 240 lie inside cells 0 and
   // 2 for any s in (64, 176), and (150, 10) is above the mesh (its top is at 100 - s/2).
-  TempDir dir("cells");
+  TempDir dir("picture_cells");
   for (int q = 1; q <= max_order; ++q) {
     INFO("Q=", q);
     const auto s = plaf::test::quad_grid(3, 1, q);
@@ -134,7 +116,7 @@ TEST_CASE("picture: curved annulus cells are light orange, the same cells at Q =
   AnnulusParams params;
   params.angle_deg = 90;
   const UniformMetricField<2> metric(Metric<2>::isotropic(0.8));
-  TempDir dir("annulus");
+  TempDir dir("picture_annulus");
   for (int q = 1; q <= max_order; ++q) {
     INFO("Q=", q);
     const HybridMesh<2> mesh = mesh_annulus(params, q, metric);
@@ -184,7 +166,7 @@ TEST_CASE("picture: zoom panels keep the image size and show the boxed region") 
   // shows that cell's colour. The panels lie side by side below the main view, so the pixels
   // (w/4, h - 8) and (3w/4, h - 8) are in panels 1 and 2.
   const auto s = plaf::test::quad_grid(3, 1, 2);
-  TempDir dir("zoom");
+  TempDir dir("picture_zoom");
   PictureOptions options;
   options.width = 400;
   options.height = 300;
@@ -201,7 +183,7 @@ TEST_CASE("picture: zoom panels keep the image size and show the boxed region") 
 
 TEST_CASE("picture: an unwritable path or a wrong flag count throws plaf::Error and leaves no file") {
   const auto s = plaf::test::quad_grid(2, 2, 2);
-  TempDir dir("unwritable");
+  TempDir dir("picture_unwritable");
   PictureOptions options;
   options.width = 64;
   options.height = 48;

@@ -2,7 +2,6 @@
 #include "modules/run_config.h"
 
 #include <doctest/doctest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -13,8 +12,10 @@
 
 #include "modules/error.h"
 #include "modules/writers.h"
+#include "tests/test_support.h"
 
 using namespace plaf;
+using test::TempDir;
 namespace fs = std::filesystem;
 
 namespace {
@@ -44,20 +45,6 @@ std::string config_error(const std::string& text, const std::string& name = "t.y
   }
   return "no error";
 }
-
-// A fresh directory under the system temp dir, removed with everything in it at scope exit.
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name)
-      : path(fs::temp_directory_path() / ("plaf_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-};
 
 }  // namespace
 

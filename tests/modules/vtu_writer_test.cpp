@@ -2,47 +2,28 @@
 #include "modules/vtu_writer.h"
 
 #include <doctest/doctest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "modules/error.h"
+#include "tests/test_support.h"
 
 using namespace plaf;
+using test::read_text;
+using test::TempDir;
 namespace fs = std::filesystem;
 
 namespace {
 
 constexpr CellType all_types[] = {CellType::Line, CellType::Triangle, CellType::Quadrilateral, CellType::Tetrahedron,
                                   CellType::Prism};
-
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name)
-      : path(fs::temp_directory_path() / ("plaf_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-};
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // The numbers of the DataArray named `name`: a plain text scan of the XML.
 std::vector<double> data_array(const std::string& xml, const std::string& name) {

@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: MIT
+// File helpers shared by the test suites that write and read files: a scratch directory that
+// cleans up after itself, and whole-file text I/O. Header-only; include it as
+// "tests/test_support.h".
+#pragma once
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <vector>
+
+namespace plaf::test {
+
+// A fresh directory <system temp dir>/plaf_<name>_<pid>: emptied on construction, removed with
+// everything in it at scope exit (also when a REQUIRE fails). The pid keeps concurrent test
+// processes apart; `name` keeps the test cases of one process apart.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& name)
+      : path(std::filesystem::temp_directory_path() / ("plaf_" + name + "_" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(path);
+    std::filesystem::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+
+  std::filesystem::path operator/(const std::string& file) const { return path / file; }
+
+  // The names of the directory's entries, in directory order.
+  std::vector<std::string> entries() const {
+    std::vector<std::string> out;
+    for (const auto& e : std::filesystem::directory_iterator(path)) out.push_back(e.path().filename().string());
+    return out;
+  }
+
+  const std::filesystem::path path;
+};
+
+// The whole file, byte for byte ("" if it cannot be opened).
+inline std::string read_text(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The file's lines without their '\n' (a '\r' before it stays).
+inline std::vector<std::string> read_lines(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// Writes text to a fresh file at p, byte for byte, and returns p.
+inline std::filesystem::path write_text(const std::filesystem::path& p, const std::string& text) {
+  // Removing first makes a new file: rewriting one by truncation makes ext4 flush it on close
+  // (auto_da_alloc), which slows tests that rewrite a file many times.
+  std::filesystem::remove(p);
+  std::ofstream(p, std::ios::binary) << text;
+  return p;
+}
+
+}  // namespace plaf::test
