@@ -185,18 +185,14 @@ TEST_CASE("layers: growing from a straight wall leaves every element straight") 
 }
 
 TEST_CASE("layers: the 30P-30N elements (coves, cusp, blunt flap) grow valid, conforming layers") {
-  Geometry2D geo;
-  const char* files[] = {"30p30n_slat.dat", "30p30n_main.dat", "30p30n_flap.dat"};
+  AirfoilsParams ap;
+  for (const char* f : {"30p30n_slat.dat", "30p30n_main.dat", "30p30n_flap.dat"})
+    ap.bodies.push_back({std::string(PLAF_SHARED_DATA "/airfoils/") + f, f, {}});
+  ap.farfield.radius = 25;
+  const Geometry2D geo = build_airfoils_geometry(ap);
   std::vector<SplineLoop> walls;
-  for (const char* f : files) {
-    const BodyContour c = read_body_contour(std::string(PLAF_SHARED_DATA "/airfoils/") + f);
-    std::vector<int> corners = detect_corners(c.points, 30.0);
-    corners.insert(corners.end(), c.corners.begin(), c.corners.end());
-    std::sort(corners.begin(), corners.end());
-    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-    geo.loops.push_back({SplineLoop(c.points, corners, f), f, BoundaryKind::Wall});
-    walls.push_back(geo.loops.back().loop);
-  }
+  for (const GeometryLoop& l : geo.loops)
+    if (l.kind == BoundaryKind::Wall) walls.push_back(l.loop);
   WallLawParams w;
   w.h0 = 0.001;
   w.h_max = 2;
