@@ -119,6 +119,7 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     lp.integrate_height = l.get_choice("height", "size", {"size", "integrate"}) == "integrate";
     lp.smooth_normals = l.get_bool("smooth_normals", lp.smooth_normals);
     lp.isotropic_stop = l.get_choice("isotropic_stop", lp.isotropic_stop, {"off", "any", "all"});
+    lp.enabled = lp.max > 0;  // max: 0 is the surface mesh alone
     if (r.geometry.type != "airfoils") throw ConfigError(l.where() + ": layers need a spline geometry (type airfoils)");
   }
 
