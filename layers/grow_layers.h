@@ -16,8 +16,11 @@
 //  4. curvature attenuation (Fig. 5): the new front's high-order nodes move toward their linear
 //     positions by at most f_atten times the local height; the displacement is propagated
 //     linearly into the element; a front is linear when no move was clipped;
-//  5. every new element is certified (validity.h); where one is invalid the layer is shrunk
-//     there (heights halved) and retried, and a loop that still fails stops growing.
+//  5. every new element is certified (validity.h), and the new front may cross neither another
+//     loop's front nor itself (a collision, found by a sweep over x); where either fails the
+//     layer is shrunk there (heights halved) and retried, and a loop that still fails stops
+//     growing (reported in LayerResult::events).
+// A straight element, and any element next to a concave corner, grows a straight top.
 #pragma once
 
 #include <string>
@@ -54,7 +57,7 @@ struct LayerStats {
 };
 
 struct LayerResult {
-  HybridMesh<2> mesh;    // quadrilaterals of order Q; tags: the wall loops and "layers_outer"
+  HybridMesh<2> mesh;    // quadrilaterals of order Q; boundary: the wall loops (the caller tags the outer front)
   CurvedFront<2> outer;  // the outermost front (same orientation as the input loops)
   std::vector<LayerStats> layers;
   int linear_after = -1;            // 1-based index of the first layer with a linear front, -1 if none
