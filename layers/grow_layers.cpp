@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "modules/error.h"
@@ -27,7 +28,7 @@ Vec rotate(const Vec& v, double a) {
 
 // Where a linear node's layer ends: one top for regular and concave nodes, a fan for convex ones.
 struct VertexTop {
-  enum class Kind { Regular, Concave, Convex } kind = Kind::Regular;
+  enum class Kind { Regular, Concave, Convex, Stopped } kind = Kind::Regular;
   std::vector<Vec> normals;                  // fan normals n_0 (left panel) .. n_m (right panel); one otherwise
   std::vector<Vec> tops;                     // P_k
   std::vector<std::vector<NodeId>> columns;  // Q node ids (j = 1..Q) per top
@@ -79,9 +80,11 @@ class LoopLayer {
 };
 
 struct BuiltLayer {
-  std::vector<NodeId> cells;          // quads, Gmsh order
-  std::vector<std::size_t> cell_seq;  // per cell: the sequence index of its first base node
-  std::vector<int> cell_span;         // per cell: how many sequence indices its base spans
+  std::vector<NodeId> triangles;          // transition triangles next to stopped nodes, Gmsh order
+  std::vector<std::size_t> triangle_seq;  // per triangle: the sequence index of its base's start
+  std::vector<NodeId> cells;              // quads, Gmsh order
+  std::vector<std::size_t> cell_seq;      // per cell: the sequence index of its first base node
+  std::vector<int> cell_span;             // per cell: how many sequence indices its base spans
   FrontLoop top;
   std::vector<std::size_t> top_seq;  // per new front element: the sequence index it grew from
   std::vector<int> top_span;         // ... and how many sequence indices its base spans
@@ -154,7 +157,7 @@ std::vector<std::size_t> crossings(std::vector<Segment> segs, std::size_t mine_c
 
 // One layer on one loop; `scale` multiplies the height of every node of the loop sequence.
 BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometry2D& geometry, const FrontLoop& loop,
-                       bool first_layer, const std::vector<double>& scale) {
+                       bool first_layer, const std::vector<double>& scale, const std::vector<std::uint8_t>& stopped) {
   const int q = g.q_;
   const std::size_t ne = loop.size();
   const std::size_t n = ne * static_cast<std::size_t>(q);
@@ -206,6 +209,10 @@ BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometr
     const Vec c = at(i);
     VertexTop& v = vt[e];
     const Vec n_left = left_normal(panel[(i + n - 1) % n]), n_right = left_normal(panel[i]);
+    if (stopped[e]) {
+      v.kind = VertexTop::Kind::Stopped;
+      continue;  // no top, no column: the node does not move
+    }
     if (turning[i] > corner) {
       // Concave (left turn). Sec. II.B makes the intersection of the neighbours' normals the
       // vertex of a single element spanning both panels; with panels long against the layer
@@ -301,7 +308,62 @@ BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometr
       emit_front(g_at(q, q), g_at(q, 0), inner, iv, 1);
     }
 
-    // 4b. The regular element e: tops of its high-order nodes, attenuated (Fig. 5).
+    // 4b. Elements next to stopped nodes (isotropic_stop: node): both stopped, the element
+    // stays in the front; one stopped, a transition triangle from the element to the moving
+    // node's top, x(xi, eta) = (1 - eta) base(xi / (1 - eta)) + eta P, P the top (a collapsed
+    // quadrilateral: the base stays curved, the two other sides straight).
+    const bool a_stopped = vt[e].kind == VertexTop::Kind::Stopped;
+    const bool b_stopped = vt[(e + 1) % ne].kind == VertexTop::Kind::Stopped;
+    if (a_stopped || b_stopped) {
+      const NodeId* base = el(e);
+      if (a_stopped && b_stopped) {
+        emit_front(base[0], base[1], std::vector<NodeId>(base + 2, base + q + 1), iv, q);
+        continue;
+      }
+      const LagrangeElement& tri = lagrange_element(CellType::Triangle, q);
+      const LagrangeElement& line = lagrange_element(CellType::Line, q);
+      const Vec apex = a_stopped ? left_top(e + 1) : right_top(e);
+      const std::vector<NodeId>& column = a_stopped ? left_column(e + 1) : right_column(e);
+      double phi[max_order + 1];
+      auto base_at = [&](double s) {
+        line.eval(&s, phi);
+        Vec p = Vec::Zero();
+        for (int k = 0; k <= q; ++k) p += phi[k] * x[base[k]];
+        return p;
+      };
+      std::vector<NodeId> ids;
+      std::vector<NodeId> hyp(static_cast<std::size_t>(q + 1), -1);  // hypotenuse, by eta index j
+      for (const Lattice& l : tri.lattice()) {
+        const int i = l[0], j = l[1];
+        NodeId id;
+        if (j == 0) {
+          id = i == 0 ? base[0] : i == q ? base[1] : base[1 + i];
+        } else if (a_stopped && i + j == q) {
+          id = column[static_cast<std::size_t>(j - 1)];  // the moving end's column
+        } else if (!a_stopped && i == 0) {
+          id = column[static_cast<std::size_t>(j - 1)];
+        } else {
+          const double xi = static_cast<double>(i) / q, eta = static_cast<double>(j) / q;
+          id = g.add_node((1 - eta) * base_at(xi / (1 - eta)) + eta * apex);
+        }
+        if ((a_stopped && i == 0) || (!a_stopped && i + j == q)) hyp[static_cast<std::size_t>(j)] = id;
+        ids.push_back(id);
+      }
+      out.triangles.insert(out.triangles.end(), ids.begin(), ids.end());
+      out.triangle_seq.push_back(iv);
+      // The hypotenuse is the new front: stopped node -> top (a stopped) or top -> stopped node.
+      std::vector<NodeId> inner;
+      if (a_stopped) {
+        for (int j = 1; j < q; ++j) inner.push_back(hyp[static_cast<std::size_t>(j)]);
+        emit_front(base[0], column.back(), inner, iv, q);
+      } else {
+        for (int j = q - 1; j >= 1; --j) inner.push_back(hyp[static_cast<std::size_t>(j)]);
+        emit_front(column.back(), base[1], inner, iv, q);
+      }
+      continue;
+    }
+
+    // 4c. The regular element e: tops of its high-order nodes, attenuated (Fig. 5).
     const Vec a_top = right_top(e), b_top = left_top(e + 1);
     std::vector<Vec> tops(static_cast<std::size_t>(q + 1));
     std::vector<double> heights(static_cast<std::size_t>(q + 1), 0.0);
@@ -375,6 +437,7 @@ LayerResult grow_layers(const CurvedFront<2>& front, const Geometry2D& geometry,
   LayerResult r;
   r.mesh.nodes = front.nodes;
   CellBlock quads{CellType::Quadrilateral, q, -1, {}};
+  CellBlock tris{CellType::Triangle, q, -1, {}};  // transition cells next to stopped nodes
   std::vector<FrontLoop> loops;
   for (const FrontLoop& l : front.loops) {
     if (l.kind != BoundaryKind::Wall) continue;
@@ -396,15 +459,25 @@ LayerResult grow_layers(const CurvedFront<2>& front, const Geometry2D& geometry,
       if (!growing[li]) continue;
       const FrontLoop& loop = loops[li];
       const std::size_t n = loop.size() * static_cast<std::size_t>(q);
-      // Isotropic stop: the layer would be as tall as the metric's largest size.
+      // Isotropic stop: where the metric is isotropic at a front node, a layer would be as tall
+      // as the metric's size in every direction: no more anisotropic layer is wanted there.
+      std::vector<std::uint8_t> stopped(loop.size(), 0);
       if (p.isotropic_stop != "off") {
         std::size_t iso = 0, total = 0;
         for (std::size_t e = 0; e < loop.size(); ++e) {
-          const Vec& c = r.mesh.nodes[loop.elements[e * static_cast<std::size_t>(q + 1)]];
-          const Metric<2> m = metric.evaluate(c);
-          const auto d = m.decompose();
+          const Vec c = r.mesh.nodes[loop.elements[e * static_cast<std::size_t>(q + 1)]];
+          const auto d = metric.evaluate(c).decompose();
           ++total;
-          if (d.sizes[0] >= 0.999 * d.sizes[1]) ++iso;
+          if (d.sizes[0] >= 0.999 * d.sizes[1]) {
+            ++iso;
+            stopped[e] = p.isotropic_stop == "node" ? 1 : 0;
+          }
+        }
+        if (p.isotropic_stop == "node" && iso == total) {
+          growing[li] = false;
+          r.events.push_back("layer " + std::to_string(layer) + ", loop " + loop.tag +
+                             ": stopped, the metric is isotropic at every node");
+          continue;
         }
         if ((p.isotropic_stop == "all" && iso == total) || (p.isotropic_stop == "any" && iso > 0)) {
           growing[li] = false;
@@ -419,7 +492,7 @@ LayerResult grow_layers(const CurvedFront<2>& front, const Geometry2D& geometry,
       BuiltLayer built;
       for (int attempt = 0; attempt <= p.shrink_attempts && !accepted; ++attempt) {
         const std::size_t nodes_before = r.mesh.nodes.size();
-        built = build_layer(g, front, geometry, loop, layer == 1, scale);
+        built = build_layer(g, front, geometry, loop, layer == 1, scale, stopped);
         // Certify every new cell; shrink the heights under the invalid ones.
         const int npc = num_nodes(CellType::Quadrilateral, q);
         coords.resize(static_cast<std::size_t>(npc) * 2);
@@ -434,7 +507,17 @@ LayerResult grow_layers(const CurvedFront<2>& front, const Geometry2D& geometry,
         std::vector<std::pair<std::size_t, int>> shrink;  // (sequence index, span) to shrink
         for (std::size_t c : bad) shrink.push_back({built.cell_seq[c], built.cell_span[c]});
         Vec where = bad.empty() ? Vec::Zero() : r.mesh.nodes[built.cells[bad[0] * static_cast<std::size_t>(npc)]];
-        if (bad.empty()) {
+        const int tpc = num_nodes(CellType::Triangle, q);
+        for (std::size_t c = 0; c * tpc < built.triangles.size(); ++c) {
+          for (int k = 0; k < tpc; ++k)
+            for (int d = 0; d < 2; ++d)
+              coords[static_cast<std::size_t>(2 * k + d)] = r.mesh.nodes[built.triangles[c * tpc + k]][d];
+          if (!certifier.certify(CellType::Triangle, q, coords.data()).valid) {
+            if (shrink.empty()) where = r.mesh.nodes[built.triangles[c * tpc]];
+            shrink.push_back({built.triangle_seq[c], q});
+          }
+        }
+        if (shrink.empty()) {
           // Collisions: the new front may not cross another loop's front nor itself.
           std::vector<Segment> segs;
           polyline(built.top, r.mesh.nodes, q, true, segs);
@@ -472,6 +555,8 @@ LayerResult grow_layers(const CurvedFront<2>& front, const Geometry2D& geometry,
       }
       any = true;
       quads.connectivity.insert(quads.connectivity.end(), built.cells.begin(), built.cells.end());
+      tris.connectivity.insert(tris.connectivity.end(), built.triangles.begin(), built.triangles.end());
+      st.transition_cells += built.triangles.size() / static_cast<std::size_t>(num_nodes(CellType::Triangle, q));
       st.max_clipped_rel = std::max(st.max_clipped_rel, built.max_clipped_rel);
       all_linear = all_linear && built.linear;
       loops[li] = std::move(built.top);
@@ -484,6 +569,7 @@ LayerResult grow_layers(const CurvedFront<2>& front, const Geometry2D& geometry,
     if (st.linear && p.stop_when_linear) break;
   }
   if (!quads.connectivity.empty()) r.mesh.cells.push_back(std::move(quads));
+  if (!tris.connectivity.empty()) r.mesh.cells.push_back(std::move(tris));
   r.outer.order = q;
   r.outer.nodes = r.mesh.nodes;
   r.outer.loops = loops;

@@ -41,23 +41,27 @@ struct LayerParams {
   double fan_angle_deg = 45.0;     // largest angle between adjacent normals of a convex fan
   bool integrate_height = false;   // unit metric length along the normal instead of the size
   bool smooth_normals = false;     // one Laplacian pass over the normals of each new layer
-  // Stop when the layer would be at least as tall as the metric's largest size at every node
-  // ("all"), at any node ("any"), or never ("off").
+  // Where the metric is isotropic at a front node (a layer would be as tall as the metric's size
+  // in every direction): stop that node alone ("node"; its elements stay in the front, and
+  // transition triangles join them to the moving neighbours), stop the loop when it is so at
+  // every node ("all") or at any node ("any"), or never ("off").
   std::string isotropic_stop = "off";
   int shrink_attempts = 4;
 };
 
 struct LayerStats {
-  int layer = 0;  // 1-based
-  std::size_t cells = 0;
-  double max_clipped_rel = 0;    // largest attenuation move still needed / height (0 if linear)
-  bool linear = false;           // the new front is linear
-  std::size_t shrunk_nodes = 0;  // nodes whose height was reduced to keep cells valid
-  std::size_t first_cell = 0;    // this layer's cells in LayerResult::mesh block order
+  int layer = 0;                     // 1-based
+  std::size_t cells = 0;             // quadrilaterals
+  std::size_t transition_cells = 0;  // triangles next to stopped nodes (isotropic_stop: node)
+  double max_clipped_rel = 0;        // largest attenuation move still needed / height (0 if linear)
+  bool linear = false;               // the new front is linear
+  std::size_t shrunk_nodes = 0;      // nodes whose height was reduced to keep cells valid
+  std::size_t first_cell = 0;        // this layer's cells in LayerResult::mesh block order
 };
 
 struct LayerResult {
-  HybridMesh<2> mesh;    // quadrilaterals of order Q; boundary: the wall loops (the caller tags the outer front)
+  HybridMesh<2> mesh;    // quadrilaterals (block 0) and transition triangles (block 1, if any) of
+                         // order Q; boundary: the wall loops (the caller tags the outer front)
   CurvedFront<2> outer;  // the outermost front (same orientation as the input loops)
   std::vector<LayerStats> layers;
   int linear_after = -1;            // 1-based index of the first layer with a linear front, -1 if none

@@ -118,7 +118,7 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     lp.fan_angle_deg = l.get_in_range("fan_angle_deg", lp.fan_angle_deg, 5.0, 90.0);
     lp.integrate_height = l.get_choice("height", "size", {"size", "integrate"}) == "integrate";
     lp.smooth_normals = l.get_bool("smooth_normals", lp.smooth_normals);
-    lp.isotropic_stop = l.get_choice("isotropic_stop", lp.isotropic_stop, {"off", "any", "all"});
+    lp.isotropic_stop = l.get_choice("isotropic_stop", lp.isotropic_stop, {"off", "node", "any", "all"});
     lp.enabled = lp.max > 0;  // max: 0 is the surface mesh alone
     if (r.geometry.type != "airfoils") throw ConfigError(l.where() + ": layers need a spline geometry (type airfoils)");
   }

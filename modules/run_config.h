@@ -53,7 +53,8 @@
 //     fan_angle_deg: <>0>   largest angle between fan normals     default: 45
 //     height: size|integrate  metric size along the normal, or unit metric length   default: size
 //     smooth_normals: <bool>  smooth the normals of each layer    default: false
-//     isotropic_stop: off|any|all  stop where the metric is isotropic   default: off
+//     isotropic_stop: off|node|any|all  stop a node where the metric is isotropic there, or the
+//                           loop when it is so at any/all nodes   default: off
 //   validity:
 //     rel_tol: <0..1>       Bezier bounds refined to this         default: 0.01
 //     max_depth: <1..20>    subdivision depth limit               default: 12

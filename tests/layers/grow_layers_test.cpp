@@ -210,3 +210,40 @@ TEST_CASE("layers: the 30P-30N elements (coves, cusp, blunt flap) grow valid, co
   CHECK(q.cells_invalid == 0);
   CHECK(q.conformity.ok);
 }
+
+TEST_CASE("layers: isotropic_stop node stops the nodes where the metric is isotropic, with transition triangles") {
+  // An ellipse (a = 1, b = 0.3): the tips' radius of curvature b^2/a = 0.09 gives the size
+  // along the wall 0.1 * 0.09 = 0.009, reached by h0 + (g - 1) d at d = 0.04; the flanks'
+  // 0.05 (h_wall_max) only at d = 0.245. So the tips stop layers earlier than the flanks.
+  std::vector<Vector2d> p;
+  for (int i = 0; i < 200; ++i) p.emplace_back(std::cos(-2 * M_PI * i / 200), 0.3 * std::sin(-2 * M_PI * i / 200));
+  const Geometry2D geo = body(p, {});
+  WallLawParams w;
+  w.h0 = 0.001;
+  w.h_max = 5;
+  w.h_wall_max = 0.05;
+  w.curvature_factor = 0.1;
+  w.h_corner = 0.05;
+  const WallPowerLawField metric({geo.loops[0].loop}, w);
+  const CurvedFront<2> front = mesh_surface(geo, metric, 3);
+  layers::LayerParams lp;
+  lp.max_layers = 30;
+  lp.isotropic_stop = "node";
+  const layers::LayerResult r = layers::grow_layers(front, geo, metric, lp);
+  std::size_t transition = 0;
+  for (const auto& st : r.layers) transition += st.transition_cells;
+  CHECK(transition > 0);
+  const QualityReport q = check(r);
+  CHECK(q.cells_invalid == 0);
+  CHECK(q.conformity.ok);
+  // The outer front reaches farther out on the flanks (x ~ 0) than beyond the tips (|y| ~ 0).
+  double flank = 0, tip = 0;
+  for (const FrontLoop& l : r.outer.loops)
+    for (NodeId id : l.elements) {
+      const Vector2d x = r.mesh.nodes[id];
+      const double d = geo.loops[0].loop.closest_point(x).distance;
+      if (std::abs(x.x()) < 0.1) flank = std::max(flank, d);
+      if (std::abs(x.y()) < 0.02) tip = std::max(tip, d);
+    }
+  CHECK(flank > 2 * tip);
+}
