@@ -110,7 +110,8 @@ void report_layers(const layers::LayerResult& lr, const HybridMesh<2>& mesh, con
              ", \"cells\": " + std::to_string(st.cells) + ", \"curved_cells\": " + std::to_string(curved) +
              ", \"max_clipped_over_height\": " + json_num(st.max_clipped_rel) +
              ", \"linear\": " + (st.linear ? "true" : "false") + ", \"min_scaled_jacobian\": " + json_num(min_sj) +
-             ", \"max_aspect_ratio\": " + json_num(max_ar) + ", \"shrunk\": " + std::to_string(st.shrunk_nodes) + "}";
+             ", \"max_aspect_ratio\": " + json_num(max_ar) + ", \"shrunk\": " + std::to_string(st.shrunk_nodes) +
+             ", \"transition_cells\": " + std::to_string(st.transition_cells) + "}";
     std::cout << std::setw(7) << st.layer << std::setw(7) << st.cells << std::setw(8) << curved << std::setw(12)
               << std::setprecision(3) << st.max_clipped_rel << std::setw(14) << min_sj << std::setw(12) << max_ar
               << '\n';
