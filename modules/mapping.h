@@ -10,16 +10,22 @@
 
 namespace plaf {
 
+// J from the basis gradients at one point: dphi[k * Dim + d] = d phi_k / d xi_d, n nodes.
+template <int Dim>
+Eigen::Matrix<double, Dim, Dim> mapping_jacobian_from_gradients(int n, const double* coords, const double* dphi) {
+  Eigen::Matrix<double, Dim, Dim> j = Eigen::Matrix<double, Dim, Dim>::Zero();
+  for (int k = 1; k < n; ++k)
+    for (int i = 0; i < Dim; ++i)
+      for (int d = 0; d < Dim; ++d) j(i, d) += (coords[Dim * k + i] - coords[i]) * dphi[Dim * k + d];
+  return j;
+}
+
 // coords: e.size() points, row-major (Dim per node), Gmsh order; dphi: scratch of e.size() * Dim.
 template <int Dim>
 Eigen::Matrix<double, Dim, Dim> mapping_jacobian(const LagrangeElement& e, const double* coords, const double* xi,
                                                  double* dphi) {
   e.eval_grad(xi, dphi);
-  Eigen::Matrix<double, Dim, Dim> j = Eigen::Matrix<double, Dim, Dim>::Zero();
-  for (int k = 1; k < e.size(); ++k)
-    for (int i = 0; i < Dim; ++i)
-      for (int d = 0; d < Dim; ++d) j(i, d) += (coords[Dim * k + i] - coords[i]) * dphi[Dim * k + d];
-  return j;
+  return mapping_jacobian_from_gradients<Dim>(e.size(), coords, dphi);
 }
 
 }  // namespace plaf

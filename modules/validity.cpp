@@ -222,6 +222,7 @@ struct Space {
   bool ready = false;
   Factor a, b;
   std::vector<Eigen::Vector3d> points;   // reference sample points, index ia * nb + ib
+  std::vector<double> root_gradients;    // basis gradients at every point of the whole cell
   Eigen::MatrixXd samples, half, coefs;  // na x nb scratch
 };
 
@@ -261,6 +262,12 @@ struct JacobianCertifier::Impl {
         s.points.push_back(xi);
       }
     const auto na = static_cast<Eigen::Index>(s.a.points.size()), nb = static_cast<Eigen::Index>(s.b.points.size());
+    // The whole cell is sampled at the same points for every cell: keep its basis gradients.
+    const LagrangeElement& e = lagrange_element(type, order);
+    const std::size_t per_point = static_cast<std::size_t>(e.size() * e.dim());
+    s.root_gradients.resize(s.points.size() * per_point);
+    for (std::size_t k = 0; k < s.points.size(); ++k)
+      e.eval_grad(s.points[k].data(), s.root_gradients.data() + k * per_point);
     s.samples.resize(na, nb);
     s.half.resize(na, nb);
     s.coefs.resize(na, nb);
@@ -272,10 +279,22 @@ struct JacobianCertifier::Impl {
   Range evaluate(const LagrangeElement& e, const double* coords, Space& s, SubCell& c) {
     Range r{inf, -inf};
     const Eigen::Index nb = s.samples.cols();
+    const bool root = c.depth == 0;
+    const std::size_t per_point = static_cast<std::size_t>(e.size() * e.dim());
     for (Eigen::Index ia = 0; ia < s.samples.rows(); ++ia)
       for (Eigen::Index ib = 0; ib < nb; ++ib) {
-        const Eigen::Vector3d xi = c.origin + c.map * s.points[static_cast<std::size_t>(ia * nb + ib)];
-        const double v = det_at(e, coords, xi.data(), dphi.data());
+        const auto k = static_cast<std::size_t>(ia * nb + ib);
+        double v;
+        if (root && e.dim() == 2) {
+          v = mapping_jacobian_from_gradients<2>(e.size(), coords, s.root_gradients.data() + k * per_point)
+                  .determinant();
+        } else if (root && e.dim() == 3) {
+          v = mapping_jacobian_from_gradients<3>(e.size(), coords, s.root_gradients.data() + k * per_point)
+                  .determinant();
+        } else {
+          const Eigen::Vector3d xi = c.origin + c.map * s.points[k];
+          v = det_at(e, coords, xi.data(), dphi.data());
+        }
         s.samples(ia, ib) = v;
         r.lo = std::min(r.lo, v);
         r.hi = std::max(r.hi, v);
