@@ -26,6 +26,8 @@ HybridMesh<2> mesh_annulus(const AnnulusParams& p, int order, const MetricField<
   const double t_mid = 0.5 * span;
   const Eigen::Vector2d dir(std::cos(t_mid), std::sin(t_mid));
   const double radial_len = metric_length<2>(metric, p.r_inner * dir, p.r_outer * dir, 8);
+  if (!std::isfinite(arc_len) || !std::isfinite(radial_len) || arc_len * radial_len * order * order > 2e8)
+    throw InputError("annulus: the metric asks for more than 2e8 nodes; use a larger size");
   const int n_t = std::max(full ? 3 : 1, static_cast<int>(std::lround(arc_len)));
   const int n_r = std::max(1, static_cast<int>(std::lround(radial_len)));
   if (static_cast<double>(n_t) * n_r * order * order > 2e8)

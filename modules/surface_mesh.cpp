@@ -81,9 +81,9 @@ CurvedFront<2> mesh_surface(const Geometry2D& geometry, const MetricField<2>& me
       if (!std::isfinite(total)) throw MesherError("surface mesh: the metric length of " + loop.name() + " is not finite");
       // The rounded metric length, rounded in log space (at sqrt(n (n + 1)) rather than n + 1/2)
       // so that every element's length L/n lies in [1/sqrt 2, sqrt 2] whenever L >= 1/sqrt 2.
+      if (total > 5e7) throw MesherError("surface mesh: the metric asks for over 5e7 elements on " + loop.name());
       long n = std::max(1L, static_cast<long>(std::floor(total)));
       if (total > std::sqrt(static_cast<double>(n) * static_cast<double>(n + 1))) ++n;
-      if (n > 50'000'000L) throw MesherError("surface mesh: the metric asks for over 5e7 elements on " + loop.name());
       for (long e = 0; e < n; ++e) {
         linear_t.push_back(e == 0 ? t0 : parameter_at_length(tab, total * static_cast<double>(e) / static_cast<double>(n)));
         is_corner.push_back(e == 0 && !periodic ? 1 : 0);

@@ -25,6 +25,7 @@ double WallPowerLawField::normal_size(double d) const {
 }
 
 WallPowerLawField::Sizes WallPowerLawField::sizes(const Eigen::Vector2d& x) const {
+  if (!x.allFinite()) throw MesherError("wall_power_law metric: evaluated at a non-finite point");
   // 1. The closest wall point over all walls.
   const SplineLoop* wall = nullptr;
   SplineLoop::Closest best{0, x, std::numeric_limits<double>::infinity()};
@@ -35,6 +36,7 @@ WallPowerLawField::Sizes WallPowerLawField::sizes(const Eigen::Vector2d& x) cons
       wall = &w;
     }
   }
+  if (!wall) throw MesherError("wall_power_law metric: no wall point found from a finite point");
   Sizes s;
   s.distance = best.distance;
   // The normal: at a smooth closest point x - p is along the wall normal, so use the exact spline

@@ -16,6 +16,10 @@ HybridMesh<3> tetgen_fill(const HybridMesh<3>& boundary, const TetFillParams& pa
     if (b.type != CellType::Triangle || b.order != 1)
       throw InputError("tetgen fill: the boundary must be linear triangles, got " + std::string(cell_name(b.type)) +
                        " of order " + std::to_string(b.order));
+    for (NodeId v : b.connectivity)
+      if (v < 0 || static_cast<std::size_t>(v) >= boundary.nodes.size())
+        throw InputError("tetgen fill: a boundary triangle refers to node " + std::to_string(v) + " of " +
+                         std::to_string(boundary.nodes.size()));
     n_tri += b.size();
   }
   if (n_tri < 4 || boundary.nodes.size() < 4) throw InputError("tetgen fill: the boundary has fewer than 4 triangles");
@@ -72,11 +76,9 @@ HybridMesh<3> tetgen_fill(const HybridMesh<3>& boundary, const TetFillParams& pa
   tets.connectivity.reserve(static_cast<std::size_t>(out.numberoftetrahedra) * 4);
   for (int t = 0; t < out.numberoftetrahedra; ++t) {
     const int* c = out.tetrahedronlist + 4 * t;
-    // TetGen's tetrahedra have negative orientation in plaf's convention (vertex 3 below the
-    // face 0-1-2); swap two vertices for positive volume.
-    const Eigen::Vector3d a = mesh.nodes[c[0]], b = mesh.nodes[c[1]], cc = mesh.nodes[c[2]], d = mesh.nodes[c[3]];
-    const bool positive = (b - a).cross(cc - a).dot(d - a) > 0;
-    tets.connectivity.insert(tets.connectivity.end(), {c[0], positive ? c[1] : c[2], positive ? c[2] : c[1], c[3]});
+    // TetGen 1.5's tetrahedra already have positive volume in plaf's convention (vertex 3 on the
+    // side of face 0-1-2's right-hand normal); the tests check every volume.
+    tets.connectivity.insert(tets.connectivity.end(), {c[0], c[1], c[2], c[3]});
   }
   return mesh;
 }
