@@ -43,12 +43,6 @@ class StageClock {
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
-std::string json_num(double x) {
-  std::ostringstream s;
-  s << std::setprecision(10) << x;
-  return s.str();
-}
-
 // The mesh of the run and, for spline geometries, the surface front it was built from and the
 // layers grown from it.
 struct MeshStage {
@@ -108,9 +102,9 @@ void report_layers(const layers::LayerResult& lr, const HybridMesh<2>& mesh, con
     }
     table += std::string(k ? ", " : "") + "{\"layer\": " + std::to_string(st.layer) +
              ", \"cells\": " + std::to_string(st.cells) + ", \"curved_cells\": " + std::to_string(curved) +
-             ", \"max_clipped_over_height\": " + json_num(st.max_clipped_rel) +
-             ", \"linear\": " + (st.linear ? "true" : "false") + ", \"min_scaled_jacobian\": " + json_num(min_sj) +
-             ", \"max_aspect_ratio\": " + json_num(max_ar) + ", \"shrunk\": " + std::to_string(st.shrunk_nodes) +
+             ", \"max_clipped_over_height\": " + json_number(st.max_clipped_rel) +
+             ", \"linear\": " + (st.linear ? "true" : "false") + ", \"min_scaled_jacobian\": " + json_number(min_sj) +
+             ", \"max_aspect_ratio\": " + json_number(max_ar) + ", \"shrinks\": " + std::to_string(st.shrinks) +
              ", \"transition_cells\": " + std::to_string(st.transition_cells) + "}";
     std::cout << std::setw(7) << st.layer << std::setw(7) << st.cells << std::setw(8) << curved << std::setw(12)
               << std::setprecision(3) << st.max_clipped_rel << std::setw(14) << min_sj << std::setw(12) << max_ar
@@ -119,9 +113,7 @@ void report_layers(const layers::LayerResult& lr, const HybridMesh<2>& mesh, con
   table += "]";
   std::string events = "[";
   for (std::size_t k = 0; k < lr.events.size(); ++k) {
-    std::string e;
-    for (char ch : lr.events[k]) e += ch == '"' ? '\'' : ch;
-    events += std::string(k ? ", " : "") + "\"" + e + "\"";
+    events += std::string(k ? ", " : "") + json_string(lr.events[k]);
     std::cout << "  layers: " << lr.events[k] << '\n';
   }
   events += "]";
@@ -139,18 +131,19 @@ void report_surface(const CurvedFront<2>& front, const Geometry2D& geometry, con
   std::string loops = "[";
   for (std::size_t k = 0; k < s.loops.size(); ++k) {
     const SurfaceLoopStats& l = s.loops[k];
-    loops += std::string(k ? ", " : "") + "{\"tag\": \"" + l.tag + "\", \"elements\": " + std::to_string(l.elements) +
-             ", \"nodes\": " + std::to_string(l.nodes) + ", \"metric_length_min\": " + json_num(l.metric_length_min) +
-             ", \"metric_length_max\": " + json_num(l.metric_length_max) + "}";
+    loops += std::string(k ? ", " : "") + "{\"tag\": " + json_string(l.tag) +
+             ", \"elements\": " + std::to_string(l.elements) + ", \"nodes\": " + std::to_string(l.nodes) +
+             ", \"metric_length_min\": " + json_number(l.metric_length_min) +
+             ", \"metric_length_max\": " + json_number(l.metric_length_max) + "}";
     std::cout << "  surface loop " << l.tag << ": " << l.elements << " elements, " << l.nodes
               << " nodes, metric length " << l.metric_length_min << " .. " << l.metric_length_max << '\n';
   }
   loops += "]";
   report.extra.push_back({"surface.order", std::to_string(front.order)});
   report.extra.push_back({"surface.loops", loops});
-  report.extra.push_back({"surface.metric_length_min", json_num(s.metric_length_min)});
-  report.extra.push_back({"surface.metric_length_max", json_num(s.metric_length_max)});
-  report.extra.push_back({"surface.unit_fraction", json_num(s.unit_fraction)});
+  report.extra.push_back({"surface.metric_length_min", json_number(s.metric_length_min)});
+  report.extra.push_back({"surface.metric_length_max", json_number(s.metric_length_max)});
+  report.extra.push_back({"surface.unit_fraction", json_number(s.unit_fraction)});
   report.extra.push_back({"surface.short_corner_segments", std::to_string(s.short_segments)});
 }
 

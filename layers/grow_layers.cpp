@@ -44,17 +44,11 @@ class LoopLayer {
   double height(const Vec& x, const Vec& n) const {
     const double h = metric_.evaluate(x).size_along(n);
     if (!p_.integrate_height) return h;
-    // Unit metric length along x + s n: Newton-secant on L(s) = int_0^s |n|_M(x + t n) dt.
-    auto length = [&](double s) {
-      static const double gx[3] = {0.5 - std::sqrt(0.15), 0.5, 0.5 + std::sqrt(0.15)};
-      static const double gw[3] = {5.0 / 18, 8.0 / 18, 5.0 / 18};
-      double l = 0;
-      for (int g = 0; g < 3; ++g) l += gw[g] * s / metric_.evaluate(x + gx[g] * s * n).size_along(n);
-      return l;
-    };
+    // Unit metric length along x + s n: fixed point s <- s / L(s) on L(s), the metric length of
+    // the segment (3-point Gauss).
     double s = h;
     for (int it = 0; it < 8; ++it) {
-      const double l = length(s);
+      const double l = metric_length<2>(metric_, x, Vec(x + s * n), 3);
       if (std::abs(l - 1) < 1e-10) break;
       s /= l;
     }
@@ -183,26 +177,26 @@ BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometr
                                  : nullptr;
   std::vector<Vec> normal(n);
   std::vector<double> turning(n, 0.0);
+  const double corner_rad = g.p_.corner_angle_deg * M_PI / 180;
   for (std::size_t i = 0; i < n; ++i) {
     const Vec& before = panel[(i + n - 1) % n];
     turning[i] = signed_angle(before, panel[i]);
     normal[i] = (left_normal(before) + left_normal(panel[i])).normalized();
     const NodeId id = seq[i];
     const bool vertex = i % q == 0;
-    const bool corner = vertex && std::abs(turning[i]) > g.p_.corner_angle_deg * M_PI / 180;
+    const bool corner = vertex && std::abs(turning[i]) > corner_rad;
     if (spline && !corner && static_cast<std::size_t>(id) < front0.params.size())
       normal[i] = spline->normal(front0.params[id]);
   }
   if (g.p_.smooth_normals) {
     std::vector<Vec> s = normal;
     for (std::size_t i = 0; i < n; ++i)
-      if (!(i % q == 0 && std::abs(turning[i]) > g.p_.corner_angle_deg * M_PI / 180))
+      if (!(i % q == 0 && std::abs(turning[i]) > corner_rad))
         s[i] = (normal[(i + n - 1) % n] + 2 * normal[i] + normal[(i + 1) % n]).normalized();
     normal = s;
   }
 
   // 3. Tops of the linear nodes: regular, concave (merged normal) or convex (fan).
-  const double corner = g.p_.corner_angle_deg * M_PI / 180;
   std::vector<VertexTop> vt(ne);
   for (std::size_t e = 0; e < ne; ++e) {
     const std::size_t i = e * q;
@@ -213,7 +207,7 @@ BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometr
       v.kind = VertexTop::Kind::Stopped;
       continue;  // no top, no column: the node does not move
     }
-    if (turning[i] > corner) {
+    if (turning[i] > corner_rad) {
       // Concave (left turn). Sec. II.B makes the intersection of the neighbours' normals the
       // vertex of a single element spanning both panels; with panels long against the layer
       // height that vertex lies far out and distorts the neighbours, so we use the robust merged
@@ -224,22 +218,19 @@ BuiltLayer build_layer(LoopLayer& g, const CurvedFront<2>& front0, const Geometr
       const double h = g.height(c, m) * scale[i];
       v.normals = {m};
       v.tops = {c + h / std::max(m.dot(n_left), 0.1) * m};
-    } else if (turning[i] < -corner) {
+    } else if (turning[i] < -corner_rad) {
       // Convex (right turn), Fig. 4: normals dividing the corner angle equally.
       v.kind = VertexTop::Kind::Convex;
       const int m = std::max(1, static_cast<int>(std::ceil(-turning[i] / (g.p_.fan_angle_deg * M_PI / 180) - 1e-9)));
-      // The heights of the fan normals go linearly from the left panel's normal to the right
-      // one's: the metric size along an in-between normal can differ (along the wall at a
-      // corner), and unequal neighbouring heights would fold the kites built from them.
-      // At the corner point itself the metric's frame belongs to one side only (the wall normal
-      // is one-sided there), so the size along the other side's normal can be the size along
-      // the wall: every fan normal takes the smaller of the two sides' heights.
+      // One height for the whole fan: unequal neighbouring heights would fold the kites, and at
+      // the corner point itself the metric's frame belongs to one side only (the wall normal is
+      // one-sided there), so the size along the other side's normal can be the size along the
+      // wall. Every fan normal takes the smaller of the two sides' heights.
       const double h_corner = std::min(g.height(c, n_left), g.height(c, n_right)) * scale[i];
-      const double h_first = h_corner, h_last = h_corner;
       for (int k = 0; k <= m; ++k) {
         const Vec nk = rotate(n_left, turning[i] * k / m);
         v.normals.push_back(nk);
-        v.tops.push_back(c + (h_first + (h_last - h_first) * k / m) * nk);
+        v.tops.push_back(c + h_corner * nk);
       }
     } else {
       v.normals = {normal[i]};
@@ -541,7 +532,7 @@ LayerResult grow_layers(const CurvedFront<2>& front, const Geometry2D& geometry,
             const std::size_t i = (first + n - 1 + static_cast<std::size_t>(s2 + 1)) % n;
             scale[i] *= 0.5;
           }
-        st.shrunk_nodes += shrink.size();
+        st.shrinks += shrink.size();
         r.events.push_back("layer " + std::to_string(layer) + ", loop " + loop.tag + ": " +
                            std::to_string(shrink.size()) + " " + why + " (first at " + std::to_string(where.x()) +
                            ", " + std::to_string(where.y()) + "), heights halved around them");

@@ -55,7 +55,7 @@ struct LayerStats {
   std::size_t transition_cells = 0;  // triangles next to stopped nodes (isotropic_stop: node)
   double max_clipped_rel = 0;        // largest attenuation move still needed / height (0 if linear)
   bool linear = false;               // the new front is linear
-  std::size_t shrunk_nodes = 0;      // nodes whose height was reduced to keep cells valid
+  std::size_t shrinks = 0;           // invalid cells and front crossings that made heights halve
   std::size_t first_cell = 0;        // this layer's cells in LayerResult::mesh block order
 };
 

@@ -64,6 +64,8 @@ std::string type_key(const CellBlock& b) {
   return std::string(cell_name(b.type)) + "_Q" + std::to_string(b.order);
 }
 
+}  // namespace
+
 std::string json_number(double x) {
   if (!std::isfinite(x)) return "null";
   std::ostringstream s;
@@ -86,8 +88,6 @@ std::string json_string(const std::string& x) {
   }
   return out + "\"";
 }
-
-}  // namespace
 
 template <int Dim>
 QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>* metric, const QualityOptions& options,

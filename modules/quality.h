@@ -69,6 +69,10 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
 // JSON with nested keys cells.total, cells.by_type, cells.invalid, scaled_jacobian.min,
 // aspect_ratio.max, metric.unit_fraction, timings_s.<stage>, conformity.*, plus `extra`.
 std::string report_json(const QualityReport& report);
+// JSON text of a number (null if not finite) and of a string (escaped), for report sections.
+std::string json_number(double x);
+std::string json_string(const std::string& x);
+
 // A few human lines for stdout.
 std::string report_summary(const QualityReport& report);
 

@@ -110,7 +110,6 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   if (c.has("layers")) {
     const ConfigNode l = c.child("layers");
     LayersParams& lp = r.layers;
-    lp.enabled = true;
     lp.max = l.get_int("max", lp.max, 0, 10000);
     lp.stop_when_linear = l.get_bool("stop_when_linear", lp.stop_when_linear);
     lp.f_atten = l.get_in_range("f_atten", lp.f_atten, 0.0, 1.0);

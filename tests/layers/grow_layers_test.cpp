@@ -71,6 +71,7 @@ TEST_CASE("layers: on a circle with the wall law, layer k has height h0 g^k and 
   p.max_layers = 12;
   const layers::LayerResult r = layers::grow_layers(front, geo, metric, p);
   REQUIRE(r.layers.size() == 12);
+  CHECK(r.events.empty());  // no cell had to be shrunk: growth alone keeps them valid
   CHECK(check(r).ok());
   // The outer front's vertices lie at radius r0 + h0 (g^K - 1)/(g - 1) (geometric layers).
   const double expected = r0 + h0 * (std::pow(g, 12) - 1) / (g - 1);
@@ -120,6 +121,8 @@ TEST_CASE("layers: convex corners of 90, 150 and 179 degrees get fans of valid c
     const layers::LayerResult r = layers::grow_layers(front, geo, thin, p);
     CHECK(r.layers.size() == 3);
     const QualityReport q = check(r);
+    CHECK(r.events.empty());  // no cell had to be shrunk: growth alone keeps them valid
+
     CHECK(q.cells_invalid == 0);
     CHECK(q.conformity.ok);
     // A fan: more cells in the first layer than front elements.
@@ -139,6 +142,7 @@ TEST_CASE("layers: a concave 90 degree corner gets valid cells") {
     const UniformMetricField<2> thin(Metric<2>::isotropic(0.02));
     const layers::LayerResult r = layers::grow_layers(front, geo, thin, p);
     CHECK(r.layers.size() == 4);
+    CHECK(r.events.empty());  // no cell had to be shrunk: growth alone keeps them valid
     const QualityReport qr = check(r);
     CHECK(qr.cells_invalid == 0);
     CHECK(qr.conformity.ok);
@@ -162,6 +166,7 @@ TEST_CASE("layers: Q = 1..4 on the E387 give valid, conforming layers") {
     p.corner_angle_deg = 70;
     const layers::LayerResult r = layers::grow_layers(front, geo, metric, p);
     CHECK(r.layers.size() == 8);
+    CHECK(r.events.empty());  // no cell had to be shrunk: growth alone keeps them valid
     const QualityReport qr = check(r);
     CHECK(qr.cells_invalid == 0);
     CHECK(qr.conformity.ok);
@@ -178,6 +183,7 @@ TEST_CASE("layers: growing from a straight wall leaves every element straight") 
   const UniformMetricField<2> thin(Metric<2>::isotropic(0.03));
   const layers::LayerResult r = layers::grow_layers(front, geo, thin, p);
   REQUIRE(r.layers.size() == 5);
+  CHECK(r.events.empty());  // no cell had to be shrunk: growth alone keeps them valid
   CHECK(r.linear_after == 1);
   const CellBlock& b = r.mesh.cells.at(0);
   for (std::size_t i = 0; i < b.size(); ++i) CHECK_FALSE(is_curved(r.mesh, b, i, 1e-10));
