@@ -13,7 +13,9 @@ namespace {
 
 constexpr const char* usage =
     "usage: plaf run CONFIG.yaml [--out DIR]   mesh a configured case into DIR (default: output.dir)\n"
-    "       plaf check MESH.msh                re-read a Gmsh MSH 4.1 mesh and certify its cells\n"
+    "       plaf check MESH.msh [--metric CONFIG.yaml] [--report FILE.json]\n"
+    "                                          re-read a Gmsh MSH 4.1 mesh and certify its cells; measure\n"
+    "                                          its edges in CONFIG's metric; write the JSON report\n"
     "       plaf --help | --version\n"
     "Outputs of run: <name>.msh (Gmsh 4.1), <name>.vtu (VTK Lagrange cells), <name>.report.json, <name>.png.\n"
     "Exit codes: 0 success, 1 bad input or usage, 2 mesh written but invalid or not conforming.\n";
@@ -57,8 +59,25 @@ int main(int argc, char** argv) {
       return plaf::run_command(*config, out_dir);
     }
     if (args[0] == "check") {
-      if (args.size() != 2) return fail_usage("check takes one mesh file");
-      return plaf::check_command(args[1]);
+      std::optional<std::string> mesh, metric, report;
+      for (std::size_t i = 1; i < args.size(); ++i) {
+        if (args[i] == "--metric" || args[i] == "--report") {
+          if (i + 1 >= args.size()) return fail_usage(args[i] + " needs a file");
+          (args[i] == "--metric" ? metric : report) = args[i + 1];
+          ++i;
+        } else if (!args[i].empty() && args[i][0] == '-') {
+          return fail_usage("unknown option '" + args[i] + "'");
+        } else if (mesh) {
+          return fail_usage("check takes one mesh file, got '" + *mesh + "' and '" + args[i] + "'");
+        } else {
+          mesh = args[i];
+        }
+      }
+      if (!mesh) return fail_usage("check needs a mesh file");
+      std::optional<std::filesystem::path> metric_path, report_path;
+      if (metric) metric_path = *metric;
+      if (report) report_path = *report;
+      return plaf::check_command(*mesh, metric_path, report_path);
     }
     return fail_usage("unknown command '" + args[0] + "'");
   } catch (const plaf::Error& e) {

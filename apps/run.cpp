@@ -12,6 +12,7 @@
 
 #include "layers/grow_layers.h"
 #include "modules/annulus.h"
+#include "modules/atomic_file.h"
 #include "modules/error.h"
 #include "modules/geometry2d.h"
 #include "modules/metric_fields.h"
@@ -203,18 +204,39 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
   return 0;
 }
 
-int check_command(const std::filesystem::path& path) {
+int check_command(const std::filesystem::path& path, const std::optional<std::filesystem::path>& metric_config,
+                  const std::optional<std::filesystem::path>& report_path) {
   std::vector<std::pair<std::string, double>> timings;
   StageClock clock(timings);
+  // The metric first: a bad config fails before the (possibly long) read.
+  std::optional<RunConfig> c;
+  Geometry2D geometry;
+  std::unique_ptr<MetricField<2>> metric;
+  QualityOptions qo;
+  if (metric_config) {
+    c = load_run_config(*metric_config);
+    if (c->geometry.type == "airfoils") geometry = build_airfoils_geometry(c->geometry.airfoils);
+    metric = make_metric_field(*c, geometry);
+    qo.histogram_bins = c->output.histogram_bins;
+    clock.done("metric", c->metric.type + " from " + metric_config->string());
+  }
   const MshMesh m = read_msh41(path);
   clock.done("read", path.string() + ", dimension " + std::to_string(m.dim));
   QualityReport report;
-  if (m.dim == 2)
-    report = assess_quality<2>(m.mesh2, nullptr, QualityOptions{});
-  else
-    report = assess_quality<3>(m.mesh3, nullptr, QualityOptions{});
+  if (m.dim == 2) {
+    report = assess_quality<2>(m.mesh2, metric.get(), qo);
+  } else {
+    if (metric) throw InputError(path.string() + ": --metric takes a 2D mesh (the run configurations are 2D)");
+    report = assess_quality<3>(m.mesh3, nullptr, qo);
+  }
   clock.done("quality", std::to_string(report.cells_total) + " cells certified");
   report.name = path.string();
+  report.timings_s = timings;
+  if (report_path) {
+    AtomicFile f(*report_path);
+    f.write(report_json(report));
+    f.commit();
+  }
   std::cout << report_summary(report);
   if (!report.ok()) {
     std::cerr << "plaf: error: " << path.string() << " is NOT valid: " << report.cells_invalid << " invalid cells"

@@ -13,6 +13,10 @@ namespace plaf {
 int run_command(const std::filesystem::path& config, const std::optional<std::filesystem::path>& out_dir);
 
 // Re-reads a Gmsh MSH 4.1 file and reports validity and quality; 0 when valid and conforming.
-int check_command(const std::filesystem::path& mesh);
+// With metric_config, the edges are also measured in that run configuration's metric (its
+// geometry is built when the metric needs it), so meshes of other tools are judged by the same
+// measure; with report, the JSON report is written there.
+int check_command(const std::filesystem::path& mesh, const std::optional<std::filesystem::path>& metric_config = {},
+                  const std::optional<std::filesystem::path>& report = {});
 
 }  // namespace plaf

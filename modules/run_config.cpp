@@ -122,6 +122,13 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     if (r.geometry.type != "airfoils") throw ConfigError(l.where() + ": layers need a spline geometry (type airfoils)");
   }
 
+  if (c.has("fill")) {
+    const ConfigNode f = c.child("fill");
+    r.fill.enabled = true;
+    r.fill.max_triangles = f.get_int("max_triangles", static_cast<int>(r.fill.max_triangles), 1, 2000000000);
+    if (r.geometry.type != "airfoils") throw ConfigError(f.where() + ": the fill needs a spline geometry (type airfoils)");
+  }
+
   const ConfigNode v = c.child("validity");
   r.validity.rel_tol = v.get_in_range("rel_tol", r.validity.rel_tol, 1e-6, 1.0);
   r.validity.max_depth = v.get_int("max_depth", r.validity.max_depth, 1, 20);
@@ -132,6 +139,8 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   r.output.picture_width = o.get_int("picture_width", r.output.picture_width, 64, 16384);
   r.output.picture_height = o.get_int("picture_height", r.output.picture_height, 64, 16384);
   r.output.histogram_bins = o.get_int("histogram_bins", r.output.histogram_bins, 2, 1000);
+  r.output.uniform_order = o.get_bool("uniform_order", r.output.uniform_order);
+  r.output.split_quads = o.get_bool("split_quads", r.output.split_quads);
   for (const ConfigNode& z : o.child_list("zooms")) {
     OutputParams::Zoom zoom;
     zoom.label = z.get_string("label", "");

@@ -55,6 +55,10 @@
 //     smooth_normals: <bool>  smooth the normals of each layer    default: false
 //     isotropic_stop: off|node|any|all  stop a node where the metric is isotropic there, or the
 //                           loop when it is so at any/all nodes   default: off
+//   fill:                   advancing-front fill of the domain between the fronts (the layers' outer
+//                           front, or the surface mesh of bodies without layers, and the farfield)
+//                           with linear triangles (volume/advancing_front_2d.h); absent: no fill
+//     max_triangles: <n>    give up (an error) beyond this many triangles   default: 20000000
 //   validity:
 //     rel_tol: <0..1>       Bezier bounds refined to this         default: 0.01
 //     max_depth: <1..20>    subdivision depth limit               default: 12
@@ -64,6 +68,10 @@
 //     picture_width: <px>   PNG width                             default: 1600
 //     picture_height: <px>  PNG height                            default: 1200
 //     histogram_bins: <n>   bins of the metric edge-length histogram  default: 12
+//     uniform_order: <bool> the fill's triangles written at order Q (straight sided, edges shared
+//                           with the layers' cells), so the mesh has one order   default: true
+//     split_quads: <bool>   each layer quadrilateral split into two triangles in reference space
+//                           (the paper's Fig. 12), along its shorter diagonal   default: false
 //     zooms:                inset panels of the picture, a list of maps:
 //       - label: <text>
 //         box: [x_min, x_max, y_min, y_max]
@@ -153,6 +161,11 @@ struct LayersParams {
   std::string isotropic_stop = "off";
 };
 
+struct FillParams {
+  bool enabled = false;
+  long long max_triangles = 20000000;
+};
+
 struct ValidityParams {
   double rel_tol = 0.01;
   int max_depth = 12;
@@ -164,6 +177,8 @@ struct OutputParams {
   int picture_width = 1600;
   int picture_height = 1200;
   int histogram_bins = 12;
+  bool uniform_order = true;
+  bool split_quads = false;
   struct Zoom {
     std::string label;
     std::array<double, 4> box;  // x_min, x_max, y_min, y_max
@@ -179,6 +194,7 @@ struct RunConfig {
   GeometryParams geometry;
   MetricParams metric;
   LayersParams layers;
+  FillParams fill;
   ValidityParams validity;
   OutputParams output;
 };

@@ -55,6 +55,37 @@ TEST_CASE("cli: run writes msh, vtu, report and png, check re-reads the msh and 
   CHECK(run_plaf("check " + (d / "out" / "case.msh").string(), d).code == 0);
 }
 
+TEST_CASE("cli: check measures another mesh in a config's metric and writes its report") {
+  const TempDir d("cli_check_metric");
+  const fs::path cfg = write_text(d / "case.yaml", good);
+  REQUIRE(run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d).code == 0);
+  // The same metric gives the same unit fraction as the run's own report; a 4x larger size in
+  // the metric makes every edge about 1/4 unit long, so none is in [1/sqrt 2, sqrt 2].
+  const fs::path coarse = write_text(d / "coarse.yaml", "metric: {type: uniform, h: 1.6}\n");
+  CHECK(run_plaf("check " + (d / "out" / "case.msh").string() + " --metric " + cfg.string() + " --report " +
+                     (d / "same.json").string(),
+                 d)
+            .code == 0);
+  CHECK(run_plaf("check " + (d / "out" / "case.msh").string() + " --report " + (d / "coarse.json").string() +
+                     " --metric " + coarse.string(),
+                 d)
+            .code == 0);
+  const std::string run_report = read_text(d / "out" / "case.report.json");
+  const std::string same = read_text(d / "same.json");
+  const auto unit_fraction = [](const std::string& json) {
+    const std::size_t k = json.find("\"unit_fraction\": ");
+    REQUIRE(k != std::string::npos);
+    return std::stod(json.substr(k + 17));
+  };
+  CHECK(unit_fraction(same) == doctest::Approx(unit_fraction(run_report)));
+  CHECK(unit_fraction(same) > 0.5);
+  CHECK(unit_fraction(read_text(d / "coarse.json")) == 0.0);
+  const Result bad = run_plaf("check " + (d / "out" / "case.msh").string() + " --metric " + (d / "no.yaml").string(), d);
+  CHECK(bad.code == 1);
+  CHECK(bad.err.find("no.yaml") != std::string::npos);
+  CHECK(run_plaf("check " + (d / "out" / "case.msh").string() + " --metric", d).code == 1);
+}
+
 TEST_CASE("cli: bad inputs give one clear error line, exit code 1 and no output files") {
   struct Case {
     const char* name;
