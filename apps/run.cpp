@@ -15,6 +15,7 @@
 #include "modules/atomic_file.h"
 #include "modules/error.h"
 #include "modules/geometry2d.h"
+#include "modules/hybrid2d.h"
 #include "modules/metric_fields.h"
 #include "modules/msh_io.h"
 #include "modules/picture.h"
@@ -22,6 +23,7 @@
 #include "modules/run_config.h"
 #include "modules/surface_mesh.h"
 #include "modules/writers.h"
+#include "volume/advancing_front_2d.h"
 
 namespace plaf {
 
@@ -44,12 +46,14 @@ class StageClock {
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
-// The mesh of the run and, for spline geometries, the surface front it was built from and the
-// layers grown from it.
+// The mesh of the run and, for spline geometries, the surface front it was built from, the
+// layers grown from it and the advancing-front fill.
 struct MeshStage {
   HybridMesh<2> mesh;
   std::optional<CurvedFront<2>> front;
   std::optional<layers::LayerResult> layers;
+  std::optional<volume::AdvancingFrontStats> fill;
+  std::size_t split_quads = 0;
 };
 
 layers::LayerParams layer_params(const LayersParams& c) {
@@ -65,26 +69,101 @@ layers::LayerParams layer_params(const LayersParams& c) {
   return p;
 }
 
+// Adds a front's loops (order-Q elements) to the mesh's boundary under their tags; at order 1
+// (their vertices alone) when `linear`.
+void add_boundary_loops(HybridMesh<2>& mesh, const CurvedFront<2>& front, const std::vector<const FrontLoop*>& loops,
+                        bool linear) {
+  for (const FrontLoop* l : loops) {
+    const int tag = mesh.add_tag(l->tag, l->kind);
+    CellBlock& b = mesh.boundary_block(CellType::Line, linear ? 1 : front.order, tag);
+    for (std::size_t e = 0; e < l->size(); ++e) {
+      const NodeId* c = front.element(*l, e);
+      if (linear)
+        b.connectivity.insert(b.connectivity.end(), c, c + 2);
+      else
+        b.connectivity.insert(b.connectivity.end(), c, c + front.order + 1);
+    }
+  }
+}
+
+// The fill (Sec. II.C): the linear front is the layers' outer front of every body with layers
+// and the surface mesh of the other loops (the farfield, bodies without layers); its triangles
+// join the mesh at order Q (uniform_order) or 1.
+void fill_domain(const RunConfig& c, const MetricField<2>& metric, const CurvedFront<2>& surface,
+                 const layers::LayerResult* lr, MeshStage& stage) {
+  HybridMesh<2>& mesh = stage.mesh;
+  volume::LinearFront2 lf;
+  lf.nodes = mesh.nodes;
+  std::vector<const FrontLoop*> bare;  // loops of the surface mesh that bound the fill directly
+  auto add_loop = [&](const CurvedFront<2>& f, const FrontLoop& l) {
+    std::vector<NodeId> ids;
+    for (std::size_t e = 0; e < l.size(); ++e) ids.push_back(f.element(l, e)[0]);
+    lf.loops.push_back(std::move(ids));
+  };
+  std::vector<std::uint8_t> layered(surface.loops.size(), 0);
+  if (lr)
+    for (const FrontLoop& l : lr->outer.loops) {
+      add_loop(lr->outer, l);
+      for (std::size_t k = 0; k < surface.loops.size(); ++k)
+        if (surface.loops[k].geometry_loop == l.geometry_loop) layered[k] = 1;
+    }
+  for (std::size_t k = 0; k < surface.loops.size(); ++k)
+    if (!layered[k]) {
+      add_loop(surface, surface.loops[k]);
+      bare.push_back(&surface.loops[k]);
+    }
+  volume::AdvancingFrontParams params;
+  params.max_triangles = static_cast<std::size_t>(c.fill.max_triangles);
+  volume::AdvancingFrontResult fill = volume::advancing_front_fill(lf, metric, params);
+  mesh.nodes = std::move(fill.nodes);
+  const bool uniform = c.output.uniform_order || c.order == 1;
+  // The bare loops' boundary lines: at order Q they give the triangles their curved edges.
+  add_boundary_loops(mesh, surface, bare, !uniform);
+  if (uniform) {
+    add_triangles_at_order(mesh, fill.triangles, c.order);
+  } else {
+    CellBlock& t = mesh.block(CellType::Triangle, 1);
+    for (const auto& tri : fill.triangles) t.connectivity.insert(t.connectivity.end(), tri.begin(), tri.end());
+  }
+  stage.fill = fill.stats;
+}
+
 MeshStage mesh_geometry(const RunConfig& c, const Geometry2D& geometry, const MetricField<2>& metric) {
-  if (c.geometry.type == "annulus")
-    return {mesh_annulus(c.geometry.annulus, c.order, metric), std::nullopt, std::nullopt};
+  MeshStage stage;
+  if (c.geometry.type == "annulus") {
+    stage.mesh = mesh_annulus(c.geometry.annulus, c.order, metric);
+    return stage;
+  }
   CurvedFront<2> front = mesh_surface(geometry, metric, c.order);
   if (!c.layers.enabled) {
-    HybridMesh<2> mesh = front_mesh(front);
-    return {std::move(mesh), std::move(front), std::nullopt};
+    if (c.fill.enabled) {
+      stage.mesh.nodes = front.nodes;
+      fill_domain(c, metric, front, nullptr, stage);
+    } else {
+      stage.mesh = front_mesh(front);
+    }
+    stage.front = std::move(front);
+    return stage;
   }
-  // Layers alone (no fill yet): the outermost front is tagged "layers_outer".
   layers::LayerResult lr = layers::grow_layers(front, geometry, metric, layer_params(c.layers));
   if (lr.layers.empty() && c.layers.max > 0)
     throw MesherError("layers: not even the first layer could be grown (" +
                       (lr.events.empty() ? std::string("no wall loop") : lr.events.back()) + ")");
-  HybridMesh<2> mesh = lr.mesh;
-  const int outer = mesh.add_tag("layers_outer", BoundaryKind::Named);
-  CellBlock& b = mesh.boundary_block(CellType::Line, c.order, outer);
-  for (const FrontLoop& l : lr.outer.loops)
-    b.connectivity.insert(b.connectivity.end(), l.elements.begin(), l.elements.end());
-  compact_nodes(mesh);  // the farfield's surface nodes are not part of a layers-only mesh
-  return {std::move(mesh), std::move(front), std::move(lr)};
+  stage.mesh = lr.mesh;
+  if (c.fill.enabled) {
+    fill_domain(c, metric, front, &lr, stage);
+  } else {
+    // Layers alone: the outermost front is tagged "layers_outer".
+    const int outer = stage.mesh.add_tag("layers_outer", BoundaryKind::Named);
+    CellBlock& b = stage.mesh.boundary_block(CellType::Line, c.order, outer);
+    for (const FrontLoop& l : lr.outer.loops)
+      b.connectivity.insert(b.connectivity.end(), l.elements.begin(), l.elements.end());
+  }
+  if (c.output.split_quads) stage.split_quads = split_quads(stage.mesh);
+  compact_nodes(stage.mesh);  // e.g. the farfield's surface nodes are not part of a layers-only mesh
+  stage.front = std::move(front);
+  stage.layers = std::move(lr);
+  return stage;
 }
 
 // layers.* report keys and a per-layer table from the certified per-cell quality.
@@ -123,6 +202,17 @@ void report_layers(const layers::LayerResult& lr, const HybridMesh<2>& mesh, con
   report.extra.push_back({"layers.table", table});
   report.extra.push_back({"layers.events", events});
   std::cout << "  layers: " << lr.layers.size() << ", front linear after layer " << lr.linear_after << '\n';
+}
+
+// fill.* report keys: what the advancing front did.
+void report_fill(const volume::AdvancingFrontStats& f, QualityReport& report) {
+  report.extra.push_back({"fill.steps", std::to_string(f.steps)});
+  report.extra.push_back({"fill.new_points", std::to_string(f.new_points)});
+  report.extra.push_back({"fill.merges", std::to_string(f.merges)});
+  report.extra.push_back({"fill.delaunay_apexes", std::to_string(f.delaunay_apexes)});
+  report.extra.push_back({"fill.max_front", std::to_string(f.max_front)});
+  std::cout << "  fill: " << f.steps << " steps, " << f.new_points << " new points, " << f.merges << " merges, "
+            << f.delaunay_apexes << " Delaunay fallbacks, largest front " << f.max_front << " edges\n";
 }
 
 // Surface statistics as report keys surface.*; a summary line per loop on stdout.
@@ -183,6 +273,8 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
   report.name = c.name;
   if (stage.front) report_surface(*stage.front, geometry, *metric, report);
   if (stage.layers) report_layers(*stage.layers, mesh, per_cell, report);
+  if (stage.fill) report_fill(*stage.fill, report);
+  if (c.output.split_quads) report.extra.push_back({"layers.split_quads", std::to_string(stage.split_quads)});
   clock.done("quality", std::to_string(report.cells_invalid) + " invalid cells");
 
   // 6. Outputs, each written atomically; the report last, with every stage's time.

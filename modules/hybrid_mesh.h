@@ -69,6 +69,7 @@ struct ConformityReport {
   std::size_t open_facets = 0;             // used by one cell but in no boundary block (a hole or crack)
   std::size_t overshared_facets = 0;       // used by three or more cells
   std::size_t node_mismatches = 0;         // high-order facet nodes differ between the cells (or boundary) sharing it
+  std::size_t order_transitions = 0;       // a 2D edge shared at two orders, straight sided (not a problem)
   std::size_t orientation_mismatches = 0;  // two cells on the same side of a facet (duplicate, fold)
   std::size_t stray_boundary = 0;          // boundary facets that are not a facet of any cell
   std::string first_problem;               // a one-line description of the first problem found
@@ -76,7 +77,8 @@ struct ConformityReport {
 
 // Every interior facet shared by exactly two cells with identical high-order facet nodes, and
 // every facet used once listed in a boundary block; the two cells of a facet on opposite sides
-// of it. A mesh of boundary facets alone (a surface mesh) is checked as a mesh of those facets:
+// of it. In 2D an edge may be shared by cells (or a boundary line) of different orders when it is
+// straight sided at the higher order (counted in order_transitions). A mesh of boundary facets alone (a surface mesh) is checked as a mesh of those facets:
 // closed, consistently oriented loops (2D) or surfaces (3D). Hash-based: O(number of facets).
 template <int Dim>
 ConformityReport check_conformity(const HybridMesh<Dim>& mesh);

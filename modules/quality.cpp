@@ -64,6 +64,60 @@ std::string type_key(const CellBlock& b) {
   return std::string(cell_name(b.type)) + "_Q" + std::to_string(b.order);
 }
 
+// Metric lengths of the distinct edges of the cells (of the triangles only if triangles_only),
+// each measured as the curved Lagrange edge it is, into out.
+template <int Dim>
+void measure_edges(const HybridMesh<Dim>& mesh, const MetricField<Dim>& metric, int bins, bool triangles_only,
+                   EdgeLengthStats& out) {
+  // Bins of log2(L) over [-3, 3] (L in [1/8, 8]), the outer bins open-ended.
+  out.bin_edges.resize(bins + 1);
+  for (int k = 0; k <= bins; ++k) out.bin_edges[k] = std::exp2(-3.0 + 6.0 * k / bins);
+  out.histogram.assign(bins, 0);
+  out.min = std::numeric_limits<double>::infinity();
+  std::unordered_set<std::uint64_t> seen;
+  std::vector<double> edge;
+  double sum = 0;
+  std::size_t unit = 0;
+  for (const CellBlock& b : mesh.cells) {
+    if (triangles_only && b.type != CellType::Triangle) continue;
+    const LagrangeElement& e = lagrange_element(b.type, b.order);
+    const CellTopology& topo = topology(b.type);
+    edge.resize(static_cast<std::size_t>(b.order + 1) * Dim);
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      const NodeId* c = b.cell(i);
+      for (std::size_t k = 0; k < topo.edges.size(); ++k) {
+        const NodeId v0 = c[topo.edges[k][0]], v1 = c[topo.edges[k][1]];
+        const std::uint64_t key =
+            (static_cast<std::uint64_t>(std::min(v0, v1)) << 32) | static_cast<std::uint32_t>(std::max(v0, v1));
+        if (!seen.insert(key).second) continue;
+        // Gmsh line order: the two ends, then the interior nodes.
+        const auto& en = e.edge_nodes(static_cast<int>(k));
+        for (int d = 0; d < Dim; ++d) {
+          edge[d] = mesh.nodes[c[en.front()]][d];
+          edge[Dim + d] = mesh.nodes[c[en.back()]][d];
+        }
+        for (int s = 1; s < b.order; ++s)
+          for (int d = 0; d < Dim; ++d) edge[(s + 1) * Dim + d] = mesh.nodes[c[en[s]]][d];
+        const double len = metric_length_curved<Dim>(metric, edge.data(), b.order);
+        ++out.count;
+        sum += len;
+        out.min = std::min(out.min, len);
+        out.max = std::max(out.max, len);
+        if (len >= 1 / std::sqrt(2.0) && len <= std::sqrt(2.0)) ++unit;
+        // Clamped as a double: a collapsed edge (len 0) gives pos = -inf, whose cast is undefined.
+        const double pos = (std::log2(len) + 3.0) / 6.0 * bins;
+        out.histogram[pos > 0 ? static_cast<int>(std::min(std::floor(pos), bins - 1.0)) : 0]++;
+      }
+    }
+  }
+  if (out.count) {
+    out.mean = sum / static_cast<double>(out.count);
+    out.unit_fraction = static_cast<double>(unit) / static_cast<double>(out.count);
+  } else {
+    out.min = 0;
+  }
+}
+
 }  // namespace
 
 std::string json_number(double x) {
@@ -95,7 +149,7 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
   QualityReport r;
   JacobianCertifier certifier(options.validity);
   r.scaled_jacobian_min = std::numeric_limits<double>::infinity();
-  std::vector<double> coords, grad, edge;
+  std::vector<double> coords, grad;
   if (per_cell) *per_cell = CellQuality{};
 
   // 1. Cells: certified validity, scaled Jacobian and aspect ratio.
@@ -123,54 +177,34 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
   }
   if (r.cells_total == 0) r.scaled_jacobian_min = 0;
 
-  // 2. Metric length of every distinct edge (keyed by its two vertices).
+  // 2. Metric length of every distinct edge (keyed by its two vertices), and the triangles' share.
   if (metric) {
     r.has_metric = true;
-    const int bins = options.histogram_bins;
-    // Bins of log2(L) over [-3, 3] (L in [1/8, 8]), the outer bins open-ended.
-    r.metric.bin_edges.resize(bins + 1);
-    for (int k = 0; k <= bins; ++k) r.metric.bin_edges[k] = std::exp2(-3.0 + 6.0 * k / bins);
-    r.metric.histogram.assign(bins, 0);
-    r.metric.min = std::numeric_limits<double>::infinity();
-    std::unordered_set<std::uint64_t> seen;
-    double sum = 0;
-    std::size_t unit = 0;
-    for (const CellBlock& b : mesh.cells) {
-      const LagrangeElement& e = lagrange_element(b.type, b.order);
-      const CellTopology& topo = topology(b.type);
-      edge.resize(static_cast<std::size_t>(b.order + 1) * Dim);
-      for (std::size_t i = 0; i < b.size(); ++i) {
-        const NodeId* c = b.cell(i);
-        for (std::size_t k = 0; k < topo.edges.size(); ++k) {
-          const NodeId v0 = c[topo.edges[k][0]], v1 = c[topo.edges[k][1]];
-          const std::uint64_t key =
-              (static_cast<std::uint64_t>(std::min(v0, v1)) << 32) | static_cast<std::uint32_t>(std::max(v0, v1));
-          if (!seen.insert(key).second) continue;
-          // Gmsh line order: the two ends, then the interior nodes.
-          const auto& en = e.edge_nodes(static_cast<int>(k));
-          for (int d = 0; d < Dim; ++d) {
-            edge[d] = mesh.nodes[c[en.front()]][d];
-            edge[Dim + d] = mesh.nodes[c[en.back()]][d];
-          }
-          for (int s = 1; s < b.order; ++s)
-            for (int d = 0; d < Dim; ++d) edge[(s + 1) * Dim + d] = mesh.nodes[c[en[s]]][d];
-          const double len = metric_length_curved<Dim>(*metric, edge.data(), b.order);
-          ++r.metric.count;
-          sum += len;
-          r.metric.min = std::min(r.metric.min, len);
-          r.metric.max = std::max(r.metric.max, len);
-          if (len >= 1 / std::sqrt(2.0) && len <= std::sqrt(2.0)) ++unit;
-          // Clamped as a double: a collapsed edge (len 0) gives pos = -inf, whose cast is undefined.
-          const double pos = (std::log2(len) + 3.0) / 6.0 * bins;
-          r.metric.histogram[pos > 0 ? static_cast<int>(std::min(std::floor(pos), bins - 1.0)) : 0]++;
+    measure_edges<Dim>(mesh, *metric, options.histogram_bins, false, r.metric);
+    if constexpr (Dim == 2) {
+      TriangleMetricStats& t = r.triangle_metric;
+      measure_edges<Dim>(mesh, *metric, options.histogram_bins, true, t.edges);
+      t.quality_histogram.assign(10, 0);
+      t.quality_min = std::numeric_limits<double>::infinity();
+      double sum = 0;
+      for (const CellBlock& b : mesh.cells) {
+        if (b.type != CellType::Triangle) continue;
+        for (std::size_t i = 0; i < b.size(); ++i) {
+          const NodeId* c = b.cell(i);
+          const Eigen::Vector2d p0 = mesh.nodes[c[0]], p1 = mesh.nodes[c[1]], p2 = mesh.nodes[c[2]];
+          const Eigen::Matrix2d m = metric->evaluate((p0 + p1 + p2) / 3).matrix();
+          const Eigen::Vector2d e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2;
+          const double area = 0.5 * (e0.x() * (-e2).y() - e0.y() * (-e2).x()) * std::sqrt(m.determinant());
+          const double l2 = e0.dot(m * e0) + e1.dot(m * e1) + e2.dot(m * e2);
+          const double q = l2 > 0 ? std::max(0.0, 4 * std::sqrt(3.0) * area / l2) : 0.0;
+          ++t.triangles;
+          sum += q;
+          t.quality_min = std::min(t.quality_min, q);
+          t.quality_histogram[static_cast<std::size_t>(std::min(9.0, std::floor(10 * q)))]++;
         }
       }
-    }
-    if (r.metric.count) {
-      r.metric.mean = sum / static_cast<double>(r.metric.count);
-      r.metric.unit_fraction = static_cast<double>(unit) / static_cast<double>(r.metric.count);
-    } else {
-      r.metric.min = 0;
+      if (t.triangles) t.quality_mean = sum / static_cast<double>(t.triangles);
+      else t.quality_min = 0;
     }
   }
 
@@ -200,12 +234,27 @@ std::string report_json(const QualityReport& r) {
     for (std::size_t k = 0; k < m.bin_edges.size(); ++k) s << (k ? ", " : "") << json_number(m.bin_edges[k]);
     s << "], \"counts\": [";
     for (std::size_t k = 0; k < m.histogram.size(); ++k) s << (k ? ", " : "") << m.histogram[k];
-    s << "]}\n  },\n";
+    s << "]}";
+    const TriangleMetricStats& t = r.triangle_metric;
+    if (t.triangles) {
+      s << ",\n    \"triangles\": {\"count\": " << t.triangles << ", \"edges\": " << t.edges.count
+        << ", \"unit_fraction\": " << json_number(t.edges.unit_fraction) << ", \"edge_min\": " << json_number(t.edges.min)
+        << ", \"edge_max\": " << json_number(t.edges.max) << ", \"edge_mean\": " << json_number(t.edges.mean)
+        << ", \"edge_histogram_counts\": [";
+      for (std::size_t k = 0; k < t.edges.histogram.size(); ++k) s << (k ? ", " : "") << t.edges.histogram[k];
+      s << "], \"quality_min\": " << json_number(t.quality_min) << ", \"quality_mean\": " << json_number(t.quality_mean)
+        << ", \"quality_histogram\": {\"bin_edges\": [0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1], "
+           "\"counts\": [";
+      for (std::size_t k = 0; k < t.quality_histogram.size(); ++k) s << (k ? ", " : "") << t.quality_histogram[k];
+      s << "]}}";
+    }
+    s << "\n  },\n";
   }
   const ConformityReport& c = r.conformity;
   s << "  \"conformity\": {\"ok\": " << (c.ok ? "true" : "false") << ", \"interior_facets\": " << c.interior_facets
     << ", \"boundary_facets\": " << c.boundary_facets << ", \"open_facets\": " << c.open_facets
     << ", \"overshared_facets\": " << c.overshared_facets << ", \"node_mismatches\": " << c.node_mismatches
+    << ", \"order_transitions\": " << c.order_transitions
     << ", \"orientation_mismatches\": " << c.orientation_mismatches << ", \"stray_boundary\": " << c.stray_boundary
     << ", \"first_problem\": " << json_string(c.first_problem) << "},\n";
   // Extra sections: group "a.b" keys under "a".
@@ -247,6 +296,10 @@ std::string report_summary(const QualityReport& r) {
   if (r.has_metric)
     s << "  metric edge lengths: " << r.metric.count << " edges, " << 100.0 * r.metric.unit_fraction
       << "% in [1/sqrt2, sqrt2], min " << r.metric.min << ", max " << r.metric.max << '\n';
+  if (r.has_metric && r.triangle_metric.triangles)
+    s << "  triangles in the metric: " << 100.0 * r.triangle_metric.edges.unit_fraction
+      << "% of their edges unit, shape quality min " << r.triangle_metric.quality_min << ", mean "
+      << r.triangle_metric.quality_mean << '\n';
   s << "  conformity: " << (r.conformity.ok ? "ok" : "FAILED: " + r.conformity.first_problem) << '\n';
   if (!r.ok())
     s << "  MESH FAILED: " << r.cells_invalid << " invalid cells" << (r.conformity.ok ? "" : ", not conforming")

@@ -31,6 +31,16 @@ struct EdgeLengthStats {
   std::vector<std::size_t> histogram;
 };
 
+// The triangles' share of the metric section (2D): their distinct edges, and their shape in the
+// metric, q = 4 sqrt(3) A_M / (l1^2 + l2^2 + l3^2) from the vertices with the metric at the
+// centroid (1 for a triangle equilateral in the metric, 0 for a degenerate one).
+struct TriangleMetricStats {
+  std::size_t triangles = 0;
+  EdgeLengthStats edges;
+  double quality_min = 0, quality_mean = 0;
+  std::vector<std::size_t> quality_histogram;  // 10 bins over [0, 1]
+};
+
 // Per-cell results, in block order (for pictures and VTU fields).
 struct CellQuality {
   std::vector<std::uint8_t> valid;
@@ -48,6 +58,7 @@ struct QualityReport {
   double aspect_ratio_max = 0;
   bool has_metric = false;
   EdgeLengthStats metric;
+  TriangleMetricStats triangle_metric;  // when has_metric and the mesh has triangles
   ConformityReport conformity;
   std::vector<std::pair<std::string, double>> timings_s;
   // Further sections added by later stages, as (dotted key, JSON value text).
@@ -61,6 +72,8 @@ struct QualityOptions {
   int histogram_bins = 12;
 };
 
+// Metric conformity: every distinct linear edge of the cells is measured as the curved Lagrange
+// edge it is; the edges of triangle cells are counted once more in triangle_metric.
 // metric may be null (no metric section, e.g. for `plaf check`).
 template <int Dim>
 QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>* metric,
