@@ -145,7 +145,9 @@ MeshStage mesh_geometry(const RunConfig& c, const Geometry2D& geometry, const Me
     stage.front = std::move(front);
     return stage;
   }
-  layers::LayerResult lr = layers::grow_layers(front, geometry, metric, layer_params(c.layers));
+  layers::LayerParams lp = layer_params(c.layers);
+  lp.close_linear = c.fill.enabled;  // the fill starts from a linear front
+  layers::LayerResult lr = layers::grow_layers(front, geometry, metric, lp);
   if (lr.layers.empty() && c.layers.max > 0)
     throw MesherError("layers: not even the first layer could be grown (" +
                       (lr.events.empty() ? std::string("no wall loop") : lr.events.back()) + ")");
@@ -290,7 +292,8 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
   std::cout << report_summary(report);
   if (!report.ok()) {
     std::cerr << "plaf: error: the mesh of " << config_path.string() << " is NOT valid: " << report.cells_invalid
-              << " invalid cells" << (report.conformity.ok ? "" : ", " + report.conformity.first_problem) << '\n';
+              << " invalid cells" << (report.first_invalid.empty() ? "" : " (first: " + report.first_invalid + ")")
+              << (report.conformity.ok ? "" : ", " + report.conformity.first_problem) << '\n';
     return 2;
   }
   return 0;

@@ -441,6 +441,73 @@ LayerResult grow_layers(const CurvedFront<2>& front, const Geometry2D& geometry,
   JacobianCertifier certifier;
   LoopLayer g(r.mesh, metric, p, q);
   std::vector<double> coords;
+  std::vector<double> loop_clip(loops.size(), 0.0);
+  std::vector<bool> loop_linear(loops.size(), false);
+  // One layer of loop li: build, certify every new cell, check collisions; shrink the heights
+  // around failures and retry. False when it still fails after the shrink attempts.
+  auto try_layer = [&](LoopLayer& gen, std::size_t li, int layer, std::vector<double>& scale,
+                       const std::vector<std::uint8_t>& stopped, LayerStats& st, BuiltLayer& built) {
+    const FrontLoop& loop = loops[li];
+    const std::size_t n = loop.size() * static_cast<std::size_t>(q);
+    bool accepted = false;
+    for (int attempt = 0; attempt <= p.shrink_attempts && !accepted; ++attempt) {
+      const std::size_t nodes_before = r.mesh.nodes.size();
+      built = build_layer(gen, front, geometry, loop, layer == 1, scale, stopped);
+      // Certify every new cell; shrink the heights under the invalid ones.
+      const int npc = num_nodes(CellType::Quadrilateral, q);
+      coords.resize(static_cast<std::size_t>(npc) * 2);
+      std::vector<std::size_t> bad;
+      for (std::size_t c = 0; c * npc < built.cells.size(); ++c) {
+        for (int k = 0; k < npc; ++k)
+          for (int d = 0; d < 2; ++d)
+            coords[static_cast<std::size_t>(2 * k + d)] = r.mesh.nodes[built.cells[c * npc + k]][d];
+        if (!certifier.certify(CellType::Quadrilateral, q, coords.data()).valid) bad.push_back(c);
+      }
+      std::string why = "invalid cells";
+      std::vector<std::pair<std::size_t, int>> shrink;  // (sequence index, span) to shrink
+      for (std::size_t c : bad) shrink.push_back({built.cell_seq[c], built.cell_span[c]});
+      Vec where = bad.empty() ? Vec::Zero() : r.mesh.nodes[built.cells[bad[0] * static_cast<std::size_t>(npc)]];
+      const int tpc = num_nodes(CellType::Triangle, q);
+      for (std::size_t c = 0; c * tpc < built.triangles.size(); ++c) {
+        for (int k = 0; k < tpc; ++k)
+          for (int d = 0; d < 2; ++d)
+            coords[static_cast<std::size_t>(2 * k + d)] = r.mesh.nodes[built.triangles[c * tpc + k]][d];
+        if (!certifier.certify(CellType::Triangle, q, coords.data()).valid) {
+          if (shrink.empty()) where = r.mesh.nodes[built.triangles[c * tpc]];
+          shrink.push_back({built.triangle_seq[c], q});
+        }
+      }
+      if (shrink.empty()) {
+        // Collisions: the new front may not cross another loop's front nor itself.
+        std::vector<Segment> segs;
+        polyline(built.top, r.mesh.nodes, q, true, segs);
+        const std::size_t mine = segs.size();
+        for (std::size_t lj = 0; lj < loops.size(); ++lj)
+          if (lj != li) polyline(loops[lj], r.mesh.nodes, q, false, segs);
+        const std::vector<std::size_t> hits = crossings(std::move(segs), mine);
+        for (std::size_t h : hits) shrink.push_back({built.top_seq[h], built.top_span[h]});
+        if (!hits.empty()) {
+          why = "front crossings (a collision)";
+          where = r.mesh.nodes[built.top.elements[hits[0] * static_cast<std::size_t>(q + 1)]];
+        }
+      }
+      if (shrink.empty()) {
+        accepted = true;
+        break;
+      }
+      r.mesh.nodes.resize(nodes_before);
+      for (const auto& [first, span] : shrink)
+        for (int s2 = -1; s2 <= span + 1; ++s2) {
+          const std::size_t i = (first + n - 1 + static_cast<std::size_t>(s2 + 1)) % n;
+          scale[i] *= 0.5;
+        }
+      st.shrinks += shrink.size();
+      r.events.push_back("layer " + std::to_string(layer) + ", loop " + loop.tag + ": " +
+                         std::to_string(shrink.size()) + " " + why + " (first at " + std::to_string(where.x()) +
+                         ", " + std::to_string(where.y()) + "), heights halved around them");
+    }
+    return accepted;
+  };
   for (int layer = 1; layer <= p.max_layers; ++layer) {
     LayerStats st;
     st.layer = layer;
@@ -479,71 +546,16 @@ LayerResult grow_layers(const CurvedFront<2>& front, const Geometry2D& geometry,
         }
       }
       std::vector<double> scale(n, 1.0);
-      bool accepted = false;
       BuiltLayer built;
-      for (int attempt = 0; attempt <= p.shrink_attempts && !accepted; ++attempt) {
-        const std::size_t nodes_before = r.mesh.nodes.size();
-        built = build_layer(g, front, geometry, loop, layer == 1, scale, stopped);
-        // Certify every new cell; shrink the heights under the invalid ones.
-        const int npc = num_nodes(CellType::Quadrilateral, q);
-        coords.resize(static_cast<std::size_t>(npc) * 2);
-        std::vector<std::size_t> bad;
-        for (std::size_t c = 0; c * npc < built.cells.size(); ++c) {
-          for (int k = 0; k < npc; ++k)
-            for (int d = 0; d < 2; ++d)
-              coords[static_cast<std::size_t>(2 * k + d)] = r.mesh.nodes[built.cells[c * npc + k]][d];
-          if (!certifier.certify(CellType::Quadrilateral, q, coords.data()).valid) bad.push_back(c);
-        }
-        std::string why = "invalid cells";
-        std::vector<std::pair<std::size_t, int>> shrink;  // (sequence index, span) to shrink
-        for (std::size_t c : bad) shrink.push_back({built.cell_seq[c], built.cell_span[c]});
-        Vec where = bad.empty() ? Vec::Zero() : r.mesh.nodes[built.cells[bad[0] * static_cast<std::size_t>(npc)]];
-        const int tpc = num_nodes(CellType::Triangle, q);
-        for (std::size_t c = 0; c * tpc < built.triangles.size(); ++c) {
-          for (int k = 0; k < tpc; ++k)
-            for (int d = 0; d < 2; ++d)
-              coords[static_cast<std::size_t>(2 * k + d)] = r.mesh.nodes[built.triangles[c * tpc + k]][d];
-          if (!certifier.certify(CellType::Triangle, q, coords.data()).valid) {
-            if (shrink.empty()) where = r.mesh.nodes[built.triangles[c * tpc]];
-            shrink.push_back({built.triangle_seq[c], q});
-          }
-        }
-        if (shrink.empty()) {
-          // Collisions: the new front may not cross another loop's front nor itself.
-          std::vector<Segment> segs;
-          polyline(built.top, r.mesh.nodes, q, true, segs);
-          const std::size_t mine = segs.size();
-          for (std::size_t lj = 0; lj < loops.size(); ++lj)
-            if (lj != li) polyline(loops[lj], r.mesh.nodes, q, false, segs);
-          const std::vector<std::size_t> hits = crossings(std::move(segs), mine);
-          for (std::size_t h : hits) shrink.push_back({built.top_seq[h], built.top_span[h]});
-          if (!hits.empty()) {
-            why = "front crossings (a collision)";
-            where = r.mesh.nodes[built.top.elements[hits[0] * static_cast<std::size_t>(q + 1)]];
-          }
-        }
-        if (shrink.empty()) {
-          accepted = true;
-          break;
-        }
-        r.mesh.nodes.resize(nodes_before);
-        for (const auto& [first, span] : shrink)
-          for (int s2 = -1; s2 <= span + 1; ++s2) {
-            const std::size_t i = (first + n - 1 + static_cast<std::size_t>(s2 + 1)) % n;
-            scale[i] *= 0.5;
-          }
-        st.shrinks += shrink.size();
-        r.events.push_back("layer " + std::to_string(layer) + ", loop " + loop.tag + ": " +
-                           std::to_string(shrink.size()) + " " + why + " (first at " + std::to_string(where.x()) +
-                           ", " + std::to_string(where.y()) + "), heights halved around them");
-      }
-      if (!accepted) {
+      if (!try_layer(g, li, layer, scale, stopped, st, built)) {
         growing[li] = false;
         r.events.push_back("layer " + std::to_string(layer) + ", loop " + loop.tag +
                            ": stopped, cells still invalid or colliding after " + std::to_string(p.shrink_attempts) +
                            " shrinks");
         continue;
       }
+      loop_clip[li] = built.max_clipped_rel;
+      loop_linear[li] = built.linear;
       any = true;
       quads.connectivity.insert(quads.connectivity.end(), built.cells.begin(), built.cells.end());
       tris.connectivity.insert(tris.connectivity.end(), built.triangles.begin(), built.triangles.end());
@@ -558,6 +570,48 @@ LayerResult grow_layers(const CurvedFront<2>& front, const Geometry2D& geometry,
     r.layers.push_back(st);
     if (st.linear && r.linear_after < 0) r.linear_after = layer;
     if (st.linear && p.stop_when_linear) break;
+  }
+  // The fill (Sec. II.C) starts from a linear front. A loop that stopped, or ran out of layers,
+  // while its front is still curved gets one closing layer with straight tops (unlimited
+  // attenuation), tall enough to clear its curved front: heights of 1.5, 3, then 6 times the
+  // attenuation move still needed (at least the metric height). The paper stops the layers once
+  // the front is linear and does not meet this case; a taller last cell is the robust choice
+  // (a valid mesh over metric conformity there).
+  if (p.close_linear) {
+    LayerParams pl = p;
+    pl.f_atten = std::numeric_limits<double>::infinity();
+    LoopLayer gl(r.mesh, metric, pl, q);
+    LayerStats st;
+    st.layer = static_cast<int>(r.layers.size()) + 1;
+    st.first_cell = quads.size();
+    bool any = false;
+    for (std::size_t li = 0; li < loops.size(); ++li) {
+      if (loop_linear[li]) continue;
+      const std::size_t n = loops[li].size() * static_cast<std::size_t>(q);
+      const std::vector<std::uint8_t> stopped(loops[li].size(), 0);
+      bool closed = false;
+      for (double factor : {1.5, 3.0, 6.0}) {
+        std::vector<double> scale(n, std::max(1.0, factor * loop_clip[li]));
+        BuiltLayer built;
+        if (!try_layer(gl, li, st.layer, scale, stopped, st, built) || !built.linear) continue;
+        quads.connectivity.insert(quads.connectivity.end(), built.cells.begin(), built.cells.end());
+        tris.connectivity.insert(tris.connectivity.end(), built.triangles.begin(), built.triangles.end());
+        r.events.push_back("layer " + std::to_string(st.layer) + ", loop " + loops[li].tag +
+                           ": a closing layer with straight tops (heights x" + std::to_string(scale[0]) + ")");
+        loops[li] = std::move(built.top);
+        loop_linear[li] = closed = any = true;
+        break;
+      }
+      if (!closed)
+        r.events.push_back("layer " + std::to_string(st.layer) + ", loop " + loops[li].tag +
+                           ": no valid closing layer; the front stays curved");
+    }
+    if (any) {
+      st.cells = quads.size() - st.first_cell;
+      st.linear = std::all_of(loop_linear.begin(), loop_linear.end(), [](bool b) { return b; });
+      r.layers.push_back(st);
+      if (st.linear && r.linear_after < 0) r.linear_after = st.layer;
+    }
   }
   if (!quads.connectivity.empty()) r.mesh.cells.push_back(std::move(quads));
   if (!tris.connectivity.empty()) r.mesh.cells.push_back(std::move(tris));

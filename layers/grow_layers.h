@@ -47,6 +47,9 @@ struct LayerParams {
   // every node ("all") or at any node ("any"), or never ("off").
   std::string isotropic_stop = "off";
   int shrink_attempts = 4;
+  // End with a linear front (for the fill): a loop whose front is still curved when it stops
+  // gets a closing layer with straight tops (see grow_layers.cpp).
+  bool close_linear = false;
 };
 
 struct LayerStats {

@@ -164,7 +164,13 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
       const JacobianBounds jb = certifier.certify(b.type, b.order, coords.data());
       const double sj = jb.scaled_lower();
       const double ar = aspect_ratio<Dim>(e, coords.data(), grad.data());
-      if (!jb.valid) ++r.cells_invalid;
+      if (!jb.valid && r.cells_invalid++ == 0) {
+        std::ostringstream w;
+        w << cell_name(b.type) << " cell " << i << " of block " << (&b - mesh.cells.data()) << " at (";
+        for (int d = 0; d < Dim; ++d) w << (d ? ", " : "") << mesh.nodes[b.cell(i)[0]][d];
+        w << ")";
+        r.first_invalid = w.str();
+      }
       if (!jb.proven) ++r.cells_unproven;
       r.scaled_jacobian_min = std::min(r.scaled_jacobian_min, sj);
       if (jb.valid) r.aspect_ratio_max = std::max(r.aspect_ratio_max, ar);
@@ -223,7 +229,8 @@ std::string report_json(const QualityReport& r) {
     s << (first ? "" : ", ") << json_string(k) << ": " << n;
     first = false;
   }
-  s << "},\n    \"invalid\": " << r.cells_invalid << ",\n    \"unproven\": " << r.cells_unproven << "\n  },\n";
+  s << "},\n    \"invalid\": " << r.cells_invalid << ",\n    \"unproven\": " << r.cells_unproven
+    << ",\n    \"first_invalid\": " << json_string(r.first_invalid) << "\n  },\n";
   s << "  \"scaled_jacobian\": {\"min\": " << json_number(r.scaled_jacobian_min) << "},\n";
   s << "  \"aspect_ratio\": {\"max\": " << json_number(r.aspect_ratio_max) << "},\n";
   if (r.has_metric) {
@@ -302,8 +309,9 @@ std::string report_summary(const QualityReport& r) {
       << r.triangle_metric.quality_mean << '\n';
   s << "  conformity: " << (r.conformity.ok ? "ok" : "FAILED: " + r.conformity.first_problem) << '\n';
   if (!r.ok())
-    s << "  MESH FAILED: " << r.cells_invalid << " invalid cells" << (r.conformity.ok ? "" : ", not conforming")
-      << '\n';
+    s << "  MESH FAILED: " << r.cells_invalid << " invalid cells"
+      << (r.first_invalid.empty() ? "" : " (first: " + r.first_invalid + ")")
+      << (r.conformity.ok ? "" : ", not conforming") << '\n';
   return s.str();
 }
 

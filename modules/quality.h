@@ -54,6 +54,7 @@ struct QualityReport {
   std::map<std::string, std::size_t> cells_by_type;  // "quadrilateral_Q3": n
   std::size_t cells_invalid = 0;
   std::size_t cells_unproven = 0;  // undecided at the depth limit (counted invalid too)
+  std::string first_invalid;       // "<type> cell <i> of block <b> at (x, y[, z])" of the first invalid cell
   double scaled_jacobian_min = 0;
   double aspect_ratio_max = 0;
   bool has_metric = false;

@@ -372,10 +372,11 @@ class Filler {
   // Is (a, b, c) a valid triangle on the front edge o: a -> b, with c the apex (an existing front
   // occurrence, or a new point)? Counter-clockwise, inside the free angle at a, b and c, crossing
   // and touching no front edge, with no front node inside or on it.
-  bool valid(int o, const Apex& c) {
+  bool valid(int o, const Apex& c, double min_quality) {
     const int ob = occ_[o].next;
     const Vec &a = opt(o), &b = opt(ob), &x = c.point;
     if (!(orient2d(a, b, x) > 0)) return false;
+    if (min_quality > 0 && shape_quality(a, b, x, nm(nd(o)).f) < min_quality) return false;
     const int op = occ_[o].prev, obn = occ_[ob].next;
     const bool closes_a = c.occ >= 0 && c.node == nd(op);   // a -> c is the front edge c -> a
     const bool closes_b = c.occ >= 0 && c.node == nd(obn);  // c -> b is the front edge b -> c
@@ -405,6 +406,13 @@ class Filler {
       if (!closes_b && blocks(nb, b)) ok = false;
     });
     return ok;
+  }
+
+  // 4 sqrt(3) A / (l1^2 + l2^2 + l3^2) in the metric space of f: 1 for an equilateral triangle.
+  static double shape_quality(const Vec& a, const Vec& b, const Vec& c, const Mat& f) {
+    const Vec u = f * (b - a), w = f * (c - a), v = w - u;
+    const double l2 = u.squaredNorm() + w.squaredNorm() + v.squaredNorm();
+    return l2 > 0 ? 2 * std::sqrt(3.0) * cross(u, w) / l2 : 0.0;
   }
 
   // Is the new point x at least `clearance` (metric of node v) from every front edge?
@@ -453,14 +461,14 @@ class Filler {
     const NodeId a = nd(o), b = nd(occ_[o].next);
     for (const auto& [d, v] : nodes_near(x, params_.merge_radius, m, a, b)) {
       Apex c{v, occurrence_towards(v, 0.5 * (opt(o) + opt(occ_[o].next))), pt(v)};
-      if (c.occ >= 0 && valid(o, c)) {
+      if (c.occ >= 0 && valid(o, c, params_.min_quality)) {
         apex = c;
         ++result_.stats.merges;
         return true;
       }
     }
     const Apex c{-1, -1, x};
-    if (clear(x, m) && valid(o, c)) {
+    if (clear(x, m) && valid(o, c, params_.min_quality)) {
       apex = c;
       return true;
     }
@@ -495,13 +503,15 @@ class Filler {
       });
       std::sort(cand.begin(), cand.end());
       cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
-      for (const auto& [k, v] : cand) {
-        const Apex c{v, occurrence_towards(v, 0.5 * (a + b)), pt(v)};
-        if (c.occ >= 0 && valid(o, c)) {
-          apex = c;
-          return true;
+      // The best-shaped valid apex first; a sliver only when nothing else is valid.
+      for (const double q_min : {params_.min_quality, 1e-3, 0.0})
+        for (const auto& [k, v] : cand) {
+          const Apex c{v, occurrence_towards(v, 0.5 * (a + b)), pt(v)};
+          if (c.occ >= 0 && valid(o, c, q_min)) {
+            apex = c;
+            return true;
+          }
         }
-      }
       if (r > 2 * root_extent_) break;
     }
     return false;
@@ -602,7 +612,7 @@ class Filler {
     // Close the angle at v with the triangle (prev, v, next).
     const int op = occ_[o].prev;
     const Apex close{nd(op), op, opt(op)};
-    if (valid(o, close)) {
+    if (valid(o, close, params_.min_quality)) {
       advance(o, close);
       return;
     }

@@ -15,7 +15,8 @@
 //     if it keeps `clearance` (metric) from every front edge;
 //  6. the triangles of the fan are formed one at a time, each checked with exact predicates
 //     (predicates.h): counter-clockwise, no front edge crossed or touched, no front node inside,
-//     inside the free angle at its three corners; then the angle at the node is closed;
+//     inside the free angle at its three corners, and not a sliver (a least shape quality in
+//     the metric); then the angle at the node is closed;
 //  7. repeat until no front remains.
 // Where the greedy step finds no valid triangle for an edge (a narrow gap, a crowded corner),
 // the edge takes the front node of the constrained-Delaunay choice in the node's metric (the
@@ -48,6 +49,9 @@ struct AdvancingFrontParams {
   std::size_t max_triangles = 20000000;  // a MesherError beyond this
   double merge_radius = 0.65;            // metric distance to a new point under which a front node replaces it
   double clearance = 0.45;               // least metric distance of a new point to any other front edge
+  // Least shape quality 4 sqrt(3) A / sum l^2 (in the metric of the edge's start) of a greedy
+  // triangle; the Delaunay fallback goes below it only when no better apex is valid.
+  double min_quality = 0.05;
 };
 
 struct AdvancingFrontStats {
