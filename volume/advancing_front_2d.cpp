@@ -372,7 +372,7 @@ class Filler {
   // Is (a, b, c) a valid triangle on the front edge o: a -> b, with c the apex (an existing front
   // occurrence, or a new point)? Counter-clockwise, inside the free angle at a, b and c, crossing
   // and touching no front edge, with no front node inside or on it.
-  bool valid(int o, const Apex& c, double min_quality) {
+  bool valid(int o, const Apex& c, double min_quality, double max_length = 0) {
     const int ob = occ_[o].next;
     const Vec &a = opt(o), &b = opt(ob), &x = c.point;
     if (!(orient2d(a, b, x) > 0)) return false;
@@ -405,6 +405,13 @@ class Filler {
       if (!closes_a && blocks(na, a)) ok = false;
       if (!closes_b && blocks(nb, b)) ok = false;
     });
+    // The new edges' metric length, integrated along them (the metric may vary fast across a
+    // coarse edge: a short edge in the node's metric may cross a fine region).
+    // An edge already longer than that may keep its apex as far as its own length.
+    if (ok && max_length > 0) {
+      const double l_max = std::max(max_length, metric_length(metric_, a, b, 5));
+      ok = (closes_a || metric_length(metric_, a, x, 5) <= l_max) && (closes_b || metric_length(metric_, x, b, 5) <= l_max);
+    }
     return ok;
   }
 
@@ -457,17 +464,23 @@ class Filler {
 
   // The apex for the edge o: a front node near the ideal point x if one makes a valid triangle
   // (merging fronts), else x itself if valid and clear of the front; false if neither.
-  bool choose_apex(int o, const Vec& x, const NodeMetric& m, Apex& apex) {
+  bool choose_apex(int o, const Vec& x, const NodeMetric& /*at the node*/, Apex& apex) {
     const NodeId a = nd(o), b = nd(occ_[o].next);
+    // Distances around the new point in the metric there: where a coarse front meets a fine
+    // region, the node's metric would see every nearby fine node as close.
+    const NodeMetric m = node_metric(metric_.evaluate(x));
     for (const auto& [d, v] : nodes_near(x, params_.merge_radius, m, a, b)) {
       Apex c{v, occurrence_towards(v, 0.5 * (opt(o) + opt(occ_[o].next))), pt(v)};
-      if (c.occ >= 0 && valid(o, c, params_.min_quality)) {
+      if (c.occ >= 0 && valid(o, c, params_.min_quality, params_.max_length)) {
         apex = c;
         ++result_.stats.merges;
         return true;
       }
     }
     const Apex c{-1, -1, x};
+    // A new point is placed at unit metric length from the node: its edges are not length-checked
+    // (a long front edge gets its triangle; it is a merge or a closing edge that could bridge a
+    // fine region).
     if (clear(x, m) && valid(o, c, params_.min_quality)) {
       apex = c;
       return true;
@@ -503,15 +516,30 @@ class Filler {
       });
       std::sort(cand.begin(), cand.end());
       cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
-      // The best-shaped valid apex first; a sliver only when nothing else is valid.
-      for (const double q_min : {params_.min_quality, 1e-3, 0.0})
+      // The best-shaped valid apex first; then a new point on the edge's metric-equilateral
+      // apex, lowered step by step; a sliver only when nothing else is valid.
+      for (const auto& [q_min, l_max] : {std::pair{params_.min_quality, params_.max_length}, std::pair{1e-3, 0.0},
+                                          std::pair{-1.0, 0.0}, std::pair{0.0, 0.0}}) {
+        if (q_min < 0) {
+          if (round > 0) continue;  // new points once, near the edge
+          const Mat f_inv = nm(na).f_inv;
+          for (double height : {0.866, 0.5, 0.25, 0.125, 0.0625}) {
+            const Apex c{-1, -1, f_inv * (mid + height * 2 * half_ab * normal)};
+            if (valid(o, c, 1e-3)) {
+              apex = c;
+              return true;
+            }
+          }
+          continue;
+        }
         for (const auto& [k, v] : cand) {
           const Apex c{v, occurrence_towards(v, 0.5 * (a + b)), pt(v)};
-          if (c.occ >= 0 && valid(o, c, q_min)) {
+          if (c.occ >= 0 && valid(o, c, q_min, l_max)) {
             apex = c;
             return true;
           }
         }
+      }
       if (r > 2 * root_extent_) break;
     }
     return false;
@@ -612,13 +640,33 @@ class Filler {
     // Close the angle at v with the triangle (prev, v, next).
     const int op = occ_[o].prev;
     const Apex close{nd(op), op, opt(op)};
-    if (valid(o, close, params_.min_quality)) {
+    if (valid(o, close, params_.min_quality, params_.max_length)) {
       advance(o, close);
       return;
     }
     if (progressed) {
       push(o);  // v's angle shrank; it comes back when it is the smallest
       return;
+    }
+    // Nothing done yet (the closing edge is too long in the metric, or a front node is in the
+    // way): one new point on the bisector, as for n_new = 1.
+    {
+      const Vec p0 = pt(v);
+      const Vec u = (m.f * (opt(occ_[o].next) - p0)).normalized();
+      const double t = 0.5 * angle;
+      const Vec dir = m.f_inv * Vec(std::cos(t) * u.x() - std::sin(t) * u.y(), std::sin(t) * u.x() + std::cos(t) * u.y());
+      double s = 1;
+      for (int it = 0; it < 2; ++it) {
+        const double l = metric_length(metric_, p0, Vec(p0 + s * dir), 3);
+        if (!(l > 0)) break;
+        s = std::clamp(s / l, 0.25 * s, 4 * s);
+      }
+      Apex c;
+      if (choose_apex(o, p0 + s * dir, m, c)) {
+        advance(o, c);
+        if (occ_[o].alive) push(o);
+        return;
+      }
     }
     Apex c;
     if (!delaunay_apex(o, c))

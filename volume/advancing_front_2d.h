@@ -52,6 +52,8 @@ struct AdvancingFrontParams {
   // Least shape quality 4 sqrt(3) A / sum l^2 (in the metric of the edge's start) of a greedy
   // triangle; the Delaunay fallback goes below it only when no better apex is valid.
   double min_quality = 0.05;
+  // Longest metric length (integrated along the edge) of a new edge of a greedy triangle.
+  double max_length = 2.0;
 };
 
 struct AdvancingFrontStats {
