@@ -122,11 +122,12 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     if (r.geometry.type != "airfoils") throw ConfigError(l.where() + ": layers need a spline geometry (type airfoils)");
   }
 
+  std::string fill_where;  // checked after the keys: an unknown key is reported first
   if (c.has("fill")) {
     const ConfigNode f = c.child("fill");
     r.fill.enabled = true;
     r.fill.max_triangles = f.get_int("max_triangles", static_cast<int>(r.fill.max_triangles), 1, 2000000000);
-    if (r.geometry.type != "airfoils") throw ConfigError(f.where() + ": the fill needs a spline geometry (type airfoils)");
+    fill_where = f.where();
   }
 
   const ConfigNode v = c.child("validity");
@@ -152,6 +153,8 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   }
 
   c.finish();
+  if (r.fill.enabled && r.geometry.type != "airfoils")
+    throw ConfigError(fill_where + ": the fill needs a spline geometry (type airfoils)");
   return r;
 }
 

@@ -6,4 +6,4 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j2
-./build/apps/plaf run configs/annulus.yaml --out out
+./build/apps/plaf run configs/naca0012_hybrid.yaml --out out

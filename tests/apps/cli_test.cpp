@@ -104,6 +104,9 @@ TEST_CASE("cli: bad inputs give one clear error line, exit code 1 and no output 
       {"wrong type", "order: three\n", "order: expected an integer, got 'three'"},
       {"yaml syntax", "order: [3\n", "YAML syntax error"},
       {"radii", "geometry: {type: annulus, r_inner: 2, r_outer: 1}\n", "geometry.r_outer: must be larger than r_inner"},
+      {"fill of an annulus", good + "fill: {}\n", "the fill needs a spline geometry"},
+      {"unknown fill key", good + "fill: {speed: 3}\n", "unknown key 'fill.speed'"},
+      {"fill max_triangles", good + "fill: {max_triangles: 0}\n", "fill.max_triangles: 0 is outside"},
   };
   for (const Case& c : cases) {
     INFO(std::string(c.name));

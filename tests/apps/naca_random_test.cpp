@@ -102,3 +102,32 @@ TEST_CASE("hybrid: 50 random NACA airfoils in random wall metrics all mesh valid
   }
   CHECK(failures == 0);
 }
+
+TEST_CASE("hybrid: split layer quads and mixed orders stay valid and conforming") {
+  const TempDir d("hybrid_options");
+  write_naca(d / "naca.dat", 0.02, 0.4, 0.12, 80);
+  const std::string base =
+      "order: 3\ngeometry: {type: airfoils, bodies: [{file: naca.dat}], farfield: {radius: 10}}\n"
+      "metric: {type: wall_power_law, h0: 0.0005, growth: 1.2, h_max: 1.5, h_wall_max: 0.05}\n"
+      "layers: {max: 40, stop_when_linear: true, corner_angle_deg: 70}\nfill: {}\n";
+  SUBCASE("split_quads: every layer quad becomes two order-3 triangles") {
+    std::ofstream(d / "split.yaml") << base << "output: {formats: [report], split_quads: true}\n";
+    REQUIRE(run("run " + (d / "split.yaml").string() + " --out " + (d / "out").string()) == 0);
+    const std::string r = read_text(d / "out" / "split.report.json");
+    CHECK(r.find("\"by_type\": {\"triangle_Q3\": ") != std::string::npos);  // no quadrilateral left
+    CHECK(r.find("\"split_quads\": ") != std::string::npos);
+    CHECK(r.find("\"invalid\": 0,") != std::string::npos);
+    CHECK(r.find("\"conformity\": {\"ok\": true") != std::string::npos);
+  }
+  SUBCASE("uniform_order: false: linear triangles on the straight top edges of order-3 quads") {
+    std::ofstream(d / "mixed.yaml") << base << "output: {formats: [report, msh], uniform_order: false}\n";
+    REQUIRE(run("run " + (d / "mixed.yaml").string() + " --out " + (d / "out").string()) == 0);
+    const std::string r = read_text(d / "out" / "mixed.report.json");
+    CHECK(r.find("\"triangle_Q1\": ") != std::string::npos);
+    CHECK(r.find("\"quadrilateral_Q3\": ") != std::string::npos);
+    CHECK(r.find("\"order_transitions\": 0,") == std::string::npos);  // the layers' top edges
+    CHECK(r.find("\"conformity\": {\"ok\": true") != std::string::npos);
+    // plaf check re-reads the mixed-order file and agrees.
+    CHECK(run("check " + (d / "out" / "mixed.msh").string()) == 0);
+  }
+}
