@@ -606,6 +606,22 @@ class Filler {
     }
   }
 
+  // The new point at angle t (counter-clockwise from the next edge, in the metric space of the
+  // node) at unit metric length: first in the node's metric, then corrected twice with the
+  // metric integrated along the segment.
+  Vec ideal_point(int o, const NodeMetric& m, double t) {
+    const Vec p0 = opt(o);
+    const Vec u = (m.f * (opt(occ_[o].next) - p0)).normalized();
+    const Vec dir = m.f_inv * Vec(std::cos(t) * u.x() - std::sin(t) * u.y(), std::sin(t) * u.x() + std::cos(t) * u.y());
+    double s = 1;
+    for (int it = 0; it < 2; ++it) {
+      const double l = metric_length(metric_, p0, Vec(p0 + s * dir), 3);
+      if (!(l > 0)) break;
+      s = std::clamp(s / l, 0.25 * s, 4 * s);
+    }
+    return p0 + s * dir;
+  }
+
   // One greedy step at occurrence o (the front node of minimum outer angle).
   void step(int o) {
     const NodeId v = nd(o);
@@ -615,20 +631,8 @@ class Filler {
     bool progressed = false;
     if (n_new > 0) {
       // The new points: sub-angle directions in the metric space of v, at unit metric length.
-      const Vec p0 = pt(v);
-      const Vec u = (m.f * (opt(occ_[o].next) - p0)).normalized();
       std::array<Vec, 5> ideal;
-      for (int j = 1; j <= n_new; ++j) {
-        const double t = angle * j / (n_new + 1);
-        const Vec dir = m.f_inv * Vec(std::cos(t) * u.x() - std::sin(t) * u.y(), std::sin(t) * u.x() + std::cos(t) * u.y());
-        double s = 1;
-        for (int it = 0; it < 2; ++it) {
-          const double l = metric_length(metric_, p0, Vec(p0 + s * dir), 3);
-          if (!(l > 0)) break;
-          s = std::clamp(s / l, 0.25 * s, 4 * s);
-        }
-        ideal[j - 1] = p0 + s * dir;
-      }
+      for (int j = 1; j <= n_new; ++j) ideal[j - 1] = ideal_point(o, m, angle * j / (n_new + 1));
       for (int j = 0; j < n_new; ++j) {
         Apex c;
         if (!choose_apex(o, ideal[j], m, c)) break;
@@ -651,18 +655,8 @@ class Filler {
     // Nothing done yet (the closing edge is too long in the metric, or a front node is in the
     // way): one new point on the bisector, as for n_new = 1.
     {
-      const Vec p0 = pt(v);
-      const Vec u = (m.f * (opt(occ_[o].next) - p0)).normalized();
-      const double t = 0.5 * angle;
-      const Vec dir = m.f_inv * Vec(std::cos(t) * u.x() - std::sin(t) * u.y(), std::sin(t) * u.x() + std::cos(t) * u.y());
-      double s = 1;
-      for (int it = 0; it < 2; ++it) {
-        const double l = metric_length(metric_, p0, Vec(p0 + s * dir), 3);
-        if (!(l > 0)) break;
-        s = std::clamp(s / l, 0.25 * s, 4 * s);
-      }
       Apex c;
-      if (choose_apex(o, p0 + s * dir, m, c)) {
+      if (choose_apex(o, ideal_point(o, m, 0.5 * angle), m, c)) {
         advance(o, c);
         if (occ_[o].alive) push(o);
         return;

@@ -253,3 +253,37 @@ TEST_CASE("layers: isotropic_stop node stops the nodes where the metric is isotr
     }
   CHECK(flank > 2 * tip);
 }
+
+TEST_CASE("layers: close_linear ends a front that is still curved with one valid straight-topped layer") {
+  // A coarse circle: 12 order-3 elements, far from linear after 2 layers of h0 = 1e-3.
+  std::vector<Vector2d> c;
+  for (int i = 0; i < 64; ++i) c.emplace_back(std::cos(-2 * M_PI * i / 64), std::sin(-2 * M_PI * i / 64));
+  const Geometry2D geo = body(c, {});
+  WallLawParams w;
+  w.h0 = 1e-3;
+  w.h_max = 10;
+  w.h_wall_max = 0.5;
+  w.curvature_factor = 0.5;
+  const WallPowerLawField metric({geo.loops[0].loop}, w);
+  const CurvedFront<2> front = mesh_surface(geo, metric, 3);
+  layers::LayerParams p;
+  p.max_layers = 2;
+  const layers::LayerResult open = layers::grow_layers(front, geo, metric, p);
+  REQUIRE(open.layers.size() == 2);
+  CHECK(open.linear_after == -1);  // still curved: the case to close
+  p.close_linear = true;
+  const layers::LayerResult r = layers::grow_layers(front, geo, metric, p);
+  REQUIRE(r.layers.size() == 3);
+  CHECK(r.layers.back().linear);
+  CHECK(r.linear_after == 3);
+  const QualityReport q = check(r);
+  CHECK(q.cells_invalid == 0);
+  CHECK(q.conformity.ok);
+  // Every outer element is straight: its interior nodes on the chord at k/Q.
+  for (const FrontLoop& l : r.outer.loops)
+    for (std::size_t e = 0; e < l.size(); ++e) {
+      const NodeId* n = r.outer.element(l, e);
+      const Vector2d a = r.mesh.nodes[n[0]], b = r.mesh.nodes[n[1]];
+      for (int k = 1; k < 3; ++k) CHECK((r.mesh.nodes[n[k + 1]] - (a + (b - a) * k / 3.0)).norm() < 1e-12);
+    }
+}
