@@ -5,8 +5,9 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <optional>
 #include <sstream>
-#include <unordered_set>
+#include <unordered_map>
 
 #include "modules/mapping.h"
 
@@ -64,22 +65,56 @@ std::string type_key(const CellBlock& b) {
   return std::string(cell_name(b.type)) + "_Q" + std::to_string(b.order);
 }
 
-// Metric lengths of the distinct edges of the cells (of the triangles only if triangles_only),
-// each measured as the curved Lagrange edge it is, into out.
+// Accumulates edge lengths into one EdgeLengthStats (finish() turns the sums into statistics).
+class EdgeLengthAccumulator {
+ public:
+  EdgeLengthAccumulator(EdgeLengthStats& out, int bins) : out_(out), bins_(bins) {
+    // Bins of log2(L) over [-3, 3] (L in [1/8, 8]), the outer bins open-ended.
+    out.bin_edges.resize(bins + 1);
+    for (int k = 0; k <= bins; ++k) out.bin_edges[k] = std::exp2(-3.0 + 6.0 * k / bins);
+    out.histogram.assign(bins, 0);
+    out.min = std::numeric_limits<double>::infinity();
+  }
+  void add(double len) {
+    ++out_.count;
+    sum_ += len;
+    out_.min = std::min(out_.min, len);
+    out_.max = std::max(out_.max, len);
+    if (len >= 1 / std::sqrt(2.0) && len <= std::sqrt(2.0)) ++unit_;
+    // Clamped as a double: a collapsed edge (len 0) gives pos = -inf, whose cast is undefined.
+    const double pos = (std::log2(len) + 3.0) / 6.0 * bins_;
+    out_.histogram[pos > 0 ? static_cast<int>(std::min(std::floor(pos), bins_ - 1.0)) : 0]++;
+  }
+  void finish() {
+    if (out_.count) {
+      out_.mean = sum_ / static_cast<double>(out_.count);
+      out_.unit_fraction = static_cast<double>(unit_) / static_cast<double>(out_.count);
+    } else {
+      out_.min = 0;
+    }
+  }
+
+ private:
+  EdgeLengthStats& out_;
+  int bins_;
+  double sum_ = 0;
+  std::size_t unit_ = 0;
+};
+
+// Metric lengths of the distinct edges of the cells, each measured once as the curved Lagrange
+// edge it is: into all, and (when triangles is not null) the edges of triangle cells into
+// triangles too.
 template <int Dim>
-void measure_edges(const HybridMesh<Dim>& mesh, const MetricField<Dim>& metric, int bins, bool triangles_only,
-                   EdgeLengthStats& out) {
-  // Bins of log2(L) over [-3, 3] (L in [1/8, 8]), the outer bins open-ended.
-  out.bin_edges.resize(bins + 1);
-  for (int k = 0; k <= bins; ++k) out.bin_edges[k] = std::exp2(-3.0 + 6.0 * k / bins);
-  out.histogram.assign(bins, 0);
-  out.min = std::numeric_limits<double>::infinity();
-  std::unordered_set<std::uint64_t> seen;
+void measure_edges(const HybridMesh<Dim>& mesh, const MetricField<Dim>& metric, int bins, EdgeLengthStats& all,
+                   EdgeLengthStats* triangles) {
+  EdgeLengthAccumulator acc_all(all, bins);
+  std::optional<EdgeLengthAccumulator> acc_tri;
+  if (triangles) acc_tri.emplace(*triangles, bins);
+  // Per distinct edge: its length, and whether a triangle has counted it.
+  std::unordered_map<std::uint64_t, std::pair<double, bool>> seen;
   std::vector<double> edge;
-  double sum = 0;
-  std::size_t unit = 0;
   for (const CellBlock& b : mesh.cells) {
-    if (triangles_only && b.type != CellType::Triangle) continue;
+    const bool triangle = triangles && b.type == CellType::Triangle;
     const LagrangeElement& e = lagrange_element(b.type, b.order);
     const CellTopology& topo = topology(b.type);
     edge.resize(static_cast<std::size_t>(b.order + 1) * Dim);
@@ -89,33 +124,28 @@ void measure_edges(const HybridMesh<Dim>& mesh, const MetricField<Dim>& metric, 
         const NodeId v0 = c[topo.edges[k][0]], v1 = c[topo.edges[k][1]];
         const std::uint64_t key =
             (static_cast<std::uint64_t>(std::min(v0, v1)) << 32) | static_cast<std::uint32_t>(std::max(v0, v1));
-        if (!seen.insert(key).second) continue;
-        // Gmsh line order: the two ends, then the interior nodes.
-        const auto& en = e.edge_nodes(static_cast<int>(k));
-        for (int d = 0; d < Dim; ++d) {
-          edge[d] = mesh.nodes[c[en.front()]][d];
-          edge[Dim + d] = mesh.nodes[c[en.back()]][d];
+        auto [it, fresh] = seen.try_emplace(key, 0.0, false);
+        if (fresh) {
+          // Gmsh line order: the two ends, then the interior nodes.
+          const auto& en = e.edge_nodes(static_cast<int>(k));
+          for (int d = 0; d < Dim; ++d) {
+            edge[d] = mesh.nodes[c[en.front()]][d];
+            edge[Dim + d] = mesh.nodes[c[en.back()]][d];
+          }
+          for (int s = 1; s < b.order; ++s)
+            for (int d = 0; d < Dim; ++d) edge[(s + 1) * Dim + d] = mesh.nodes[c[en[s]]][d];
+          it->second.first = metric_length_curved<Dim>(metric, edge.data(), b.order);
+          acc_all.add(it->second.first);
         }
-        for (int s = 1; s < b.order; ++s)
-          for (int d = 0; d < Dim; ++d) edge[(s + 1) * Dim + d] = mesh.nodes[c[en[s]]][d];
-        const double len = metric_length_curved<Dim>(metric, edge.data(), b.order);
-        ++out.count;
-        sum += len;
-        out.min = std::min(out.min, len);
-        out.max = std::max(out.max, len);
-        if (len >= 1 / std::sqrt(2.0) && len <= std::sqrt(2.0)) ++unit;
-        // Clamped as a double: a collapsed edge (len 0) gives pos = -inf, whose cast is undefined.
-        const double pos = (std::log2(len) + 3.0) / 6.0 * bins;
-        out.histogram[pos > 0 ? static_cast<int>(std::min(std::floor(pos), bins - 1.0)) : 0]++;
+        if (triangle && !it->second.second) {
+          it->second.second = true;
+          acc_tri->add(it->second.first);
+        }
       }
     }
   }
-  if (out.count) {
-    out.mean = sum / static_cast<double>(out.count);
-    out.unit_fraction = static_cast<double>(unit) / static_cast<double>(out.count);
-  } else {
-    out.min = 0;
-  }
+  acc_all.finish();
+  if (acc_tri) acc_tri->finish();
 }
 
 }  // namespace
@@ -186,10 +216,9 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
   // 2. Metric length of every distinct edge (keyed by its two vertices), and the triangles' share.
   if (metric) {
     r.has_metric = true;
-    measure_edges<Dim>(mesh, *metric, options.histogram_bins, false, r.metric);
+    measure_edges<Dim>(mesh, *metric, options.histogram_bins, r.metric, Dim == 2 ? &r.triangle_metric.edges : nullptr);
     if constexpr (Dim == 2) {
       TriangleMetricStats& t = r.triangle_metric;
-      measure_edges<Dim>(mesh, *metric, options.histogram_bins, true, t.edges);
       t.quality_histogram.assign(10, 0);
       t.quality_min = std::numeric_limits<double>::infinity();
       double sum = 0;

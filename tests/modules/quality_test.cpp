@@ -610,3 +610,25 @@ TEST_CASE("quality: report_summary names counts, conformity and failure") {
   CHECK(text.find("conformity: FAILED: " + r.conformity.first_problem) != std::string::npos);
   CHECK(text.find("not conforming") != std::string::npos);
 }
+
+TEST_CASE("quality: the triangles' metric section counts their edges once and their metric shape") {
+  // An equilateral triangle of side 0.1 beside a unit-square-ish quad sharing its base: in the
+  // isotropic metric h = 0.1 the triangle is metric-equilateral (q = 1) with three unit edges;
+  // the quad's three other edges (length 1 = 10 units) count in the whole mesh only.
+  HybridMesh<2> m;
+  m.nodes = {{0, 0}, {0.1, 0}, {0.05, 0.1 * std::sqrt(3.0) / 2}, {0.1, -1}, {0, -1}};
+  m.block(CellType::Triangle, 1).connectivity = {0, 1, 2};
+  m.block(CellType::Quadrilateral, 1).connectivity = {4, 3, 1, 0};
+  const UniformMetricField<2> metric(Metric<2>::isotropic(0.1));
+  const QualityReport r = assess_quality<2>(m, &metric, QualityOptions{});
+  CHECK(r.metric.count == 6);
+  CHECK(r.triangle_metric.triangles == 1);
+  CHECK(r.triangle_metric.edges.count == 3);
+  CHECK(r.triangle_metric.edges.unit_fraction == doctest::Approx(1.0));
+  CHECK(r.metric.unit_fraction == doctest::Approx(4.0 / 6.0));  // the two sides of length 1 are 10 units
+  CHECK(r.triangle_metric.quality_min == doctest::Approx(1.0));
+  CHECK(r.triangle_metric.quality_histogram[9] == 1);
+  // Stretched 4x along x in the metric's eyes: q = 4 sqrt3 A / sum l^2 drops.
+  const UniformMetricField<2> stretched(Metric<2>::from_directions(Eigen::Matrix2d::Identity(), Eigen::Vector2d(0.025, 0.1)));
+  CHECK(assess_quality<2>(m, &stretched, QualityOptions{}).triangle_metric.quality_min < 0.6);
+}
