@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "modules/error.h"
+#include "modules/predicates.h"
 #include "modules/validity.h"
 
 namespace plaf::layers {
@@ -108,14 +109,9 @@ void polyline(const FrontLoop& l, const std::vector<Vec>& x, int q, bool mine, s
   }
 }
 
-double orient(const Vec& a, const Vec& b, const Vec& c) {
-  return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
-}
-
+// Exact (predicates.h): rounding never hides a crossing nor invents one.
 bool cross(const Segment& s, const Segment& t) {
-  const double o1 = orient(s.a, s.b, t.a), o2 = orient(s.a, s.b, t.b);
-  const double o3 = orient(t.a, t.b, s.a), o4 = orient(t.a, t.b, s.b);
-  return ((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0));
+  return segments_cross_properly(s.a, s.b, t.a, t.b);
 }
 
 // Elements of the new front that cross an obstacle segment or a non-adjacent segment of the new

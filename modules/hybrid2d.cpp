@@ -24,7 +24,7 @@ std::uint64_t edge_key(NodeId a, NodeId b) {
 // ids along the edge, ends included).
 class EdgeNodes {
  public:
-  EdgeNodes(const HybridMesh<2>& mesh, int q) : q_(q) {
+  EdgeNodes(const HybridMesh<2>& mesh, int q) {
     for (const CellBlock& b : mesh.cells) {
       if (b.order != q) continue;
       const LagrangeElement& e = lagrange_element(b.type, b.order);
@@ -58,7 +58,6 @@ class EdgeNodes {
   }
 
  private:
-  int q_;
   std::unordered_map<std::uint64_t, std::vector<NodeId>> map_;
 };
 

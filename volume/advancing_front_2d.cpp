@@ -186,7 +186,7 @@ class Filler {
       heap_.pop();
       if (!occ_[e.occ].alive || occ_[e.occ].version != e.version) continue;
       ++result_.stats.steps;
-      step(e.occ);
+      step(e.occ, e.key);  // the key is o's outer angle, current since its version is
       if (result_.triangles.size() > params_.max_triangles)
         throw MesherError("advancing front: more than " + std::to_string(params_.max_triangles) +
                           " triangles (fill.max_triangles); the metric asks for too many");
@@ -464,7 +464,7 @@ class Filler {
 
   // The apex for the edge o: a front node near the ideal point x if one makes a valid triangle
   // (merging fronts), else x itself if valid and clear of the front; false if neither.
-  bool choose_apex(int o, const Vec& x, const NodeMetric& /*at the node*/, Apex& apex) {
+  bool choose_apex(int o, const Vec& x, Apex& apex) {
     const NodeId a = nd(o), b = nd(occ_[o].next);
     // Distances around the new point in the metric there: where a coarse front meets a fine
     // region, the node's metric would see every nearby fine node as close.
@@ -622,11 +622,10 @@ class Filler {
     return p0 + s * dir;
   }
 
-  // One greedy step at occurrence o (the front node of minimum outer angle).
-  void step(int o) {
+  // One greedy step at occurrence o (the front node of minimum outer angle `angle`).
+  void step(int o, double angle) {
     const NodeId v = nd(o);
     const NodeMetric m = nm(v);
-    const double angle = outer_angle(o);
     const int n_new = std::clamp(static_cast<int>(std::floor(3 * angle / std::numbers::pi - 0.5)), 0, 5);
     bool progressed = false;
     if (n_new > 0) {
@@ -635,7 +634,7 @@ class Filler {
       for (int j = 1; j <= n_new; ++j) ideal[j - 1] = ideal_point(o, m, angle * j / (n_new + 1));
       for (int j = 0; j < n_new; ++j) {
         Apex c;
-        if (!choose_apex(o, ideal[j], m, c)) break;
+        if (!choose_apex(o, ideal[j], c)) break;
         advance(o, c);
         progressed = true;
         if (!occ_[o].alive) return;
@@ -656,7 +655,7 @@ class Filler {
     // way): one new point on the bisector, as for n_new = 1.
     {
       Apex c;
-      if (choose_apex(o, ideal_point(o, m, 0.5 * angle), m, c)) {
+      if (choose_apex(o, ideal_point(o, m, 0.5 * angle), c)) {
         advance(o, c);
         if (occ_[o].alive) push(o);
         return;
