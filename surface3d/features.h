@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+// Features of a surface (paper Sec. II.E: "corners and edges ... obtained by measuring changes in
+// the normal across surface elements"): ridges, corners and feature curves, written into the
+// TriSurface's edge_feature / vertex_feature / edge_curve properties.
+//
+// - Ridge: an interior edge whose dihedral angle departs from flat by more than ridge_angle_deg
+//   (the angle between the two face normals). Convex when the body is locally convex there
+//   (the far vertex of one face lies below the other face's plane, exact orient3d), else concave.
+//   Boundary edges (symmetry loops) are EdgeFeature::Boundary.
+// - Corner: a feature vertex with 1 or >= 3 feature edges, or 2 that turn by more than
+//   curve_turn_deg, or any vertex whose angle defect |2 pi - sum of angles| (interior vertices)
+//   exceeds corner_defect_deg. Classified by its ridges: all convex -> ConvexCorner, all concave ->
+//   ConcaveCorner, mixed -> SaddleCorner; on a boundary -> BoundaryCorner; a cone point without
+//   ridges by the sign of its defect (> 0 convex, < 0 concave/saddle by the sign of the Gaussian
+//   curvature). Other vertices on feature edges are VertexFeature::Curve.
+// - Feature curves: maximal chains of feature edges between corners (or closed loops), numbered
+//   0.. into edge_curve; a chain never mixes boundary and ridge edges.
+#pragma once
+
+#include <vector>
+
+#include "modules/tri_surface.h"
+
+namespace plaf {
+
+struct FeatureOptions {
+  double ridge_angle_deg = 30;
+  double corner_defect_deg = 60;
+  double curve_turn_deg = 45;
+  bool keep_existing = false;  // true: keep edges already marked (e.g. by an analytic body) as features
+};
+
+struct FeatureReport {
+  std::size_t ridges_convex = 0, ridges_concave = 0, boundary_edges = 0;  // edges
+  std::size_t corners_convex = 0, corners_concave = 0, corners_saddle = 0, corners_boundary = 0;
+  std::size_t curves = 0;
+};
+
+FeatureReport detect_features(TriSurface& s, const FeatureOptions& options);
+// Counts from the properties as they are (after remeshing, for the report).
+FeatureReport count_features(const TriSurface& s);
+
+// Each feature curve's vertices in order along the curve (closed curves repeat the first vertex
+// at the end), indexed by curve id.
+std::vector<std::vector<TriMesh::VertexHandle>> feature_curves(const TriSurface& s);
+
+}  // namespace plaf

@@ -1,0 +1,2 @@
+// SPDX-License-Identifier: MIT
+#include "surface3d/read_surface.h"

@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: MIT
+// Validation of a triangle soup into a TriSurface: every problem is either repaired (and
+// reported) or an InputError whose one line names the source, the count and the first example.
+//
+// In this order:
+//  1. degenerate triangles: a repeated vertex -> dropped (repair); zero area with three distinct
+//     vertices (exact collinearity test) -> error;
+//  2. duplicate triangles (the same three vertices, either orientation) -> all but the first
+//     dropped (repair);
+//  3. non-manifold edges (used by more than two triangles) -> error; non-manifold vertices (their
+//     triangles form more than one fan) -> error;
+//  4. inconsistent orientation -> fixed per connected component by flipping triangles to agree
+//     with the component's first triangle (a non-orientable component -> error);
+//  5. open boundaries: every boundary loop must lie on a declared symmetry plane (all its
+//     vertices within plane_tol_rel x bbox diagonal); those edges get the tag "symmetry" (kind
+//     Symmetry) and EdgeFeature::Boundary; any other open loop -> error naming its edge count
+//     and a point on it;
+//  6. inward orientation -> fixed per component by the sign of its enclosed volume (closed by the
+//     symmetry planes, so an open half model counts too); a component with (near) zero volume ->
+//     error; components nested inside another (a point of one inside the other, by ray parity)
+//     -> error, or dropped when drop_inner_components (repair);
+//  7. self-intersections: triangle pairs from the AABB tree's overlapping boxes tested exactly
+//     (predicates.h); pairs sharing a vertex or an edge count only if they overlap beyond it
+//     -> error naming the count and the first pair with a point.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "modules/tri_surface.h"
+
+namespace plaf {
+
+struct SymmetryPlane {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit normal
+  double offset = 0;                                  // plane: normal . x = offset
+};
+
+struct SurfaceCheckOptions {
+  std::vector<SymmetryPlane> symmetry_planes;
+  double plane_tol_rel = 1e-6;
+  bool check_self_intersections = true;
+  bool drop_inner_components = false;
+  std::string wall_tag = "wall";
+};
+
+struct SurfaceCheckReport {
+  std::size_t input_triangles = 0;
+  std::size_t dropped_degenerate = 0;
+  std::size_t dropped_duplicate = 0;
+  std::size_t flipped_inconsistent = 0;  // triangles flipped to agree with their component
+  std::size_t flipped_inward = 0;        // triangles flipped because their component was inward
+  std::size_t dropped_inner = 0;         // triangles of dropped nested components
+  std::size_t components = 0;
+  std::size_t boundary_loops = 0;        // all on symmetry planes
+  std::size_t symmetry_edges = 0;
+  std::size_t self_intersection_pairs_tested = 0;
+  double volume = 0;                     // enclosed volume after the fixes (> 0)
+  long euler_characteristic = 0;
+  std::vector<std::string> repairs;      // one line per repair made, for the report and stderr
+};
+
+TriSurface validate_surface(const TriangleSoup& soup, const SurfaceCheckOptions& options,
+                            SurfaceCheckReport* report = nullptr);
+
+// The self-intersection test alone (step 7), on any surface; returns the number of intersecting
+// pairs and describes the first in *first (if given).
+std::size_t count_self_intersections(const TriSurface& s, std::string* first = nullptr);
+
+}  // namespace plaf
