@@ -1,2 +1,342 @@
 // SPDX-License-Identifier: MIT
 #include "surface3d/remesh.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+namespace plaf {
+
+namespace {
+
+using Mesh = TriMesh;
+using VH = Mesh::VertexHandle;
+using EH = Mesh::EdgeHandle;
+using HH = Mesh::HalfedgeHandle;
+using FH = Mesh::FaceHandle;
+using Vec = Eigen::Vector3d;
+
+// Botsch & Kobbelt's thresholds, in metric length: split above 4/3, collapse below 4/5.
+constexpr double kSplitAbove = 4.0 / 3.0;
+constexpr double kCollapseBelow = 4.0 / 5.0;
+// A face whose normal turns by more than this (cosine) in one operation is a fold: refuse.
+constexpr double kMinNormalCos = 0.1;
+
+class Remesher {
+ public:
+  Remesher(TriSurface& s, const ReferenceGeometry& ref, const MetricField<3>& metric, const RemeshOptions& o)
+      : s_(s), m_(s.mesh), ref_(ref), metric_(metric), opt_(o) {}
+
+  RemeshReport run();
+
+ private:
+  // --- lengths -------------------------------------------------------------------------------
+  // Metric length of the straight segment, raised to the curvature length |b - a| kappa / factor
+  // where the reference's normal turns fast (kappa ~ |n(b) - n(a)| / |b - a|): the size along a
+  // curved surface is then at most factor x radius of curvature.
+  double length(const Vec& a, const Vec& b) const {
+    double l = metric_length(metric_, a, b, 2);
+    if (opt_.curvature_factor > 0) {
+      const double turn = (ref_.normal(b) - ref_.normal(a)).norm();  // ~ |b - a| kappa
+      l = std::max(l, turn / opt_.curvature_factor);
+    }
+    return l;
+  }
+  double length(EH e) const {
+    const HH h = m_.halfedge_handle(e, 0);
+    return length(m_.point(m_.from_vertex_handle(h)), m_.point(m_.to_vertex_handle(h)));
+  }
+
+  // --- feature bookkeeping -----------------------------------------------------------------------
+  int curve(EH e) const { return m_.property(s_.edge_curve, e); }
+  bool is_feature(EH e) const { return curve(e) >= 0 || m_.is_boundary(e); }
+  VertexFeature feature(VH v) const { return m_.property(s_.vertex_feature, v); }
+  // The curve a (non-corner) feature vertex lies on, -1 for a smooth vertex.
+  int vertex_curve(VH v) const {
+    for (const HH h : m_.voh_range(v)) {
+      const int c = curve(m_.edge_handle(h));
+      if (c >= 0) return c;
+    }
+    return -1;
+  }
+  // A vertex that must stay where it is: a corner, or on a feature edge without a curve id.
+  bool is_fixed(VH v) const {
+    if (is_corner(feature(v))) return true;
+    if (feature(v) == VertexFeature::Curve) return vertex_curve(v) < 0;
+    for (const HH h : m_.voh_range(v))
+      if (is_feature(m_.edge_handle(h))) return vertex_curve(v) < 0;
+    return false;
+  }
+  Vec project_vertex(VH v, const Vec& p) const {
+    const int c = vertex_curve(v);
+    return c >= 0 ? ref_.project_to_curve(p, c) : ref_.project(p);
+  }
+
+  // Unnormalised normal of face f with vertex v moved to p.
+  Vec face_normal_with(FH f, VH v, const Vec& p) const {
+    std::array<Vec, 3> x;
+    int k = 0;
+    for (const VH w : m_.fv_range(f)) x[static_cast<std::size_t>(k++)] = w == v ? p : m_.point(w);
+    return (x[1] - x[0]).cross(x[2] - x[0]);
+  }
+  // Moving v to p keeps every face around v (except those in `skip`) turned by less than 84
+  // degrees and non-degenerate.
+  bool move_keeps_faces(VH v, const Vec& p, FH skip0 = FH(), FH skip1 = FH()) const {
+    for (const FH f : m_.vf_range(v)) {
+      if (f == skip0 || f == skip1) continue;
+      const Vec before = face_normal_with(f, v, m_.point(v));
+      const Vec after = face_normal_with(f, v, p);
+      const double nb = before.norm(), na = after.norm();
+      if (na <= 1e-12 * nb || after.dot(before) < kMinNormalCos * na * nb) return false;
+    }
+    return true;
+  }
+
+  // Shape quality of triangle (a, b, c) in the metric at its centroid: 4 sqrt(3) A / sum l^2.
+  double quality(const Vec& a, const Vec& b, const Vec& c) const {
+    const Eigen::Matrix3d mm = metric_.evaluate((a + b + c) / 3).matrix();
+    const Eigen::LLT<Eigen::Matrix3d> llt(mm);
+    const Eigen::Matrix3d lt = llt.matrixU();  // M = U^T U: |U v| is the metric length of v
+    const Vec u = lt * (b - a), w = lt * (c - a), z = lt * (c - b);
+    const double area = 0.5 * u.cross(w).norm();
+    const double sum = u.squaredNorm() + w.squaredNorm() + z.squaredNorm();
+    return sum > 0 ? 4 * std::sqrt(3.0) * area / sum : 0;
+  }
+
+  void split_long_edges();
+  void collapse_short_edges();
+  void flip_edges();
+  void relax();
+  bool try_collapse(HH h);
+
+  TriSurface& s_;
+  Mesh& m_;
+  const ReferenceGeometry& ref_;
+  const MetricField<3>& metric_;
+  RemeshOptions opt_;
+  RemeshReport rep_;
+};
+
+void Remesher::split_long_edges() {
+  // Repeated until no edge is long: a coarse start (an icosahedron for a fine metric) needs
+  // several halvings; each pass splits the edges found long at its start, longest first.
+  for (int pass = 0; pass < 40; ++pass) {
+    std::vector<std::pair<double, EH>> longs;
+    for (const EH e : m_.edges()) {
+      const double l = length(e);
+      if (l > kSplitAbove) longs.emplace_back(l, e);
+    }
+    if (longs.empty()) return;
+    std::sort(longs.begin(), longs.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+    for (const auto& [l, e] : longs) {
+      (void)l;
+      if (m_.status(e).deleted()) continue;
+      const HH h0 = m_.halfedge_handle(e, 0);
+      const VH a = m_.from_vertex_handle(h0), b = m_.to_vertex_handle(h0);
+      if (length(m_.point(a), m_.point(b)) <= kSplitAbove) continue;  // an earlier split changed it
+      const int c = curve(e);
+      const int etag = m_.property(s_.edge_tag, e);
+      const EdgeFeature ef = m_.property(s_.edge_feature, e);
+      const Vec mid = 0.5 * (m_.point(a) + m_.point(b));
+      const Vec p = c >= 0 ? ref_.project_to_curve(mid, c) : ref_.project(mid);
+      // The faces' tags by their far vertex, to give the four new faces the right ones.
+      std::vector<std::pair<VH, int>> far_tag;
+      for (const HH h : {h0, m_.opposite_halfedge_handle(h0)})
+        if (!m_.is_boundary(h))
+          far_tag.emplace_back(m_.to_vertex_handle(m_.next_halfedge_handle(h)),
+                               m_.property(s_.face_tag, m_.face_handle(h)));
+      const VH v = m_.split(e, p);
+      m_.property(s_.vertex_feature, v) = c >= 0 ? VertexFeature::Curve : VertexFeature::Smooth;
+      for (const HH h : m_.voh_range(v)) {
+        const EH ne = m_.edge_handle(h);
+        const VH w = m_.to_vertex_handle(h);
+        const bool half = w == a || w == b;
+        m_.property(s_.edge_curve, ne) = half ? c : -1;
+        m_.property(s_.edge_tag, ne) = half ? etag : -1;
+        m_.property(s_.edge_feature, ne) = half ? ef : EdgeFeature::Smooth;
+      }
+      for (const FH f : m_.vf_range(v))
+        for (const VH w : m_.fv_range(f))
+          for (const auto& [far, tag] : far_tag)
+            if (w == far) m_.property(s_.face_tag, f) = tag;
+      ++rep_.splits;
+    }
+  }
+}
+
+// Collapses h's from-vertex into its to-vertex if that keeps topology, features, lengths and
+// orientation.
+bool Remesher::try_collapse(HH h) {
+  const VH v0 = m_.from_vertex_handle(h), v1 = m_.to_vertex_handle(h);
+  const EH e = m_.edge_handle(h);
+  if (is_fixed(v0)) return false;
+  const int c0 = vertex_curve(v0);
+  const bool v0_on_feature = c0 >= 0 || m_.is_boundary(v0);
+  // A feature vertex moves only along its own curve; a smooth vertex anywhere.
+  if (v0_on_feature && (curve(e) < 0 || curve(e) != c0)) return false;
+  if (!v0_on_feature && is_feature(e)) return false;
+  if (!m_.is_collapse_ok(h)) return false;
+  // The two faces of e disappear; their other edges merge pairwise. Features survive on the
+  // merged edge (repaired below), but two features merging would lose one: refuse.
+  struct Wing {
+    VH far;
+    int curve, tag;
+    EdgeFeature feature;
+  };
+  std::vector<Wing> wings;
+  for (const HH hh : {h, m_.opposite_halfedge_handle(h)}) {
+    if (m_.is_boundary(hh)) continue;
+    const HH n = m_.next_halfedge_handle(hh), p = m_.prev_halfedge_handle(hh);
+    const EH e1 = m_.edge_handle(n), e2 = m_.edge_handle(p);
+    const bool f1 = is_feature(e1), f2 = is_feature(e2);
+    if (f1 && f2) return false;
+    const EH keep = f1 ? e1 : e2;
+    wings.push_back({m_.to_vertex_handle(n), curve(keep), m_.property(s_.edge_tag, keep),
+                     m_.property(s_.edge_feature, keep)});
+  }
+  const Vec target = m_.point(v1);
+  // New edges v1 - (neighbours of v0) must not be long.
+  for (const VH w : m_.vv_range(v0))
+    if (w != v1 && length(target, m_.point(w)) > kSplitAbove) return false;
+  const FH fl = m_.is_boundary(h) ? FH() : m_.face_handle(h);
+  const HH o = m_.opposite_halfedge_handle(h);
+  const FH fr = m_.is_boundary(o) ? FH() : m_.face_handle(o);
+  if (!move_keeps_faces(v0, target, fl, fr)) return false;
+  m_.collapse(h);
+  for (const Wing& w : wings) {
+    const HH nh = m_.find_halfedge(v1, w.far);
+    if (!nh.is_valid()) continue;
+    const EH ne = m_.edge_handle(nh);
+    m_.property(s_.edge_curve, ne) = w.curve;
+    m_.property(s_.edge_tag, ne) = w.tag;
+    m_.property(s_.edge_feature, ne) = w.feature;
+  }
+  ++rep_.collapses;
+  return true;
+}
+
+void Remesher::collapse_short_edges() {
+  std::vector<std::pair<double, EH>> shorts;
+  for (const EH e : m_.edges()) {
+    const double l = length(e);
+    if (l < kCollapseBelow) shorts.emplace_back(l, e);
+  }
+  std::sort(shorts.begin(), shorts.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (const auto& [l, e] : shorts) {
+    (void)l;
+    if (m_.status(e).deleted()) continue;
+    if (length(e) >= kCollapseBelow) continue;
+    const HH h = m_.halfedge_handle(e, 0);
+    if (!try_collapse(h)) try_collapse(m_.opposite_halfedge_handle(h));
+  }
+}
+
+void Remesher::flip_edges() {
+  // Flip where the worse of the two triangles gets better in the metric (a Delaunay-like
+  // criterion that also holds for anisotropic metrics); feature edges never flip.
+  for (int pass = 0; pass < 3; ++pass) {
+    std::size_t flips = 0;
+    for (const EH e : m_.edges()) {
+      if (is_feature(e) || !m_.is_flip_ok(e)) continue;
+      const HH h = m_.halfedge_handle(e, 0), o = m_.opposite_halfedge_handle(h);
+      const VH a = m_.from_vertex_handle(h), b = m_.to_vertex_handle(h);
+      const VH c = m_.to_vertex_handle(m_.next_halfedge_handle(h));
+      const VH d = m_.to_vertex_handle(m_.next_halfedge_handle(o));
+      const Vec pa = m_.point(a), pb = m_.point(b), pc = m_.point(c), pd = m_.point(d);
+      // Before: (a, b, c) and (b, a, d); after: (c, d, b)... written counter-clockwise as
+      // (a, d, c) and (b, c, d).
+      const Vec n_before = (pb - pa).cross(pc - pa) + (pa - pb).cross(pd - pb);
+      const Vec n1 = (pd - pa).cross(pc - pa), n2 = (pc - pb).cross(pd - pb);
+      if (n1.dot(n_before) <= kMinNormalCos * n1.norm() * n_before.norm() ||
+          n2.dot(n_before) <= kMinNormalCos * n2.norm() * n_before.norm() ||
+          n1.dot(n2) <= kMinNormalCos * n1.norm() * n2.norm())
+        continue;
+      const double before = std::min(quality(pa, pb, pc), quality(pb, pa, pd));
+      const double after = std::min(quality(pa, pd, pc), quality(pb, pc, pd));
+      if (after <= before * 1.05) continue;
+      // The new edge must not be long (it would be split again, oscillating).
+      if (length(pc, pd) > kSplitAbove) continue;
+      const int ta = m_.property(s_.face_tag, m_.face_handle(h));
+      const int tb = m_.property(s_.face_tag, m_.face_handle(o));
+      if (ta != tb) continue;  // keep the border between tagged patches
+      m_.flip(e);
+      ++flips;
+    }
+    rep_.flips += flips;
+    if (flips == 0) break;
+  }
+}
+
+void Remesher::relax() {
+  // Tangential relaxation: every free vertex moves halfway toward the density-weighted centroid of
+  // its neighbours, within its tangent plane (or along its curve), then back onto the reference.
+  std::vector<Vec> target(m_.n_vertices());
+  std::vector<char> moves(m_.n_vertices(), 0);
+  for (const VH v : m_.vertices()) {
+    if (is_fixed(v)) continue;
+    const int c = vertex_curve(v);
+    const bool on_boundary = m_.is_boundary(v);
+    Vec sum = Vec::Zero();
+    double wsum = 0;
+    for (const HH h : m_.voh_range(v)) {
+      const EH e = m_.edge_handle(h);
+      // A curve vertex averages its two curve neighbours only.
+      if ((c >= 0 || on_boundary) && curve(e) != c) continue;
+      const Vec w = m_.point(m_.to_vertex_handle(h));
+      // Weight by the metric density at the neighbour (1/h^2 for an isotropic size h), so the
+      // centroid leans toward fine regions as the metric asks.
+      const double rho = metric_.evaluate(w).matrix().trace() / 3.0;
+      sum += rho * w;
+      wsum += rho;
+    }
+    if (wsum <= 0) continue;
+    const Vec p = m_.point(v);
+    Vec d = sum / wsum - p;
+    if (c < 0) {
+      const Vec n = ref_.normal(p);
+      d -= n * n.dot(d);
+    }
+    target[static_cast<std::size_t>(v.idx())] = p + 0.5 * d;
+    moves[static_cast<std::size_t>(v.idx())] = 1;
+  }
+  for (const VH v : m_.vertices()) {
+    if (!moves[static_cast<std::size_t>(v.idx())]) continue;
+    const Vec p = project_vertex(v, target[static_cast<std::size_t>(v.idx())]);
+    if (move_keeps_faces(v, p)) m_.set_point(v, p);
+  }
+}
+
+RemeshReport Remesher::run() {
+  const auto t0 = std::chrono::steady_clock::now();
+  rep_.faces_before = m_.n_faces();
+  for (int round = 0; round < opt_.iterations; ++round) {
+    split_long_edges();
+    collapse_short_edges();
+    flip_edges();
+    for (int k = 0; k < 2; ++k) relax();
+    ++rep_.rounds;
+  }
+  m_.garbage_collection();
+  rep_.faces_after = m_.n_faces();
+  std::size_t unit = 0, total = 0;
+  for (const EH e : m_.edges()) {
+    const double l = length(e);
+    ++total;
+    if (l >= 1 / std::sqrt(2.0) && l <= std::sqrt(2.0)) ++unit;
+  }
+  rep_.unit_fraction = total ? static_cast<double>(unit) / static_cast<double>(total) : 0;
+  rep_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return rep_;
+}
+
+}  // namespace
+
+RemeshReport remesh_surface(TriSurface& s, const ReferenceGeometry& reference, const MetricField<3>& metric,
+                            const RemeshOptions& options) {
+  return Remesher(s, reference, metric, options).run();
+}
+
+}  // namespace plaf
