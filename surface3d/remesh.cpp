@@ -34,20 +34,37 @@ class Remesher {
 
  private:
   // --- lengths -------------------------------------------------------------------------------
-  // Metric length of the straight segment, raised to the curvature length |b - a| kappa / factor
-  // where the reference's normal turns fast (kappa ~ |n(b) - n(a)| / |b - a|): the size along a
-  // curved surface is then at most factor x radius of curvature.
-  double length(const Vec& a, const Vec& b) const {
-    double l = metric_length(metric_, a, b, 2);
-    if (opt_.curvature_factor > 0) {
-      const double turn = (ref_.normal(b) - ref_.normal(a)).norm();  // ~ |b - a| kappa
-      l = std::max(l, turn / opt_.curvature_factor);
+  // The metric is evaluated once per vertex position and cached (vertices are created by splits
+  // and moved by relaxation, and re-evaluated then); an edge's length is the mean of its length in
+  // its two end metrics, exact for a uniform metric and second order for a smooth one.
+  const Eigen::Matrix3d& vertex_metric(VH v) {
+    std::size_t i = static_cast<std::size_t>(v.idx());
+    if (i >= vm_.size()) {
+      vm_.resize(m_.n_vertices(), Eigen::Matrix3d::Zero());
+      have_.resize(m_.n_vertices(), 0);
     }
-    return l;
+    if (!have_[i]) {
+      vm_[i] = metric_.evaluate(m_.point(v)).matrix();
+      have_[i] = 1;
+    }
+    return vm_[i];
   }
-  double length(EH e) const {
+  void forget_metric(VH v) {
+    const std::size_t i = static_cast<std::size_t>(v.idx());
+    if (i < have_.size()) have_[i] = 0;
+  }
+  double length(VH a, VH b) {
+    const Vec d = m_.point(b) - m_.point(a);
+    return 0.5 * (std::sqrt(d.dot(vertex_metric(a) * d)) + std::sqrt(d.dot(vertex_metric(b) * d)));
+  }
+  // The length of a -> b if a stood at p (its metric taken as b's: a is being merged into b).
+  double length_from(const Vec& p, VH b) {
+    const Vec d = m_.point(b) - p;
+    return std::sqrt(d.dot(vertex_metric(b) * d));
+  }
+  double length(EH e) {
     const HH h = m_.halfedge_handle(e, 0);
-    return length(m_.point(m_.from_vertex_handle(h)), m_.point(m_.to_vertex_handle(h)));
+    return length(m_.from_vertex_handle(h), m_.to_vertex_handle(h));
   }
 
   // --- feature bookkeeping -----------------------------------------------------------------------
@@ -95,12 +112,14 @@ class Remesher {
     return true;
   }
 
-  // Shape quality of triangle (a, b, c) in the metric at its centroid: 4 sqrt(3) A / sum l^2.
-  double quality(const Vec& a, const Vec& b, const Vec& c) const {
-    const Eigen::Matrix3d mm = metric_.evaluate((a + b + c) / 3).matrix();
+  // Shape quality of triangle (a, b, c) in the mean of its vertices' metrics:
+  // 4 sqrt(3) A / sum l^2 (1 equilateral in the metric, 0 degenerate).
+  double quality(VH a, VH b, VH c) {
+    const Eigen::Matrix3d mm = (vertex_metric(a) + vertex_metric(b) + vertex_metric(c)) / 3;
     const Eigen::LLT<Eigen::Matrix3d> llt(mm);
     const Eigen::Matrix3d lt = llt.matrixU();  // M = U^T U: |U v| is the metric length of v
-    const Vec u = lt * (b - a), w = lt * (c - a), z = lt * (c - b);
+    const Vec pa = m_.point(a), pb = m_.point(b), pc = m_.point(c);
+    const Vec u = lt * (pb - pa), w = lt * (pc - pa), z = lt * (pc - pb);
     const double area = 0.5 * u.cross(w).norm();
     const double sum = u.squaredNorm() + w.squaredNorm() + z.squaredNorm();
     return sum > 0 ? 4 * std::sqrt(3.0) * area / sum : 0;
@@ -118,6 +137,8 @@ class Remesher {
   const MetricField<3>& metric_;
   RemeshOptions opt_;
   RemeshReport rep_;
+  std::vector<Eigen::Matrix3d> vm_;  // cached metric per vertex index
+  std::vector<char> have_;
 };
 
 void Remesher::split_long_edges() {
@@ -136,7 +157,7 @@ void Remesher::split_long_edges() {
       if (m_.status(e).deleted()) continue;
       const HH h0 = m_.halfedge_handle(e, 0);
       const VH a = m_.from_vertex_handle(h0), b = m_.to_vertex_handle(h0);
-      if (length(m_.point(a), m_.point(b)) <= kSplitAbove) continue;  // an earlier split changed it
+      if (length(a, b) <= kSplitAbove) continue;  // an earlier split changed it
       const int c = curve(e);
       const int etag = m_.property(s_.edge_tag, e);
       const EdgeFeature ef = m_.property(s_.edge_feature, e);
@@ -149,6 +170,7 @@ void Remesher::split_long_edges() {
           far_tag.emplace_back(m_.to_vertex_handle(m_.next_halfedge_handle(h)),
                                m_.property(s_.face_tag, m_.face_handle(h)));
       const VH v = m_.split(e, p);
+      forget_metric(v);
       m_.property(s_.vertex_feature, v) = c >= 0 ? VertexFeature::Curve : VertexFeature::Smooth;
       for (const HH h : m_.voh_range(v)) {
         const EH ne = m_.edge_handle(h);
@@ -200,7 +222,7 @@ bool Remesher::try_collapse(HH h) {
   const Vec target = m_.point(v1);
   // New edges v1 - (neighbours of v0) must not be long.
   for (const VH w : m_.vv_range(v0))
-    if (w != v1 && length(target, m_.point(w)) > kSplitAbove) return false;
+    if (w != v1 && length_from(m_.point(w), v1) > kSplitAbove) return false;
   const FH fl = m_.is_boundary(h) ? FH() : m_.face_handle(h);
   const HH o = m_.opposite_halfedge_handle(h);
   const FH fr = m_.is_boundary(o) ? FH() : m_.face_handle(o);
@@ -254,11 +276,11 @@ void Remesher::flip_edges() {
           n2.dot(n_before) <= kMinNormalCos * n2.norm() * n_before.norm() ||
           n1.dot(n2) <= kMinNormalCos * n1.norm() * n2.norm())
         continue;
-      const double before = std::min(quality(pa, pb, pc), quality(pb, pa, pd));
-      const double after = std::min(quality(pa, pd, pc), quality(pb, pc, pd));
+      const double before = std::min(quality(a, b, c), quality(b, a, d));
+      const double after = std::min(quality(a, d, c), quality(b, c, d));
       if (after <= before * 1.05) continue;
       // The new edge must not be long (it would be split again, oscillating).
-      if (length(pc, pd) > kSplitAbove) continue;
+      if (length(c, d) > kSplitAbove) continue;
       const int ta = m_.property(s_.face_tag, m_.face_handle(h));
       const int tb = m_.property(s_.face_tag, m_.face_handle(o));
       if (ta != tb) continue;  // keep the border between tagged patches
@@ -285,10 +307,11 @@ void Remesher::relax() {
       const EH e = m_.edge_handle(h);
       // A curve vertex averages its two curve neighbours only.
       if ((c >= 0 || on_boundary) && curve(e) != c) continue;
-      const Vec w = m_.point(m_.to_vertex_handle(h));
+      const VH wv = m_.to_vertex_handle(h);
+      const Vec w = m_.point(wv);
       // Weight by the metric density at the neighbour (1/h^2 for an isotropic size h), so the
       // centroid leans toward fine regions as the metric asks.
-      const double rho = metric_.evaluate(w).matrix().trace() / 3.0;
+      const double rho = vertex_metric(wv).trace() / 3.0;
       sum += rho * w;
       wsum += rho;
     }
@@ -305,7 +328,10 @@ void Remesher::relax() {
   for (const VH v : m_.vertices()) {
     if (!moves[static_cast<std::size_t>(v.idx())]) continue;
     const Vec p = project_vertex(v, target[static_cast<std::size_t>(v.idx())]);
-    if (move_keeps_faces(v, p)) m_.set_point(v, p);
+    if (move_keeps_faces(v, p)) {
+      m_.set_point(v, p);
+      forget_metric(v);
+    }
   }
 }
 

@@ -22,7 +22,6 @@ namespace plaf {
 
 struct RemeshOptions {
   int iterations = 8;
-  double curvature_factor = 0;  // 0: the field alone
 };
 
 struct RemeshReport {

@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+// A metric field that follows the surface's curvature: the base field intersected (metric.h) with
+// a curvature metric whose sizes along the principal directions of the closest reference point are
+// factor / |kappa_i| (at least h_min), so a curved surface is resolved at a fixed angle per edge
+// (the 3D analogue of the 2D wall law's curvature_factor). The normal direction keeps the base
+// metric's size.
+//
+// Curvature is measured from the reference's normals by central differences: the shape operator
+// S t ~ (n(x + e t) - n(x - e t)) / 2e along two tangent directions. The step starts at a quarter of
+// the base size and halves while the normal turns by more than 20 degrees over it, so tight
+// leading edges are measured at their own scale; a turn that does not shrink with the step is a
+// ridge (a feature curve, kept by the remesher), not curvature, and adds nothing.
+#pragma once
+
+#include "modules/metric.h"
+#include "surface3d/reference.h"
+
+namespace plaf {
+
+class CurvatureMetricField final : public MetricField<3> {
+ public:
+  // base and reference must outlive the field.
+  CurvatureMetricField(const MetricField<3>& base, const ReferenceGeometry& reference, double factor, double h_min);
+  Metric<3> evaluate(const Point& x) const override;
+
+  // The principal curvatures (|kappa_1| >= |kappa_2|, signed: > 0 convex) and their unit
+  // directions at the reference point closest to x.
+  struct Curvature {
+    double k1 = 0, k2 = 0;
+    Eigen::Vector3d d1, d2, normal;
+  };
+  Curvature curvature(const Eigen::Vector3d& x, double step) const;
+
+ private:
+  const MetricField<3>& base_;
+  const ReferenceGeometry& ref_;
+  double factor_, h_min_;
+};
+
+}  // namespace plaf
