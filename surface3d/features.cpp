@@ -1,2 +1,348 @@
 // SPDX-License-Identifier: MIT
+// Feature detection on a TriSurface (paper Sec. II.E: corners and edges "obtained by measuring
+// changes in the normal across surface elements"). Three linear passes:
+//   1. edges: boundary, or ridge when the angle between the two face normals exceeds the
+//      threshold, convex or concave by the exact orient3d of one face and the other's far vertex;
+//   2. vertices: their feature edges (count, kinds, the turn between two) and angle defect decide
+//      Curve or a corner, classified by its ridges;
+//   3. curves: each chain of feature edges is walked from a corner to the next corner; what is
+//      left are closed loops without corners.
+// Every pass visits each element (or each vertex's two stored feature halfedges) a bounded number
+// of times, so the whole detection is O(V + E + F).
 #include "surface3d/features.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "modules/error.h"
+#include "modules/predicates.h"
+
+namespace plaf {
+
+namespace {
+
+using EdgeHandle = TriMesh::EdgeHandle;
+using FaceHandle = TriMesh::FaceHandle;
+using HalfedgeHandle = TriMesh::HalfedgeHandle;
+using VertexHandle = TriMesh::VertexHandle;
+
+constexpr double kPi = 3.14159265358979323846;
+
+double radians(double deg) {
+  return deg * kPi / 180.0;
+}
+
+std::size_t idx(int i) {
+  return static_cast<std::size_t>(i);
+}
+
+// Angle between a and b in [0, pi]. atan2 of |a x b| and a.b stays accurate near 0 and pi, where
+// acos of a normalised dot product loses half the digits; a zero vector gives 0.
+double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+// The departure from flat of interior edge e: the angle between its faces' normals.
+double dihedral_departure(const TriMesh& m, EdgeHandle e) {
+  const HalfedgeHandle h = m.halfedge_handle(e, 0);
+  const Eigen::Vector3d& a = m.point(m.from_vertex_handle(h));
+  const Eigen::Vector3d& b = m.point(m.to_vertex_handle(h));
+  const Eigen::Vector3d& c = m.point(m.to_vertex_handle(m.next_halfedge_handle(h)));
+  const Eigen::Vector3d& d = m.point(m.to_vertex_handle(m.next_halfedge_handle(m.opposite_halfedge_handle(h))));
+  // Face (a, b, c) and face (b, a, d), both counter-clockwise seen from outside.
+  return angle_between((b - a).cross(c - a), (a - b).cross(d - b));
+}
+
+// Convex or concave, exactly, for interior edge e.
+EdgeFeature ridge_kind(const TriMesh& m, EdgeHandle e) {
+  const HalfedgeHandle h = m.halfedge_handle(e, 0);
+  const Eigen::Vector3d& a = m.point(m.from_vertex_handle(h));
+  const Eigen::Vector3d& b = m.point(m.to_vertex_handle(h));
+  const Eigen::Vector3d& c = m.point(m.to_vertex_handle(m.next_halfedge_handle(h)));
+  const Eigen::Vector3d& d = m.point(m.to_vertex_handle(m.next_halfedge_handle(m.opposite_halfedge_handle(h))));
+  // (a, b, c) is counter-clockwise seen from outside, so orient3d > 0 puts d below its plane, inside
+  // the body: the body is locally convex there. Coplanar (0) with a departure above the threshold
+  // is a fold back onto itself (a zero-thickness blade edge), which the body wraps around: convex.
+  return sign_orient3d(a, b, c, d) >= 0 ? EdgeFeature::ConvexRidge : EdgeFeature::ConcaveRidge;
+}
+
+// The feature edges around one vertex.
+struct VertexEdges {
+  int count = 0, convex = 0, concave = 0, boundary = 0;
+  std::array<HalfedgeHandle, 2> out;  // the first two, as halfedges leaving the vertex
+};
+
+void check_options(const FeatureOptions& o) {
+  const auto in_range = [](double x, double lo, double hi) { return x > lo && x < hi; };  // false for NaN
+  if (!in_range(o.ridge_angle_deg, 0, 180))
+    throw ConfigError("features: ridge_angle_deg = " + std::to_string(o.ridge_angle_deg) + " is not in (0, 180)");
+  if (!in_range(o.curve_turn_deg, 0, 180))
+    throw ConfigError("features: curve_turn_deg = " + std::to_string(o.curve_turn_deg) + " is not in (0, 180)");
+  if (!in_range(o.corner_defect_deg, 0, 360))
+    throw ConfigError("features: corner_defect_deg = " + std::to_string(o.corner_defect_deg) + " is not in (0, 360)");
+}
+
+// A corner without ridges (a cone point). A positive defect is positive Gaussian curvature: convex
+// when the apex points out of the body (it lies on the outer side of its one-ring, measured along
+// the one-ring's area-weighted normal), concave for a dimple; a negative defect is a saddle.
+VertexFeature cone_point_kind(const TriMesh& m, VertexHandle v, double defect) {
+  if (defect < 0) return VertexFeature::SaddleCorner;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero(), centroid = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (const HalfedgeHandle h : m.voh_range(v)) {
+    const Eigen::Vector3d& a = m.point(m.to_vertex_handle(h));
+    centroid += a;
+    ++n;
+    if (!m.is_boundary(h)) {
+      const Eigen::Vector3d& b = m.point(m.to_vertex_handle(m.next_halfedge_handle(h)));
+      normal += (a - m.point(v)).cross(b - m.point(v));
+    }
+  }
+  centroid /= std::max(n, 1);
+  return (m.point(v) - centroid).dot(normal) >= 0 ? VertexFeature::ConvexCorner : VertexFeature::ConcaveCorner;
+}
+
+VertexFeature corner_kind(const TriMesh& m, VertexHandle v, const VertexEdges& ve, double defect) {
+  if (ve.boundary > 0 || m.is_boundary(v)) return VertexFeature::BoundaryCorner;
+  if (ve.convex > 0 && ve.concave > 0) return VertexFeature::SaddleCorner;
+  if (ve.convex > 0) return VertexFeature::ConvexCorner;
+  if (ve.concave > 0) return VertexFeature::ConcaveCorner;
+  return cone_point_kind(m, v, defect);
+}
+
+}  // namespace
+
+FeatureReport detect_features(TriSurface& s, const FeatureOptions& options) {
+  check_options(options);
+  TriMesh& m = s.mesh;
+  const double ridge_rad = radians(options.ridge_angle_deg);
+  const double turn_rad = radians(options.curve_turn_deg);
+  const double defect_rad = radians(options.corner_defect_deg);
+
+  // 1. Edges. Kept edges (keep_existing) keep their kind and curve id; a kept interior edge marked
+  // only by its curve id (or wrongly as Boundary) gets its ridge kind from the geometry whatever its
+  // angle, and an open edge is always Boundary.
+  int next_curve = 0;
+  for (const EdgeHandle e : m.edges()) {
+    EdgeFeature& f = m.property(s.edge_feature, e);
+    int& curve = m.property(s.edge_curve, e);
+    if (options.keep_existing && (curve >= 0 || f != EdgeFeature::Smooth)) {
+      if (m.is_boundary(e))
+        f = EdgeFeature::Boundary;
+      else if (f == EdgeFeature::Smooth || f == EdgeFeature::Boundary)
+        f = ridge_kind(m, e);
+      next_curve = std::max(next_curve, curve + 1);
+      continue;
+    }
+    curve = -1;
+    if (m.is_boundary(e))
+      f = EdgeFeature::Boundary;
+    else if (dihedral_departure(m, e) > ridge_rad)
+      f = ridge_kind(m, e);
+    else
+      f = EdgeFeature::Smooth;
+  }
+
+  // 2. Vertices: their feature edges, then the angle sums for the defects.
+  std::vector<VertexEdges> around(m.n_vertices());
+  for (const EdgeHandle e : m.edges()) {
+    const EdgeFeature f = m.property(s.edge_feature, e);
+    if (f == EdgeFeature::Smooth) continue;
+    for (int side = 0; side < 2; ++side) {
+      const HalfedgeHandle h = m.halfedge_handle(e, static_cast<unsigned>(side));
+      VertexEdges& ve = around[idx(m.from_vertex_handle(h).idx())];
+      if (ve.count < 2) ve.out[idx(ve.count)] = h;
+      ++ve.count;
+      ve.convex += f == EdgeFeature::ConvexRidge;
+      ve.concave += f == EdgeFeature::ConcaveRidge;
+      ve.boundary += f == EdgeFeature::Boundary;
+    }
+  }
+  std::vector<double> angle_sum(m.n_vertices(), 0.0);
+  for (const FaceHandle f : m.faces()) {
+    const auto fv = s.face_vertices(f);
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& p = m.point(fv[idx(k)]);
+      angle_sum[idx(fv[idx(k)].idx())] +=
+          angle_between(m.point(fv[idx((k + 1) % 3)]) - p, m.point(fv[idx((k + 2) % 3)]) - p);
+    }
+  }
+
+  std::vector<char> corner(m.n_vertices(), 0);
+  for (const VertexHandle v : m.vertices()) {
+    VertexFeature& vf = m.property(s.vertex_feature, v);
+    const VertexEdges& ve = around[idx(v.idx())];
+    const bool interior = !m.is_isolated(v) && !m.is_boundary(v);
+    const double defect = interior ? 2 * kPi - angle_sum[idx(v.idx())] : 0.0;
+    if (options.keep_existing && is_corner(vf)) {
+      corner[idx(v.idx())] = 1;
+      continue;
+    }
+    bool is_a_corner = ve.count == 1 || ve.count >= 3 || std::abs(defect) > defect_rad;
+    if (ve.count == 2) {
+      const EdgeHandle e0 = m.edge_handle(ve.out[0]), e1 = m.edge_handle(ve.out[1]);
+      // A chain never mixes boundary and ridge edges, and kept curves end where another begins.
+      is_a_corner = is_a_corner || ve.boundary == 1 || m.property(s.edge_curve, e0) != m.property(s.edge_curve, e1);
+      const Eigen::Vector3d& p = m.point(v);
+      const Eigen::Vector3d in = p - m.point(m.to_vertex_handle(ve.out[0]));
+      const Eigen::Vector3d onward = m.point(m.to_vertex_handle(ve.out[1])) - p;
+      is_a_corner = is_a_corner || angle_between(in, onward) > turn_rad;
+    }
+    if (is_a_corner) {
+      vf = corner_kind(m, v, ve, defect);
+      corner[idx(v.idx())] = 1;
+    } else {
+      vf = ve.count == 2 ? VertexFeature::Curve : VertexFeature::Smooth;
+    }
+  }
+
+  // 3. Curves. From a corner the chain continues through Curve vertices (exactly two feature
+  // edges each, so the next edge is the stored one that is not the current one) to a corner.
+  const auto walk = [&](HalfedgeHandle h, int id) {
+    for (;;) {
+      const EdgeHandle e = m.edge_handle(h);
+      if (m.property(s.edge_curve, e) >= 0) return;  // a closed loop is back at its start
+      m.property(s.edge_curve, e) = id;
+      const VertexHandle v = m.to_vertex_handle(h);
+      if (corner[idx(v.idx())]) return;
+      const VertexEdges& ve = around[idx(v.idx())];
+      h = m.edge_handle(ve.out[0]) == e ? ve.out[1] : ve.out[0];
+    }
+  };
+  const auto unassigned_feature = [&](EdgeHandle e) {
+    return m.property(s.edge_feature, e) != EdgeFeature::Smooth && m.property(s.edge_curve, e) < 0;
+  };
+  for (const VertexHandle v : m.vertices()) {
+    if (!corner[idx(v.idx())]) continue;
+    for (const HalfedgeHandle h : m.voh_range(v))
+      if (unassigned_feature(m.edge_handle(h))) walk(h, next_curve++);
+  }
+  for (const EdgeHandle e : m.edges())
+    if (unassigned_feature(e)) walk(m.halfedge_handle(e, 0), next_curve++);
+
+  return count_features(s);
+}
+
+FeatureReport count_features(const TriSurface& s) {
+  const TriMesh& m = s.mesh;
+  FeatureReport r;
+  std::vector<int> ids;
+  for (const EdgeHandle e : m.edges()) {
+    switch (m.property(s.edge_feature, e)) {
+      case EdgeFeature::ConvexRidge:
+        ++r.ridges_convex;
+        break;
+      case EdgeFeature::ConcaveRidge:
+        ++r.ridges_concave;
+        break;
+      case EdgeFeature::Boundary:
+        ++r.boundary_edges;
+        break;
+      case EdgeFeature::Smooth:
+        break;
+    }
+    if (m.property(s.edge_curve, e) >= 0) ids.push_back(m.property(s.edge_curve, e));
+  }
+  for (const VertexHandle v : m.vertices()) {
+    switch (m.property(s.vertex_feature, v)) {
+      case VertexFeature::ConvexCorner:
+        ++r.corners_convex;
+        break;
+      case VertexFeature::ConcaveCorner:
+        ++r.corners_concave;
+        break;
+      case VertexFeature::SaddleCorner:
+        ++r.corners_saddle;
+        break;
+      case VertexFeature::BoundaryCorner:
+        ++r.corners_boundary;
+        break;
+      case VertexFeature::Smooth:
+      case VertexFeature::Curve:
+        break;
+    }
+  }
+  // Distinct ids: a presence table when the ids are dense (always, after detect_features), a sort
+  // otherwise.
+  const int max_id = ids.empty() ? -1 : *std::max_element(ids.begin(), ids.end());
+  if (idx(max_id + 1) <= 4 * ids.size() + 64) {
+    std::vector<char> seen(idx(max_id + 1), 0);
+    for (const int id : ids) {
+      if (!seen[idx(id)]) ++r.curves;
+      seen[idx(id)] = 1;
+    }
+  } else {
+    std::sort(ids.begin(), ids.end());
+    r.curves = static_cast<std::size_t>(std::unique(ids.begin(), ids.end()) - ids.begin());
+  }
+  return r;
+}
+
+std::vector<std::vector<TriMesh::VertexHandle>> feature_curves(const TriSurface& s) {
+  const TriMesh& m = s.mesh;
+  const int n_curves = s.num_curves();
+  std::vector<std::vector<EdgeHandle>> edges_of(idx(n_curves));
+  for (const EdgeHandle e : m.edges()) {
+    const int c = m.property(s.edge_curve, e);
+    if (c >= 0) edges_of[idx(c)].push_back(e);
+  }
+  // Scratch shared by all curves and reset after each, so the total work is O(E + sum of the
+  // valences of the curve vertices).
+  std::vector<int> uses(m.n_vertices(), 0);
+  std::vector<char> done(m.n_edges(), 0);
+  std::vector<std::vector<VertexHandle>> curves(idx(n_curves));
+  for (int c = 0; c < n_curves; ++c) {
+    const std::vector<EdgeHandle>& edges = edges_of[idx(c)];
+    if (edges.empty()) continue;
+    const auto fail = [&](const std::string& why) {
+      throw MesherError("features: curve " + std::to_string(c) + " (" + std::to_string(edges.size()) +
+                        " edges) is not a simple chain: " + why);
+    };
+    for (const EdgeHandle e : edges) {
+      ++uses[idx(m.from_vertex_handle(m.halfedge_handle(e, 0)).idx())];
+      ++uses[idx(m.to_vertex_handle(m.halfedge_handle(e, 0)).idx())];
+    }
+    // Open chains start at their lower-numbered end; closed ones at their lowest corner if any.
+    VertexHandle end, first_corner, any;
+    for (const EdgeHandle e : edges) {
+      for (int side = 0; side < 2; ++side) {
+        const VertexHandle v = m.from_vertex_handle(m.halfedge_handle(e, static_cast<unsigned>(side)));
+        const int k = uses[idx(v.idx())];
+        if (k > 2) fail("vertex " + std::to_string(v.idx()) + " has " + std::to_string(k) + " of its edges");
+        if (k == 1 && (!end.is_valid() || v.idx() < end.idx())) end = v;
+        if (is_corner(m.property(s.vertex_feature, v)) && (!first_corner.is_valid() || v.idx() < first_corner.idx()))
+          first_corner = v;
+        if (!any.is_valid() || v.idx() < any.idx()) any = v;
+      }
+    }
+    const VertexHandle start = end.is_valid() ? end : first_corner.is_valid() ? first_corner : any;
+    std::vector<VertexHandle>& path = curves[idx(c)];
+    path.push_back(start);
+    VertexHandle v = start;
+    for (std::size_t step = 0; step < edges.size(); ++step) {
+      HalfedgeHandle next;
+      for (const HalfedgeHandle h : m.voh_range(v)) {
+        const EdgeHandle e = m.edge_handle(h);
+        if (m.property(s.edge_curve, e) == c && !done[idx(e.idx())]) {
+          next = h;
+          break;
+        }
+      }
+      if (!next.is_valid()) fail("it breaks at vertex " + std::to_string(v.idx()));
+      done[idx(m.edge_handle(next).idx())] = 1;
+      v = m.to_vertex_handle(next);
+      path.push_back(v);
+    }
+    if (end.is_valid() == (path.back() == start)) fail("its ends do not match its vertex counts");
+    for (const EdgeHandle e : edges) {
+      uses[idx(m.from_vertex_handle(m.halfedge_handle(e, 0)).idx())] = 0;
+      uses[idx(m.to_vertex_handle(m.halfedge_handle(e, 0)).idx())] = 0;
+      done[idx(e.idx())] = 0;
+    }
+  }
+  return curves;
+}
+
+}  // namespace plaf

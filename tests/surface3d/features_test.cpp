@@ -1,2 +1,466 @@
 // SPDX-License-Identifier: MIT
+#include "surface3d/features.h"
+
 #include <doctest/doctest.h>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <set>
+#include <vector>
+
+#include "modules/error.h"
+
+namespace plaf {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A body made of unit voxels: the faces between a voxel and empty space (except the open ones,
+// given as {voxel, axis, sign}), each
+// split into k x k squares of two triangles. Points live on the integer lattice of spacing 1 / k,
+// so the faces of neighbouring voxels share their points exactly.
+TriangleSoup voxel_soup(const std::vector<std::array<int, 3>>& voxels, int k, double scale = 1.0,
+                        const std::set<std::array<int, 3>>& open_faces = {}) {
+  TriangleSoup soup;
+  soup.source = "voxels";
+  std::map<std::array<int, 3>, int> index;
+  const auto point = [&](const std::array<int, 3>& q) {
+    const auto [it, inserted] = index.emplace(q, static_cast<int>(soup.points.size()));
+    if (inserted) soup.points.emplace_back(Eigen::Vector3i(q[0], q[1], q[2]).cast<double>() * (scale / k));
+    return it->second;
+  };
+  const std::set<std::array<int, 3>> filled(voxels.begin(), voxels.end());
+  for (std::size_t n = 0; n < voxels.size(); ++n) {
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int sign = -1; sign <= 1; sign += 2) {
+        std::array<int, 3> neighbour = voxels[n];
+        neighbour[static_cast<std::size_t>(axis)] += sign;
+        if (filled.count(neighbour) || open_faces.count({static_cast<int>(n), axis, sign})) continue;
+        // Outward normal sign * e_axis: with b, c the next axes (e_b x e_c = e_axis) the square
+        // (p0, p0 + u, p0 + u + v, p0 + v) is counter-clockwise from outside for u x v = normal.
+        const std::size_t a = static_cast<std::size_t>(axis), b = (a + 1) % 3, c = (a + 2) % 3;
+        std::array<int, 3> p0 = {voxels[n][0], voxels[n][1], voxels[n][2]}, u = {0, 0, 0}, v = {0, 0, 0};
+        for (auto& x : p0) x *= k;
+        if (sign > 0) {
+          p0[a] += k;
+          u[b] = 1;
+          v[c] = 1;
+        } else {
+          u[c] = 1;
+          v[b] = 1;
+        }
+        const auto at = [&](int i, int j) {
+          std::array<int, 3> q = p0;
+          for (std::size_t d = 0; d < 3; ++d) q[d] += i * u[d] + j * v[d];
+          return point(q);
+        };
+        for (int i = 0; i < k; ++i)
+          for (int j = 0; j < k; ++j) {
+            const int pa = at(i, j), pb = at(i + 1, j), pc = at(i + 1, j + 1), pd = at(i, j + 1);
+            soup.triangles.push_back({pa, pb, pc});
+            soup.triangles.push_back({pa, pc, pd});
+          }
+      }
+    }
+  }
+  return soup;
+}
+
+// A body of revolution about z: profile (r, z) from the bottom pole (r = 0) to the top pole
+// (r = 0), `around` segments. Quads between rings are split into two triangles, the poles are
+// fans; faces are counter-clockwise seen from outside.
+TriangleSoup revolution_soup(const std::vector<std::array<double, 2>>& profile, int around) {
+  TriangleSoup soup;
+  soup.source = "revolution";
+  const int rings = static_cast<int>(profile.size());
+  std::vector<std::vector<int>> id(static_cast<std::size_t>(rings));
+  for (int i = 0; i < rings; ++i) {
+    const auto [r, z] = profile[static_cast<std::size_t>(i)];
+    const int n = (i == 0 || i == rings - 1) ? 1 : around;
+    for (int j = 0; j < n; ++j) {
+      const double t = 2 * kPi * j / around;
+      id[static_cast<std::size_t>(i)].push_back(static_cast<int>(soup.points.size()));
+      soup.points.emplace_back(r * std::cos(t), r * std::sin(t), z);
+    }
+  }
+  const auto at = [&](int i, int j) {
+    const auto& ring = id[static_cast<std::size_t>(i)];
+    return ring[static_cast<std::size_t>(j % static_cast<int>(ring.size()))];
+  };
+  for (int i = 0; i + 1 < rings; ++i)
+    for (int j = 0; j < around; ++j) {
+      const int pa = at(i, j), pb = at(i, j + 1), pc = at(i + 1, j + 1), pd = at(i + 1, j);
+      if (pa != pb) soup.triangles.push_back({pa, pb, pc});
+      if (pc != pd) soup.triangles.push_back({pa, pc, pd});
+    }
+  return soup;
+}
+
+std::vector<std::array<double, 2>> sphere_profile(int rings) {
+  std::vector<std::array<double, 2>> p;
+  for (int i = 0; i <= rings; ++i) {
+    const double phi = -kPi / 2 + kPi * i / rings;
+    p.push_back({i == 0 || i == rings ? 0.0 : std::cos(phi), std::sin(phi)});
+  }
+  return p;
+}
+
+// A flat sheet, x in [0, 2], folded about the x axis: y < 0 stays in z = 0, y > 0 turns by
+// fold_deg about +x (towards +z, the side the normals face, for fold_deg > 0: a valley).
+TriangleSoup folded_sheet(double fold_deg) {
+  TriangleSoup soup;
+  soup.source = "sheet";
+  const int nx = 4, ny = 2;
+  const double t = fold_deg * kPi / 180;
+  for (int j = 0; j <= 2 * ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      const double x = 2.0 * i / nx, y = static_cast<double>(j - ny) / ny;
+      soup.points.emplace_back(x, y <= 0 ? y : y * std::cos(t), y <= 0 ? 0.0 : y * std::sin(t));
+    }
+  const auto at = [&](int i, int j) { return j * (nx + 1) + i; };
+  for (int j = 0; j < 2 * ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      soup.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      soup.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  return soup;
+}
+
+struct CurveShapes {
+  int open = 0, closed = 0;
+};
+
+// The invariants every detection must satisfy, and feature_curves checked against the edges:
+// consecutive vertices share an edge of the curve, every curve edge is walked once, open curves
+// end at corners, Curve vertices continue one curve of one kind, and count_features agrees.
+CurveShapes check_consistent(const TriSurface& s, const FeatureReport& report) {
+  const TriMesh& m = s.mesh;
+  const FeatureReport again = count_features(s);
+  CHECK(again.ridges_convex == report.ridges_convex);
+  CHECK(again.ridges_concave == report.ridges_concave);
+  CHECK(again.boundary_edges == report.boundary_edges);
+  CHECK(again.corners_convex == report.corners_convex);
+  CHECK(again.corners_concave == report.corners_concave);
+  CHECK(again.corners_saddle == report.corners_saddle);
+  CHECK(again.corners_boundary == report.corners_boundary);
+  CHECK(again.curves == report.curves);
+
+  std::map<int, std::size_t> edges_of;
+  for (const auto e : m.edges()) {
+    const EdgeFeature f = m.property(s.edge_feature, e);
+    const int c = m.property(s.edge_curve, e);
+    CHECK((f == EdgeFeature::Smooth) == (c < 0));
+    CHECK((f == EdgeFeature::Boundary) == m.is_boundary(e));
+    if (c >= 0) ++edges_of[c];
+  }
+  CHECK(edges_of.size() == report.curves);
+  for (const auto v : m.vertices()) {
+    std::vector<TriMesh::EdgeHandle> feature;
+    for (const auto h : m.voh_range(v))
+      if (m.property(s.edge_feature, m.edge_handle(h)) != EdgeFeature::Smooth) feature.push_back(m.edge_handle(h));
+    const VertexFeature vf = m.property(s.vertex_feature, v);
+    if (vf == VertexFeature::Curve) {
+      REQUIRE(feature.size() == 2);
+      CHECK(m.property(s.edge_curve, feature[0]) == m.property(s.edge_curve, feature[1]));
+      CHECK((m.property(s.edge_feature, feature[0]) == EdgeFeature::Boundary) ==
+            (m.property(s.edge_feature, feature[1]) == EdgeFeature::Boundary));
+    } else if (vf == VertexFeature::Smooth) {
+      CHECK(feature.empty());
+    }
+  }
+
+  CurveShapes shapes;
+  const auto curves = feature_curves(s);
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    const auto& path = curves[c];
+    if (!edges_of.count(static_cast<int>(c))) {
+      CHECK(path.empty());
+      continue;
+    }
+    REQUIRE(path.size() == edges_of[static_cast<int>(c)] + 1);
+    std::set<int> walked;
+    bool has_boundary = false, has_ridge = false;
+    for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+      const auto h = m.find_halfedge(path[i], path[i + 1]);
+      REQUIRE(h.is_valid());
+      const auto e = m.edge_handle(h);
+      CHECK(m.property(s.edge_curve, e) == static_cast<int>(c));
+      walked.insert(e.idx());
+      (m.property(s.edge_feature, e) == EdgeFeature::Boundary ? has_boundary : has_ridge) = true;
+    }
+    CHECK(walked.size() == edges_of[static_cast<int>(c)]);
+    CHECK(!(has_boundary && has_ridge));
+    if (path.front() == path.back()) {
+      ++shapes.closed;
+    } else {
+      ++shapes.open;
+      CHECK(is_corner(m.property(s.vertex_feature, path.front())));
+      CHECK(is_corner(m.property(s.vertex_feature, path.back())));
+    }
+    for (std::size_t i = 1; i + 1 < path.size(); ++i) CHECK(!is_corner(m.property(s.vertex_feature, path[i])));
+  }
+  return shapes;
+}
+
+TEST_CASE("features: a cube with 2x2 squares per face has 12 convex ridge curves and 8 convex corners") {
+  for (const double scale : {1e-8, 1.0, 1e8}) {
+    CAPTURE(scale);
+    TriSurface s = surface_from_soup(voxel_soup({{0, 0, 0}}, 2, scale));
+    const FeatureReport r = detect_features(s, {});
+    CHECK(r.ridges_convex == 24);
+    CHECK(r.ridges_concave == 0);
+    CHECK(r.boundary_edges == 0);
+    CHECK(r.corners_convex == 8);
+    CHECK(r.corners_concave + r.corners_saddle + r.corners_boundary == 0);
+    CHECK(r.curves == 12);
+    const CurveShapes shapes = check_consistent(s, r);
+    CHECK(shapes.open == 12);
+    CHECK(shapes.closed == 0);
+    for (const auto& path : feature_curves(s)) CHECK(path.size() == 3);  // two edges per cube edge
+    // Face centres and edge midpoints: the latter are Curve vertices, the former smooth.
+    int curve_vertices = 0, smooth_vertices = 0;
+    for (const auto v : s.mesh.vertices()) {
+      const VertexFeature vf = s.mesh.property(s.vertex_feature, v);
+      curve_vertices += vf == VertexFeature::Curve;
+      smooth_vertices += vf == VertexFeature::Smooth;
+    }
+    CHECK(curve_vertices == 12);
+    CHECK(smooth_vertices == 6);
+  }
+}
+
+TEST_CASE("features: an extruded L has one concave spanwise ridge with saddle corners at its ends") {
+  TriSurface s = surface_from_soup(voxel_soup({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, 2));
+  const FeatureReport r = detect_features(s, {});
+  // The outline has 8 unit sides on each cap (2 edges each), plus 5 convex vertical unit edges.
+  CHECK(r.ridges_convex == (8 + 8 + 5) * 2);
+  CHECK(r.ridges_concave == 2);
+  CHECK(r.corners_convex == 10);
+  CHECK(r.corners_saddle == 2);
+  CHECK(r.corners_concave == 0);
+  CHECK(r.curves == 6 + 6 + 6);
+  const CurveShapes shapes = check_consistent(s, r);
+  CHECK(shapes.open == 18);
+  const TriMesh& m = s.mesh;
+  for (const auto v : m.vertices()) {
+    const Eigen::Vector3d p = m.point(v);
+    const bool reentrant_end = p.x() == 1 && p.y() == 1 && (p.z() == 0 || p.z() == 1);
+    CHECK((m.property(s.vertex_feature, v) == VertexFeature::SaddleCorner) == reentrant_end);
+  }
+  // The concave edges are the two on x = y = 1, and they form one curve.
+  std::set<int> concave_curves;
+  for (const auto e : m.edges()) {
+    if (m.property(s.edge_feature, e) != EdgeFeature::ConcaveRidge) continue;
+    const auto h = m.halfedge_handle(e, 0);
+    for (const auto v : {m.from_vertex_handle(h), m.to_vertex_handle(h)}) {
+      CHECK(m.point(v).x() == 1);
+      CHECK(m.point(v).y() == 1);
+    }
+    concave_curves.insert(m.property(s.edge_curve, e));
+  }
+  CHECK(concave_curves.size() == 1);
+}
+
+TEST_CASE("features: a finely triangulated sphere has no features at 30 degrees") {
+  TriSurface s = surface_from_soup(revolution_soup(sphere_profile(24), 48));
+  const FeatureReport r = detect_features(s, {});
+  CHECK(r.ridges_convex + r.ridges_concave + r.boundary_edges == 0);
+  CHECK(r.corners_convex + r.corners_concave + r.corners_saddle + r.corners_boundary == 0);
+  CHECK(r.curves == 0);
+  CHECK(feature_curves(s).empty());
+  for (const auto v : s.mesh.vertices()) CHECK(s.mesh.property(s.vertex_feature, v) == VertexFeature::Smooth);
+  // A threshold below the 7.5 degree facet angle turns every latitude edge into a ridge.
+  const FeatureReport fine = detect_features(s, {.ridge_angle_deg = 3});
+  CHECK(fine.ridges_convex > 0);
+  CHECK(fine.ridges_concave == 0);
+  check_consistent(s, fine);
+}
+
+TEST_CASE("features: a capped cylinder has two closed convex loops without corners") {
+  TriSurface s = surface_from_soup(revolution_soup({{0, 0}, {1, 0}, {1, 0.5}, {1, 1}, {1, 1.5}, {1, 2}, {0, 2}}, 32));
+  const FeatureReport r = detect_features(s, {});
+  CHECK(r.ridges_convex == 64);
+  CHECK(r.ridges_concave == 0);
+  CHECK(r.corners_convex + r.corners_concave + r.corners_saddle + r.corners_boundary == 0);
+  CHECK(r.curves == 2);
+  const CurveShapes shapes = check_consistent(s, r);
+  CHECK(shapes.closed == 2);
+  for (const auto& path : feature_curves(s)) {
+    REQUIRE(path.size() == 33);
+    const double z = s.mesh.point(path.front()).z();
+    CHECK((z == 0 || z == 2));
+    for (const auto v : path) CHECK(s.mesh.point(v).z() == z);
+  }
+}
+
+TEST_CASE("features: a cone's apex is a corner by its angle defect and its base a closed convex loop") {
+  // Half angle 30 degrees: the apex defect is 2 pi (1 - sin 30) = 180 degrees, with no ridge there.
+  const double h = std::sqrt(3.0);
+  TriSurface s = surface_from_soup(
+      revolution_soup({{0, 0}, {0.5, 0}, {1, 0}, {0.75, 0.25 * h}, {0.5, 0.5 * h}, {0.25, 0.75 * h}, {0, h}}, 32));
+  const FeatureReport r = detect_features(s, {});
+  CHECK(r.ridges_convex == 32);
+  CHECK(r.ridges_concave == 0);
+  CHECK(r.corners_convex == 1);
+  CHECK(r.corners_concave + r.corners_saddle + r.corners_boundary == 0);
+  CHECK(r.curves == 1);
+  const CurveShapes shapes = check_consistent(s, r);
+  CHECK(shapes.closed == 1);
+  for (const auto v : s.mesh.vertices()) {
+    const bool apex = s.mesh.point(v).z() == h;
+    CHECK((s.mesh.property(s.vertex_feature, v) == VertexFeature::ConvexCorner) == apex);
+  }
+  // Above the apex defect the apex is no corner.
+  const FeatureReport loose = detect_features(s, {.corner_defect_deg = 200});
+  CHECK(loose.corners_convex == 0);
+  CHECK(loose.curves == 1);
+}
+
+TEST_CASE("features: a cone dented into a cylinder's top is a concave corner, the rim a concave loop") {
+  // Cylinder r = 1 with its top cap replaced by a cone pointing into the body (depth 1).
+  TriSurface s = surface_from_soup(revolution_soup({{0, 0}, {1, 0}, {1, 1}, {1, 2}, {0.5, 1.5}, {0, 1}}, 32));
+  const FeatureReport r = detect_features(s, {});
+  CHECK(r.corners_concave == 1);  // the dent's apex: positive defect, pointing inwards
+  CHECK(r.corners_convex + r.corners_saddle + r.corners_boundary == 0);
+  CHECK(r.ridges_convex == 64);  // the bottom rim, and the top rim (side to dent is 45 degrees convex)
+  CHECK(r.curves == 2);
+  check_consistent(s, r);
+}
+
+TEST_CASE("features: a cube open on top has boundary curves split at the boundary corners") {
+  TriSurface s = surface_from_soup(voxel_soup({{0, 0, 0}}, 2, 1.0, {{0, 2, 1}}));  // voxel 0's +z face open
+  const FeatureReport r = detect_features(s, {});
+  CHECK(r.boundary_edges == 8);
+  CHECK(r.ridges_convex == 16);  // 4 bottom and 4 vertical cube edges
+  CHECK(r.ridges_concave == 0);
+  // Each top vertex joins two boundary edges and a vertical ridge: a BoundaryCorner, which splits
+  // the boundary loop into its 4 sides.
+  CHECK(r.corners_boundary == 4);
+  CHECK(r.corners_convex == 4);
+  CHECK(r.curves == 4 + 8);
+  const CurveShapes shapes = check_consistent(s, r);
+  CHECK(shapes.open == 12);
+  CHECK(shapes.closed == 0);
+  int boundary_curves = 0;
+  for (const auto& path : feature_curves(s)) {
+    const auto e = s.mesh.edge_handle(s.mesh.find_halfedge(path[0], path[1]));
+    if (s.mesh.property(s.edge_feature, e) != EdgeFeature::Boundary) continue;
+    ++boundary_curves;
+    CHECK(path.size() == 3);
+    for (const auto v : path) CHECK(s.mesh.point(v).z() == 1);
+  }
+  CHECK(boundary_curves == 4);
+}
+
+TEST_CASE("features: a fold just below the ridge angle is smooth, just above it a ridge of the right sign") {
+  const FeatureOptions options;  // 30 degrees
+  for (const double sign : {1.0, -1.0}) {
+    CAPTURE(sign);
+    TriSurface below = surface_from_soup(folded_sheet(sign * 29.99));
+    const FeatureReport rb = detect_features(below, options);
+    CHECK(rb.ridges_convex + rb.ridges_concave == 0);
+    CHECK(rb.boundary_edges == 2 * 4 + 2 * 4);
+    CHECK(rb.corners_boundary == 4);  // the sheet's corners; the fold's ends turn by < 45 degrees
+    CHECK(rb.curves == 4);
+    CHECK(check_consistent(below, rb).open == 4);
+
+    TriSurface above = surface_from_soup(folded_sheet(sign * 30.01));
+    const FeatureReport ra = detect_features(above, options);
+    // Folding towards the normals' side is a valley (concave), away from it a crest (convex).
+    CHECK(ra.ridges_concave == (sign > 0 ? 4u : 0u));
+    CHECK(ra.ridges_convex == (sign > 0 ? 0u : 4u));
+    CHECK(ra.corners_boundary == 6);  // plus the fold's ends, where the ridge meets the boundary
+    CHECK(ra.corners_convex + ra.corners_concave + ra.corners_saddle == 0);
+    CHECK(ra.curves == 6 + 1);
+    CHECK(check_consistent(above, ra).open == 7);
+  }
+}
+
+TEST_CASE("features: keep_existing keeps marked edges and their curve ids") {
+  SUBCASE("a marked equator on a sphere") {
+    TriSurface s = surface_from_soup(revolution_soup(sphere_profile(24), 48));
+    const TriMesh& m = s.mesh;
+    int marked = 0;
+    for (const auto e : m.edges()) {
+      const auto h = m.halfedge_handle(e, 0);
+      if (std::abs(m.point(m.from_vertex_handle(h)).z()) < 1e-12 &&
+          std::abs(m.point(m.to_vertex_handle(h)).z()) < 1e-12) {
+        s.mesh.property(s.edge_curve, e) = 3;
+        ++marked;
+      }
+    }
+    REQUIRE(marked == 48);
+    const FeatureReport r = detect_features(s, {.keep_existing = true});
+    CHECK(r.ridges_convex == 48);  // kind from the geometry though the angle is small
+    CHECK(r.curves == 1);
+    const auto curves = feature_curves(s);
+    REQUIRE(curves.size() == 4);
+    CHECK(curves[3].size() == 49);
+    CHECK(curves[3].front() == curves[3].back());
+    check_consistent(s, r);
+    // Without keep_existing the marks are dropped.
+    const FeatureReport fresh = detect_features(s, {});
+    CHECK(fresh.curves == 0);
+    CHECK(fresh.ridges_convex == 0);
+  }
+  SUBCASE("a cube with one edge already on curve 0") {
+    TriSurface s = surface_from_soup(voxel_soup({{0, 0, 0}}, 2));
+    TriMesh& m = s.mesh;
+    for (const auto e : m.edges()) {
+      const auto h = m.halfedge_handle(e, 0);
+      const Eigen::Vector3d a = m.point(m.from_vertex_handle(h)), b = m.point(m.to_vertex_handle(h));
+      if (a.x() == 0 && a.y() == 0 && b.x() == 0 && b.y() == 0) {
+        m.property(s.edge_curve, e) = 0;
+        m.property(s.edge_feature, e) = EdgeFeature::ConvexRidge;
+      }
+    }
+    const FeatureReport r = detect_features(s, {.keep_existing = true});
+    CHECK(r.curves == 12);
+    CHECK(r.corners_convex == 8);
+    CHECK(feature_curves(s)[0].size() == 3);
+    check_consistent(s, r);
+  }
+}
+
+TEST_CASE("features: bad options are rejected and an empty surface has no features") {
+  TriSurface s = surface_from_soup(voxel_soup({{0, 0, 0}}, 1));
+  CHECK_THROWS_AS(detect_features(s, {.ridge_angle_deg = 0}), ConfigError);
+  CHECK_THROWS_AS(detect_features(s, {.ridge_angle_deg = std::nan("")}), ConfigError);
+  CHECK_THROWS_AS(detect_features(s, {.corner_defect_deg = 400}), ConfigError);
+  CHECK_THROWS_AS(detect_features(s, {.curve_turn_deg = -1}), ConfigError);
+  TriSurface empty = surface_from_soup(TriangleSoup{});
+  const FeatureReport r = detect_features(empty, {});
+  CHECK(r.curves == 0);
+  CHECK(feature_curves(empty).empty());
+  // A curve id set by hand that is not a chain is reported, not walked forever.
+  TriMesh& m = s.mesh;
+  for (const auto e : m.edges()) m.property(s.edge_curve, e) = 0;
+  CHECK_THROWS_AS(feature_curves(s), MesherError);
+}
+
+TEST_CASE("features: a 100k-face cube is detected and its curves walked quickly") {
+  const int k = 91;  // 6 * 2 * 91^2 = 99,372 faces
+  TriSurface s = surface_from_soup(voxel_soup({{0, 0, 0}}, k));
+  REQUIRE(s.mesh.n_faces() == 99372);
+  const auto t0 = std::chrono::steady_clock::now();
+  const FeatureReport r = detect_features(s, {});
+  const auto t1 = std::chrono::steady_clock::now();
+  const auto curves = feature_curves(s);
+  const auto t2 = std::chrono::steady_clock::now();
+  const double detect_s = std::chrono::duration<double>(t1 - t0).count();
+  const double curves_s = std::chrono::duration<double>(t2 - t1).count();
+  MESSAGE("detect_features " << detect_s << " s, feature_curves " << curves_s << " s on " << s.mesh.n_faces()
+                             << " faces");
+  CHECK(r.ridges_convex == 12u * k);
+  CHECK(r.corners_convex == 8);
+  CHECK(r.curves == 12);
+  REQUIRE(curves.size() == 12);
+  for (const auto& path : curves) CHECK(path.size() == static_cast<std::size_t>(k + 1));
+  CHECK(detect_s < 1.0);
+  CHECK(curves_s < 1.0);
+}
+
+}  // namespace
+}  // namespace plaf
