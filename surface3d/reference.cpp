@@ -1,2 +1,199 @@
 // SPDX-License-Identifier: MIT
+// The discrete reference geometry (reference.h): the input triangulation itself. Projection is the
+// exact closest point on the triangles (AABB tree). The normal at a surface point blends
+// angle-weighted vertex normals by the barycentric coordinates, so it varies continuously across
+// smooth regions instead of jumping at every input edge; vertices on feature edges keep the
+// face's own normal, so a ridge is never rounded off. Feature curves are the polylines of the
+// edges carrying each curve id, and projecting onto one is the closest point on its segments.
 #include "surface3d/reference.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "modules/aabb_tree.h"
+#include "modules/error.h"
+
+namespace plaf {
+
+using Eigen::Vector3d;
+
+namespace {
+
+std::size_t idx(int i) {
+  return static_cast<std::size_t>(i);
+}
+
+// The angle at a between the directions to b and c (atan2 form: accurate near 0 and pi).
+double corner_angle(const Vector3d& a, const Vector3d& b, const Vector3d& c) {
+  const Vector3d u = b - a, v = c - a;
+  return std::atan2(u.cross(v).norm(), u.dot(v));
+}
+
+class DiscreteReference final : public ReferenceGeometry {
+ public:
+  explicit DiscreteReference(const TriSurface& s);
+
+  Vector3d project(const Vector3d& p) const override { return tree_.closest(p).point; }
+  Vector3d normal(const Vector3d& x) const override;
+  Vector3d project_to_curve(const Vector3d& p, int curve) const override;
+  int num_curves() const override { return static_cast<int>(curves_.size()); }
+  double scale() const override { return scale_; }
+
+ private:
+  std::vector<Vector3d> points_;
+  std::vector<std::array<int, 3>> tris_;
+  std::vector<Vector3d> face_normal_;    // unit (zero for a degenerate face)
+  std::vector<Vector3d> vertex_normal_;  // unit, angle weighted
+  std::vector<char> on_feature_;         // the vertex touches a feature edge
+  TriangleTree tree_;
+  // Per curve: the segments of its ordered polylines (one for a simple curve) as degenerate
+  // triangles (a, b, b) in a tree, for O(log n) closest points.
+  std::vector<TriangleTree> curves_;
+  double scale_ = 0;
+};
+
+DiscreteReference::DiscreteReference(const TriSurface& s) {
+  const TriMesh& m = s.mesh;
+  points_.assign(m.n_vertices(), Vector3d::Zero());
+  Eigen::AlignedBox3d box;
+  for (const auto v : m.vertices()) {
+    points_[idx(v.idx())] = m.point(v);
+    box.extend(m.point(v));
+  }
+  scale_ = box.isEmpty() ? 0.0 : box.diagonal().norm();
+  if (m.n_faces() == 0) throw MesherError("discrete reference: the surface has no faces");
+
+  vertex_normal_.assign(points_.size(), Vector3d::Zero());
+  on_feature_.assign(points_.size(), 0);
+  for (const auto f : m.faces()) {
+    const auto fv = s.face_vertices(f);
+    const std::array<int, 3> t = {fv[0].idx(), fv[1].idx(), fv[2].idx()};
+    tris_.push_back(t);
+    const Vector3d &a = points_[idx(t[0])], &b = points_[idx(t[1])], &c = points_[idx(t[2])];
+    const Vector3d n = (b - a).cross(c - a);
+    const double len = n.norm();
+    const Vector3d unit = len > 0 ? Vector3d(n / len) : Vector3d::Zero();
+    face_normal_.push_back(unit);
+    vertex_normal_[idx(t[0])] += corner_angle(a, b, c) * unit;
+    vertex_normal_[idx(t[1])] += corner_angle(b, c, a) * unit;
+    vertex_normal_[idx(t[2])] += corner_angle(c, a, b) * unit;
+  }
+  for (Vector3d& n : vertex_normal_) {
+    const double len = n.norm();
+    if (len > 0) n /= len;
+  }
+  tree_ = TriangleTree(points_, tris_);
+
+  // Feature edges by curve; a boundary or ridge edge without a curve id is still a feature for
+  // the normals.
+  const int n_curves = s.num_curves();
+  std::vector<std::vector<std::pair<int, int>>> curve_edges(idx(n_curves));
+  for (const auto e : m.edges()) {
+    const int c = m.property(s.edge_curve, e);
+    const bool feature = c >= 0 || m.property(s.edge_feature, e) != EdgeFeature::Smooth || m.is_boundary(e);
+    const auto h = m.halfedge_handle(e, 0);
+    const int a = m.from_vertex_handle(h).idx(), b = m.to_vertex_handle(h).idx();
+    if (feature) on_feature_[idx(a)] = on_feature_[idx(b)] = 1;
+    if (c >= 0) curve_edges[idx(c)].emplace_back(a, b);
+  }
+
+  // Each curve's edges chained into polylines: start at an end (a vertex with one edge of the
+  // curve) while there is one, else anywhere (a closed loop), and walk to unused edges.
+  for (int c = 0; c < n_curves; ++c) {
+    const auto& edges = curve_edges[idx(c)];
+    std::vector<std::vector<Vector3d>> polylines;
+    std::vector<std::pair<int, int>> ends;  // (vertex, edge) incidences, sorted by vertex
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+      ends.emplace_back(edges[i].first, static_cast<int>(i));
+      ends.emplace_back(edges[i].second, static_cast<int>(i));
+    }
+    std::sort(ends.begin(), ends.end());
+    auto incident = [&](int v) {
+      const auto lo = std::lower_bound(ends.begin(), ends.end(), std::make_pair(v, -1));
+      auto hi = lo;
+      while (hi != ends.end() && hi->first == v) ++hi;
+      return std::make_pair(lo, hi);
+    };
+    // Chain ends first: vertices with an odd number of the curve's edges (one, for a simple
+    // open curve). Each candidate is tried once, so the walk is linear in the curve's edges.
+    std::vector<int> odd;
+    for (std::size_t i = 0; i < ends.size();) {
+      std::size_t j = i;
+      while (j < ends.size() && ends[j].first == ends[i].first) ++j;
+      if ((j - i) % 2 == 1) odd.push_back(ends[i].first);
+      i = j;
+    }
+    std::vector<char> used(edges.size(), 0);
+    std::size_t n_used = 0, next_odd = 0, next_edge = 0;
+    auto has_free_edge = [&](int v) {
+      const auto [lo, hi] = incident(v);
+      return std::any_of(lo, hi, [&](const std::pair<int, int>& x) { return !used[idx(x.second)]; });
+    };
+    while (n_used < edges.size()) {
+      int start = -1;
+      while (start < 0 && next_odd < odd.size()) {
+        if (has_free_edge(odd[next_odd])) start = odd[next_odd];
+        ++next_odd;
+      }
+      while (start < 0) {
+        if (!used[next_edge]) start = edges[next_edge].first;
+        ++next_edge;
+      }
+      std::vector<Vector3d> line = {points_[idx(start)]};
+      for (int v = start;;) {
+        const auto [lo, hi] = incident(v);
+        auto it = lo;
+        while (it != hi && used[idx(it->second)]) ++it;
+        if (it == hi) break;
+        const auto& e = edges[idx(it->second)];
+        used[idx(it->second)] = 1;
+        ++n_used;
+        v = e.first == v ? e.second : e.first;
+        line.push_back(points_[idx(v)]);
+      }
+      polylines.push_back(std::move(line));
+    }
+    std::vector<Vector3d> seg_points;
+    std::vector<std::array<int, 3>> segs;
+    for (const auto& line : polylines) {
+      const int first = static_cast<int>(seg_points.size());
+      seg_points.insert(seg_points.end(), line.begin(), line.end());
+      for (int i = 0; i + 1 < static_cast<int>(line.size()); ++i)
+        segs.push_back({first + i, first + i + 1, first + i + 1});
+    }
+    curves_.emplace_back(seg_points, segs);
+  }
+}
+
+Vector3d DiscreteReference::normal(const Vector3d& x) const {
+  const TriangleTree::Closest c = tree_.closest(x);
+  const auto f = idx(c.triangle);
+  const Vector3d& fn = face_normal_[f];
+  Vector3d n = Vector3d::Zero();
+  for (std::size_t k = 0; k < 3; ++k) {
+    const auto v = idx(tris_[f][k]);
+    n += c.barycentric[static_cast<Eigen::Index>(k)] * (on_feature_[v] ? fn : vertex_normal_[v]);
+  }
+  // Opposite vertex normals (a knife edge not marked as a feature) can cancel: fall back to the
+  // face.
+  const double len = n.norm();
+  return len > 0.5 ? Vector3d(n / len) : fn;
+}
+
+Vector3d DiscreteReference::project_to_curve(const Vector3d& p, int curve) const {
+  if (curve < 0 || curve >= num_curves())
+    throw MesherError("discrete reference: curve " + std::to_string(curve) + " does not exist (" +
+                      std::to_string(num_curves()) + " curves)");
+  const TriangleTree& t = curves_[idx(curve)];
+  if (t.size() == 0) return project(p);  // an unused id: no edges carry it
+  return t.closest(p).point;
+}
+
+}  // namespace
+
+std::unique_ptr<ReferenceGeometry> make_discrete_reference(const TriSurface& input) {
+  return std::make_unique<DiscreteReference>(input);
+}
+
+}  // namespace plaf
