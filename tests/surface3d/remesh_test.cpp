@@ -8,6 +8,9 @@
 
 #include "modules/metric.h"
 #include "modules/tri_surface.h"
+#include "surface3d/analytic.h"
+#include "surface3d/curvature_metric.h"
+#include "surface3d/features.h"
 
 namespace plaf {
 namespace {
@@ -90,6 +93,73 @@ TEST_CASE("remesh: an anisotropic metric stretches the triangles") {
   CHECK(all_outward(s));
   CHECK(r.unit_fraction >= 0.85);
   MESSAGE("anisotropic: " << s.mesh.n_faces() << " faces, unit fraction " << r.unit_fraction);
+}
+
+}  // namespace
+}  // namespace plaf
+
+namespace plaf {
+namespace {
+
+TEST_CASE("remesh: a box keeps its 12 ridges and 8 corners, ridge vertices stay on the edges") {
+  AnalyticBody box = make_box(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, 1, 0.5), 0.5);
+  TriSurface& s = box.initial;
+  const UniformMetricField<3> metric(Metric<3>::isotropic(0.1));
+  const RemeshReport r = remesh_surface(s, *box.reference, metric, RemeshOptions{});
+  CHECK(r.unit_fraction >= 0.9);
+  CHECK(s.euler_characteristic() == 2);
+  const FeatureReport kept = count_features(s);
+  CHECK(kept.curves == 12);
+  CHECK(kept.corners_convex == 8);
+  CHECK(kept.ridges_concave == 0);
+  // The detector finds the same on the remeshed surface.
+  TriSurface probe = s;
+  const FeatureReport found = detect_features(probe, FeatureOptions{});
+  CHECK(found.curves == 12);
+  CHECK(found.corners_convex == 8);
+  CHECK(found.ridges_convex == kept.ridges_convex);
+  // Every vertex on the box, every curve vertex on two faces of it (an edge of the box).
+  for (const auto v : s.mesh.vertices()) {
+    const Eigen::Vector3d p = s.mesh.point(v);
+    int on_faces = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double hi = k == 0 ? 2 : k == 1 ? 1 : 0.5;
+      if (std::abs(p[k]) < 1e-12 || std::abs(p[k] - hi) < 1e-12) ++on_faces;
+    }
+    CHECK(on_faces >= 1);
+    if (s.mesh.property(s.vertex_feature, v) == VertexFeature::Curve) CHECK(on_faces == 2);
+    if (is_corner(s.mesh.property(s.vertex_feature, v))) CHECK(on_faces == 3);
+  }
+  MESSAGE("box: " << s.mesh.n_faces() << " faces, unit fraction " << r.unit_fraction);
+}
+
+TEST_CASE("remesh: an elongated ellipsoid with the curvature metric refines its tips") {
+  AnalyticBody e = make_ellipsoid(Eigen::Vector3d::Zero(), Eigen::Vector3d(3, 1, 1), 0.5);
+  const UniformMetricField<3> base(Metric<3>::isotropic(0.25));
+  const CurvatureMetricField field(base, *e.reference, 0.3, 0.01);
+  TriSurface& s = e.initial;
+  const RemeshReport r = remesh_surface(s, *e.reference, field, RemeshOptions{});
+  CHECK(r.unit_fraction >= 0.85);
+  CHECK(s.euler_characteristic() == 2);
+  // The tips (radius of curvature b^2 / a = 1/3) ask for 0.1; the waist (radius 1) for 0.25.
+  double tip_edges = 0, waist_edges = 0;
+  int tips = 0, waists = 0;
+  for (const auto ed : s.mesh.edges()) {
+    const auto h = s.mesh.halfedge_handle(ed, 0);
+    const Eigen::Vector3d a = s.mesh.point(s.mesh.from_vertex_handle(h)), b = s.mesh.point(s.mesh.to_vertex_handle(h));
+    if (std::abs(a.x()) > 2.9) {
+      tip_edges += (b - a).norm();
+      ++tips;
+    } else if (std::abs(a.x()) < 0.3) {
+      waist_edges += (b - a).norm();
+      ++waists;
+    }
+  }
+  REQUIRE(tips > 0);
+  REQUIRE(waists > 0);
+  CHECK(tip_edges / tips < 0.7 * (waist_edges / waists));
+  MESSAGE("ellipsoid: " << s.mesh.n_faces() << " faces, unit fraction " << r.unit_fraction << ", mean edge at tips "
+                        << tip_edges / tips << ", at the waist " << waist_edges / waists);
 }
 
 }  // namespace
