@@ -41,6 +41,14 @@ CellBlock& HybridMesh<Dim>::boundary_block(CellType type, int order, int tag) {
 }
 
 template <int Dim>
+CellBlock& HybridMesh<Dim>::curve_block(int order, int tag) {
+  for (CellBlock& b : curves)
+    if (b.order == order && b.tag == tag) return b;
+  curves.push_back(CellBlock{CellType::Line, order, tag, {}});
+  return curves.back();
+}
+
+template <int Dim>
 int HybridMesh<Dim>::add_tag(const std::string& name, BoundaryKind kind) {
   for (std::size_t i = 0; i < tags.size(); ++i)
     if (tags[i].name == name) return static_cast<int>(i);
@@ -130,11 +138,13 @@ int facet_vertices(CellType cell, int facet) {
 template <int Dim>
 ConformityReport check_conformity(const HybridMesh<Dim>& mesh) {
   // A mesh of boundary facets alone (a surface mesh) is checked as a mesh of those facets: closed
-  // loops (2D) or closed surfaces (3D) with consistently oriented, shared high-order nodes.
+  // loops (2D) or closed surfaces (3D) with consistently oriented, shared high-order nodes; the
+  // curves of a 3D surface are its boundary (its edges allowed to stay open).
   if (mesh.cells.empty() && !mesh.boundary.empty()) {
     HybridMesh<Dim> surface;
     surface.cells = mesh.boundary;
     for (CellBlock& b : surface.cells) b.tag = -1;
+    if constexpr (Dim == 3) surface.boundary = mesh.curves;
     return check_conformity(surface);
   }
   ConformityReport r;
@@ -230,7 +240,7 @@ ConformityReport check_conformity(const HybridMesh<Dim>& mesh) {
 template <int Dim>
 void compact_nodes(HybridMesh<Dim>& mesh) {
   std::vector<NodeId> map(mesh.nodes.size(), -1);
-  for (const auto* blocks : {&mesh.cells, &mesh.boundary})
+  for (const auto* blocks : {&mesh.cells, &mesh.boundary, &mesh.curves})
     for (const CellBlock& b : *blocks)
       for (NodeId v : b.connectivity) map[static_cast<std::size_t>(v)] = 0;
   NodeId next = 0;
@@ -240,7 +250,7 @@ void compact_nodes(HybridMesh<Dim>& mesh) {
       map[i] = next++;
     }
   mesh.nodes.resize(static_cast<std::size_t>(next));
-  for (auto* blocks : {&mesh.cells, &mesh.boundary})
+  for (auto* blocks : {&mesh.cells, &mesh.boundary, &mesh.curves})
     for (CellBlock& b : *blocks)
       for (NodeId& v : b.connectivity) v = map[static_cast<std::size_t>(v)];
 }

@@ -5,6 +5,8 @@
 // Conventions: cell connectivity is in Gmsh's node order (lagrange.h); 2D cells are
 // counter-clockwise (det J > 0), 3D cells have positive volume. Boundary facets are cells of
 // dimension Dim-1 (lines in 2D; triangles/quadrilaterals in 3D) carrying the index of their tag.
+// In 3D, curves are tagged line blocks (dimension 1): feature or symmetry curves of a surface,
+// e.g. the symmetry loop where a half-body's surface ends on its symmetry plane.
 #pragma once
 
 #include <Eigen/Core>
@@ -44,6 +46,7 @@ struct HybridMesh {
   std::vector<Point> nodes;
   std::vector<CellBlock> cells;     // cells of dimension Dim
   std::vector<CellBlock> boundary;  // facets of dimension Dim - 1, each block with a tag
+  std::vector<CellBlock> curves;    // 3D only: tagged line blocks (feature / symmetry curves)
   std::vector<BoundaryTag> tags;
 
   std::size_t num_cells() const {
@@ -55,10 +58,12 @@ struct HybridMesh {
   CellBlock& block(CellType type, int order);
   // The boundary block of (type, order, tag), created on first use.
   CellBlock& boundary_block(CellType type, int order, int tag);
+  // The curves line block of (order, tag), created on first use.
+  CellBlock& curve_block(int order, int tag);
   int add_tag(const std::string& name, BoundaryKind kind);
 };
 
-// Drops the nodes no cell or boundary facet uses and renumbers the rest (order kept).
+// Drops the nodes no cell, boundary facet or curve uses and renumbers the rest (order kept).
 template <int Dim>
 void compact_nodes(HybridMesh<Dim>& mesh);
 
@@ -78,8 +83,11 @@ struct ConformityReport {
 // Every interior facet shared by exactly two cells with identical high-order facet nodes, and
 // every facet used once listed in a boundary block; the two cells of a facet on opposite sides
 // of it. In 2D an edge may be shared by cells (or a boundary line) of different orders when it is
-// straight sided at the higher order (counted in order_transitions). A mesh of boundary facets alone (a surface mesh) is checked as a mesh of those facets:
-// closed, consistently oriented loops (2D) or surfaces (3D). Hash-based: O(number of facets).
+// straight sided at the higher order (counted in order_transitions). A mesh of boundary facets
+// alone (a surface mesh) is checked as a mesh of those facets: closed, consistently oriented
+// loops (2D) or surfaces (3D); in 3D an open surface edge is a boundary facet when a curves block
+// lists it (with the same high-order nodes), e.g. the rim of a half-body on its symmetry plane.
+// Curves are not checked in a mesh with cells. Hash-based: O(number of facets).
 template <int Dim>
 ConformityReport check_conformity(const HybridMesh<Dim>& mesh);
 

@@ -12,6 +12,7 @@
 #include <map>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -236,6 +237,7 @@ class MshReader {
       const std::int64_t tag = in_.integer("physical tag");
       const int line = in_.line();
       std::string name = in_.quoted_on_line("physical name");
+      declares_volume_ = declares_volume_ || dim == 3;
       if (!physical_names_.emplace(std::make_pair(dim, tag), std::move(name)).second)
         in_.fail_at(line, "physical group (dimension " + std::to_string(dim) + ", tag " + std::to_string(tag) +
                               ") is named twice");
@@ -265,6 +267,7 @@ class MshReader {
         entity_physical_[{d, tag}] = first;
       }
     }
+    declares_volume_ = declares_volume_ || counts[3] > 0;
     in_.expect("$EndEntities");
   }
 
@@ -355,17 +358,20 @@ class MshReader {
     in_.expect("$EndElements");
   }
 
-  // The boundary tag of a facet block: from its entity's first physical group.
+  // The first physical group of a block's entity (0: none, or no $Entities section).
+  std::int64_t entity_physical(const RawBlock& b) {
+    if (!seen_.count("Entities")) return 0;
+    auto it = entity_physical_.find({b.entity_dim, b.entity_tag});
+    if (it == entity_physical_.end())
+      in_.fail_at(b.line, "element block refers to entity (dimension " + std::to_string(b.entity_dim) + ", tag " +
+                              std::to_string(b.entity_tag) + ") missing from $Entities");
+    return it->second;
+  }
+
+  // The boundary tag of a facet (or curve) block: from its entity's first physical group.
   template <int Dim>
   int facet_tag(HybridMesh<Dim>& mesh, const RawBlock& b) {
-    std::int64_t physical = 0;
-    if (seen_.count("Entities")) {
-      auto it = entity_physical_.find({b.entity_dim, b.entity_tag});
-      if (it == entity_physical_.end())
-        in_.fail_at(b.line, "element block refers to entity (dimension " + std::to_string(b.entity_dim) + ", tag " +
-                                std::to_string(b.entity_tag) + ") missing from $Entities");
-      physical = it->second;
-    }
+    const std::int64_t physical = entity_physical(b);
     std::string name;
     if (physical == 0) {
       name = "entity_" + std::to_string(b.entity_tag);
@@ -381,11 +387,22 @@ class MshReader {
     mesh.nodes.resize(coords_.size());
     for (std::size_t i = 0; i < coords_.size(); ++i)
       for (int d = 0; d < Dim; ++d) mesh.nodes[i][d] = coords_[i][d];
-    // Named physical groups of the facet dimension first, in tag order, so that tags written by
-    // write_msh41 come back with the same indices (and empty ones survive).
+    // Named physical groups of the facet dimension (and of curves in 3D) first, in physical tag
+    // order, so that tags written by write_msh41 come back with the same indices (and empty ones
+    // survive).
+    std::vector<std::tuple<std::int64_t, int, const std::string*>> named;
     for (const auto& [key, name] : physical_names_)
-      if (key.first == Dim - 1) mesh.add_tag(name, kind_from_name(name));
+      if (key.first == Dim - 1 || (Dim == 3 && key.first == 1)) named.emplace_back(key.second, key.first, &name);
+    std::sort(named.begin(), named.end());
+    for (const auto& [tag, dim, name] : named) mesh.add_tag(*name, kind_from_name(*name));
     for (const RawBlock& b : blocks_) {
+      if (Dim == 3 && b.type->dim == 1) {
+        if (b.type->supported && entity_physical(b) != 0) {
+          CellBlock& out = mesh.curve_block(b.type->order, facet_tag(mesh, b));
+          out.connectivity.insert(out.connectivity.end(), b.nodes.begin(), b.nodes.end());
+        }
+        continue;
+      }
       if (b.type->dim < Dim - 1) continue;
       if (!b.type->supported)
         in_.fail_at(b.line, "unsupported Gmsh element type " + std::to_string(b.type->code) + " in a " +
@@ -404,13 +421,17 @@ class MshReader {
     // Lines alone are a 2D surface mesh (boundary loops without cells).
     if (result.dim == 1) result.dim = 2;
     if (result.dim < 2) in_.fail_at(elements_line_, "no line, 2D or 3D elements in $Elements");
+    // Surface elements alone in a file that declares a volume (entity or physical group) are a 3D
+    // surface mesh, as write_msh41 writes one (its "domain" volume).
+    if (result.dim == 2 && declares_volume_) result.dim = 3;
     if (result.dim == 2) {
       // The mesh must lie in the plane z = 0, up to round-off relative to its extent.
       constexpr double planar_z_tol_rel = 1e-10;
       double extent = 0;
       for (const auto& x : coords_) extent = std::max({extent, std::abs(x[0]), std::abs(x[1])});
       if (max_abs_z_ > planar_z_tol_rel * extent)
-        in_.fail_at(max_abs_z_line_, "2D mesh has a node off the plane z = 0 (z = " + std::to_string(max_abs_z_) + ")");
+        in_.fail_at(max_abs_z_line_, "2D mesh has a node off the plane z = 0 (z = " + std::to_string(max_abs_z_) +
+                                         "; a 3D surface mesh must declare a volume entity or physical group)");
       fill(result.mesh2);
     } else {
       fill(result.mesh3);
@@ -429,6 +450,7 @@ class MshReader {
   int elements_line_ = 0;
   double max_abs_z_ = 0;
   int max_abs_z_line_ = 0;
+  bool declares_volume_ = false;  // a volume entity or a physical group of dimension 3
 };
 
 }  // namespace
@@ -456,11 +478,33 @@ void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path)
                   " but the mesh has " + std::to_string(num_tags) + " tags");
     for (NodeId v : b.connectivity) tag_box[static_cast<std::size_t>(b.tag)].add(mesh.nodes[v]);
   }
+  // Curves (3D): which tags they use; a tag used by curves alone has no facet group or entity.
+  if (Dim != 3 && !mesh.curves.empty())
+    throw Error("cannot write " + path.string() + ": a 2D mesh has curves blocks (curves are 3D only)");
+  std::vector<Box> curve_box(static_cast<std::size_t>(num_tags));
+  std::vector<char> on_facets(static_cast<std::size_t>(num_tags), 0), on_curves(on_facets);
+  for (const CellBlock& b : mesh.boundary) on_facets[static_cast<std::size_t>(b.tag)] = 1;
+  for (const CellBlock& b : mesh.curves) {
+    check_block(mesh, b, 1, path);
+    if (b.tag < 0 || b.tag >= num_tags)
+      throw Error("cannot write " + path.string() + ": curves block has tag index " + std::to_string(b.tag) +
+                  " but the mesh has " + std::to_string(num_tags) + " tags");
+    on_curves[static_cast<std::size_t>(b.tag)] = 1;
+    for (NodeId v : b.connectivity) curve_box[static_cast<std::size_t>(b.tag)].add(mesh.nodes[v]);
+  }
+  auto facet_group = [&](int t) {
+    return on_facets[static_cast<std::size_t>(t)] || !on_curves[static_cast<std::size_t>(t)];
+  };
+  int num_facet_groups = 0, num_curve_groups = 0;
+  for (int t = 0; t < num_tags; ++t) {
+    num_facet_groups += facet_group(t) ? 1 : 0;
+    num_curve_groups += on_curves[static_cast<std::size_t>(t)] ? 1 : 0;
+  }
   Box domain_box;
   for (const auto& x : mesh.nodes) domain_box.add(x);
   const std::int64_t num_nodes = static_cast<std::int64_t>(mesh.nodes.size());
   std::int64_t num_elements = 0, num_blocks = 0;
-  for (const auto* blocks : {&mesh.cells, &mesh.boundary})
+  for (const auto* blocks : {&mesh.cells, &mesh.boundary, &mesh.curves})
     for (const CellBlock& b : *blocks)
       if (b.size() > 0) {
         num_elements += static_cast<std::int64_t>(b.size());
@@ -470,27 +514,50 @@ void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path)
   AtomicFile f(path);
   // 2. Header, physical groups (boundary tags at dimension Dim-1, then the domain).
   f.write("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n");
-  f.write_int(num_tags + 1);
+  f.write_int(num_facet_groups + num_curve_groups + 1);
   f.put('\n');
-  for (int t = 0; t < num_tags; ++t) {
-    f.write_int(Dim - 1);
+  auto write_group = [&](int dim, int t) {
+    f.write_int(dim);
     f.put(' ');
     f.write_int(t + 1);
     f.write(" \"");
     f.write(mesh.tags[static_cast<std::size_t>(t)].name);
     f.write("\"\n");
-  }
+  };
+  for (int t = 0; t < num_tags; ++t)
+    if (on_curves[static_cast<std::size_t>(t)]) write_group(1, t);
+  for (int t = 0; t < num_tags; ++t)
+    if (facet_group(t)) write_group(Dim - 1, t);
   f.write_int(Dim);
   f.put(' ');
   f.write_int(num_tags + 1);
   f.write(" \"domain\"\n$EndPhysicalNames\n");
 
-  // 3. Entities: no points; one entity per tag and the domain entity.
+  // 3. Entities: no points; one curve entity per curve tag (3D), one facet entity per other tag,
+  // and the domain entity.
   f.write("$Entities\n");
-  f.write(Dim == 2 ? "0 " : "0 0 ");
-  f.write_int(num_tags);
-  f.write(Dim == 2 ? " 1 0\n" : " 1\n");
+  if (Dim == 2) {
+    f.write("0 ");
+    f.write_int(num_tags);
+    f.write(" 1 0\n");
+  } else {
+    f.write("0 ");
+    f.write_int(num_curve_groups);
+    f.put(' ');
+    f.write_int(num_facet_groups);
+    f.write(" 1\n");
+    for (int t = 0; t < num_tags; ++t) {
+      if (!on_curves[static_cast<std::size_t>(t)]) continue;
+      f.write_int(t + 1);
+      f.put(' ');
+      write_box(f, curve_box[static_cast<std::size_t>(t)]);
+      f.write("1 ");
+      f.write_int(t + 1);
+      f.write(" 0\n");
+    }
+  }
   for (int t = 0; t < num_tags; ++t) {
+    if (!facet_group(t)) continue;
     f.write_int(t + 1);
     f.put(' ');
     write_box(f, tag_box[static_cast<std::size_t>(t)]);
@@ -526,7 +593,7 @@ void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path)
   }
   f.write("$EndNodes\n");
 
-  // 5. Elements: volume blocks, then boundary blocks, tags 1..M in that order.
+  // 5. Elements: volume blocks, boundary blocks, then curves, tags 1..M in that order.
   f.write("$Elements\n");
   f.write_int(num_blocks);
   f.put(' ');
@@ -558,6 +625,7 @@ void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path)
   };
   for (const CellBlock& b : mesh.cells) write_block(b, Dim, 1);
   for (const CellBlock& b : mesh.boundary) write_block(b, Dim - 1, b.tag + 1);
+  for (const CellBlock& b : mesh.curves) write_block(b, 1, b.tag + 1);
   f.write("$EndElements\n");
   f.commit();
 }

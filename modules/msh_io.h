@@ -10,10 +10,20 @@
 // block per (entity, element type): the volume blocks first, then the boundary blocks, with
 // element tags 1..M in that order. 2D meshes are written with z = 0. Coordinates are written in
 // the shortest form that reads back bit for bit.
+// Curves of a 3D mesh (HybridMesh::curves): a tag used by curves blocks gets a physical group of
+// dimension 1 (same name, physical tag = tag index + 1) and a curve entity (entity tag = tag index
+// + 1) holding those line elements, written after the boundary blocks; a tag used by curves only
+// gets no dimension-2 group or entity.
 //
-// Reading: the mesh dimension is the largest dimension of the elements present. Elements of that
+// Reading: the mesh dimension is the largest dimension of the elements present, except that a file
+// of surface elements (no volume elements) declaring a volume entity or a physical group of
+// dimension 3 is a 3D surface mesh (boundary facets and curves, no cells). Elements of that
 // dimension become cells, elements of dimension Dim-1 become boundary facets tagged by the
-// physical group of their entity; points, and edges in 3D, are ignored. A boundary tag's kind is
+// physical group of their entity; points are ignored. In 3D, line elements whose entity carries a
+// physical group become curves blocks tagged by that group (plaf's own symmetry loops, Gmsh's
+// physical curves); lines without a physical group (Gmsh's "save all") and line types plaf cannot
+// represent are ignored. Tags come in the order of their physical tags (dimension Dim-1 and, in
+// 3D, dimension 1), so a written mesh reads back with the same tag indices. A boundary tag's kind is
 // inferred from its name (case-insensitive prefix): "wall*" -> Wall, "farfield*" -> Farfield,
 // "symmetry*" -> Symmetry, else Named. So kinds survive a round trip only when the tag names
 // follow that convention. An entity with several physical groups takes the first; a physical

@@ -105,15 +105,15 @@ class EdgeLengthAccumulator {
 // edge it is: into all, and (when triangles is not null) the edges of triangle cells into
 // triangles too.
 template <int Dim>
-void measure_edges(const HybridMesh<Dim>& mesh, const MetricField<Dim>& metric, int bins, EdgeLengthStats& all,
-                   EdgeLengthStats* triangles) {
+void measure_edges(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& blocks, const MetricField<Dim>& metric,
+                   int bins, EdgeLengthStats& all, EdgeLengthStats* triangles) {
   EdgeLengthAccumulator acc_all(all, bins);
   std::optional<EdgeLengthAccumulator> acc_tri;
   if (triangles) acc_tri.emplace(*triangles, bins);
   // Per distinct edge: its length, and whether a triangle has counted it.
   std::unordered_map<std::uint64_t, std::pair<double, bool>> seen;
   std::vector<double> edge;
-  for (const CellBlock& b : mesh.cells) {
+  for (const CellBlock& b : blocks) {
     const bool triangle = triangles && b.type == CellType::Triangle;
     const LagrangeElement& e = lagrange_element(b.type, b.order);
     const CellTopology& topo = topology(b.type);
@@ -146,6 +146,63 @@ void measure_edges(const HybridMesh<Dim>& mesh, const MetricField<Dim>& metric, 
   }
   acc_all.finish();
   if (acc_tri) acc_tri->finish();
+}
+
+// The triangles of a 3D surface mesh (boundary blocks, no cells) as its cells: certified relative
+// to their flat triangles, aspect ratio in the flat triangle's plane frame. Quadrilateral facets
+// have no flat reference (four points need not be coplanar): they are not certified or counted
+// (per_cell gets valid = 1 and NaN values for them, keeping the block order of the writers).
+template <int Dim>
+void assess_surface(const HybridMesh<Dim>& mesh, JacobianCertifier& certifier, QualityReport& r,
+                    CellQuality* per_cell) {
+  if constexpr (Dim == 3) {
+    std::vector<Eigen::Vector3d> nodes;
+    std::vector<double> plane, grad;
+    for (const CellBlock& b : mesh.boundary) {
+      const bool triangle = b.type == CellType::Triangle;
+      if (triangle) {
+        r.cells_by_type[type_key(b)] += b.size();
+        r.cells_total += b.size();
+      }
+      const LagrangeElement& e = lagrange_element(b.type, b.order);
+      nodes.resize(static_cast<std::size_t>(e.size()));
+      plane.resize(static_cast<std::size_t>(e.size()) * 2);
+      grad.resize(static_cast<std::size_t>(e.size()) * 2);
+      for (std::size_t i = 0; i < b.size(); ++i) {
+        if (!triangle) {
+          if (per_cell) {
+            per_cell->valid.push_back(1);
+            per_cell->scaled_jacobian.push_back(std::numeric_limits<double>::quiet_NaN());
+            per_cell->aspect_ratio.push_back(std::numeric_limits<double>::quiet_NaN());
+          }
+          continue;
+        }
+        const NodeId* c = b.cell(i);
+        for (int k = 0; k < e.size(); ++k) nodes[static_cast<std::size_t>(k)] = mesh.nodes[c[k]];
+        const JacobianBounds jb = certify_surface_triangle(certifier, b.order, nodes.data());
+        const double sj = jb.scaled_lower();
+        const double ar = surface_triangle_plane_coords(b.order, nodes.data(), plane.data())
+                              ? aspect_ratio<2>(e, plane.data(), grad.data())
+                              : std::numeric_limits<double>::infinity();
+        if (!jb.valid && r.cells_invalid++ == 0) {
+          std::ostringstream w;
+          w << "surface triangle " << i << " of boundary block " << (&b - mesh.boundary.data()) << " at ("
+            << nodes[0][0] << ", " << nodes[0][1] << ", " << nodes[0][2] << ")";
+          r.first_invalid = w.str();
+        }
+        if (!jb.proven) ++r.cells_unproven;
+        r.scaled_jacobian_min = std::min(r.scaled_jacobian_min, sj);
+        if (jb.valid) r.aspect_ratio_max = std::max(r.aspect_ratio_max, ar);
+        if (per_cell) {
+          per_cell->valid.push_back(jb.valid ? 1 : 0);
+          per_cell->scaled_jacobian.push_back(sj);
+          per_cell->aspect_ratio.push_back(ar);
+        }
+      }
+    }
+  } else {
+    (void)mesh, (void)certifier, (void)r, (void)per_cell;
+  }
 }
 
 }  // namespace
@@ -183,6 +240,10 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
   if (per_cell) *per_cell = CellQuality{};
 
   // 1. Cells: certified validity, scaled Jacobian and aspect ratio.
+  // A 3D mesh of boundary triangles alone (a surface mesh): the triangles are the cells, certified
+  // relative to their flat triangles (validity.h).
+  r.surface = Dim == 3 && mesh.cells.empty() && !mesh.boundary.empty();
+  if (r.surface) assess_surface(mesh, certifier, r, per_cell);
   for (const CellBlock& b : mesh.cells) {
     const LagrangeElement& e = lagrange_element(b.type, b.order);
     coords.resize(static_cast<std::size_t>(e.size()) * Dim);
@@ -216,7 +277,8 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
   // 2. Metric length of every distinct edge (keyed by its two vertices), and the triangles' share.
   if (metric) {
     r.has_metric = true;
-    measure_edges<Dim>(mesh, *metric, options.histogram_bins, r.metric, Dim == 2 ? &r.triangle_metric.edges : nullptr);
+    measure_edges<Dim>(mesh, r.surface ? mesh.boundary : mesh.cells, *metric, options.histogram_bins, r.metric,
+                       Dim == 2 ? &r.triangle_metric.edges : nullptr);
     if constexpr (Dim == 2) {
       TriangleMetricStats& t = r.triangle_metric;
       t.quality_histogram.assign(10, 0);
@@ -252,7 +314,8 @@ std::string report_json(const QualityReport& r) {
   std::ostringstream s;
   s << "{\n  \"name\": " << json_string(r.name) << ",\n";
   s << "  \"ok\": " << (r.ok() ? "true" : "false") << ",\n";
-  s << "  \"cells\": {\n    \"total\": " << r.cells_total << ",\n    \"by_type\": {";
+  s << "  \"cells\": {\n    \"total\": " << r.cells_total << ",\n    \"surface\": " << (r.surface ? "true" : "false")
+    << ",\n    \"by_type\": {";
   bool first = true;
   for (const auto& [k, n] : r.cells_by_type) {
     s << (first ? "" : ", ") << json_string(k) << ": " << n;
@@ -320,7 +383,7 @@ std::string report_summary(const QualityReport& r) {
       << (r.conformity.ok ? "ok" : "FAILED: " + r.conformity.first_problem) << '\n';
     return s.str();
   }
-  s << r.name << ": " << r.cells_total << " cells (";
+  s << r.name << ": " << r.cells_total << (r.surface ? " surface triangles (" : " cells (");
   bool first = true;
   for (const auto& [k, n] : r.cells_by_type) {
     s << (first ? "" : ", ") << n << ' ' << k;

@@ -8,6 +8,10 @@
 // cell, w/h for a w x h rectangle.
 // Metric conformity: every distinct linear edge of the cells is measured as the curved Lagrange
 // edge it is (metric.h); the unit fraction is the share of lengths in [1/sqrt 2, sqrt 2].
+// A 3D mesh of boundary facets alone (a surface mesh, e.g. the curved surface of surface3d) is
+// assessed through its triangles: they are the report's cells, certified relative to their flat
+// triangles (certify_surface_triangle, validity.h), with the aspect ratio in the flat triangle's
+// plane and the metric lengths of their edges; the report is marked `surface`.
 #pragma once
 
 #include <cstdint>
@@ -50,6 +54,7 @@ struct CellQuality {
 
 struct QualityReport {
   std::string name;
+  bool surface = false;  // a 3D surface mesh: the cells are its boundary triangles
   std::size_t cells_total = 0;
   std::map<std::string, std::size_t> cells_by_type;  // "quadrilateral_Q3": n
   std::size_t cells_invalid = 0;

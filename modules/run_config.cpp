@@ -3,6 +3,7 @@
 #include "modules/run_config.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "modules/config.h"
 #include "modules/error.h"
@@ -51,6 +52,58 @@ void parse_airfoils(const ConfigNode& g, AirfoilsParams& a) {
   ff.center = get_pair(f, "center", ff.center);
 }
 
+std::array<double, 3> get_triple(const ConfigNode& n, const std::string& key, std::array<double, 3> fallback) {
+  const std::vector<double> v = n.get_double_list(key, {fallback[0], fallback[1], fallback[2]});
+  if (v.size() != 3) throw ConfigError(n.where(key) + ": expected three numbers [x, y, z]");
+  return {v[0], v[1], v[2]};
+}
+
+bool is_3d_geometry(const std::string& type) {
+  return type == "sphere" || type == "ellipsoid" || type == "box" || type == "wing" || type == "surface_file";
+}
+
+void parse_surface3(const ConfigNode& g, const std::string& type, Surface3Params& s) {
+  if (type == "sphere" || type == "ellipsoid") s.center = get_triple(g, "center", s.center);
+  if (type == "sphere") s.radius = g.get_positive("radius", s.radius);
+  if (type == "ellipsoid") {
+    s.semi_axes = get_triple(g, "semi_axes", s.semi_axes);
+    for (double a : s.semi_axes)
+      if (!(a > 0)) throw ConfigError(g.where("semi_axes") + ": semi-axes must be positive");
+  }
+  if (type == "box") {
+    s.lo = get_triple(g, "lo", s.lo);
+    s.hi = get_triple(g, "hi", s.hi);
+    for (int k = 0; k < 3; ++k)
+      if (!(s.hi[k] > s.lo[k])) throw ConfigError(g.where("hi") + ": every coordinate must exceed lo's");
+  }
+  if (type == "wing") {
+    s.file = g.get_path("file", "");
+    if (s.file.empty()) throw ConfigError(g.where() + ": file (the airfoil section) is required for a wing");
+    s.chord = g.get_positive("chord", s.chord);
+    s.span = g.get_positive("span", s.span);
+    s.root = g.get_choice("root", s.root, {"flat", "rounded", "symmetry"});
+    s.tip = g.get_choice("tip", s.tip, {"flat", "rounded", "symmetry"});
+    s.corner_angle_deg = g.get_in_range("corner_angle_deg", s.corner_angle_deg, 0.0, 180.0);
+  }
+  if (type == "surface_file") {
+    s.file = g.get_path("file", "");
+    if (s.file.empty()) throw ConfigError(g.where() + ": file is required for a surface_file geometry");
+    s.weld_rel = g.get_in_range("weld_rel", s.weld_rel, 0.0, 0.1);
+    for (const ConfigNode& p : g.child_list("symmetry_planes")) {
+      SymmetryPlaneParams plane;
+      plane.normal = get_triple(p, "normal", plane.normal);
+      const double len = std::sqrt(plane.normal[0] * plane.normal[0] + plane.normal[1] * plane.normal[1] +
+                                   plane.normal[2] * plane.normal[2]);
+      if (!(len > 0)) throw ConfigError(p.where("normal") + ": the plane normal must not be zero");
+      for (double& x : plane.normal) x /= len;
+      plane.offset = p.get_double("offset", plane.offset) / len;
+      s.symmetry_planes.push_back(plane);
+    }
+    s.check_self_intersections = g.get_choice("self_intersections", "check", {"check", "skip"}) == "check";
+    s.drop_inner_components = g.get_choice("inner_components", "error", {"error", "drop"}) == "drop";
+  }
+}
+
 RunConfig parse(const ConfigNode& c, const std::string& stem) {
   RunConfig r;
   r.name = c.get_string("name", stem);
@@ -59,8 +112,27 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   r.order = c.get_int("order", r.order, 1, max_order);
 
   const ConfigNode g = c.child("geometry");
-  r.geometry.type = g.get_choice("type", r.geometry.type, {"annulus", "airfoils"});
+  r.geometry.type = g.get_choice("type", r.geometry.type,
+                                  {"annulus", "airfoils", "sphere", "ellipsoid", "box", "wing", "surface_file"});
   r.geometry.where = g.where("type");
+  if (is_3d_geometry(r.geometry.type)) {
+    r.dim = 3;
+    parse_surface3(g, r.geometry.type, r.geometry.surface3);
+  }
+  std::string surface_where;  // a surface section in a 2D run is an error (after the unknown keys)
+  if (c.has("surface")) {
+    const ConfigNode sf = c.child("surface");
+    SurfaceParams& sp = r.surface;
+    sp.ridge_angle_deg = sf.get_in_range("ridge_angle_deg", sp.ridge_angle_deg, 0.0, 180.0);
+    sp.corner_defect_deg = sf.get_in_range("corner_defect_deg", sp.corner_defect_deg, 0.0, 360.0);
+    sp.curve_turn_deg = sf.get_in_range("curve_turn_deg", sp.curve_turn_deg, 0.0, 180.0);
+    sp.remesh = sf.get_bool("remesh", sp.remesh);
+    sp.iterations = sf.get_int("iterations", sp.iterations, 1, 100);
+    sp.curvature_factor = sf.get_in_range("curvature_factor", sp.curvature_factor, 0.0, 100.0);
+    sp.curvature_h_min = sf.get_positive("curvature_h_min", 1.0);
+    if (!sf.has("curvature_h_min")) sp.curvature_h_min = 0;
+    surface_where = sf.where();
+  }
   if (r.geometry.type == "annulus") {
     AnnulusParams& a = r.geometry.annulus;
     a.r_inner = g.get_positive("r_inner", a.r_inner);
@@ -76,17 +148,22 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   r.metric.type = m.get_string("type", r.metric.type);
   r.metric.where = m.where("type");
   metric_field_registry().require(r.metric.type, r.metric.where);
+  if (r.dim == 3 && r.metric.type != "uniform")
+    throw ConfigError(r.metric.where + ": metric type '" + r.metric.type +
+                      "' is 2D only; 3D surfaces take a uniform metric (h or sizes [hx, hy, hz])");
   if (r.metric.type == "uniform") {
     UniformMetricParams& u = r.metric.uniform;
     u.h = m.get_positive("h", u.h);
     u.sizes = m.get_double_list("sizes", {});
     if (!u.sizes.empty()) {
       if (m.has("h")) throw ConfigError(m.where("sizes") + ": give either h or sizes, not both");
-      if (u.sizes.size() != 2) throw ConfigError(m.where("sizes") + ": expected two sizes [h1, h2]");
+      if (static_cast<int>(u.sizes.size()) != r.dim)
+        throw ConfigError(m.where("sizes") + (r.dim == 2 ? ": expected two sizes [h1, h2]"
+                                                         : ": expected three sizes [hx, hy, hz]"));
       for (double s : u.sizes)
         if (!(s > 0)) throw ConfigError(m.where("sizes") + ": sizes must be positive");
     }
-    u.angle_deg = m.get_double("angle_deg", u.angle_deg);
+    if (r.dim == 2) u.angle_deg = m.get_double("angle_deg", u.angle_deg);  // 3D: sizes along x, y, z
   } else if (r.metric.type == "wall_power_law") {
     WallLawParams& w = r.metric.wall_law;
     w.h0 = m.get_positive("h0", w.h0);
@@ -136,7 +213,10 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
 
   const ConfigNode o = c.child("output");
   r.output.dir = o.get_string("dir", r.output.dir.string());
+  if (r.dim == 3) r.output.formats = {"msh", "vtu", "report"};
   r.output.formats = o.get_string_list("formats", r.output.formats, writer_registry().names());
+  if (r.dim == 3 && r.output.wants("png"))
+    throw ConfigError(o.where("formats") + ": png pictures are 2D only (3D runs write msh, vtu, report)");
   r.output.picture_width = o.get_int("picture_width", r.output.picture_width, 64, 16384);
   r.output.picture_height = o.get_int("picture_height", r.output.picture_height, 64, 16384);
   r.output.histogram_bins = o.get_int("histogram_bins", r.output.histogram_bins, 2, 1000);
@@ -153,6 +233,9 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   }
 
   c.finish();
+  if (!surface_where.empty() && r.dim != 3)
+    throw ConfigError(surface_where + ": the surface section is for 3D geometries (sphere, ellipsoid, box, wing, "
+                      "surface_file)");
   if (r.fill.enabled && r.geometry.type != "airfoils")
     throw ConfigError(fill_where + ": the fill needs a spline geometry (type airfoils)");
   return r;

@@ -25,11 +25,36 @@
 //       radius: <>0>        circle radius                         default: 20
 //       size: [w, h]        rectangle width and height            default: [40, 40]
 //       center: [x, y]      default: the centre of the bodies' bounding box
+//   geometry:               3D surfaces (surface3d/; the run is 3D): the surface mesh alone
+//     type: sphere          center: [x, y, z] (default origin), radius: <>0> (default 1)
+//     type: ellipsoid       center, semi_axes: [a, b, c] along x, y, z   default: [1.5, 1.2, 1]
+//     type: box             lo: [x, y, z], hi: [x, y, z]          default: [-1,-1,-1], [1,1,1]
+//     type: wing            a straight wing along +z from z = 0 to span (surface3d/analytic.h)
+//       file: <path>        airfoil section (Selig or Lednicer)   (required)
+//       chord: <>0>         default: 1        span: <>0>          default: 1
+//       root: flat|rounded|symmetry   the end at z = 0            default: symmetry
+//       tip: flat|rounded|symmetry    the end at z = span         default: flat
+//       corner_angle_deg: <0..180>  section corners               default: 30
+//     type: surface_file    a triangulated or Plot3D surface (surface3d/read_surface.h)
+//       file: <path>        .stl .obj .off .ply .fmt .p3d         (required)
+//       weld_rel: <>=0>     merge points closer than this x bbox diagonal   default: 1e-9
+//       symmetry_planes:    open boundaries allowed on these planes, tagged symmetry:
+//         - normal: [nx, ny, nz]   offset: <d>   (the plane normal . x = d)   default: none
+//       self_intersections: check|skip                            default: check
+//       inner_components: error|drop  bodies nested in another    default: error
+//   surface:                3D only: features, remeshing (surface3d/features.h, remesh.h)
+//     ridge_angle_deg: <0..180>   dihedral deviation of a ridge   default: 30
+//     corner_defect_deg: <0..360> angle defect of a cone corner   default: 60
+//     curve_turn_deg: <0..180>    turn of a feature curve making a corner   default: 45
+//     remesh: <bool>        remesh to the metric                  default: true
+//     iterations: <1..100>  remeshing rounds                      default: 8
+//     curvature_factor: <>=0>  sizes at most this x radius of curvature (0: off)   default: 0
+//     curvature_h_min: <>0>  the smallest size curvature asks for  default: the metric's size / 20
 //   metric:
 //     type: uniform         one metric everywhere
 //     h: <>0>               isotropic size                        default: 0.25
-//     sizes: [h1, h2]       anisotropic sizes (instead of h)      default: none
-//     angle_deg: <deg>      direction of h1 from the x axis       default: 0
+//     sizes: [h1, h2]       anisotropic sizes (instead of h); 3D: [hx, hy, hz]   default: none
+//     angle_deg: <deg>      direction of h1 from the x axis (2D)  default: 0
 //   metric:
 //     type: wall_power_law  boundary-layer metric of the paper's eq. (6) (wall_metric.h)
 //     h0: <>0>              first layer height                    default: 0.005
@@ -64,7 +89,7 @@
 //     max_depth: <1..20>    subdivision depth limit               default: 12
 //   output:
 //     dir: <path>           output folder (plaf run --out wins)   default: out
-//     formats: [msh, vtu, report, png]                            default: all four
+//     formats: [msh, vtu, report, png]                            default: all four (3D: no png)
 //     picture_width: <px>   PNG width                             default: 1600
 //     picture_height: <px>  PNG height                            default: 1200
 //     histogram_bins: <n>   bins of the metric edge-length histogram  default: 12
@@ -111,11 +136,43 @@ struct AirfoilsParams {
   FarfieldParams farfield;
 };
 
+struct SymmetryPlaneParams {
+  std::array<double, 3> normal = {0, 0, 1};
+  double offset = 0;
+};
+
+// The 3D geometries (only the chosen type's fields are read).
+struct Surface3Params {
+  std::array<double, 3> center = {0, 0, 0};
+  double radius = 1;
+  std::array<double, 3> semi_axes = {1.5, 1.2, 1.0};
+  std::array<double, 3> lo = {-1, -1, -1}, hi = {1, 1, 1};
+  std::string file;  // wing section or surface file
+  double chord = 1, span = 1;
+  std::string root = "symmetry", tip = "flat";
+  double corner_angle_deg = 30;
+  double weld_rel = 1e-9;
+  std::vector<SymmetryPlaneParams> symmetry_planes;
+  bool check_self_intersections = true;
+  bool drop_inner_components = false;
+};
+
 struct GeometryParams {
   std::string type = "annulus";
   std::string where;  // "file:line:col: geometry.type" for plugin errors
   AnnulusParams annulus;
   AirfoilsParams airfoils;
+  Surface3Params surface3;
+};
+
+struct SurfaceParams {
+  double ridge_angle_deg = 30;
+  double corner_defect_deg = 60;
+  double curve_turn_deg = 45;
+  bool remesh = true;
+  int iterations = 8;
+  double curvature_factor = 0;
+  double curvature_h_min = 0;  // 0: the metric's smallest size / 20
 };
 
 struct UniformMetricParams {
@@ -191,7 +248,9 @@ struct RunConfig {
   std::string name;
   std::filesystem::path file;
   int order = 3;
+  int dim = 2;  // 3 for the 3D geometry types
   GeometryParams geometry;
+  SurfaceParams surface;
   MetricParams metric;
   LayersParams layers;
   FillParams fill;

@@ -400,6 +400,43 @@ JacobianBounds JacobianCertifier::certify(CellType type, int order, const double
   return r;
 }
 
+bool surface_triangle_plane_coords(int order, const Eigen::Vector3d* nodes, double* coords2d) {
+  const int n = num_nodes(CellType::Triangle, order);
+  const Eigen::Vector3d a = nodes[0];
+  const Eigen::Vector3d e0 = nodes[1] - a, e1 = nodes[2] - a;
+  const Eigen::Vector3d normal = e0.cross(e1);
+  const double len0 = e0.norm();
+  // Zero area to round-off: |e0 x e1| against the product of the edge lengths.
+  constexpr double degenerate_sine = 1e-14;
+  const double area2 = normal.norm();
+  if (!std::isfinite(area2) || !(area2 > degenerate_sine * len0 * e1.norm())) return false;
+  const Eigen::Vector3d x_axis = e0 / len0;
+  const Eigen::Vector3d y_axis = normal.cross(e0).normalized();  // in the plane, toward vertex 2
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Vector3d d = nodes[k] - a;
+    coords2d[2 * k] = d.dot(x_axis);
+    coords2d[2 * k + 1] = d.dot(y_axis);
+  }
+  return true;
+}
+
+JacobianBounds certify_surface_triangle(JacobianCertifier& certifier, int order, const Eigen::Vector3d* nodes) {
+  check_order(order);
+  const int n = num_nodes(CellType::Triangle, order);
+  for (int k = 0; k < n; ++k)
+    if (!nodes[k].allFinite())
+      throw InputError("validity: node " + std::to_string(k) + " of an order-" + std::to_string(order) +
+                       " surface triangle has a non-finite coordinate");
+  std::array<double, 2 * 15> coords{};  // the order-4 triangle has 15 nodes
+  static_assert(2 * ((max_order + 1) * (max_order + 2) / 2) <= 2 * 15);
+  if (!surface_triangle_plane_coords(order, nodes, coords.data())) {
+    JacobianBounds degenerate;
+    degenerate.proven = true;
+    return degenerate;
+  }
+  return certifier.certify(CellType::Triangle, order, coords.data());
+}
+
 double jacobian_determinant(CellType type, int order, const double* coords, const double* xi) {
   const LagrangeElement& e = lagrange_element(type, order);
   std::array<double, max_grad_size> dphi{};

@@ -8,6 +8,12 @@
 // above over the cell; where the bounds cannot decide the sign, the cell is subdivided and the
 // coefficients recomputed on each part, until the sign is proven. Cells are in their own
 // dimension: triangles and quadrilaterals in 2D, tetrahedra and prisms in 3D.
+//
+// Curved surface triangles in 3D (a surface mesh) have no volume Jacobian; they are certified
+// relative to their flat triangle: the nodes are written in the flat triangle's plane frame
+// (origin at vertex 0, first axis along edge 0-1, second axis in the plane, so the flat triangle
+// is counter-clockwise) and certified as a 2D triangle. det J > 0 everywhere means the curved
+// triangle projects one-to-one onto its flat triangle's plane, without folds over its edges.
 #pragma once
 
 #include <Eigen/Dense>
@@ -53,6 +59,17 @@ class JacobianCertifier {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// The nodes of an order-`order` surface triangle (num_nodes(Triangle, order) points, Gmsh order)
+// written in its flat triangle's plane frame (see above), row-major (x0 y0 x1 y1 ...), into
+// coords2d. False (coords2d unset) when the flat triangle is degenerate (zero area, to round-off,
+// or a non-finite vertex).
+bool surface_triangle_plane_coords(int order, const Eigen::Vector3d* nodes, double* coords2d);
+
+// The certified bounds of one curved surface triangle relative to its flat triangle (det J of the
+// plane-frame map; scaled_lower() is its certified min / max). A degenerate flat triangle is
+// invalid (proven, all bounds 0). Throws InputError for a non-finite node, like certify().
+JacobianBounds certify_surface_triangle(JacobianCertifier& certifier, int order, const Eigen::Vector3d* nodes);
 
 // det J of the cell's mapping at reference point xi (for sampling and tests).
 double jacobian_determinant(CellType type, int order, const double* coords, const double* xi);

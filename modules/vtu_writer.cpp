@@ -95,11 +95,22 @@ template <int Dim>
 void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, const std::vector<CellField>& fields) {
   // 1. Validate before touching the file system.
   auto fail = [&](const std::string& why) { throw Error("cannot write " + path.string() + ": " + why); };
-  // A mesh without cells (a surface mesh alone) is written as its boundary facets.
-  const std::vector<CellBlock>& blocks = mesh.cells.empty() ? mesh.boundary : mesh.cells;
+  // A mesh without cells (a surface mesh alone) is written as its boundary facets, and in 3D its
+  // curves after them (the fields cover the facets; curve cells get NaN).
+  const bool surface = mesh.cells.empty();
+  std::vector<const CellBlock*> blocks;  // pointers: the connectivity is not copied
+  for (const CellBlock& b : surface ? mesh.boundary : mesh.cells) blocks.push_back(&b);
   std::size_t num_cells = 0;
-  for (const CellBlock& b : blocks) num_cells += b.size();
-  const int block_dim = mesh.cells.empty() ? Dim - 1 : Dim;
+  for (const CellBlock* b : blocks) num_cells += b->size();
+  const std::size_t field_cells = num_cells;
+  const std::size_t num_facet_blocks = blocks.size();
+  if (surface && Dim == 3) {
+    for (const CellBlock& b : mesh.curves) {
+      blocks.push_back(&b);
+      num_cells += b.size();
+    }
+  }
+  const int block_dim = surface ? Dim - 1 : Dim;
   const auto num_nodes = static_cast<NodeId>(mesh.nodes.size());
   for (std::size_t i = 0; i < fields.size(); ++i) {
     const CellField& fi = fields[i];
@@ -107,13 +118,14 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
       fail("cell field name '" + fi.name + "' is empty or reserved");
     for (std::size_t j = 0; j < i; ++j)
       if (fields[j].name == fi.name) fail("two cell fields are named '" + fi.name + "'");
-    if (fi.values.size() != num_cells)
+    if (fi.values.size() != field_cells)
       fail("cell field '" + fi.name + "' has " + std::to_string(fi.values.size()) + " values for " +
-           std::to_string(num_cells) + " cells");
+           std::to_string(field_cells) + " cells");
   }
   std::vector<std::vector<int>> perms;
-  for (const CellBlock& b : blocks) {
-    if (ref_dim(b.type) != block_dim || b.order < 1 || b.order > max_order)
+  for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
+    const CellBlock& b = *blocks[bi];
+    if (ref_dim(b.type) != (bi < num_facet_blocks ? block_dim : 1) || b.order < 1 || b.order > max_order)
       fail(std::string("a ") + cell_name(b.type) + " block of order " + std::to_string(b.order) +
            " is not a volume block of this mesh");
     if (b.connectivity.size() % static_cast<std::size_t>(b.nodes_per_cell()) != 0)
@@ -143,7 +155,7 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
   // 3. Connectivity in VTK order, offsets, types.
   data_array(f, "Int64", "connectivity", 1);
   for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
-    const CellBlock& b = blocks[bi];
+    const CellBlock& b = *blocks[bi];
     const std::vector<int>& perm = perms[bi];
     for (std::size_t i = 0; i < b.size(); ++i) {
       const NodeId* c = b.cell(i);
@@ -158,14 +170,15 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
   data_array(f, "Int64", "offsets", 1);
   std::int64_t offset = 0;
   for (std::size_t bi = 0; bi < blocks.size(); ++bi)
-    for (std::size_t i = 0; i < blocks[bi].size(); ++i) {
+    for (std::size_t i = 0; i < blocks[bi]->size(); ++i) {
       offset += static_cast<std::int64_t>(perms[bi].size());
       f.write_int(offset);
       f.put('\n');
     }
   f.write(end_data_array);
   data_array(f, "UInt8", "types", 1);
-  for (const CellBlock& b : blocks) {
+  for (const CellBlock* bp : blocks) {
+    const CellBlock& b = *bp;
     const int type = vtk_cell_type(b.type, b.order);
     for (std::size_t i = 0; i < b.size(); ++i) {
       f.write_int(type);
@@ -179,7 +192,7 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
   f.write("      <CellData Scalars=\"block\" HigherOrderDegrees=\"HigherOrderDegrees\">\n");
   data_array(f, "Int32", "block", 1);
   for (std::size_t bi = 0; bi < blocks.size(); ++bi)
-    for (std::size_t i = 0; i < blocks[bi].size(); ++i) {
+    for (std::size_t i = 0; i < blocks[bi]->size(); ++i) {
       f.write_int(static_cast<std::int64_t>(bi));
       f.put('\n');
     }
@@ -190,10 +203,12 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
       f.write_double(v);
       f.put('\n');
     }
+    for (std::size_t i = field_cells; i < num_cells; ++i) f.write("nan\n");
     f.write(end_data_array);
   }
   data_array(f, "Int32", "HigherOrderDegrees", 3);
-  for (const CellBlock& b : blocks) {
+  for (const CellBlock* bp : blocks) {
+    const CellBlock& b = *bp;
     const int dim = ref_dim(b.type);
     for (std::size_t i = 0; i < b.size(); ++i)
       for (int d = 0; d < 3; ++d) {

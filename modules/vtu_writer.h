@@ -34,7 +34,8 @@ int vtk_cell_type(CellType type, int order);
 // perm[k] = local Gmsh index of the node written at VTK position k, for that cell type.
 std::vector<int> vtk_node_permutation(CellType type, int order);
 
-// A mesh without cells (a surface mesh alone) is written as its boundary facets.
+// A mesh without cells (a surface mesh alone) is written as its boundary facets, then (3D) its
+// curves as line cells; the fields then hold one value per boundary facet, the curves get NaN.
 // Throws Error (naming the path) if a field has the wrong length or a reserved or repeated name,
 // if a block refers to a missing node, or if the file cannot be written; never leaves a partial
 // file behind (AtomicFile). Non-finite field values are written as "nan", "inf" and "-inf"; VTK

@@ -8,8 +8,10 @@
 // is valid when its Jacobian relative to its flat triangle, J = det of the curved map's
 // derivative expressed in the flat triangle's plane frame, is positive everywhere: certified by
 // the Bezier test of validity.h on the nodes written in that frame. Invalid triangles are
-// straightened step by step (their non-feature nodes moved toward the flat positions) and
-// reported.
+// straightened step by step: their non-vertex nodes are moved toward the flat positions (to
+// 0.75, 0.5, 0.25, 0 of their displacement), face and smooth-edge nodes first, feature-curve edge
+// nodes only if that is not enough; an edge's nodes are shared, so the neighbours across the
+// moved edges are certified again (and straightened in turn if they broke).
 #pragma once
 
 #include <cstddef>
@@ -28,19 +30,26 @@ struct CurvingReport {
   double min_scaled_jacobian = 0;
 };
 
-// Sets s.order = order and fills edge_nodes / face_nodes.
+// Sets s.order = order and fills edge_nodes / face_nodes (order 1 clears them; every triangle is
+// still certified). Curve edges (edge_curve >= 0) project onto reference.project_to_curve; a curve
+// number the reference does not have throws MesherError. min_scaled_jacobian is the smallest
+// certified lower bound of min det J / max det J over the final triangles.
 CurvingReport curve_surface(TriSurface& s, const ReferenceGeometry& reference, int order,
                             const ValidityOptions& validity = {});
 
-// The certified bounds of one curved surface triangle (nodes in Gmsh order), relative to its
-// flat triangle.
-JacobianBounds certify_surface_triangle(JacobianCertifier& certifier, int order, const Eigen::Vector3d* nodes);
+// certify_surface_triangle(certifier, order, nodes) (validity.h, included here) certifies one
+// curved surface triangle (nodes in Gmsh order) relative to its flat triangle; it lives in core so
+// that assess_quality certifies surface meshes read back from files the same way.
 
-// Area of the curved surface, by Gauss quadrature of |x_u x x_v| on every triangle.
+// Area of the curved surface, by Gauss quadrature of |x_u x x_v| on every triangle (a collapsed
+// 8 x 8 Gauss-Legendre rule on the square: exact for polynomials of degree 14).
 double surface_area(const TriSurface& s);
 
 // The surface as a HybridMesh<3> without volume cells: one boundary triangle block of order Q
-// per face tag, and one line block (HybridMesh::curves) per edge tag (e.g. the symmetry loop).
+// per face tag, and one line block (HybridMesh::curves) per edge tag (e.g. the symmetry loop),
+// with the tags of s (same indices). Nodes are shared: the vertices, then the interior nodes of
+// each edge, then of each face, so the mesh is conforming. Curve lines run along their face's
+// boundary half-edge. Throws MesherError for a face or edge tag outside s.tags.
 HybridMesh<3> surface_to_mesh(const TriSurface& s);
 
 }  // namespace plaf

@@ -380,3 +380,72 @@ TEST_CASE("mesh: a surface mesh alone is checked as closed, consistently oriente
   r = check_conformity(m);
   CHECK(r.open_facets == 2);
 }
+
+namespace {
+
+// The unit square in z = 0 as two order-2 surface triangles: vertices 0..3, edge midpoints 4
+// (0-1), 5 (1-2), 6 (2-3), 7 (3-0), 8 (the diagonal 0-2); an open surface with a 4-edge rim.
+HybridMesh<3> square_surface() {
+  HybridMesh<3> m;
+  m.nodes = {{0, 0, 0},   {1, 0, 0},   {1, 1, 0},   {0, 1, 0},    {0.5, 0, 0},
+             {1, 0.5, 0}, {0.5, 1, 0}, {0, 0.5, 0}, {0.5, 0.5, 0}};
+  const int wall = m.add_tag("wall", BoundaryKind::Wall);
+  m.boundary_block(CellType::Triangle, 2, wall).connectivity = {0, 1, 2, 4, 5, 8, 0, 2, 3, 8, 6, 7};
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("mesh: a 3D surface's open edges are boundary when a curves block lists them") {
+  HybridMesh<3> m = square_surface();
+  ConformityReport r = check_conformity(m);
+  CHECK_FALSE(r.ok);
+  CHECK(r.open_facets == 4);
+  CHECK(r.interior_facets == 1);
+
+  const int symmetry = m.add_tag("symmetry", BoundaryKind::Symmetry);
+  CellBlock& rim = m.curve_block(2, symmetry);
+  rim.connectivity = {0, 1, 4, 1, 2, 5, 2, 3, 6, 0, 3, 7};  // the last one against the face's direction
+  CHECK(&m.curve_block(2, symmetry) == &m.curves[0]);
+  CHECK(m.curves.size() == 1);
+  CHECK(m.curves[0].type == CellType::Line);
+  CHECK(m.curves[0].tag == symmetry);
+  CHECK(m.boundary.size() == 1);  // curves never land among the boundary blocks
+  r = check_conformity(m);
+  check_counts(r, {1, 4, 0, 0, 0, 0});
+
+  // A curve on the inner diagonal is an embedded curve (still interior, no problem).
+  HybridMesh<3> diagonal = m;
+  CellBlock& inner = diagonal.curve_block(2, symmetry);
+  inner.connectivity.insert(inner.connectivity.end(), {0, 2, 8});
+  check_counts(check_conformity(diagonal), {1, 4, 0, 0, 0, 0});
+
+  // A curve with another middle node than its triangle's edge is a node mismatch.
+  HybridMesh<3> mismatch = m;
+  mismatch.curves[0].connectivity[2] = 5;
+  r = check_conformity(mismatch);
+  CHECK(r.node_mismatches == 1);
+  CHECK_FALSE(r.ok);
+  CHECK(r.first_problem == "boundary " + facet_text({0, 1}) + " has other high-order nodes than the cell it bounds");
+
+  // A curve that is no edge of the surface is stray.
+  HybridMesh<3> stray = m;
+  stray.nodes.push_back({0.5, 0.5, 1});
+  stray.curves[0].connectivity.insert(stray.curves[0].connectivity.end(), {1, 3, 9});
+  r = check_conformity(stray);
+  CHECK(r.stray_boundary == 1);
+  CHECK_FALSE(r.ok);
+}
+
+TEST_CASE("mesh: compact_nodes keeps and renumbers the nodes of curves") {
+  HybridMesh<3> m = square_surface();
+  m.nodes.push_back({9, 9, 9});  // 9: unused
+  m.nodes.push_back({2, 0, 0});  // 10: used by a curve alone
+  const int feature = m.add_tag("feature", BoundaryKind::Named);
+  m.curve_block(1, feature).connectivity = {1, 10};
+  compact_nodes(m);
+  REQUIRE(m.nodes.size() == 10);
+  CHECK(m.curves[0].connectivity == std::vector<NodeId>{1, 9});
+  CHECK(m.nodes[9] == Eigen::Vector3d(2, 0, 0));
+  CHECK(m.boundary[0].connectivity == std::vector<NodeId>{0, 1, 2, 4, 5, 8, 0, 2, 3, 8, 6, 7});
+}

@@ -775,3 +775,75 @@ TEST_CASE("io: a file of lines alone reads as a 2D surface mesh (boundary loops,
   CHECK(r.mesh2.boundary[0].connectivity == m.boundary[0].connectivity);
   CHECK(r.mesh2.tags.at(static_cast<std::size_t>(r.mesh2.boundary[0].tag)).kind == BoundaryKind::Wall);
 }
+
+TEST_CASE("io: a 3D surface mesh with curves round-trips: curve entities of dimension 1 with their own groups") {
+  TempDir dir("msh_curves");
+  // Two order-2 triangles bent out of the plane (a 3D surface), its rim a "symmetry" curve.
+  HybridMesh<3> m;
+  m.nodes = {{0, 0, 0},     {1, 0, 0},     {1, 1, 0.5}, {0, 1, 0},      {0.5, 0, 0},
+             {1, 0.5, 0.2}, {0.5, 1, 0.2}, {0, 0.5, 0}, {0.5, 0.5, 0.3}};
+  const int symmetry = m.add_tag("symmetry_rim", BoundaryKind::Symmetry);
+  const int wall = m.add_tag("wall", BoundaryKind::Wall);
+  const int both = m.add_tag("edge_and_face", BoundaryKind::Named);
+  m.boundary_block(CellType::Triangle, 2, wall).connectivity = {0, 1, 2, 4, 5, 8};
+  m.boundary_block(CellType::Triangle, 2, both).connectivity = {0, 2, 3, 8, 6, 7};
+  m.curve_block(2, symmetry).connectivity = {0, 1, 4, 1, 2, 5, 2, 3, 6};
+  m.curve_block(2, both).connectivity = {3, 0, 7};
+  REQUIRE(check_conformity(m).ok);
+  write_msh41(m, dir / "surface.msh");
+  const std::string text = read_text(dir / "surface.msh");
+  // Curve tags are physical groups of dimension 1; a tag used by curves alone has none of dimension 2.
+  CHECK(text.find("1 1 \"symmetry_rim\"") != std::string::npos);
+  CHECK(text.find("2 1 \"symmetry_rim\"") == std::string::npos);
+  CHECK(text.find("1 3 \"edge_and_face\"") != std::string::npos);
+  CHECK(text.find("2 3 \"edge_and_face\"") != std::string::npos);
+  CHECK(text.find("2 2 \"wall\"") != std::string::npos);
+  CHECK(text.find("$Entities\n0 2 2 1\n") != std::string::npos);
+  const MshMesh back = read_msh41(dir / "surface.msh");
+  REQUIRE(back.dim == 3);
+  CHECK(back.mesh3.cells.empty());
+  check_same(m, back.mesh3);
+  REQUIRE(back.mesh3.curves.size() == 2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    CHECK(back.mesh3.curves[i].type == CellType::Line);
+    CHECK(back.mesh3.curves[i].order == 2);
+    CHECK(back.mesh3.curves[i].tag == m.curves[i].tag);
+    CHECK(back.mesh3.curves[i].connectivity == m.curves[i].connectivity);
+  }
+  CHECK(check_conformity(back.mesh3).ok);
+
+  // Lines of an entity without a physical group are ignored in 3D (Gmsh's "save all").
+  const std::string entity_line = "1 0 0 0 1 1 0.5 1 1 0\n";  // curve entity 1 with physical 1
+  REQUIRE(text.find(entity_line) != std::string::npos);
+  write_text(dir / "unnamed.msh", replace(text, entity_line, "1 0 0 0 1 1 0.5 0 0\n"));
+  const MshMesh unnamed = read_msh41(dir / "unnamed.msh");
+  REQUIRE(unnamed.mesh3.curves.size() == 1);
+  CHECK(unnamed.mesh3.curves[0].connectivity == m.curves[1].connectivity);
+
+  // A 2D mesh may not carry curves.
+  HybridMesh<2> flat;
+  flat.nodes = {{0, 0}, {1, 0}};
+  flat.add_tag("c", BoundaryKind::Named);
+  flat.curves.push_back(CellBlock{CellType::Line, 1, 0, {0, 1}});
+  CHECK_THROWS_AS(write_msh41(flat, dir / "flat.msh"), Error);
+}
+
+TEST_CASE("io: curves of a 3D volume mesh round-trip next to its cells") {
+  TempDir dir("msh_volume_curves");
+  HybridMesh<3> mesh = annulus_sector<3>(2, 2, 2, 1.0, [](int, int, int) { return 2; });
+  REQUIRE(!mesh.boundary.empty());
+  // The first boundary facet's first edge as a tagged curve.
+  const CellBlock& f = mesh.boundary[0];
+  const LagrangeElement& e = lagrange_element(f.type, f.order);
+  const std::vector<int>& edge = e.edge_nodes(0);
+  const int tag = mesh.add_tag("symmetry_line", BoundaryKind::Symmetry);
+  CellBlock& c = mesh.curve_block(2, tag);
+  c.connectivity = {f.cell(0)[edge.front()], f.cell(0)[edge.back()], f.cell(0)[edge[1]]};
+  write_msh41(mesh, dir / "m.msh");
+  const MshMesh back = read_msh41(dir / "m.msh");
+  REQUIRE(back.dim == 3);
+  check_same(mesh, back.mesh3);
+  REQUIRE(back.mesh3.curves.size() == 1);
+  CHECK(back.mesh3.curves[0].connectivity == c.connectivity);
+  CHECK(back.mesh3.tags[static_cast<std::size_t>(back.mesh3.curves[0].tag)].name == "symmetry_line");
+}

@@ -632,3 +632,63 @@ TEST_CASE("quality: the triangles' metric section counts their edges once and th
   const UniformMetricField<2> stretched(Metric<2>::from_directions(Eigen::Matrix2d::Identity(), Eigen::Vector2d(0.025, 0.1)));
   CHECK(assess_quality<2>(m, &stretched, QualityOptions{}).triangle_metric.quality_min < 0.6);
 }
+
+TEST_CASE("quality: a 3D surface mesh is assessed through its triangles, certified against their flat triangles") {
+  // Two order-2 triangles of the unit square lifted onto z = x y (a saddle), rim open.
+  HybridMesh<3> m;
+  for (const auto& [x, y] : std::vector<std::pair<double, double>>{
+           {0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.5, 0}, {1, 0.5}, {0.5, 1}, {0, 0.5}, {0.5, 0.5}})
+    m.nodes.push_back({x, y, x * y});
+  const int wall = m.add_tag("wall", BoundaryKind::Wall);
+  m.boundary_block(CellType::Triangle, 2, wall).connectivity = {0, 1, 2, 4, 5, 8, 0, 2, 3, 8, 6, 7};
+  CellQuality pc;
+  QualityReport r = assess_quality<3>(m, nullptr, QualityOptions{}, &pc);
+  CHECK(r.surface);
+  CHECK(r.cells_total == 2);
+  CHECK(r.cells_by_type.at("triangle_Q2") == 2);
+  CHECK(r.cells_invalid == 0);
+  // The lifted diagonal's middle node lies 0.25 below the flat triangle's midpoint, partly
+  // sideways in the tilted plane: valid, not straight.
+  CHECK(r.scaled_jacobian_min > 0.4);
+  CHECK(r.scaled_jacobian_min < 0.99);
+  CHECK(r.aspect_ratio_max >= 1);
+  CHECK(pc.valid == std::vector<std::uint8_t>{1, 1});
+  // The open rim is a hole until a curves block lists it.
+  CHECK_FALSE(r.conformity.ok);
+  CHECK(r.conformity.open_facets == 4);
+  const int symmetry = m.add_tag("symmetry", BoundaryKind::Symmetry);
+  m.curve_block(2, symmetry).connectivity = {0, 1, 4, 1, 2, 5, 2, 3, 6, 3, 0, 7};
+  r = assess_quality<3>(m, nullptr, QualityOptions{});
+  CHECK(r.ok());
+  CHECK(r.conformity.boundary_facets == 4);
+  CHECK(report_summary(r).find("2 surface triangles (2 triangle_Q2)") != std::string::npos);
+  CHECK(report_json(r).find("\"surface\": true") != std::string::npos);
+
+  // With a metric: the metric lengths of the 5 distinct edges (unit metric: their lengths).
+  const UniformMetricField<3> unit(Metric<3>::isotropic(1.0));
+  r = assess_quality<3>(m, &unit, QualityOptions{});
+  CHECK(r.has_metric);
+  CHECK(r.metric.count == 5);
+  CHECK(r.metric.min == doctest::Approx(1).epsilon(1e-9));  // the straight sides y = 0, x = 0
+  // The lifted diagonal (t, t, t^2) (exact at order 2): integral of sqrt(2 + 4 t^2) over [0, 1].
+  const double diagonal = std::sqrt(1.5) + 0.5 * std::log(1 + std::sqrt(1.5)) - 0.5 * std::log(std::sqrt(0.5));
+  CHECK(r.metric.max == doctest::Approx(diagonal).epsilon(1e-6));
+
+  // A middle node moved along its edge past the edge's 3/4 point folds the first triangle.
+  m.nodes[4] = {0.9, 0, 0};
+  r = assess_quality<3>(m, nullptr, QualityOptions{}, &pc);
+  CHECK(r.cells_invalid == 1);
+  CHECK_FALSE(r.ok());
+  CHECK(r.first_invalid.rfind("surface triangle 0 of boundary block 0 at (0, 0, 0)", 0) == 0);
+  CHECK(pc.valid == std::vector<std::uint8_t>{0, 1});
+  CHECK(r.scaled_jacobian_min < 0);
+}
+
+TEST_CASE("quality: 2D and volume meshes are not marked surface") {
+  const auto s = plaf::test::triangle_grid(2, 2, 2);
+  CHECK_FALSE(assess_quality<2>(s.mesh, nullptr, QualityOptions{}).surface);
+  const auto t = plaf::test::kuhn_tets(1, 1, 1, 1);
+  const QualityReport r = assess_quality<3>(t.mesh, nullptr, QualityOptions{});
+  CHECK_FALSE(r.surface);
+  CHECK(r.cells_total == 6);
+}

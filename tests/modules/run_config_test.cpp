@@ -295,3 +295,61 @@ TEST_CASE("run config: load_run_config resolves paths relative to the config fil
                        ((d.path / "bad.yaml").string() + ":1:8: order: 9 is outside 1..4").c_str(), ConfigError);
   CHECK_THROWS_AS(load_run_config(d.path / "missing.yaml"), InputError);
 }
+
+TEST_CASE("run config: 3D geometries make a 3D run with its surface section, a 3D uniform metric, no png") {
+  const RunConfig s = parse_run_config("geometry: {type: sphere, radius: 2, center: [1, 2, 3]}\n"
+                                       "metric: {type: uniform, h: 0.1}\n"
+                                       "surface: {ridge_angle_deg: 40, iterations: 5, curvature_factor: 0.3}\n",
+                                       "s.yaml");
+  CHECK(s.dim == 3);
+  CHECK(s.geometry.surface3.radius == 2);
+  CHECK(s.geometry.surface3.center[2] == 3);
+  CHECK(s.surface.ridge_angle_deg == 40);
+  CHECK(s.surface.iterations == 5);
+  CHECK(s.surface.curvature_factor == doctest::Approx(0.3));
+  CHECK(s.surface.curvature_h_min == 0);
+  CHECK(s.output.formats == std::vector<std::string>{"msh", "vtu", "report"});
+
+  const RunConfig w = parse_run_config("geometry: {type: wing, file: e387.dat, span: 3, root: rounded, tip: symmetry}\n"
+                                       "metric: {type: uniform, sizes: [0.1, 0.2, 0.3]}\n",
+                                       "w.yaml");
+  CHECK(w.geometry.surface3.root == "rounded");
+  CHECK(w.geometry.surface3.tip == "symmetry");
+  CHECK(w.geometry.surface3.span == 3);
+  CHECK(w.metric.uniform.sizes.size() == 3);
+
+  const RunConfig f = parse_run_config("geometry: {type: surface_file, file: m6.fmt, symmetry_planes: "
+                                       "[{normal: [0, 0, 2], offset: 1}], inner_components: drop}\n",
+                                       "f.yaml");
+  REQUIRE(f.geometry.surface3.symmetry_planes.size() == 1);
+  CHECK(f.geometry.surface3.symmetry_planes[0].normal[2] == doctest::Approx(1));
+  CHECK(f.geometry.surface3.symmetry_planes[0].offset == doctest::Approx(0.5));  // normalised with the normal
+  CHECK(f.geometry.surface3.drop_inner_components);
+  CHECK(f.geometry.surface3.check_self_intersections);
+
+  // 2D runs are untouched.
+  CHECK(parse_run_config(one_body, "a.yaml").dim == 2);
+}
+
+TEST_CASE("run config: 3D keys are checked like the 2D ones") {
+  CHECK(config_error("geometry: {type: sphere, radius: -1}\n") ==
+        doctest::Contains("geometry.radius"));
+  CHECK(config_error("geometry: {type: box, lo: [0, 0, 0], hi: [1, 0, 1]}\n") ==
+        doctest::Contains("must exceed lo"));
+  CHECK(config_error("geometry: {type: sphere, center: [0, 0]}\n") == doctest::Contains("three numbers"));
+  CHECK(config_error("geometry: {type: wing}\n") == doctest::Contains("file (the airfoil section) is required"));
+  CHECK(config_error("geometry: {type: wing, file: a.dat, tip: pointed}\n") == doctest::Contains("pointed"));
+  CHECK(config_error("geometry: {type: surface_file}\n") == doctest::Contains("file is required"));
+  CHECK(config_error("geometry: {type: surface_file, file: a.stl, symmetry_planes: [{normal: [0, 0, 0]}]}\n") ==
+        doctest::Contains("must not be zero"));
+  CHECK(config_error("geometry: {type: sphere}\nmetric: {type: wall_power_law}\n") ==
+        doctest::Contains("2D only"));
+  CHECK(config_error("geometry: {type: sphere}\nmetric: {type: uniform, sizes: [1, 2]}\n") ==
+        doctest::Contains("three sizes"));
+  CHECK(config_error("geometry: {type: sphere}\nmetric: {type: uniform, angle_deg: 3}\n") ==
+        doctest::Contains("angle_deg"));
+  CHECK(config_error("geometry: {type: sphere}\noutput: {formats: [msh, png]}\n") == doctest::Contains("2D only"));
+  CHECK(config_error("geometry: {type: sphere}\nsurface: {ridge_angle: 3}\n") == doctest::Contains("ridge_angle"));
+  CHECK(config_error(one_body + "surface: {iterations: 3}\n") == doctest::Contains("for 3D geometries"));
+  CHECK(config_error("geometry: {type: sphere}\nlayers: {max: 3}\n") == doctest::Contains("layers"));
+}

@@ -3,6 +3,7 @@
 
 #include <doctest/doctest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -456,4 +457,75 @@ TEST_CASE("validity: bad orders, line cells and non-finite coordinates are rejec
   nan_tri[3] = std::numeric_limits<double>::quiet_NaN();
   CHECK_THROWS_WITH_AS(certifier.certify(CellType::Triangle, 1, nan_tri.data()),
                        "validity: node 1 of an order-1 triangle has a non-finite coordinate", InputError);
+}
+
+namespace {
+
+// The order-q surface triangle x(u, v) = a + u e0 + v e1 + bump(u, v), nodes in Gmsh order.
+template <class Bump>
+std::vector<Eigen::Vector3d> surface_triangle(int q, const Eigen::Vector3d& a, const Eigen::Vector3d& e0,
+                                              const Eigen::Vector3d& e1, Bump bump) {
+  const LagrangeElement& e = lagrange_element(CellType::Triangle, q);
+  std::vector<Eigen::Vector3d> nodes;
+  for (int i = 0; i < e.size(); ++i) {
+    const auto r = e.ref_node(i);
+    nodes.push_back(a + r[0] * e0 + r[1] * e1 + bump(r[0], r[1]));
+  }
+  return nodes;
+}
+
+}  // namespace
+
+TEST_CASE("validity: surface triangles are certified in their flat triangle's plane") {
+  JacobianCertifier certifier;
+  const Eigen::Vector3d a(0.3, -1, 2), e0(1, 0.2, 0.1), e1(0.1, 0.9, -0.4);
+  const Eigen::Vector3d normal = e0.cross(e1).normalized();
+  for (int q = 1; q <= max_order; ++q) {
+    INFO("order ", q);
+    // Flat, in any orientation and position: det J constant, scaled Jacobian 1.
+    const auto flat = surface_triangle(q, a, e0, e1, [](double, double) { return Eigen::Vector3d::Zero(); });
+    JacobianBounds b = certify_surface_triangle(certifier, q, flat.data());
+    CHECK(b.valid);
+    CHECK(b.scaled_lower() == doctest::Approx(1).epsilon(1e-9));
+    // The plane frame keeps lengths: det J = twice the flat triangle's area.
+    CHECK(b.min_lower == doctest::Approx(e0.cross(e1).norm()).epsilon(1e-9));
+    std::vector<double> plane(flat.size() * 2);
+    REQUIRE(surface_triangle_plane_coords(q, flat.data(), plane.data()));
+    CHECK(plane[0] == 0);
+    CHECK(plane[1] == 0);
+    CHECK(plane[2] == doctest::Approx(e0.norm()));
+    CHECK(plane[3] == doctest::Approx(0).epsilon(1e-12));
+    CHECK(plane[5] > 0);  // vertex 2 on the positive side: counter-clockwise
+    // The mirrored triangle (vertices 1 and 2 swapped) is still counter-clockwise in its own frame.
+    if (q == 1) {
+      const std::vector<Eigen::Vector3d> swapped = {flat[0], flat[2], flat[1]};
+      CHECK(certify_surface_triangle(certifier, 1, swapped.data()).valid);
+    }
+  }
+  for (int q = 2; q <= max_order; ++q) {
+    INFO("order ", q);
+    // A bump along the normal does not change the map in the plane: still scaled Jacobian 1.
+    auto bump = [&](double u, double v) { return Eigen::Vector3d(3 * u * v * normal); };
+    const auto bumped = surface_triangle(q, a, e0, e1, bump);
+    JacobianBounds b = certify_surface_triangle(certifier, q, bumped.data());
+    CHECK(b.valid);
+    CHECK(b.scaled_lower() == doctest::Approx(1).epsilon(1e-9));
+    // A tangential shear that folds the triangle over edge 0-1 near vertex 1 (the map's
+    // u-derivative along e0 is 1 - 2.4 u, negative for u > 5/12): proven invalid.
+    auto fold = [&](double u, double) { return Eigen::Vector3d(-1.2 * u * u * e0); };
+    const auto folded = surface_triangle(q, a, e0, e1, fold);
+    b = certify_surface_triangle(certifier, q, folded.data());
+    CHECK_FALSE(b.valid);
+    CHECK(b.proven);
+    CHECK(b.min_upper < 0);
+  }
+  // A degenerate flat triangle is proven invalid; a non-finite node is an input error.
+  std::vector<Eigen::Vector3d> line = {a, a + e0, a + 2 * e0};
+  JacobianBounds d = certify_surface_triangle(certifier, 1, line.data());
+  CHECK_FALSE(d.valid);
+  CHECK(d.proven);
+  std::vector<double> plane(6);
+  CHECK_FALSE(surface_triangle_plane_coords(1, line.data(), plane.data()));
+  line[2] = Eigen::Vector3d(0, std::numeric_limits<double>::quiet_NaN(), 0);
+  CHECK_THROWS_AS(certify_surface_triangle(certifier, 1, line.data()), InputError);
 }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <random>
@@ -209,4 +210,32 @@ TEST_CASE("io: VTU writer rejects bad fields and broken blocks without leaving a
   }
   CHECK_THROWS_AS(write_vtu(mesh, dir.path / "m.vtu", fields), Error);
   CHECK(fs::is_empty(dir.path));
+}
+
+TEST_CASE("io: a 3D surface mesh writes its triangles, then its curves as line cells") {
+  TempDir dir("vtu_surface");
+  HybridMesh<3> m;
+  m.nodes = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0.5}, {0, 1, 0}, {0.5, 0, 0}, {1, 0.5, 0.2}, {0.5, 0.5, 0.3}};
+  const int wall = m.add_tag("wall", BoundaryKind::Wall);
+  const int symmetry = m.add_tag("symmetry", BoundaryKind::Symmetry);
+  m.boundary_block(CellType::Triangle, 2, wall).connectivity = {0, 1, 2, 4, 5, 6};
+  m.curve_block(2, symmetry).connectivity = {0, 1, 4, 1, 2, 5};
+  m.curve_block(1, symmetry).connectivity = {2, 3};
+  write_vtu(m, dir.path / "s.vtu", {{"q", {0.75}}});
+  const std::string xml = read_text(dir.path / "s.vtu");
+  CHECK(xml.find("NumberOfCells=\"4\"") != std::string::npos);
+  CHECK(data_array(xml, "types") == std::vector<double>{69, 68, 68, 3});
+  CHECK(data_array(xml, "offsets") == std::vector<double>{6, 9, 12, 14});
+  CHECK(data_array(xml, "block") == std::vector<double>{0, 1, 1, 2});
+  CHECK(data_array(xml, "HigherOrderDegrees") == std::vector<double>{2, 2, 0, 2, 0, 0, 2, 0, 0, 1, 0, 0});
+  // The field covers the triangles; the curve cells get NaN.
+  const std::vector<double> q = data_array(xml, "q");
+  REQUIRE(q.size() == 4);
+  CHECK(q[0] == 0.75);
+  for (std::size_t i = 1; i < 4; ++i) CHECK(std::isnan(q[i]));
+  // VTK's Lagrange curve is ordered like Gmsh's line: ends, then the middle.
+  const std::vector<double> conn = data_array(xml, "connectivity");
+  CHECK(std::vector<double>(conn.begin() + 6, conn.end()) == std::vector<double>{0, 1, 4, 1, 2, 5, 2, 3});
+  // A field with one value per cell including the curves is the wrong length.
+  CHECK_THROWS_AS(write_vtu(m, dir.path / "bad.vtu", {{"q", {1, 2, 3, 4}}}), Error);
 }
