@@ -4,7 +4,10 @@
 // - STL (ASCII and binary), OBJ, OFF, PLY are read through OpenMesh's readers with a soup
 //   importer (so non-manifold input reaches our validation instead of being dropped by OpenMesh);
 //   polygons are fanned into triangles. STL points are welded: exactly equal points become one
-//   vertex, then points closer than weld_rel x the bounding-box diagonal.
+//   vertex, then points closer than weld_rel x the bounding-box diagonal. OBJ, OFF and PLY are not
+//   welded (their vertices are shared by index); unreferenced vertices are dropped. STL and OFF
+//   coordinates come through OpenMesh as floats. OpenMesh 9 is not safe on bad input (silent
+//   wrong values, hangs), so each format is checked strictly before OpenMesh reads it.
 // - Plot3D formatted ASCII multi-block structured surfaces (.fmt, .p3d, whole grid, no IBLANK;
 //   first the number of blocks, then ni nj nk per block with nk = 1, then per block all x, all y,
 //   all z with i fastest). Coincident nodes on block interfaces are merged (within weld_rel x the
