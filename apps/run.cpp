@@ -246,6 +246,7 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
   // 1. Configuration: everything is validated before anything is written.
   RunConfig c = load_run_config(config_path);
   if (out_dir) c.output.dir = *out_dir;
+  if (c.dim == 3) return run_surface3d(c, config_path);
   std::vector<std::pair<std::string, double>> timings;
   StageClock clock(timings);
   clock.done("config", config_path.string());

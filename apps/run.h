@@ -12,6 +12,10 @@ namespace plaf {
 // bad input before any output is written.
 int run_command(const std::filesystem::path& config, const std::optional<std::filesystem::path>& out_dir);
 
+struct RunConfig;
+// The 3D surface run (run_surface3d.cpp), called by run_command for 3D geometries.
+int run_surface3d(const RunConfig& config, const std::filesystem::path& config_path);
+
 // Re-reads a Gmsh MSH 4.1 file and reports validity and quality; 0 when valid and conforming.
 // With metric_config, the edges are also measured in that run configuration's metric (its
 // geometry is built when the metric needs it), so meshes of other tools are judged by the same

@@ -16,6 +16,7 @@
 #include "modules/run_config.h"
 #include "modules/vtu_writer.h"
 #include "surface3d/analytic.h"
+#include "surface3d/curvature_metric.h"
 #include "surface3d/features.h"
 #include "surface3d/high_order.h"
 #include "surface3d/read_surface.h"
@@ -68,9 +69,10 @@ struct SurfaceInput {
 SurfaceInput build_input(const RunConfig& c, const MetricField<3>& metric) {
   const Surface3Params& g = c.geometry.surface3;
   SurfaceInput in;
-  // Analytic bodies start from a triangulation at about twice the metric's largest size at the
-  // centre (the remesher refines it; a coarser start only costs split rounds).
-  const double h0 = 2 * metric.evaluate(vec(g.center)).max_size();
+  // Analytic bodies start from a triangulation at 1.5 times the metric's largest size at the
+  // centre: one split brings its edges to 0.75, inside the unit band (a start at exactly twice
+  // the size splits the lattice's diagonals to 1/sqrt 2, on the band's edge).
+  const double h0 = 1.5 * metric.evaluate(vec(g.center)).max_size();
   AnalyticBody body;
   if (c.geometry.type == "sphere") {
     body = make_sphere(vec(g.center), g.radius, std::min(h0, g.radius));
@@ -153,12 +155,21 @@ int run_surface3d(const RunConfig& c, const std::filesystem::path& config_path) 
   clock.done("geometry", in.what);
   std::cout << "  features (input): " << feature_line(in.features) << '\n';
 
+  // With curvature_factor, sizes also follow the reference's curvature (curvature_metric.h).
+  std::unique_ptr<MetricField<3>> curved_metric;
+  if (c.surface.curvature_factor > 0) {
+    const double base_min = metric->evaluate(s.mesh.point(*s.mesh.vertices().begin())).min_size();
+    const double h_min = c.surface.curvature_h_min > 0 ? c.surface.curvature_h_min : base_min / 20;
+    curved_metric = std::make_unique<CurvatureMetricField>(*metric, *in.reference, c.surface.curvature_factor, h_min);
+  }
+  const MetricField<3>& field = curved_metric ? *curved_metric : *metric;
+
   // 3. Metric-conforming remeshing, features kept.
   RemeshReport rr;
   if (c.surface.remesh) {
     RemeshOptions ro;
     ro.iterations = c.surface.iterations;
-    rr = remesh_surface(s, *in.reference, *metric, ro);
+    rr = remesh_surface(s, *in.reference, field, ro);
     clock.done("remesh", std::to_string(rr.faces_before) + " -> " + std::to_string(rr.faces_after) +
                              " triangles, unit fraction " + std::to_string(rr.unit_fraction));
   }
@@ -188,7 +199,7 @@ int run_surface3d(const RunConfig& c, const std::filesystem::path& config_path) 
   QualityOptions qo;
   qo.validity = vo;
   qo.histogram_bins = c.output.histogram_bins;
-  QualityReport report = assess_quality<3>(mesh, metric.get(), qo);
+  QualityReport report = assess_quality<3>(mesh, &field, qo);
   report.name = c.name;
   const double area = surface_area(s);
   report.extra.push_back({"surface.order", std::to_string(c.order)});

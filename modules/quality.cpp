@@ -310,6 +310,38 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
   return r;
 }
 
+namespace {
+
+// The report's extra keys as a tree: "a.b.c" -> {"a": {"b": {"c": value}}}, groups and keys in
+// the order they were first added.
+struct JsonTree {
+  std::string value;  // leaf
+  std::vector<std::pair<std::string, JsonTree>> children;
+  JsonTree& child(const std::string& k) {
+    for (auto& [name, c] : children)
+      if (name == k) return c;
+    children.emplace_back(k, JsonTree{});
+    return children.back().second;
+  }
+  void insert(const std::string& key, const std::string& v) {
+    const auto dot = key.find('.');
+    if (dot == std::string::npos) {
+      child(key).value = v;
+    } else {
+      child(key.substr(0, dot)).insert(key.substr(dot + 1), v);
+    }
+  }
+  std::string text() const {
+    if (children.empty()) return value;
+    std::string out = "{";
+    for (std::size_t k = 0; k < children.size(); ++k)
+      out += (k ? ", " : "") + json_string(children[k].first) + ": " + children[k].second.text();
+    return out + "}";
+  }
+};
+
+}  // namespace
+
 std::string report_json(const QualityReport& r) {
   std::ostringstream s;
   s << "{\n  \"name\": " << json_string(r.name) << ",\n";
@@ -356,18 +388,10 @@ std::string report_json(const QualityReport& r) {
     << ", \"order_transitions\": " << c.order_transitions
     << ", \"orientation_mismatches\": " << c.orientation_mismatches << ", \"stray_boundary\": " << c.stray_boundary
     << ", \"first_problem\": " << json_string(c.first_problem) << "},\n";
-  // Extra sections: group "a.b" keys under "a".
-  std::map<std::string, std::vector<std::pair<std::string, std::string>>> groups;
-  for (const auto& [k, v] : r.extra) {
-    const auto dot = k.find('.');
-    groups[k.substr(0, dot)].push_back({dot == std::string::npos ? "" : k.substr(dot + 1), v});
-  }
-  for (const auto& [g, items] : groups) {
-    s << "  " << json_string(g) << ": {";
-    for (std::size_t k = 0; k < items.size(); ++k)
-      s << (k ? ", " : "") << json_string(items[k].first) << ": " << items[k].second;
-    s << "},\n";
-  }
+  // Extra sections: dotted keys nest, "a.b.c" under "a" then "b" (groups in name order).
+  JsonTree tree;
+  for (const auto& [k, v] : r.extra) tree.insert(k, v);
+  for (const auto& [g, child] : tree.children) s << "  " << json_string(g) << ": " << child.text() << ",\n";
   s << "  \"timings_s\": {";
   for (std::size_t k = 0; k < r.timings_s.size(); ++k)
     s << (k ? ", " : "") << json_string(r.timings_s[k].first) << ": " << json_number(r.timings_s[k].second);

@@ -44,14 +44,16 @@ CurvatureMetricField::Curvature CurvatureMetricField::curvature(const Eigen::Vec
       const Eigen::Vector3d np = ref_.normal(xp), nm = ref_.normal(xm);
       const double dist = (xp - xm).norm();
       if (!(dist > 0)) break;
-      if ((np - nm).norm() < 0.35) {  // ~20 degrees: resolved
-        st[i] = (np - nm) / dist;
+      st[i] = (np - nm) / dist;
+      if ((np - nm).norm() < 0.35) break;  // ~20 degrees: resolved
+      e *= 0.5;
+      if (e < 0.25 * h_min_) {
+        // Unresolved at a quarter of the smallest size: a ridge when a feature curve passes within
+        // the step (the curves are kept by the remesher; across them there is no curvature to
+        // resolve), else a radius tighter than any size asked for (h_min then caps the size).
+        if (near_curve(x0, 4 * e)) st[i].setZero();
         break;
       }
-      // Not resolved at a quarter of the smallest size: a ridge (or a radius no size asked for
-      // can follow), which the feature curves handle; it adds no curvature.
-      e *= 0.5;
-      if (e < 0.25 * h_min_) break;
     }
   }
   Eigen::Matrix2d a;
@@ -65,6 +67,12 @@ CurvatureMetricField::Curvature CurvatureMetricField::curvature(const Eigen::Vec
   c.d1 = (t[0] * es.eigenvectors()(0, big) + t[1] * es.eigenvectors()(1, big)).normalized();
   c.d2 = c.normal.cross(c.d1);
   return c;
+}
+
+bool CurvatureMetricField::near_curve(const Eigen::Vector3d& x, double distance) const {
+  for (int c = 0; c < ref_.num_curves(); ++c)
+    if ((ref_.project_to_curve(x, c) - x).norm() <= distance) return true;
+  return false;
 }
 
 Metric<3> CurvatureMetricField::evaluate(const Point& x) const {

@@ -32,6 +32,8 @@ class CurvatureMetricField final : public MetricField<3> {
   Curvature curvature(const Eigen::Vector3d& x, double step) const;
 
  private:
+  bool near_curve(const Eigen::Vector3d& x, double distance) const;
+
   const MetricField<3>& base_;
   const ReferenceGeometry& ref_;
   double factor_, h_min_;

@@ -125,6 +125,22 @@ class Remesher {
     return sum > 0 ? 4 * std::sqrt(3.0) * area / sum : 0;
   }
 
+  // Splitting h's edge at p keeps each of its faces' two halves turned by less than 84 degrees
+  // from the face (a projected midpoint on a tight leading edge can land behind a neighbour).
+  bool split_keeps_faces(HH h, const Vec& p) const {
+    for (const HH hh : {h, m_.opposite_halfedge_handle(h)}) {
+      if (m_.is_boundary(hh)) continue;
+      const Vec a = m_.point(m_.from_vertex_handle(hh)), b = m_.point(m_.to_vertex_handle(hh));
+      const Vec c = m_.point(m_.to_vertex_handle(m_.next_halfedge_handle(hh)));
+      const Vec n = (b - a).cross(c - a);
+      for (const Vec& half : {Vec((p - a).cross(c - a)), Vec((b - p).cross(c - p))}) {
+        const double nh = half.norm();
+        if (nh <= 1e-12 * n.norm() || half.dot(n) < kMinNormalCos * nh * n.norm()) return false;
+      }
+    }
+    return true;
+  }
+
   void split_long_edges();
   void collapse_short_edges();
   void flip_edges();
@@ -163,6 +179,10 @@ void Remesher::split_long_edges() {
       const EdgeFeature ef = m_.property(s_.edge_feature, e);
       const Vec mid = 0.5 * (m_.point(a) + m_.point(b));
       const Vec p = c >= 0 ? ref_.project_to_curve(mid, c) : ref_.project(mid);
+      if (!split_keeps_faces(h0, p)) {
+        ++rep_.refused_splits;
+        continue;
+      }
       // The faces' tags by their far vertex, to give the four new faces the right ones.
       std::vector<std::pair<VH, int>> far_tag;
       for (const HH h : {h0, m_.opposite_halfedge_handle(h0)})
@@ -346,6 +366,8 @@ RemeshReport Remesher::run() {
     ++rep_.rounds;
   }
   m_.garbage_collection();
+  vm_.clear();  // the collection renumbered the vertices
+  have_.clear();
   rep_.faces_after = m_.n_faces();
   std::size_t unit = 0, total = 0;
   for (const EH e : m_.edges()) {

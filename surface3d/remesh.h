@@ -26,6 +26,7 @@ struct RemeshOptions {
 
 struct RemeshReport {
   std::size_t splits = 0, collapses = 0, flips = 0, rounds = 0;
+  std::size_t refused_splits = 0;  // long edges left because splitting them would fold a face
   std::size_t faces_before = 0, faces_after = 0;
   double unit_fraction = 0;  // of edges with metric length in [1/sqrt 2, sqrt 2] after
   double seconds = 0;

@@ -332,24 +332,25 @@ TEST_CASE("run config: 3D geometries make a 3D run with its surface section, a 3
 }
 
 TEST_CASE("run config: 3D keys are checked like the 2D ones") {
-  CHECK(config_error("geometry: {type: sphere, radius: -1}\n") ==
+  const auto err = [](const std::string& yaml) { return doctest::String(config_error(yaml).c_str()); };
+  CHECK(err("geometry: {type: sphere, radius: -1}\n") ==
         doctest::Contains("geometry.radius"));
-  CHECK(config_error("geometry: {type: box, lo: [0, 0, 0], hi: [1, 0, 1]}\n") ==
+  CHECK(err("geometry: {type: box, lo: [0, 0, 0], hi: [1, 0, 1]}\n") ==
         doctest::Contains("must exceed lo"));
-  CHECK(config_error("geometry: {type: sphere, center: [0, 0]}\n") == doctest::Contains("three numbers"));
-  CHECK(config_error("geometry: {type: wing}\n") == doctest::Contains("file (the airfoil section) is required"));
-  CHECK(config_error("geometry: {type: wing, file: a.dat, tip: pointed}\n") == doctest::Contains("pointed"));
-  CHECK(config_error("geometry: {type: surface_file}\n") == doctest::Contains("file is required"));
-  CHECK(config_error("geometry: {type: surface_file, file: a.stl, symmetry_planes: [{normal: [0, 0, 0]}]}\n") ==
+  CHECK(err("geometry: {type: sphere, center: [0, 0]}\n") == doctest::Contains("three numbers"));
+  CHECK(err("geometry: {type: wing}\n") == doctest::Contains("file (the airfoil section) is required"));
+  CHECK(err("geometry: {type: wing, file: a.dat, tip: pointed}\n") == doctest::Contains("pointed"));
+  CHECK(err("geometry: {type: surface_file}\n") == doctest::Contains("file is required"));
+  CHECK(err("geometry: {type: surface_file, file: a.stl, symmetry_planes: [{normal: [0, 0, 0]}]}\n") ==
         doctest::Contains("must not be zero"));
-  CHECK(config_error("geometry: {type: sphere}\nmetric: {type: wall_power_law}\n") ==
+  CHECK(err("geometry: {type: sphere}\nmetric: {type: wall_power_law}\n") ==
         doctest::Contains("2D only"));
-  CHECK(config_error("geometry: {type: sphere}\nmetric: {type: uniform, sizes: [1, 2]}\n") ==
+  CHECK(err("geometry: {type: sphere}\nmetric: {type: uniform, sizes: [1, 2]}\n") ==
         doctest::Contains("three sizes"));
-  CHECK(config_error("geometry: {type: sphere}\nmetric: {type: uniform, angle_deg: 3}\n") ==
+  CHECK(err("geometry: {type: sphere}\nmetric: {type: uniform, angle_deg: 3}\n") ==
         doctest::Contains("angle_deg"));
-  CHECK(config_error("geometry: {type: sphere}\noutput: {formats: [msh, png]}\n") == doctest::Contains("2D only"));
-  CHECK(config_error("geometry: {type: sphere}\nsurface: {ridge_angle: 3}\n") == doctest::Contains("ridge_angle"));
-  CHECK(config_error(one_body + "surface: {iterations: 3}\n") == doctest::Contains("for 3D geometries"));
-  CHECK(config_error("geometry: {type: sphere}\nlayers: {max: 3}\n") == doctest::Contains("layers"));
+  CHECK(err("geometry: {type: sphere}\noutput: {formats: [msh, png]}\n") == doctest::Contains("2D only"));
+  CHECK(err("geometry: {type: sphere}\nsurface: {ridge_angle: 3}\n") == doctest::Contains("ridge_angle"));
+  CHECK(err(one_body + "surface: {iterations: 3}\n") == doctest::Contains("for 3D geometries"));
+  CHECK(err("geometry: {type: sphere}\nlayers: {max: 3}\n") == doctest::Contains("layers"));
 }

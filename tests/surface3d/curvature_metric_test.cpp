@@ -107,3 +107,31 @@ TEST_CASE("curvature metric: bad parameters are refused") {
 
 }  // namespace
 }  // namespace plaf
+
+namespace plaf {
+namespace {
+
+// The roof without its ridge declared as a curve: a crease finer than h_min is then curvature.
+class UndeclaredRoof final : public ReferenceGeometry {
+ public:
+  Eigen::Vector3d project(const Eigen::Vector3d& p) const override { return roof_.project(p); }
+  Eigen::Vector3d normal(const Eigen::Vector3d& x) const override { return roof_.normal(x); }
+  Eigen::Vector3d project_to_curve(const Eigen::Vector3d& p, int) const override { return roof_.project(p); }
+  int num_curves() const override { return 0; }
+  double scale() const override { return 1; }
+
+ private:
+  Roof roof_;
+};
+
+TEST_CASE("curvature metric: an unresolved crease off the feature curves gets the smallest size") {
+  const UniformMetricField<3> base(Metric<3>::isotropic(0.2));
+  const UndeclaredRoof roof;
+  const CurvatureMetricField field(base, roof, 0.3, 1e-3);
+  const Metric<3> m = field.evaluate(Eigen::Vector3d(0, 0.1, 0));
+  CHECK(m.size_along(Eigen::Vector3d(1, 0, -1).normalized()) == doctest::Approx(1e-3).epsilon(1e-6));
+  CHECK(m.size_along(Eigen::Vector3d::UnitY()) == doctest::Approx(0.2).epsilon(1e-6));
+}
+
+}  // namespace
+}  // namespace plaf
