@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // The 3D surface run (issue 6; paper Sec. II.E, the initial front of the 3D layers): numbered
 // steps, each a surface3d stage call on core types, timed and reported.
+#include <algorithm>
 #include <chrono>
+#include <limits>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -171,7 +173,9 @@ int run_surface3d(const RunConfig& c, const std::filesystem::path& config_path) 
     ro.iterations = c.surface.iterations;
     rr = remesh_surface(s, *in.reference, field, ro);
     clock.done("remesh", std::to_string(rr.faces_before) + " -> " + std::to_string(rr.faces_after) +
-                             " triangles, unit fraction " + std::to_string(rr.unit_fraction));
+                             " triangles, unit fraction " + std::to_string(rr.unit_fraction) + ", " +
+                             std::to_string(rr.folded_faces) + " folded" +
+                             (rr.folded_faces ? " (first at " + rr.first_folded + ")" : ""));
   }
   const FeatureReport kept = count_features(s);
   // The features as the detector sees them on the final mesh: the check that remeshing kept them
@@ -199,7 +203,8 @@ int run_surface3d(const RunConfig& c, const std::filesystem::path& config_path) 
   QualityOptions qo;
   qo.validity = vo;
   qo.histogram_bins = c.output.histogram_bins;
-  QualityReport report = assess_quality<3>(mesh, &field, qo);
+  CellQuality per_cell;
+  QualityReport report = assess_quality<3>(mesh, &field, qo, &per_cell);
   report.name = c.name;
   const double area = surface_area(s);
   report.extra.push_back({"surface.order", std::to_string(c.order)});
@@ -216,6 +221,7 @@ int run_surface3d(const RunConfig& c, const std::filesystem::path& config_path) 
   report.extra.push_back({"surface.remesh.collapses", std::to_string(rr.collapses)});
   report.extra.push_back({"surface.remesh.flips", std::to_string(rr.flips)});
   report.extra.push_back({"surface.remesh.unit_fraction", json_number(rr.unit_fraction)});
+  report.extra.push_back({"surface.remesh.folded_faces", std::to_string(rr.folded_faces)});
   report.extra.push_back({"surface.curving.straightened", std::to_string(cr.straightened)});
   report.extra.push_back({"surface.curving.invalid", std::to_string(cr.invalid)});
   report.extra.push_back({"surface.curving.min_scaled_jacobian", json_number(cr.min_scaled_jacobian)});
@@ -239,7 +245,19 @@ int run_surface3d(const RunConfig& c, const std::filesystem::path& config_path) 
   std::filesystem::create_directories(c.output.dir);
   const std::filesystem::path base = c.output.dir / c.name;
   if (c.output.wants("msh")) write_msh41(mesh, base.string() + ".msh");
-  if (c.output.wants("vtu")) write_vtu(mesh, base.string() + ".vtu");
+  if (c.output.wants("vtu")) {
+    // Per triangle: validity, certified scaled Jacobian and aspect ratio, as in 2D (clamped to
+    // finite values: VTK 9.1 reads "-inf" as +inf).
+    auto finite = [](std::vector<double> v) {
+      for (double& x : v) x = std::clamp(x, std::numeric_limits<double>::lowest(), std::numeric_limits<double>::max());
+      return v;
+    };
+    const std::vector<CellField> fields = {
+        {"valid", std::vector<double>(per_cell.valid.begin(), per_cell.valid.end())},
+        {"scaled_jacobian", finite(per_cell.scaled_jacobian)},
+        {"aspect_ratio", finite(per_cell.aspect_ratio)}};
+    write_vtu(mesh, base.string() + ".vtu", fields);
+  }
   clock.done("write", base.string() + ".*");
   report.timings_s = timings;
   if (c.output.wants("report")) {

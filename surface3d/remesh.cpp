@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 #include <utility>
 #include <vector>
 
@@ -24,6 +25,9 @@ constexpr double kSplitAbove = 4.0 / 3.0;
 constexpr double kCollapseBelow = 4.0 / 5.0;
 // A face whose normal turns by more than this (cosine) in one operation is a fold: refuse.
 constexpr double kMinNormalCos = 0.1;
+// A face whose normal is within 60 degrees of the reference's normal (at its centroid's
+// projection) lies on the surface's side it should; operations never make a face worse than that.
+constexpr double kGoodAlignment = 0.5;
 
 class Remesher {
  public:
@@ -62,9 +66,21 @@ class Remesher {
     const Vec d = m_.point(b) - p;
     return std::sqrt(d.dot(vertex_metric(b) * d));
   }
+  // A feature edge becomes a piece of its curve (the high-order nodes follow the curve): where
+  // the curve bends away from the chord (a symmetry loop around a leading edge), its length is
+  // that of the polyline through the curve point nearest the chord's midpoint.
+  double curve_length(const Vec& a, const Eigen::Matrix3d& ma, const Vec& b, const Eigen::Matrix3d& mb, int c) const {
+    const Vec m = ref_.project_to_curve(0.5 * (a + b), c);
+    const Vec d1 = m - a, d2 = b - m;
+    return std::sqrt(d1.dot(ma * d1)) + std::sqrt(d2.dot(mb * d2));
+  }
   double length(EH e) {
     const HH h = m_.halfedge_handle(e, 0);
-    return length(m_.from_vertex_handle(h), m_.to_vertex_handle(h));
+    const VH a = m_.from_vertex_handle(h), b = m_.to_vertex_handle(h);
+    const double chord = length(a, b);
+    const int c = curve(e);
+    if (c < 0) return chord;
+    return std::max(chord, curve_length(m_.point(a), vertex_metric(a), m_.point(b), vertex_metric(b), c));
   }
 
   // --- feature bookkeeping -----------------------------------------------------------------------
@@ -99,8 +115,26 @@ class Remesher {
     for (const VH w : m_.fv_range(f)) x[static_cast<std::size_t>(k++)] = w == v ? p : m_.point(w);
     return (x[1] - x[0]).cross(x[2] - x[0]);
   }
+  // Cosine between triangle (a, b, c)'s normal and the reference's normal at its centroid's
+  // projection; -2 for a degenerate triangle.
+  double alignment(const Vec& a, const Vec& b, const Vec& c) const {
+    const Vec n = (b - a).cross(c - a);
+    const double nn = n.norm();
+    if (!(nn > 0)) return -2;
+    return n.dot(ref_.normal(ref_.project((a + b + c) / 3))) / nn;
+  }
+  double alignment_with(FH f, VH v, const Vec& p) const {
+    std::array<Vec, 3> x;
+    int k = 0;
+    for (const VH w : m_.fv_range(f)) x[static_cast<std::size_t>(k++)] = w == v ? p : m_.point(w);
+    return alignment(x[0], x[1], x[2]);
+  }
+  // A new face is acceptable when it lies on the surface's side (alignment 60 degrees), or is no
+  // worse than the face it replaces (the initial mesh may start worse).
+  static bool acceptable(double before, double after) { return after >= std::min(kGoodAlignment, before); }
+
   // Moving v to p keeps every face around v (except those in `skip`) turned by less than 84
-  // degrees and non-degenerate.
+  // degrees, non-degenerate and acceptably aligned with the reference.
   bool move_keeps_faces(VH v, const Vec& p, FH skip0 = FH(), FH skip1 = FH()) const {
     for (const FH f : m_.vf_range(v)) {
       if (f == skip0 || f == skip1) continue;
@@ -108,6 +142,7 @@ class Remesher {
       const Vec after = face_normal_with(f, v, p);
       const double nb = before.norm(), na = after.norm();
       if (na <= 1e-12 * nb || after.dot(before) < kMinNormalCos * na * nb) return false;
+      if (!acceptable(alignment_with(f, v, m_.point(v)), alignment_with(f, v, p))) return false;
     }
     return true;
   }
@@ -137,6 +172,8 @@ class Remesher {
         const double nh = half.norm();
         if (nh <= 1e-12 * n.norm() || half.dot(n) < kMinNormalCos * nh * n.norm()) return false;
       }
+      const double before = alignment(a, b, c);
+      if (!acceptable(before, alignment(a, p, c)) || !acceptable(before, alignment(p, b, c))) return false;
     }
     return true;
   }
@@ -145,7 +182,9 @@ class Remesher {
   void collapse_short_edges();
   void flip_edges();
   void relax();
-  bool try_collapse(HH h);
+  bool try_collapse(HH h, double max_length = kSplitAbove);
+  bool try_flip(EH e, double min_gain);
+  void remove_slivers();
 
   TriSurface& s_;
   Mesh& m_;
@@ -173,7 +212,7 @@ void Remesher::split_long_edges() {
       if (m_.status(e).deleted()) continue;
       const HH h0 = m_.halfedge_handle(e, 0);
       const VH a = m_.from_vertex_handle(h0), b = m_.to_vertex_handle(h0);
-      if (length(a, b) <= kSplitAbove) continue;  // an earlier split changed it
+      if (length(e) <= kSplitAbove) continue;  // an earlier split changed it
       const int c = curve(e);
       const int etag = m_.property(s_.edge_tag, e);
       const EdgeFeature ef = m_.property(s_.edge_feature, e);
@@ -211,7 +250,7 @@ void Remesher::split_long_edges() {
 
 // Collapses h's from-vertex into its to-vertex if that keeps topology, features, lengths and
 // orientation.
-bool Remesher::try_collapse(HH h) {
+bool Remesher::try_collapse(HH h, double max_length) {
   const VH v0 = m_.from_vertex_handle(h), v1 = m_.to_vertex_handle(h);
   const EH e = m_.edge_handle(h);
   if (is_fixed(v0)) return false;
@@ -221,6 +260,20 @@ bool Remesher::try_collapse(HH h) {
   if (v0_on_feature && (curve(e) < 0 || curve(e) != c0)) return false;
   if (!v0_on_feature && is_feature(e)) return false;
   if (!m_.is_collapse_ok(h)) return false;
+  // A curve vertex leaves its curve's polyline as the chord v1 - w from its other curve neighbour
+  // w: refuse when that chord passes farther than a quarter of the metric size from it (it would
+  // cut off a symmetry loop's leading-edge nose, which no projection of the new edge brings back).
+  if (v0_on_feature) {
+    for (const HH hh : m_.voh_range(v0)) {
+      const EH ee = m_.edge_handle(hh);
+      if (ee == e || curve(ee) != curve(e)) continue;
+      const Vec p0 = m_.point(v0), a = m_.point(v1), b = m_.point(m_.to_vertex_handle(hh));
+      const Vec ab = b - a;
+      const double t = ab.squaredNorm() > 0 ? std::clamp((p0 - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+      const Vec off = a + t * ab - p0;
+      if (std::sqrt(off.dot(vertex_metric(v0) * off)) > 0.25) return false;
+    }
+  }
   // The two faces of e disappear; their other edges merge pairwise. Features survive on the
   // merged edge (repaired below), but two features merging would lose one: refuse.
   struct Wing {
@@ -241,8 +294,16 @@ bool Remesher::try_collapse(HH h) {
   }
   const Vec target = m_.point(v1);
   // New edges v1 - (neighbours of v0) must not be long.
-  for (const VH w : m_.vv_range(v0))
-    if (w != v1 && length_from(m_.point(w), v1) > kSplitAbove) return false;
+  // (An edge already longer than the limit may stay as long: merging two nearly coincident
+  // vertices must not be refused for an edge it does not lengthen.)
+  for (const VH w : m_.vv_range(v0)) {
+    if (w == v1) continue;
+    double l = length_from(m_.point(w), v1);
+    const HH vw = m_.find_halfedge(v0, w);
+    const int cw = curve(m_.edge_handle(vw));
+    if (cw >= 0) l = std::max(l, curve_length(target, vertex_metric(v1), m_.point(w), vertex_metric(w), cw));
+    if (l > std::max(max_length, 1.1 * length(m_.edge_handle(vw)))) return false;
+  }
   const FH fl = m_.is_boundary(h) ? FH() : m_.face_handle(h);
   const HH o = m_.opposite_halfedge_handle(h);
   const FH fr = m_.is_boundary(o) ? FH() : m_.face_handle(o);
@@ -276,39 +337,77 @@ void Remesher::collapse_short_edges() {
   }
 }
 
+// Flips e if that makes the worse of its two triangles better by the factor min_gain in the
+// metric, keeps both new faces aligned with the reference, adds no long edge and keeps the border
+// between tagged patches. Feature edges never flip.
+bool Remesher::try_flip(EH e, double min_gain) {
+  if (is_feature(e) || !m_.is_flip_ok(e)) return false;
+  const HH h = m_.halfedge_handle(e, 0), o = m_.opposite_halfedge_handle(h);
+  const VH a = m_.from_vertex_handle(h), b = m_.to_vertex_handle(h);
+  const VH c = m_.to_vertex_handle(m_.next_halfedge_handle(h));
+  const VH d = m_.to_vertex_handle(m_.next_halfedge_handle(o));
+  const Vec pa = m_.point(a), pb = m_.point(b), pc = m_.point(c), pd = m_.point(d);
+  // Before: (a, b, c) and (b, a, d); after, counter-clockwise: (a, d, c) and (b, c, d).
+  const Vec n_before = (pb - pa).cross(pc - pa) + (pa - pb).cross(pd - pb);
+  const Vec n1 = (pd - pa).cross(pc - pa), n2 = (pc - pb).cross(pd - pb);
+  if (n1.dot(n_before) <= kMinNormalCos * n1.norm() * n_before.norm() ||
+      n2.dot(n_before) <= kMinNormalCos * n2.norm() * n_before.norm() ||
+      n1.dot(n2) <= kMinNormalCos * n1.norm() * n2.norm())
+    return false;
+  const double before = std::min(quality(a, b, c), quality(b, a, d));
+  const double after = std::min(quality(a, d, c), quality(b, c, d));
+  if (after <= before * min_gain) return false;
+  const double aligned = std::min(alignment(pa, pb, pc), alignment(pb, pa, pd));
+  if (!acceptable(aligned, alignment(pa, pd, pc)) || !acceptable(aligned, alignment(pb, pc, pd))) return false;
+  // The new edge must not be long (it would be split again, oscillating).
+  if (length(c, d) > kSplitAbove) return false;
+  if (m_.property(s_.face_tag, m_.face_handle(h)) != m_.property(s_.face_tag, m_.face_handle(o))) return false;
+  m_.flip(e);
+  ++rep_.flips;
+  return true;
+}
+
 void Remesher::flip_edges() {
   // Flip where the worse of the two triangles gets better in the metric (a Delaunay-like
-  // criterion that also holds for anisotropic metrics); feature edges never flip.
+  // criterion that also holds for anisotropic metrics).
   for (int pass = 0; pass < 3; ++pass) {
     std::size_t flips = 0;
-    for (const EH e : m_.edges()) {
-      if (is_feature(e) || !m_.is_flip_ok(e)) continue;
-      const HH h = m_.halfedge_handle(e, 0), o = m_.opposite_halfedge_handle(h);
-      const VH a = m_.from_vertex_handle(h), b = m_.to_vertex_handle(h);
-      const VH c = m_.to_vertex_handle(m_.next_halfedge_handle(h));
-      const VH d = m_.to_vertex_handle(m_.next_halfedge_handle(o));
-      const Vec pa = m_.point(a), pb = m_.point(b), pc = m_.point(c), pd = m_.point(d);
-      // Before: (a, b, c) and (b, a, d); after: (c, d, b)... written counter-clockwise as
-      // (a, d, c) and (b, c, d).
-      const Vec n_before = (pb - pa).cross(pc - pa) + (pa - pb).cross(pd - pb);
-      const Vec n1 = (pd - pa).cross(pc - pa), n2 = (pc - pb).cross(pd - pb);
-      if (n1.dot(n_before) <= kMinNormalCos * n1.norm() * n_before.norm() ||
-          n2.dot(n_before) <= kMinNormalCos * n2.norm() * n_before.norm() ||
-          n1.dot(n2) <= kMinNormalCos * n1.norm() * n2.norm())
-        continue;
-      const double before = std::min(quality(a, b, c), quality(b, a, d));
-      const double after = std::min(quality(a, d, c), quality(b, c, d));
-      if (after <= before * 1.05) continue;
-      // The new edge must not be long (it would be split again, oscillating).
-      if (length(c, d) > kSplitAbove) continue;
-      const int ta = m_.property(s_.face_tag, m_.face_handle(h));
-      const int tb = m_.property(s_.face_tag, m_.face_handle(o));
-      if (ta != tb) continue;  // keep the border between tagged patches
-      m_.flip(e);
-      ++flips;
-    }
-    rep_.flips += flips;
+    for (const EH e : m_.edges())
+      if (try_flip(e, 1.05)) ++flips;
     if (flips == 0) break;
+  }
+}
+
+// Needles (one edge much shorter than the others) and caps (one angle near 180 degrees) of poor
+// metric quality that the rounds left, typically where sizes change fast (a blunt trailing edge
+// at h_min beside the span's size): a needle's short edge collapses even if a neighbouring edge
+// then reaches twice the unit length; a cap's long edge flips if that helps at all.
+void Remesher::remove_slivers() {
+  for (int pass = 0; pass < 4; ++pass) {
+    std::size_t fixed = 0;
+    for (const FH f : m_.faces()) {
+      if (m_.status(f).deleted()) continue;
+      std::array<HH, 3> hs;
+      int k = 0;
+      for (const HH h : m_.fh_range(f)) hs[static_cast<std::size_t>(k++)] = h;
+      const VH a = m_.from_vertex_handle(hs[0]), b = m_.from_vertex_handle(hs[1]), c = m_.from_vertex_handle(hs[2]);
+      if (quality(a, b, c) >= 0.1) continue;
+      std::array<double, 3> l;
+      for (std::size_t i = 0; i < 3; ++i) l[i] = length(m_.edge_handle(hs[i]));
+      const std::size_t shortest = static_cast<std::size_t>(std::min_element(l.begin(), l.end()) - l.begin());
+      const std::size_t longest = static_cast<std::size_t>(std::max_element(l.begin(), l.end()) - l.begin());
+      bool done = false;
+      if (l[shortest] < 0.5 * l[longest]) {
+        const HH h = hs[shortest];
+        done = try_collapse(h, 2.0) || try_collapse(m_.opposite_halfedge_handle(h), 2.0);
+      }
+      if (!done) done = try_flip(m_.edge_handle(hs[longest]), 1.0);
+      if (done) {
+        ++fixed;
+        ++rep_.slivers_removed;
+      }
+    }
+    if (fixed == 0) break;
   }
 }
 
@@ -365,6 +464,8 @@ RemeshReport Remesher::run() {
     for (int k = 0; k < 2; ++k) relax();
     ++rep_.rounds;
   }
+  remove_slivers();
+  relax();
   m_.garbage_collection();
   vm_.clear();  // the collection renumbered the vertices
   have_.clear();
@@ -376,6 +477,23 @@ RemeshReport Remesher::run() {
     if (l >= 1 / std::sqrt(2.0) && l <= std::sqrt(2.0)) ++unit;
   }
   rep_.unit_fraction = total ? static_cast<double>(unit) / static_cast<double>(total) : 0;
+  // Faces turned away from the reference surface (their normal against the reference normal at
+  // their centroid's projection by more than 60 degrees): folds the remeshing could not avoid.
+  for (const FH f : m_.faces()) {
+    std::array<Vec, 3> x;
+    int k = 0;
+    for (const VH w : m_.fv_range(f)) x[static_cast<std::size_t>(k++)] = m_.point(w);
+    const Vec n = (x[1] - x[0]).cross(x[2] - x[0]);
+    const Vec r = ref_.normal(ref_.project((x[0] + x[1] + x[2]) / 3));
+    if (!(n.dot(r) > 0.5 * n.norm())) {
+      if (rep_.folded_faces == 0) {
+        std::ostringstream o;
+        o << "(" << x[0].x() << ", " << x[0].y() << ", " << x[0].z() << ")";
+        rep_.first_folded = o.str();
+      }
+      ++rep_.folded_faces;
+    }
+  }
   rep_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep_;
 }
