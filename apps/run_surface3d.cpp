@@ -100,7 +100,7 @@ SurfaceInput build_input(const RunConfig& c, const MetricField<3>& metric) {
     SurfaceCheckReport rep;
     in.surface = validate_surface(soup, so, &rep);
     in.input_triangles = rep.input_triangles;
-    for (const std::string& r : rep.repairs) std::cerr << "[plaf] repaired: " << g.file << ": " << r << '\n';
+    for (const std::string& r : rep.repairs) std::cerr << "[plaf] repaired: " << r << '\n';
     FeatureOptions fo;
     fo.ridge_angle_deg = c.surface.ridge_angle_deg;
     fo.corner_defect_deg = c.surface.corner_defect_deg;

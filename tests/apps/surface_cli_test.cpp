@@ -1,0 +1,118 @@
+// SPDX-License-Identifier: MIT
+// End-to-end runs of 3D surface configurations on the shared data's bad and repaired inputs:
+// each bad input stops the run with its own one-line error (the last stderr line), exit code 1
+// and no output file; a repair is reported and the run goes on.
+#include <doctest/doctest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "tests/test_support.h"
+
+namespace fs = std::filesystem;
+using plaf::test::read_text;
+using plaf::test::TempDir;
+using plaf::test::write_text;
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string err;
+};
+
+Result run_config(const TempDir& d, const std::string& yaml) {
+  const fs::path cfg = write_text(d / "case.yaml", yaml);
+  const std::string cmd = std::string(PLAF_EXE) + " run " + cfg.string() + " --out " + (d / "out").string() +
+                          " > /dev/null 2> " + (d / "err.txt").string();
+  const int status = std::system(cmd.c_str());
+  Result r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.err = read_text(d / "err.txt");
+  return r;
+}
+
+std::string last_line(const std::string& text) {
+  const std::size_t end = text.find_last_not_of('\n');
+  if (end == std::string::npos) return "";
+  const std::size_t begin = text.rfind('\n', end);
+  return text.substr(begin == std::string::npos ? 0 : begin + 1, end - (begin == std::string::npos ? 0 : begin + 1) + 1);
+}
+
+int count_outputs(const fs::path& dir) {
+  if (!fs::exists(dir)) return 0;
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(dir)) (void)e, ++n;
+  return n;
+}
+
+const std::string data = std::string(PLAF_SHARED_DATA) + "/surfaces/";
+
+std::string surface(const std::string& file, const std::string& extra = "") {
+  return "geometry:\n  type: surface_file\n  file: " + data + file + "\n" + extra +
+         "metric: {type: uniform, h: 0.2}\nsurface: {iterations: 2}\norder: 2\n";
+}
+
+}  // namespace
+
+TEST_CASE("surface cli: each bad surface gives its own one-line error, exit code 1 and no output") {
+  struct Case {
+    const char* name;
+    std::string yaml;
+    const char* message;
+  };
+  const std::string bad_stl = "solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 zero\n";
+  const Case cases[] = {
+      {"open scan", surface("stanford_bunny.obj"), "5 open boundary loops not on a symmetry plane"},
+      {"open half wing without its plane", surface("onera_m6_small.fmt"), "open boundary loop"},
+      {"stray inner pieces", surface("orion_capsule_binary.stl"), "2 components inside another"},
+      {"self-intersections", surface("orion_capsule_binary.stl", "  inner_components: drop\n"),
+       "self-intersecting triangle pair"},
+      {"missing file", surface("no_such_file.stl"), "no_such_file.stl"},
+      {"wing section missing",
+       "geometry: {type: wing, file: " + data + "nothing.dat}\nmetric: {type: uniform, h: 0.2}\n", "nothing.dat"},
+  };
+  for (const Case& c : cases) {
+    INFO(std::string(c.name));
+    const TempDir d("surface_cli");
+    const Result r = run_config(d, c.yaml);
+    INFO(r.err);
+    CHECK(r.code == 1);
+    const std::string line = last_line(r.err);
+    CHECK(line.rfind("plaf: error: ", 0) == 0);
+    CHECK(line.find(c.message) != std::string::npos);
+    CHECK(count_outputs(d / "out") == 0);
+  }
+  // A malformed STL names the file and the line.
+  const TempDir d("surface_cli_stl");
+  write_text(d / "bad.stl", bad_stl);
+  const Result r = run_config(d, "geometry: {type: surface_file, file: bad.stl}\nmetric: {type: uniform, h: 0.2}\n");
+  CHECK(r.code == 1);
+  CHECK(last_line(r.err).find("bad.stl") != std::string::npos);
+  CHECK(count_outputs(d / "out") == 0);
+}
+
+TEST_CASE("surface cli: an inward surface is repaired and meshed, an open half wing on its plane is tagged symmetry") {
+  {
+    const TempDir d("surface_cli_ellipsoid");
+    const Result r = run_config(d, surface("ellipsoid_binary.stl"));
+    INFO(r.err);
+    CHECK(r.code == 0);
+    CHECK(r.err.find("repaired: ") != std::string::npos);
+    CHECK(r.err.find("flipped 1 inward component") != std::string::npos);
+    const std::string report = read_text(d / "out" / "case.report.json");
+    CHECK(report.find("\"euler_characteristic\": 2") != std::string::npos);
+    CHECK(report.find("\"invalid\": 0") != std::string::npos);
+  }
+  {
+    const TempDir d("surface_cli_m6");
+    const Result r = run_config(d, surface("onera_m6_small.fmt", "  symmetry_planes: [{normal: [0, 0, 1]}]\n"));
+    INFO(r.err);
+    CHECK(r.code == 0);
+    const std::string msh = read_text(d / "out" / "case.msh");
+    CHECK(msh.find("\"symmetry\"") != std::string::npos);
+    const std::string report = read_text(d / "out" / "case.report.json");
+    CHECK(report.find("\"euler_characteristic\": 1") != std::string::npos);  // a disc: the root is open
+  }
+}
