@@ -53,9 +53,11 @@ class Remesher {
     }
     return vm_[i];
   }
+  // A vertex was created or moved: its cached metric and normal are stale.
   void forget_metric(VH v) {
     const std::size_t i = static_cast<std::size_t>(v.idx());
     if (i < have_.size()) have_[i] = 0;
+    if (i < have_n_.size()) have_n_[i] = 0;
   }
   double length(VH a, VH b) {
     const Vec d = m_.point(b) - m_.point(a);
@@ -74,12 +76,31 @@ class Remesher {
     const Vec d1 = m - a, d2 = b - m;
     return std::sqrt(d1.dot(ma * d1)) + std::sqrt(d2.dot(mb * d2));
   }
+  // An edge between vertices whose surface normals differ by more than 60 degrees spans a tight
+  // turn of the surface (wraps a thin trailing edge): the metrics at its ends do not see the
+  // turn, so it is measured along the polyline through its projected midpoint, in the metric
+  // there too.
+  double wrapped_length(const Vec& a, const Eigen::Matrix3d& ma, const Vec& b, const Eigen::Matrix3d& mb) const {
+    const Vec m = ref_.project(0.5 * (a + b));
+    const Eigen::Matrix3d mm = metric_.evaluate(m).matrix();
+    const Vec d1 = m - a, d2 = b - m;
+    return 0.5 * (std::sqrt(d1.dot(ma * d1)) + std::sqrt(d1.dot(mm * d1))) +
+           0.5 * (std::sqrt(d2.dot(mm * d2)) + std::sqrt(d2.dot(mb * d2)));
+  }
+  bool wraps(VH a, const Vec* na, VH b) {
+    const Vec* nb = vertex_normal(b);
+    (void)a;
+    return na && nb && na->dot(*nb) < 0.5;
+  }
   double length(EH e) {
     const HH h = m_.halfedge_handle(e, 0);
     const VH a = m_.from_vertex_handle(h), b = m_.to_vertex_handle(h);
     const double chord = length(a, b);
     const int c = curve(e);
-    if (c < 0) return chord;
+    if (c < 0) {
+      if (!wraps(a, vertex_normal(a), b)) return chord;
+      return std::max(chord, wrapped_length(m_.point(a), vertex_metric(a), m_.point(b), vertex_metric(b)));
+    }
     return std::max(chord, curve_length(m_.point(a), vertex_metric(a), m_.point(b), vertex_metric(b), c));
   }
 
@@ -108,6 +129,21 @@ class Remesher {
     return c >= 0 ? ref_.project_to_curve(p, c) : ref_.project(p);
   }
 
+  // A needle or a cap: twice the area over the longest edge squared below 1e-4 (about a 0.006
+  // degree angle). No operation may create one (it could not be certified valid).
+  static bool degenerate(const Vec& a, const Vec& b, const Vec& c) {
+    const double l2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+    return !((b - a).cross(c - a).norm() > 1e-4 * l2);
+  }
+  static bool degenerate(const std::array<Vec, 3>& x) { return degenerate(x[0], x[1], x[2]); }
+  // The face's corners with vertex v moved to p.
+  std::array<Vec, 3> corners_with(FH f, VH v, const Vec& p) const {
+    std::array<Vec, 3> x;
+    int k = 0;
+    for (const VH w : m_.fv_range(f)) x[static_cast<std::size_t>(k++)] = w == v ? p : m_.point(w);
+    return x;
+  }
+
   // Unnormalised normal of face f with vertex v moved to p.
   Vec face_normal_with(FH f, VH v, const Vec& p) const {
     std::array<Vec, 3> x;
@@ -115,19 +151,58 @@ class Remesher {
     for (const VH w : m_.fv_range(f)) x[static_cast<std::size_t>(k++)] = w == v ? p : m_.point(w);
     return (x[1] - x[0]).cross(x[2] - x[0]);
   }
-  // Cosine between triangle (a, b, c)'s normal and the reference's normal at its centroid's
-  // projection; -2 for a degenerate triangle.
-  double alignment(const Vec& a, const Vec& b, const Vec& c) const {
+  // The reference's normal at a smooth vertex (cached like the metric), null at feature
+  // vertices, where it is ambiguous (either side of a ridge).
+  const Vec* vertex_normal(VH v) {
+    if (feature(v) != VertexFeature::Smooth || m_.is_boundary(v)) return nullptr;
+    const std::size_t i = static_cast<std::size_t>(v.idx());
+    if (i >= vn_.size()) {
+      vn_.resize(m_.n_vertices(), Vec::Zero());
+      have_n_.resize(m_.n_vertices(), 0);
+    }
+    if (!have_n_[i]) {
+      vn_[i] = ref_.normal(m_.point(v));
+      have_n_[i] = 1;
+    }
+    return &vn_[i];
+  }
+  // Cosine between triangle (a, b, c)'s normal and the reference's: the mean of its smooth
+  // vertices' normals (given, null at feature vertices), or at the centroid's projection when all
+  // three are on features; -2 for a degenerate triangle.
+  double alignment(const Vec& a, const Vec& b, const Vec& c, const Vec* na, const Vec* nb, const Vec* nc) const {
     const Vec n = (b - a).cross(c - a);
     const double nn = n.norm();
     if (!(nn > 0)) return -2;
-    return n.dot(ref_.normal(ref_.project((a + b + c) / 3))) / nn;
+    // The vertices' normals stand for the face's where they agree (within ~25 degrees); where
+    // the surface turns fast across the face (a leading edge) the centroid is projected.
+    Vec r = Vec::Zero();
+    bool agree = true;
+    int given = 0;
+    for (const Vec* x : {na, nb, nc}) {
+      if (!x || precise_) continue;
+      if (given > 0 && x->dot(r / given) < 0.9) agree = false;
+      r += *x;
+      ++given;
+    }
+    if (given == 0 || !agree) {
+      r = ref_.normal(ref_.project((a + b + c) / 3));
+    } else {
+      r.normalize();
+    }
+    return n.dot(r) / nn;
   }
-  double alignment_with(FH f, VH v, const Vec& p) const {
+  // The alignment of face f with vertex v moved to p (whose normal is np, null if v is on a
+  // feature).
+  double alignment_with(FH f, VH v, const Vec& p, const Vec* np) {
     std::array<Vec, 3> x;
+    std::array<const Vec*, 3> nx;
     int k = 0;
-    for (const VH w : m_.fv_range(f)) x[static_cast<std::size_t>(k++)] = w == v ? p : m_.point(w);
-    return alignment(x[0], x[1], x[2]);
+    for (const VH w : m_.fv_range(f)) {
+      const std::size_t i = static_cast<std::size_t>(k++);
+      x[i] = w == v ? p : m_.point(w);
+      nx[i] = w == v ? np : vertex_normal(w);
+    }
+    return alignment(x[0], x[1], x[2], nx[0], nx[1], nx[2]);
   }
   // A new face is acceptable when it lies on the surface's side (alignment 60 degrees), or is no
   // worse than the face it replaces (the initial mesh may start worse).
@@ -135,14 +210,19 @@ class Remesher {
 
   // Moving v to p keeps every face around v (except those in `skip`) turned by less than 84
   // degrees, non-degenerate and acceptably aligned with the reference.
-  bool move_keeps_faces(VH v, const Vec& p, FH skip0 = FH(), FH skip1 = FH()) const {
+  bool move_keeps_faces(VH v, const Vec& p, FH skip0 = FH(), FH skip1 = FH()) {
+    const Vec* old_normal = vertex_normal(v);
+    Vec new_normal;
+    if (old_normal) new_normal = ref_.normal(p);
+    const Vec* np = old_normal ? &new_normal : nullptr;
     for (const FH f : m_.vf_range(v)) {
       if (f == skip0 || f == skip1) continue;
       const Vec before = face_normal_with(f, v, m_.point(v));
       const Vec after = face_normal_with(f, v, p);
       const double nb = before.norm(), na = after.norm();
-      if (na <= 1e-12 * nb || after.dot(before) < kMinNormalCos * na * nb) return false;
-      if (!acceptable(alignment_with(f, v, m_.point(v)), alignment_with(f, v, p))) return false;
+      if (na <= 1e-4 * nb || after.dot(before) < kMinNormalCos * na * nb) return false;
+      if (degenerate(corners_with(f, v, p))) return false;
+      if (!acceptable(alignment_with(f, v, m_.point(v), old_normal), alignment_with(f, v, p, np))) return false;
     }
     return true;
   }
@@ -162,18 +242,26 @@ class Remesher {
 
   // Splitting h's edge at p keeps each of its faces' two halves turned by less than 84 degrees
   // from the face (a projected midpoint on a tight leading edge can land behind a neighbour).
-  bool split_keeps_faces(HH h, const Vec& p) const {
+  bool split_keeps_faces(HH h, const Vec& p) {
+    // The new vertex is smooth unless the edge is a feature.
+    const bool smooth = !is_feature(m_.edge_handle(h));
+    const Vec np = smooth ? ref_.normal(p) : Vec::Zero();
     for (const HH hh : {h, m_.opposite_halfedge_handle(h)}) {
       if (m_.is_boundary(hh)) continue;
-      const Vec a = m_.point(m_.from_vertex_handle(hh)), b = m_.point(m_.to_vertex_handle(hh));
-      const Vec c = m_.point(m_.to_vertex_handle(m_.next_halfedge_handle(hh)));
+      const VH va = m_.from_vertex_handle(hh), vb = m_.to_vertex_handle(hh);
+      const VH vc = m_.to_vertex_handle(m_.next_halfedge_handle(hh));
+      const Vec a = m_.point(va), b = m_.point(vb), c = m_.point(vc);
+      const Vec *na = vertex_normal(va), *nb = vertex_normal(vb), *nc = vertex_normal(vc);
       const Vec n = (b - a).cross(c - a);
       for (const Vec& half : {Vec((p - a).cross(c - a)), Vec((b - p).cross(c - p))}) {
         const double nh = half.norm();
         if (nh <= 1e-12 * n.norm() || half.dot(n) < kMinNormalCos * nh * n.norm()) return false;
       }
-      const double before = alignment(a, b, c);
-      if (!acceptable(before, alignment(a, p, c)) || !acceptable(before, alignment(p, b, c))) return false;
+      if (degenerate(a, p, c) || degenerate(p, b, c)) return false;
+      const double before = alignment(a, b, c, na, nb, nc);
+      const Vec* pn = smooth ? &np : nullptr;
+      if (!acceptable(before, alignment(a, p, c, na, pn, nc)) || !acceptable(before, alignment(p, b, c, pn, nb, nc)))
+        return false;
     }
     return true;
   }
@@ -194,6 +282,9 @@ class Remesher {
   RemeshReport rep_;
   std::vector<Eigen::Matrix3d> vm_;  // cached metric per vertex index
   std::vector<char> have_;
+  bool precise_ = false;  // alignment always at the centroid's projection (the final passes)
+  std::vector<Vec> vn_;  // cached reference normal per (smooth) vertex index
+  std::vector<char> have_n_;
 };
 
 void Remesher::split_long_edges() {
@@ -302,6 +393,8 @@ bool Remesher::try_collapse(HH h, double max_length) {
     const HH vw = m_.find_halfedge(v0, w);
     const int cw = curve(m_.edge_handle(vw));
     if (cw >= 0) l = std::max(l, curve_length(target, vertex_metric(v1), m_.point(w), vertex_metric(w), cw));
+    if (cw < 0 && wraps(v1, vertex_normal(v1), w))
+      l = std::max(l, wrapped_length(target, vertex_metric(v1), m_.point(w), vertex_metric(w)));
     if (l > std::max(max_length, 1.1 * length(m_.edge_handle(vw)))) return false;
   }
   const FH fl = m_.is_boundary(h) ? FH() : m_.face_handle(h);
@@ -356,9 +449,13 @@ bool Remesher::try_flip(EH e, double min_gain) {
     return false;
   const double before = std::min(quality(a, b, c), quality(b, a, d));
   const double after = std::min(quality(a, d, c), quality(b, c, d));
-  if (after <= before * min_gain) return false;
-  const double aligned = std::min(alignment(pa, pb, pc), alignment(pb, pa, pd));
-  if (!acceptable(aligned, alignment(pa, pd, pc)) || !acceptable(aligned, alignment(pb, pc, pd))) return false;
+  // (Never down to a needle: a fold is unfolded, not traded for a degenerate triangle.)
+  if (after <= std::max(before * min_gain, 1e-3)) return false;
+  if (degenerate(pa, pd, pc) || degenerate(pb, pc, pd)) return false;
+  const Vec *na = vertex_normal(a), *nb = vertex_normal(b), *nc = vertex_normal(c), *nd = vertex_normal(d);
+  const double aligned = std::min(alignment(pa, pb, pc, na, nb, nc), alignment(pb, pa, pd, nb, na, nd));
+  if (!acceptable(aligned, alignment(pa, pd, pc, na, nd, nc)) || !acceptable(aligned, alignment(pb, pc, pd, nb, nc, nd)))
+    return false;
   // The new edge must not be long (it would be split again, oscillating).
   if (length(c, d) > kSplitAbove) return false;
   if (m_.property(s_.face_tag, m_.face_handle(h)) != m_.property(s_.face_tag, m_.face_handle(o))) return false;
@@ -391,7 +488,8 @@ void Remesher::remove_slivers() {
       int k = 0;
       for (const HH h : m_.fh_range(f)) hs[static_cast<std::size_t>(k++)] = h;
       const VH a = m_.from_vertex_handle(hs[0]), b = m_.from_vertex_handle(hs[1]), c = m_.from_vertex_handle(hs[2]);
-      if (quality(a, b, c) >= 0.1) continue;
+      const bool folded = alignment(m_.point(a), m_.point(b), m_.point(c), nullptr, nullptr, nullptr) < kGoodAlignment;
+      if (!folded && quality(a, b, c) >= 0.1) continue;
       std::array<double, 3> l;
       for (std::size_t i = 0; i < 3; ++i) l[i] = length(m_.edge_handle(hs[i]));
       const std::size_t shortest = static_cast<std::size_t>(std::min_element(l.begin(), l.end()) - l.begin());
@@ -401,7 +499,11 @@ void Remesher::remove_slivers() {
         const HH h = hs[shortest];
         done = try_collapse(h, 2.0) || try_collapse(m_.opposite_halfedge_handle(h), 2.0);
       }
-      if (!done) done = try_flip(m_.edge_handle(hs[longest]), 1.0);
+      if (!done) done = try_flip(m_.edge_handle(hs[longest]), folded ? 0.0 : 1.0);
+      // A fold: any flip or collapse of its edges that leaves every face aligned.
+      for (std::size_t i = 0; folded && !done && i < 3; ++i)
+        done = try_flip(m_.edge_handle(hs[i]), 0.0) || try_collapse(hs[i], 2.0) ||
+               try_collapse(m_.opposite_halfedge_handle(hs[i]), 2.0);
       if (done) {
         ++fixed;
         ++rep_.slivers_removed;
@@ -438,7 +540,8 @@ void Remesher::relax() {
     const Vec p = m_.point(v);
     Vec d = sum / wsum - p;
     if (c < 0) {
-      const Vec n = ref_.normal(p);
+      const Vec* cached = vertex_normal(v);
+      const Vec n = cached ? *cached : ref_.normal(p);
       d -= n * n.dot(d);
     }
     target[static_cast<std::size_t>(v.idx())] = p + 0.5 * d;
@@ -464,11 +567,16 @@ RemeshReport Remesher::run() {
     for (int k = 0; k < 2; ++k) relax();
     ++rep_.rounds;
   }
+  // The final passes judge every face by its centroid's projection, as the fold count does.
+  precise_ = true;
   remove_slivers();
   relax();
+  remove_slivers();
   m_.garbage_collection();
   vm_.clear();  // the collection renumbered the vertices
   have_.clear();
+  vn_.clear();
+  have_n_.clear();
   rep_.faces_after = m_.n_faces();
   std::size_t unit = 0, total = 0;
   for (const EH e : m_.edges()) {
@@ -488,7 +596,9 @@ RemeshReport Remesher::run() {
     if (!(n.dot(r) > 0.5 * n.norm())) {
       if (rep_.folded_faces == 0) {
         std::ostringstream o;
-        o << "(" << x[0].x() << ", " << x[0].y() << ", " << x[0].z() << ")";
+        for (int i = 0; i < 3; ++i)
+          o << (i ? " " : "") << "(" << x[static_cast<std::size_t>(i)].x() << ", " << x[static_cast<std::size_t>(i)].y()
+            << ", " << x[static_cast<std::size_t>(i)].z() << ")";
         rep_.first_folded = o.str();
       }
       ++rep_.folded_faces;

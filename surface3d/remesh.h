@@ -33,7 +33,7 @@ struct RemeshReport {
   std::size_t faces_before = 0, faces_after = 0;
   double unit_fraction = 0;  // of edges with metric length in [1/sqrt 2, sqrt 2] after
   std::size_t folded_faces = 0;  // normal more than 60 degrees from the reference's (should be 0)
-  std::string first_folded;      // a vertex of the first, "(x, y, z)"
+  std::string first_folded;      // the first one's vertices, "(x, y, z) (x, y, z) (x, y, z)"
   double seconds = 0;
 };
 
