@@ -266,6 +266,14 @@ int run_surface3d(const RunConfig& c, const std::filesystem::path& config_path) 
     f.commit();
   }
   std::cout << report_summary(report);
+  if (rr.folded_faces > 0) {
+    // A face turned against the surface is the surface's inverted element: the layers would grow
+    // from it into the body. The mesh is written for inspection; the run fails.
+    std::cerr << "plaf: error: the surface of " << config_path.string() << " folds: " << rr.folded_faces
+              << " triangles face more than 60 degrees away from the reference surface (first: " << rr.first_folded
+              << ")\n";
+    return 2;
+  }
   if (!report.ok() || cr.invalid > 0) {
     std::cerr << "plaf: error: the surface of " << config_path.string() << " is NOT valid: " << report.cells_invalid
               << " invalid triangles" << (report.first_invalid.empty() ? "" : " (first: " + report.first_invalid + ")")
