@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The driver: numbered steps, each a stage call on core data types, timed and reported.
 #include "apps/run.h"
+#include "apps/stage_clock.h"
 
 #include <chrono>
 #include <iomanip>
@@ -28,23 +29,6 @@
 namespace plaf {
 
 namespace {
-
-class StageClock {
- public:
-  explicit StageClock(std::vector<std::pair<std::string, double>>& timings) : timings_(timings) {}
-  // Records the time since the last call under `stage` and prints a progress line.
-  void done(const std::string& stage, const std::string& what) {
-    const auto now = std::chrono::steady_clock::now();
-    const double s = std::chrono::duration<double>(now - last_).count();
-    last_ = now;
-    timings_.emplace_back(stage, s);
-    std::cerr << "[plaf] " << stage << ": " << what << " (" << s << " s)\n";
-  }
-
- private:
-  std::vector<std::pair<std::string, double>>& timings_;
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
 
 // The mesh of the run and, for spline geometries, the surface front it was built from, the
 // layers grown from it and the advancing-front fill.

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "apps/run.h"
+#include "apps/stage_clock.h"
 #include "modules/atomic_file.h"
 #include "modules/error.h"
 #include "modules/msh_io.h"
@@ -28,22 +29,6 @@
 namespace plaf {
 
 namespace {
-
-class Clock {
- public:
-  explicit Clock(std::vector<std::pair<std::string, double>>& timings) : timings_(timings) {}
-  void done(const std::string& stage, const std::string& what) {
-    const auto now = std::chrono::steady_clock::now();
-    const double s = std::chrono::duration<double>(now - last_).count();
-    last_ = now;
-    timings_.emplace_back(stage, s);
-    std::cerr << "[plaf] " << stage << ": " << what << " (" << s << " s)\n";
-  }
-
- private:
-  std::vector<std::pair<std::string, double>>& timings_;
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
 
 Eigen::Vector3d vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
@@ -143,7 +128,7 @@ std::string feature_line(const FeatureReport& f) {
 
 int run_surface3d(const RunConfig& c, const std::filesystem::path& config_path) {
   std::vector<std::pair<std::string, double>> timings;
-  Clock clock(timings);
+  StageClock clock(timings);
   clock.done("config", config_path.string());
 
   // 1. Metric field (sizes of the surface triangles).

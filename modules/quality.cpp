@@ -148,6 +148,22 @@ void measure_edges(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& bl
   if (acc_tri) acc_tri->finish();
 }
 
+// Records one certified cell in the report and the per-cell results; `where` describes it
+// ("<type> cell i of block b at (x, y)") and is called only for the first invalid cell.
+template <class Where>
+void record_cell(const JacobianBounds& jb, double sj, double ar, QualityReport& r, CellQuality* per_cell,
+                 Where&& where) {
+  if (!jb.valid && r.cells_invalid++ == 0) r.first_invalid = where();
+  if (!jb.proven) ++r.cells_unproven;
+  r.scaled_jacobian_min = std::min(r.scaled_jacobian_min, sj);
+  if (jb.valid) r.aspect_ratio_max = std::max(r.aspect_ratio_max, ar);
+  if (per_cell) {
+    per_cell->valid.push_back(jb.valid ? 1 : 0);
+    per_cell->scaled_jacobian.push_back(sj);
+    per_cell->aspect_ratio.push_back(ar);
+  }
+}
+
 // The triangles of a 3D surface mesh (boundary blocks, no cells) as its cells: certified relative
 // to their flat triangles, aspect ratio in the flat triangle's plane frame. Quadrilateral facets
 // have no flat reference (four points need not be coplanar): they are not certified or counted
@@ -184,20 +200,12 @@ void assess_surface(const HybridMesh<Dim>& mesh, JacobianCertifier& certifier, Q
         const double ar = surface_triangle_plane_coords(b.order, nodes.data(), plane.data())
                               ? aspect_ratio<2>(e, plane.data(), grad.data())
                               : std::numeric_limits<double>::infinity();
-        if (!jb.valid && r.cells_invalid++ == 0) {
+        record_cell(jb, sj, ar, r, per_cell, [&] {
           std::ostringstream w;
           w << "surface triangle " << i << " of boundary block " << (&b - mesh.boundary.data()) << " at ("
             << nodes[0][0] << ", " << nodes[0][1] << ", " << nodes[0][2] << ")";
-          r.first_invalid = w.str();
-        }
-        if (!jb.proven) ++r.cells_unproven;
-        r.scaled_jacobian_min = std::min(r.scaled_jacobian_min, sj);
-        if (jb.valid) r.aspect_ratio_max = std::max(r.aspect_ratio_max, ar);
-        if (per_cell) {
-          per_cell->valid.push_back(jb.valid ? 1 : 0);
-          per_cell->scaled_jacobian.push_back(sj);
-          per_cell->aspect_ratio.push_back(ar);
-        }
+          return w.str();
+        });
       }
     }
   } else {
@@ -255,21 +263,13 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
       const JacobianBounds jb = certifier.certify(b.type, b.order, coords.data());
       const double sj = jb.scaled_lower();
       const double ar = aspect_ratio<Dim>(e, coords.data(), grad.data());
-      if (!jb.valid && r.cells_invalid++ == 0) {
+      record_cell(jb, sj, ar, r, per_cell, [&] {
         std::ostringstream w;
         w << cell_name(b.type) << " cell " << i << " of block " << (&b - mesh.cells.data()) << " at (";
         for (int d = 0; d < Dim; ++d) w << (d ? ", " : "") << mesh.nodes[b.cell(i)[0]][d];
         w << ")";
-        r.first_invalid = w.str();
-      }
-      if (!jb.proven) ++r.cells_unproven;
-      r.scaled_jacobian_min = std::min(r.scaled_jacobian_min, sj);
-      if (jb.valid) r.aspect_ratio_max = std::max(r.aspect_ratio_max, ar);
-      if (per_cell) {
-        per_cell->valid.push_back(jb.valid ? 1 : 0);
-        per_cell->scaled_jacobian.push_back(sj);
-        per_cell->aspect_ratio.push_back(ar);
-      }
+        return w.str();
+      });
     }
   }
   if (r.cells_total == 0) r.scaled_jacobian_min = 0;

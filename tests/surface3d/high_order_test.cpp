@@ -17,6 +17,7 @@
 #include "modules/msh_io.h"
 #include "modules/quality.h"
 #include "tests/test_support.h"
+#include "tests/surface3d/test_surfaces.h"
 
 using namespace plaf;
 
@@ -71,12 +72,8 @@ TriSurface sphere(bool icosahedron, int levels) {
   TriangleSoup soup;
   soup.source = icosahedron ? "icosphere" : "octasphere";
   if (icosahedron) {
-    const double g = (1 + std::sqrt(5.0)) / 2;
-    soup.points = {{-1, g, 0},  {1, g, 0},  {-1, -g, 0}, {1, -g, 0}, {0, -1, g},  {0, 1, g},
-                   {0, -1, -g}, {0, 1, -g}, {g, 0, -1},  {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
-    soup.triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                      {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                      {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+    soup = test::icosahedron_soup();
+    soup.source = "icosphere";
   } else {
     soup.points = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     soup.triangles = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};

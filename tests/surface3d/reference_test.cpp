@@ -9,44 +9,14 @@
 #include <random>
 
 #include "modules/error.h"
+#include "tests/surface3d/test_surfaces.h"
 
 namespace plaf {
 namespace {
 
 using Eigen::Vector3d;
 
-// The unit sphere from an icosahedron with each face split into m^2 triangles, outward.
-TriSurface icosphere(int m) {
-  const double g = (1 + std::sqrt(5.0)) / 2;
-  const std::vector<Vector3d> ico = {{-1, g, 0},  {1, g, 0},  {-1, -g, 0}, {1, -g, 0}, {0, -1, g},  {0, 1, g},
-                                     {0, -1, -g}, {0, 1, -g}, {g, 0, -1},  {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
-  const int faces[20][3] = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                            {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                            {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  TriangleSoup s;
-  std::map<std::vector<std::pair<int, int>>, int> index;  // lattice point by its vertex weights
-  auto point = [&](const int* f, int i, int j) {
-    const int w[3] = {m - i - j, i, j};
-    std::vector<std::pair<int, int>> key;
-    Vector3d x = Vector3d::Zero();
-    for (int k = 0; k < 3; ++k)
-      if (w[k] > 0) {
-        key.emplace_back(f[k], w[k]);
-        x += w[k] * ico[static_cast<std::size_t>(f[k])];
-      }
-    std::sort(key.begin(), key.end());
-    const auto [it, fresh] = index.try_emplace(key, static_cast<int>(s.points.size()));
-    if (fresh) s.points.push_back(x.normalized());
-    return it->second;
-  };
-  for (const auto& f : faces)
-    for (int i = 0; i < m; ++i)
-      for (int j = 0; i + j < m; ++j) {
-        s.triangles.push_back({point(f, i, j), point(f, i + 1, j), point(f, i, j + 1)});
-        if (i + j + 2 <= m) s.triangles.push_back({point(f, i + 1, j), point(f, i + 1, j + 1), point(f, i, j + 1)});
-      }
-  return surface_from_soup(s);
-}
+TriSurface icosphere(int m) { return surface_from_soup(test::icosphere_soup(m)); }
 
 // The cube [0, 1]^3 (two triangles a face, outward) with its 12 edges as curves 0..11, numbered
 // in the order of `cube_edges` below.

@@ -13,6 +13,7 @@
 #include "surface3d/curvature_metric.h"
 #include "surface3d/features.h"
 #include "surface3d/validate.h"
+#include "tests/surface3d/test_surfaces.h"
 
 namespace plaf {
 namespace {
@@ -27,19 +28,7 @@ class UnitSphere final : public ReferenceGeometry {
   double scale() const override { return 2 * std::sqrt(3.0); }
 };
 
-// An icosahedron on the unit sphere, outward.
-TriSurface icosahedron() {
-  const double t = (1 + std::sqrt(5.0)) / 2;
-  TriangleSoup s;
-  s.source = "icosahedron";
-  s.points = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-              {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  for (auto& p : s.points) p.normalize();
-  s.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                 {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  return surface_from_soup(s);
-}
+TriSurface icosahedron() { return surface_from_soup(test::icosahedron_soup()); }
 
 double unit_fraction(const TriSurface& s, const MetricField<3>& metric) {
   std::size_t unit = 0, n = 0;
