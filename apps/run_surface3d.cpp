@@ -145,6 +145,7 @@ int run_surface3d(const RunConfig& c, const std::filesystem::path& config_path) 
   // With curvature_factor, sizes also follow the reference's curvature (curvature_metric.h).
   std::unique_ptr<MetricField<3>> curved_metric;
   if (c.surface.curvature_factor > 0) {
+    if (s.mesh.n_vertices() == 0) throw MesherError("surface: no vertices to mesh");
     const double base_min = metric->evaluate(s.mesh.point(*s.mesh.vertices().begin())).min_size();
     const double h_min = c.surface.curvature_h_min > 0 ? c.surface.curvature_h_min : base_min / 20;
     curved_metric = std::make_unique<CurvatureMetricField>(*metric, *in.reference, c.surface.curvature_factor, h_min);
@@ -156,6 +157,7 @@ int run_surface3d(const RunConfig& c, const std::filesystem::path& config_path) 
   if (c.surface.remesh) {
     RemeshOptions ro;
     ro.iterations = c.surface.iterations;
+    ro.max_triangles = static_cast<std::size_t>(c.surface.max_triangles);
     rr = remesh_surface(s, *in.reference, field, ro);
     clock.done("remesh", std::to_string(rr.faces_before) + " -> " + std::to_string(rr.faces_after) +
                              " triangles, unit fraction " + std::to_string(rr.unit_fraction) + ", " +
@@ -207,6 +209,8 @@ int run_surface3d(const RunConfig& c, const std::filesystem::path& config_path) 
   report.extra.push_back({"surface.remesh.flips", std::to_string(rr.flips)});
   report.extra.push_back({"surface.remesh.unit_fraction", json_number(rr.unit_fraction)});
   report.extra.push_back({"surface.remesh.folded_faces", std::to_string(rr.folded_faces)});
+  report.extra.push_back({"surface.remesh.refused_splits", std::to_string(rr.refused_splits)});
+  report.extra.push_back({"surface.remesh.slivers_removed", std::to_string(rr.slivers_removed)});
   report.extra.push_back({"surface.curving.straightened", std::to_string(cr.straightened)});
   report.extra.push_back({"surface.curving.invalid", std::to_string(cr.invalid)});
   report.extra.push_back({"surface.curving.min_scaled_jacobian", json_number(cr.min_scaled_jacobian)});

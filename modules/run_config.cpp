@@ -84,6 +84,8 @@ void parse_surface3(const ConfigNode& g, const std::string& type, Surface3Params
     s.root = g.get_choice("root", s.root, {"flat", "rounded", "symmetry"});
     s.tip = g.get_choice("tip", s.tip, {"flat", "rounded", "symmetry"});
     s.corner_angle_deg = g.get_in_range("corner_angle_deg", s.corner_angle_deg, 0.0, 180.0);
+    if (!(s.corner_angle_deg > 0 && s.corner_angle_deg < 180))
+      throw ConfigError(g.where("corner_angle_deg") + ": must lie strictly between 0 and 180");
   }
   if (type == "surface_file") {
     s.file = g.get_path("file", "");
@@ -91,6 +93,7 @@ void parse_surface3(const ConfigNode& g, const std::string& type, Surface3Params
     s.weld_rel = g.get_in_range("weld_rel", s.weld_rel, 0.0, 0.1);
     for (const ConfigNode& p : g.child_list("symmetry_planes")) {
       SymmetryPlaneParams plane;
+      if (!p.has("normal")) throw ConfigError(p.where() + ": normal is required ([nx, ny, nz])");
       plane.normal = get_triple(p, "normal", plane.normal);
       const double len = std::sqrt(plane.normal[0] * plane.normal[0] + plane.normal[1] * plane.normal[1] +
                                    plane.normal[2] * plane.normal[2]);
@@ -120,6 +123,7 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     parse_surface3(g, r.geometry.type, r.geometry.surface3);
   }
   std::string surface_where;  // a surface section in a 2D run is an error (after the unknown keys)
+  std::string curvature_h_min_where;
   if (c.has("surface")) {
     const ConfigNode sf = c.child("surface");
     SurfaceParams& sp = r.surface;
@@ -131,6 +135,8 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     sp.curvature_factor = sf.get_in_range("curvature_factor", sp.curvature_factor, 0.0, 100.0);
     sp.curvature_h_min = sf.get_positive("curvature_h_min", 1.0);
     if (!sf.has("curvature_h_min")) sp.curvature_h_min = 0;
+    sp.max_triangles = sf.get_int("max_triangles", sp.max_triangles, 1, 2000000000);
+    curvature_h_min_where = sf.where("curvature_h_min");
     surface_where = sf.where();
   }
   if (r.geometry.type == "annulus") {
@@ -217,22 +223,31 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   r.output.formats = o.get_string_list("formats", r.output.formats, writer_registry().names());
   if (r.dim == 3 && r.output.wants("png"))
     throw ConfigError(o.where("formats") + ": png pictures are 2D only (3D runs write msh, vtu, report)");
-  r.output.picture_width = o.get_int("picture_width", r.output.picture_width, 64, 16384);
-  r.output.picture_height = o.get_int("picture_height", r.output.picture_height, 64, 16384);
   r.output.histogram_bins = o.get_int("histogram_bins", r.output.histogram_bins, 2, 1000);
-  r.output.uniform_order = o.get_bool("uniform_order", r.output.uniform_order);
-  r.output.split_quads = o.get_bool("split_quads", r.output.split_quads);
-  for (const ConfigNode& z : o.child_list("zooms")) {
-    OutputParams::Zoom zoom;
-    zoom.label = z.get_string("label", "");
-    const std::vector<double> box = z.get_double_list("box", {});
-    if (box.size() != 4 || !(box[1] > box[0]) || !(box[3] > box[2]))
-      throw ConfigError(z.where("box") + ": expected [x_min, x_max, y_min, y_max] with min < max");
-    zoom.box = {box[0], box[1], box[2], box[3]};
-    r.output.zooms.push_back(zoom);
+  if (r.dim == 2) {  // pictures and the 2D mesh options (3D runs: unknown keys)
+    r.output.picture_width = o.get_int("picture_width", r.output.picture_width, 64, 16384);
+    r.output.picture_height = o.get_int("picture_height", r.output.picture_height, 64, 16384);
+    r.output.uniform_order = o.get_bool("uniform_order", r.output.uniform_order);
+    r.output.split_quads = o.get_bool("split_quads", r.output.split_quads);
+    for (const ConfigNode& z : o.child_list("zooms")) {
+      OutputParams::Zoom zoom;
+      zoom.label = z.get_string("label", "");
+      const std::vector<double> box = z.get_double_list("box", {});
+      if (box.size() != 4 || !(box[1] > box[0]) || !(box[3] > box[2]))
+        throw ConfigError(z.where("box") + ": expected [x_min, x_max, y_min, y_max] with min < max");
+      zoom.box = {box[0], box[1], box[2], box[3]};
+      r.output.zooms.push_back(zoom);
+    }
   }
 
   c.finish();
+  if (r.dim == 3 && r.surface.curvature_h_min > 0) {
+    const UniformMetricParams& u = r.metric.uniform;
+    const double smallest = u.sizes.empty() ? u.h : *std::min_element(u.sizes.begin(), u.sizes.end());
+    if (r.surface.curvature_h_min >= smallest)
+      throw ConfigError(curvature_h_min_where + ": " + std::to_string(r.surface.curvature_h_min) +
+                        " must be smaller than the metric's smallest size " + std::to_string(smallest));
+  }
   if (!surface_where.empty() && r.dim != 3)
     throw ConfigError(surface_where + ": the surface section is for 3D geometries (sphere, ellipsoid, box, wing, "
                       "surface_file)");

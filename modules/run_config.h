@@ -34,12 +34,12 @@
 //       chord: <>0>         default: 1        span: <>0>          default: 1
 //       root: flat|rounded|symmetry   the end at z = 0            default: symmetry
 //       tip: flat|rounded|symmetry    the end at z = span         default: flat
-//       corner_angle_deg: <0..180>  section corners               default: 30
+//       corner_angle_deg: <(0, 180)>  section corners             default: 30
 //     type: surface_file    a triangulated or Plot3D surface (surface3d/read_surface.h)
 //       file: <path>        .stl .obj .off .ply .fmt .p3d         (required)
-//       weld_rel: <>=0>     merge points closer than this x bbox diagonal   default: 1e-9
+//       weld_rel: <0..0.1>  merge points closer than this x bbox diagonal   default: 1e-9
 //       symmetry_planes:    open boundaries allowed on these planes, tagged symmetry:
-//         - normal: [nx, ny, nz]   offset: <d>   (the plane normal . x = d)   default: none
+//         - normal: [nx, ny, nz]   (required)   offset: <d>   (the plane normal . x = d, default 0)
 //       self_intersections: check|skip                            default: check
 //       inner_components: error|drop  bodies nested in another    default: error
 //   surface:                3D only: features, remeshing (surface3d/features.h, remesh.h)
@@ -48,8 +48,9 @@
 //     curve_turn_deg: <0..180>    turn of a feature curve making a corner   default: 45
 //     remesh: <bool>        remesh to the metric                  default: true
 //     iterations: <1..100>  remeshing rounds                      default: 8
-//     curvature_factor: <>=0>  sizes at most this x radius of curvature (0: off)   default: 0
-//     curvature_h_min: <>0>  the smallest size curvature asks for  default: the metric's size / 20
+//     curvature_factor: <0..100>  sizes at most this x radius of curvature (0: off)   default: 0
+//     curvature_h_min: <>0, < the metric's size>  the smallest size curvature asks for   default: the metric's size / 20
+//     max_triangles: <n>    give up (an error) beyond this many triangles   default: 20000000
 //   metric:
 //     type: uniform         one metric everywhere
 //     h: <>0>               isotropic size                        default: 0.25
@@ -90,6 +91,7 @@
 //   output:
 //     dir: <path>           output folder (plaf run --out wins)   default: out
 //     formats: [msh, vtu, report, png]                            default: all four (3D: no png)
+//     (2D only: picture_width, picture_height, uniform_order, split_quads, zooms)
 //     picture_width: <px>   PNG width                             default: 1600
 //     picture_height: <px>  PNG height                            default: 1200
 //     histogram_bins: <n>   bins of the metric edge-length histogram  default: 12
@@ -173,6 +175,7 @@ struct SurfaceParams {
   int iterations = 8;
   double curvature_factor = 0;
   double curvature_h_min = 0;  // 0: the metric's smallest size / 20
+  int max_triangles = 20000000;
 };
 
 struct UniformMetricParams {

@@ -12,7 +12,7 @@
 // - Edge e's interior nodes (order - 1 of them) run from from_vertex(halfedge_handle(e, 0)) to its
 //   to_vertex; a face whose halfedge on that edge is halfedge 1 reads them reversed.
 // - Face interior nodes ((order - 1)(order - 2) / 2 of them) are in Gmsh order relative to
-//   (v0, v1, v2), i.e. num_nodes(Triangle, order) - 3 (order - 1) ... the nodes after the edges'.
+//   (v0, v1, v2): the nodes from index 3 order on of the triangle's Gmsh node list.
 // - Features: an edge is a ridge when the dihedral angle between its faces departs from flat by
 //   more than a threshold (features.h); boundary edges (open loops, allowed only on symmetry
 //   planes) are features too. Chains of feature edges between corners are feature curves, numbered
@@ -104,7 +104,7 @@ class TriSurface {
 // The triangles of a soup as a TriSurface (all faces tag 0 "wall"), no checks (validate.h
 // checks); throws MesherError if OpenMesh refuses a face (non-manifold input).
 TriSurface surface_from_soup(const TriangleSoup& soup);
-// The vertices and faces of a surface as a soup (garbage collected first on a copy).
+// The vertices and faces of a surface as a soup (deleted elements skipped, vertices renumbered).
 TriangleSoup soup_from_surface(const TriSurface& s);
 
 }  // namespace plaf

@@ -81,7 +81,9 @@ Metric<3> CurvatureMetricField::evaluate(const Point& x) const {
   // Sizes along d1, d2 from the curvature; along the normal the base's largest size, so that the
   // intersection keeps the base there.
   const double big = base.max_size();
-  auto size = [&](double k) { return std::clamp(factor_ / std::max(std::abs(k), 1e-300), h_min_, big); };
+  // (h_min may exceed the base's size somewhere: the base's largest size wins there.)
+  const double cap = std::max(big, h_min_);
+  auto size = [&](double k) { return std::min(std::max(factor_ / std::max(std::abs(k), 1e-300), h_min_), cap); };
   Eigen::Matrix3d dirs;
   dirs.col(0) = c.d1;
   dirs.col(1) = c.d2;

@@ -8,8 +8,10 @@
 // Curvature is measured from the reference's normals by central differences: the shape operator
 // S t ~ (n(x + e t) - n(x - e t)) / 2e along two tangent directions. The step starts at a quarter of
 // the base size and halves while the normal turns by more than 20 degrees over it, so tight
-// leading edges are measured at their own scale; a turn that does not shrink with the step is a
-// ridge (a feature curve, kept by the remesher), not curvature, and adds nothing.
+// leading edges are measured at their own scale. A turn still unresolved at a quarter of h_min is
+// a ridge when a feature curve of the reference passes within the step (the remesher keeps
+// ridges; there is no curvature across them to resolve) and otherwise a radius tighter than h_min
+// (the size is then h_min).
 #pragma once
 
 #include "modules/metric.h"

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "modules/error.h"
+
 namespace plaf {
 
 namespace {
@@ -38,20 +40,29 @@ class Remesher {
 
  private:
   // --- lengths -------------------------------------------------------------------------------
+  // sqrt of a quadratic form that rounding may push just below zero for extreme anisotropy.
+  static double root(double q) { return std::sqrt(std::max(q, 0.0)); }
   // The metric is evaluated once per vertex position and cached (vertices are created by splits
   // and moved by relaxation, and re-evaluated then); an edge's length is the mean of its length in
   // its two end metrics, exact for a uniform metric and second order for a smooth one.
-  const Eigen::Matrix3d& vertex_metric(VH v) {
-    std::size_t i = static_cast<std::size_t>(v.idx());
-    if (i >= vm_.size()) {
-      vm_.resize(m_.n_vertices(), Eigen::Matrix3d::Zero());
-      have_.resize(m_.n_vertices(), 0);
-    }
+  // (Returned by value: a cache may grow while a caller still holds an earlier entry.)
+  Eigen::Matrix3d vertex_metric(VH v) {
+    const std::size_t i = static_cast<std::size_t>(v.idx());
+    if (i >= have_.size()) grow_caches();
     if (!have_[i]) {
       vm_[i] = metric_.evaluate(m_.point(v)).matrix();
       have_[i] = 1;
     }
     return vm_[i];
+  }
+  // Sizes the caches to the mesh's vertices: called after every split (the only operation adding
+  // vertices), so that the normal cache never reallocates while its entries are pointed to.
+  void grow_caches() {
+    const std::size_t n = m_.n_vertices();
+    vm_.resize(n, Eigen::Matrix3d::Zero());
+    have_.resize(n, 0);
+    vn_.resize(n, Vec::Zero());
+    have_n_.resize(n, 0);
   }
   // A vertex was created or moved: its cached metric and normal are stale.
   void forget_metric(VH v) {
@@ -61,12 +72,12 @@ class Remesher {
   }
   double length(VH a, VH b) {
     const Vec d = m_.point(b) - m_.point(a);
-    return 0.5 * (std::sqrt(d.dot(vertex_metric(a) * d)) + std::sqrt(d.dot(vertex_metric(b) * d)));
+    return 0.5 * (root(d.dot(vertex_metric(a) * d)) + root(d.dot(vertex_metric(b) * d)));
   }
   // The length of a -> b if a stood at p (its metric taken as b's: a is being merged into b).
   double length_from(const Vec& p, VH b) {
     const Vec d = m_.point(b) - p;
-    return std::sqrt(d.dot(vertex_metric(b) * d));
+    return root(d.dot(vertex_metric(b) * d));
   }
   // A feature edge becomes a piece of its curve (the high-order nodes follow the curve): where
   // the curve bends away from the chord (a symmetry loop around a leading edge), its length is
@@ -74,7 +85,7 @@ class Remesher {
   double curve_length(const Vec& a, const Eigen::Matrix3d& ma, const Vec& b, const Eigen::Matrix3d& mb, int c) const {
     const Vec m = ref_.project_to_curve(0.5 * (a + b), c);
     const Vec d1 = m - a, d2 = b - m;
-    return std::sqrt(d1.dot(ma * d1)) + std::sqrt(d2.dot(mb * d2));
+    return root(d1.dot(ma * d1)) + root(d2.dot(mb * d2));
   }
   // An edge between vertices whose surface normals differ by more than 60 degrees spans a tight
   // turn of the surface (wraps a thin trailing edge): the metrics at its ends do not see the
@@ -84,13 +95,17 @@ class Remesher {
     const Vec m = ref_.project(0.5 * (a + b));
     const Eigen::Matrix3d mm = metric_.evaluate(m).matrix();
     const Vec d1 = m - a, d2 = b - m;
-    return 0.5 * (std::sqrt(d1.dot(ma * d1)) + std::sqrt(d1.dot(mm * d1))) +
-           0.5 * (std::sqrt(d2.dot(mm * d2)) + std::sqrt(d2.dot(mb * d2)));
+    return 0.5 * (root(d1.dot(ma * d1)) + root(d1.dot(mm * d1))) +
+           0.5 * (root(d2.dot(mm * d2)) + root(d2.dot(mb * d2)));
   }
-  bool wraps(VH a, const Vec* na, VH b) {
+  // Whether the edge a - b (a at pa, with normal na) wraps a tight turn: its ends' normals differ
+  // by more than 60 degrees, or, where one end is on a feature (no normal), the surface lies
+  // farther than a quarter of the edge from its midpoint.
+  bool wraps(const Vec& pa, const Vec* na, VH b) {
     const Vec* nb = vertex_normal(b);
-    (void)a;
-    return na && nb && na->dot(*nb) < 0.5;
+    if (na && nb) return na->dot(*nb) < 0.5;
+    const Vec mid = 0.5 * (pa + m_.point(b));
+    return (ref_.project(mid) - mid).norm() > 0.25 * (m_.point(b) - pa).norm();
   }
   double length(EH e) {
     const HH h = m_.halfedge_handle(e, 0);
@@ -98,7 +113,7 @@ class Remesher {
     const double chord = length(a, b);
     const int c = curve(e);
     if (c < 0) {
-      if (!wraps(a, vertex_normal(a), b)) return chord;
+      if (!wraps(m_.point(a), vertex_normal(a), b)) return chord;
       return std::max(chord, wrapped_length(m_.point(a), vertex_metric(a), m_.point(b), vertex_metric(b)));
     }
     return std::max(chord, curve_length(m_.point(a), vertex_metric(a), m_.point(b), vertex_metric(b), c));
@@ -156,10 +171,7 @@ class Remesher {
   const Vec* vertex_normal(VH v) {
     if (feature(v) != VertexFeature::Smooth || m_.is_boundary(v)) return nullptr;
     const std::size_t i = static_cast<std::size_t>(v.idx());
-    if (i >= vn_.size()) {
-      vn_.resize(m_.n_vertices(), Vec::Zero());
-      have_n_.resize(m_.n_vertices(), 0);
-    }
+    if (i >= have_n_.size()) grow_caches();  // (not reached: splits grow the caches)
     if (!have_n_[i]) {
       vn_[i] = ref_.normal(m_.point(v));
       have_n_[i] = 1;
@@ -173,8 +185,9 @@ class Remesher {
     const Vec n = (b - a).cross(c - a);
     const double nn = n.norm();
     if (!(nn > 0)) return -2;
-    // The vertices' normals stand for the face's where they agree (within ~25 degrees); where
-    // the surface turns fast across the face (a leading edge) the centroid is projected.
+    // The vertices' normals stand for the face's where all three are smooth and agree (within ~25
+    // degrees); beside a feature or where the surface turns fast across the face (a leading
+    // edge) the centroid is projected.
     Vec r = Vec::Zero();
     bool agree = true;
     int given = 0;
@@ -184,7 +197,7 @@ class Remesher {
       r += *x;
       ++given;
     }
-    if (given == 0 || !agree) {
+    if (given < 3 || !agree) {
       r = ref_.normal(ref_.project((a + b + c) / 3));
     } else {
       r.normalize();
@@ -232,6 +245,7 @@ class Remesher {
   double quality(VH a, VH b, VH c) {
     const Eigen::Matrix3d mm = (vertex_metric(a) + vertex_metric(b) + vertex_metric(c)) / 3;
     const Eigen::LLT<Eigen::Matrix3d> llt(mm);
+    if (llt.info() != Eigen::Success) return 0;
     const Eigen::Matrix3d lt = llt.matrixU();  // M = U^T U: |U v| is the metric length of v
     const Vec pa = m_.point(a), pb = m_.point(b), pc = m_.point(c);
     const Vec u = lt * (pb - pa), w = lt * (pc - pa), z = lt * (pc - pb);
@@ -272,6 +286,7 @@ class Remesher {
   void relax();
   bool try_collapse(HH h, double max_length = kSplitAbove);
   bool try_flip(EH e, double min_gain);
+  bool try_split(EH e);
   void remove_slivers();
 
   TriSurface& s_;
@@ -283,7 +298,7 @@ class Remesher {
   std::vector<Eigen::Matrix3d> vm_;  // cached metric per vertex index
   std::vector<char> have_;
   bool precise_ = false;  // alignment always at the centroid's projection (the final passes)
-  std::vector<Vec> vn_;  // cached reference normal per (smooth) vertex index
+  std::vector<Vec> vn_;   // cached reference normal per (smooth) vertex index
   std::vector<char> have_n_;
 };
 
@@ -297,46 +312,60 @@ void Remesher::split_long_edges() {
       if (l > kSplitAbove) longs.emplace_back(l, e);
     }
     if (longs.empty()) return;
+    if (m_.n_faces() + 2 * longs.size() > opt_.max_triangles)
+      throw MesherError("remesh: the metric asks for more than " + std::to_string(opt_.max_triangles) +
+                        " triangles on this surface (" + std::to_string(m_.n_faces()) + " so far, " +
+                        std::to_string(longs.size()) +
+                        " edges still too long): give larger sizes or raise surface.max_triangles");
     std::sort(longs.begin(), longs.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
     for (const auto& [l, e] : longs) {
       (void)l;
       if (m_.status(e).deleted()) continue;
-      const HH h0 = m_.halfedge_handle(e, 0);
-      const VH a = m_.from_vertex_handle(h0), b = m_.to_vertex_handle(h0);
       if (length(e) <= kSplitAbove) continue;  // an earlier split changed it
-      const int c = curve(e);
-      const int etag = m_.property(s_.edge_tag, e);
-      const EdgeFeature ef = m_.property(s_.edge_feature, e);
-      const Vec mid = 0.5 * (m_.point(a) + m_.point(b));
-      const Vec p = c >= 0 ? ref_.project_to_curve(mid, c) : ref_.project(mid);
-      if (!split_keeps_faces(h0, p)) {
-        ++rep_.refused_splits;
-        continue;
-      }
-      // The faces' tags by their far vertex, to give the four new faces the right ones.
-      std::vector<std::pair<VH, int>> far_tag;
-      for (const HH h : {h0, m_.opposite_halfedge_handle(h0)})
-        if (!m_.is_boundary(h))
-          far_tag.emplace_back(m_.to_vertex_handle(m_.next_halfedge_handle(h)),
-                               m_.property(s_.face_tag, m_.face_handle(h)));
-      const VH v = m_.split(e, p);
-      forget_metric(v);
-      m_.property(s_.vertex_feature, v) = c >= 0 ? VertexFeature::Curve : VertexFeature::Smooth;
-      for (const HH h : m_.voh_range(v)) {
-        const EH ne = m_.edge_handle(h);
-        const VH w = m_.to_vertex_handle(h);
-        const bool half = w == a || w == b;
-        m_.property(s_.edge_curve, ne) = half ? c : -1;
-        m_.property(s_.edge_tag, ne) = half ? etag : -1;
-        m_.property(s_.edge_feature, ne) = half ? ef : EdgeFeature::Smooth;
-      }
-      for (const FH f : m_.vf_range(v))
-        for (const VH w : m_.fv_range(f))
-          for (const auto& [far, tag] : far_tag)
-            if (w == far) m_.property(s_.face_tag, f) = tag;
-      ++rep_.splits;
+      try_split(e);
     }
   }
+}
+
+// Splits e at its midpoint projected onto the reference (onto its curve for a feature edge) unless
+// that would fold one of its faces; the halves keep e's feature, curve and tag, the new faces their
+// side's tag.
+bool Remesher::try_split(EH e) {
+  const HH h0 = m_.halfedge_handle(e, 0);
+  const VH a = m_.from_vertex_handle(h0), b = m_.to_vertex_handle(h0);
+  const int c = curve(e);
+  const int etag = m_.property(s_.edge_tag, e);
+  const EdgeFeature ef = m_.property(s_.edge_feature, e);
+  const Vec mid = 0.5 * (m_.point(a) + m_.point(b));
+  const Vec p = c >= 0 ? ref_.project_to_curve(mid, c) : ref_.project(mid);
+  if (!split_keeps_faces(h0, p)) {
+    ++rep_.refused_splits;
+    return false;
+  }
+  // The faces' tags by their far vertex, to give the four new faces the right ones.
+  std::vector<std::pair<VH, int>> far_tag;
+  for (const HH h : {h0, m_.opposite_halfedge_handle(h0)})
+    if (!m_.is_boundary(h))
+      far_tag.emplace_back(m_.to_vertex_handle(m_.next_halfedge_handle(h)),
+                           m_.property(s_.face_tag, m_.face_handle(h)));
+  const VH v = m_.split(e, p);
+  grow_caches();
+  forget_metric(v);
+  m_.property(s_.vertex_feature, v) = c >= 0 ? VertexFeature::Curve : VertexFeature::Smooth;
+  for (const HH h : m_.voh_range(v)) {
+    const EH ne = m_.edge_handle(h);
+    const VH w = m_.to_vertex_handle(h);
+    const bool half = w == a || w == b;
+    m_.property(s_.edge_curve, ne) = half ? c : -1;
+    m_.property(s_.edge_tag, ne) = half ? etag : -1;
+    m_.property(s_.edge_feature, ne) = half ? ef : EdgeFeature::Smooth;
+  }
+  for (const FH f : m_.vf_range(v))
+    for (const VH w : m_.fv_range(f))
+      for (const auto& [far, tag] : far_tag)
+        if (w == far) m_.property(s_.face_tag, f) = tag;
+  ++rep_.splits;
+  return true;
 }
 
 // Collapses h's from-vertex into its to-vertex if that keeps topology, features, lengths and
@@ -380,8 +409,8 @@ bool Remesher::try_collapse(HH h, double max_length) {
     const bool f1 = is_feature(e1), f2 = is_feature(e2);
     if (f1 && f2) return false;
     const EH keep = f1 ? e1 : e2;
-    wings.push_back({m_.to_vertex_handle(n), curve(keep), m_.property(s_.edge_tag, keep),
-                     m_.property(s_.edge_feature, keep)});
+    wings.push_back(
+        {m_.to_vertex_handle(n), curve(keep), m_.property(s_.edge_tag, keep), m_.property(s_.edge_feature, keep)});
   }
   const Vec target = m_.point(v1);
   // New edges v1 - (neighbours of v0) must not be long.
@@ -393,7 +422,7 @@ bool Remesher::try_collapse(HH h, double max_length) {
     const HH vw = m_.find_halfedge(v0, w);
     const int cw = curve(m_.edge_handle(vw));
     if (cw >= 0) l = std::max(l, curve_length(target, vertex_metric(v1), m_.point(w), vertex_metric(w), cw));
-    if (cw < 0 && wraps(v1, vertex_normal(v1), w))
+    if (cw < 0 && wraps(target, vertex_normal(v1), w))
       l = std::max(l, wrapped_length(target, vertex_metric(v1), m_.point(w), vertex_metric(w)));
     if (l > std::max(max_length, 1.1 * length(m_.edge_handle(vw)))) return false;
   }
@@ -454,7 +483,8 @@ bool Remesher::try_flip(EH e, double min_gain) {
   if (degenerate(pa, pd, pc) || degenerate(pb, pc, pd)) return false;
   const Vec *na = vertex_normal(a), *nb = vertex_normal(b), *nc = vertex_normal(c), *nd = vertex_normal(d);
   const double aligned = std::min(alignment(pa, pb, pc, na, nb, nc), alignment(pb, pa, pd, nb, na, nd));
-  if (!acceptable(aligned, alignment(pa, pd, pc, na, nd, nc)) || !acceptable(aligned, alignment(pb, pc, pd, nb, nc, nd)))
+  if (!acceptable(aligned, alignment(pa, pd, pc, na, nd, nc)) ||
+      !acceptable(aligned, alignment(pb, pc, pd, nb, nc, nd)))
     return false;
   // The new edge must not be long (it would be split again, oscillating).
   if (length(c, d) > kSplitAbove) return false;
@@ -504,6 +534,8 @@ void Remesher::remove_slivers() {
       for (std::size_t i = 0; folded && !done && i < 3; ++i)
         done = try_flip(m_.edge_handle(hs[i]), 0.0) || try_collapse(hs[i], 2.0) ||
                try_collapse(m_.opposite_halfedge_handle(hs[i]), 2.0);
+      // Else a finer surface there: the fold's longest edge split at the surface.
+      if (folded && !done) done = try_split(m_.edge_handle(hs[longest]));
       if (done) {
         ++fixed;
         ++rep_.slivers_removed;
@@ -560,6 +592,7 @@ void Remesher::relax() {
 RemeshReport Remesher::run() {
   const auto t0 = std::chrono::steady_clock::now();
   rep_.faces_before = m_.n_faces();
+  grow_caches();
   for (int round = 0; round < opt_.iterations; ++round) {
     split_long_edges();
     collapse_short_edges();

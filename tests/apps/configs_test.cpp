@@ -382,6 +382,14 @@ TEST_CASE("configs: 3D surfaces are metric-conforming, keep their features and t
     CHECK(json_number(report, "min", report.find("\"scaled_jacobian\"")) > 0);
     const std::size_t detected = report.find("\"detected\": {");
     REQUIRE(detected != std::string::npos);
+    // The remeshing kept every feature curve and corner of the input (or of the analytic body).
+    const std::size_t input = report.find("\"input\": {", report.find("\"features\": {"));
+    const std::size_t final_features = report.find("\"final\": {");
+    REQUIRE(input != std::string::npos);
+    REQUIRE(final_features != std::string::npos);
+    for (const char* key : {"curves", "corners_convex", "corners_concave", "corners_saddle", "corners_boundary"})
+      CHECK_MESSAGE(json_value(report, key, input) == json_value(report, key, final_features), key);
+    CHECK(json_value(report, "folded_faces") == "0");
     const std::string msh = read_text(r.out / (r.name + ".msh"));
     if (r.name == "box_surface") {
       CHECK(json_value(report, "curves", detected) == "12");

@@ -353,4 +353,12 @@ TEST_CASE("run config: 3D keys are checked like the 2D ones") {
   CHECK(err("geometry: {type: sphere}\nsurface: {ridge_angle: 3}\n") == doctest::Contains("ridge_angle"));
   CHECK(err(one_body + "surface: {iterations: 3}\n") == doctest::Contains("for 3D geometries"));
   CHECK(err("geometry: {type: sphere}\nlayers: {max: 3}\n") == doctest::Contains("layers"));
+  CHECK(err("geometry: {type: sphere}\nmetric: {type: uniform, h: 0.1}\nsurface: {curvature_h_min: 0.2}\n") ==
+        doctest::Contains("surface.curvature_h_min: 0.2"));
+  CHECK(err("geometry: {type: surface_file, file: a.stl, symmetry_planes: [{offset: 1}]}\n") ==
+        doctest::Contains("normal is required"));
+  CHECK(err("geometry: {type: wing, file: a.dat, corner_angle_deg: 180}\n") ==
+        doctest::Contains("geometry.corner_angle_deg: must lie strictly between 0 and 180"));
+  CHECK(err("geometry: {type: sphere}\noutput: {zooms: []}\n") == doctest::Contains("output.zooms"));
+  CHECK(err("geometry: {type: sphere}\nsurface: {max_triangles: 0}\n") == doctest::Contains("surface.max_triangles"));
 }

@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 
+#include "modules/error.h"
 #include "modules/metric.h"
 #include "modules/tri_surface.h"
 #include "surface3d/analytic.h"
@@ -83,7 +84,18 @@ TEST_CASE("remesh: an anisotropic metric stretches the triangles") {
   CHECK(s.euler_characteristic() == 2);
   CHECK(all_outward(s));
   CHECK(r.unit_fraction >= 0.85);
-  MESSAGE("anisotropic: " << s.mesh.n_faces() << " faces, unit fraction " << r.unit_fraction);
+  // Near the equator, edges run 4 times longer around (x, y) than along z on average.
+  double around = 0, along = 0;
+  for (const auto e : s.mesh.edges()) {
+    const auto h = s.mesh.halfedge_handle(e, 0);
+    const Eigen::Vector3d a = s.mesh.point(s.mesh.from_vertex_handle(h)), b = s.mesh.point(s.mesh.to_vertex_handle(h));
+    if (std::abs(a.z()) > 0.2) continue;
+    around += (b - a).head<2>().norm();
+    along += std::abs(b.z() - a.z());
+  }
+  CHECK(around > 2.5 * along);
+  MESSAGE("anisotropic: " << s.mesh.n_faces() << " faces, unit fraction " << r.unit_fraction << ", around/along "
+                          << around / along);
 }
 
 }  // namespace
@@ -193,6 +205,79 @@ TEST_CASE("remesh: a discrete torus keeps its genus (chi = 0) and reaches the me
   for (const auto v : s.mesh.vertices()) worst = std::max(worst, (ref->project(s.mesh.point(v)) - s.mesh.point(v)).norm());
   CHECK(worst < 1e-12);
   MESSAGE("torus: " << s.mesh.n_faces() << " faces, unit fraction " << r.unit_fraction);
+}
+
+}  // namespace
+}  // namespace plaf
+
+namespace plaf {
+namespace {
+
+TEST_CASE("remesh: tags, features and curves stay consistent on a half wing (symmetry root, flat tip)") {
+  WingParams w;
+  w.file = std::string(PLAF_SHARED_DATA) + "/airfoils/e387.dat";
+  w.span = 1.0;
+  w.root = WingEnd::Symmetry;
+  w.tip = WingEnd::Flat;
+  w.corner_angle_deg = 70;
+  AnalyticBody body = make_wing(w, 0.1);
+  TriSurface& s = body.initial;
+  const FeatureReport before = count_features(s);
+  const UniformMetricField<3> base(Metric<3>::isotropic(0.06));
+  const CurvatureMetricField field(base, *body.reference, 0.3, 0.005);
+  const RemeshReport r = remesh_surface(s, *body.reference, field, RemeshOptions{});
+  CHECK_MESSAGE(r.folded_faces == 0, r.first_folded);
+  CHECK(r.unit_fraction >= 0.85);
+  CHECK(s.euler_characteristic() == 1);  // a disc: the root is open
+  const FeatureReport after = count_features(s);
+  CHECK(after.curves == before.curves);
+  CHECK(after.corners_convex == before.corners_convex);
+  CHECK(after.corners_boundary == before.corners_boundary);
+  int symmetry = -1;
+  for (std::size_t t = 0; t < s.tags.size(); ++t)
+    if (s.tags[t].kind == BoundaryKind::Symmetry) symmetry = static_cast<int>(t);
+  REQUIRE(symmetry >= 0);
+  std::size_t boundary = 0;
+  for (const auto e : s.mesh.edges()) {
+    const int tag = s.mesh.property(s.edge_tag, e);
+    const EdgeFeature f = s.mesh.property(s.edge_feature, e);
+    const int c = s.mesh.property(s.edge_curve, e);
+    if (s.mesh.is_boundary(e)) {
+      ++boundary;
+      CHECK(tag == symmetry);
+      CHECK(f == EdgeFeature::Boundary);
+      CHECK(c >= 0);
+    } else {
+      CHECK(tag == -1);
+      CHECK(f != EdgeFeature::Boundary);
+    }
+    CHECK((c >= 0) == (f != EdgeFeature::Smooth));
+  }
+  CHECK(boundary > 20);
+  for (const auto v : s.mesh.vertices())
+    if (s.mesh.is_boundary(v)) CHECK(std::abs(s.mesh.point(v).z()) < 1e-12);  // on the root plane
+  for (const auto f : s.mesh.faces()) CHECK(s.mesh.property(s.face_tag, f) == 0);
+}
+
+TEST_CASE("remesh: scale invariance, a sphere of radius 1e-6 and 1e6") {
+  for (const double scale : {1e-6, 1e6}) {
+    CAPTURE(scale);
+    AnalyticBody b = make_sphere(Eigen::Vector3d(scale, -scale, 2 * scale), scale, 0.3 * scale);
+    const UniformMetricField<3> metric(Metric<3>::isotropic(0.1 * scale));
+    const RemeshReport r = remesh_surface(b.initial, *b.reference, metric, RemeshOptions{});
+    CHECK(r.unit_fraction >= 0.9);
+    CHECK(r.folded_faces == 0);
+    CHECK(b.initial.euler_characteristic() == 2);
+  }
+}
+
+TEST_CASE("remesh: a metric asking for too many triangles is an error, not a hang") {
+  AnalyticBody b = make_sphere(Eigen::Vector3d::Zero(), 1, 0.5);
+  const UniformMetricField<3> metric(Metric<3>::isotropic(1e-4));
+  RemeshOptions o;
+  o.max_triangles = 100000;
+  CHECK_THROWS_WITH_AS(remesh_surface(b.initial, *b.reference, metric, o), doctest::Contains("surface.max_triangles"),
+                       MesherError);
 }
 
 }  // namespace
