@@ -204,6 +204,7 @@ int run_surface3d(const RunConfig& c, const std::filesystem::path& config_path) 
   report.extra.push_back({"surface.features.input", feature_json(in.features)});
   report.extra.push_back({"surface.features.final", feature_json(kept)});
   report.extra.push_back({"surface.features.detected", feature_json(detected)});
+  report.extra.push_back({"surface.remesh.rounds", std::to_string(rr.rounds)});
   report.extra.push_back({"surface.remesh.splits", std::to_string(rr.splits)});
   report.extra.push_back({"surface.remesh.collapses", std::to_string(rr.collapses)});
   report.extra.push_back({"surface.remesh.flips", std::to_string(rr.flips)});

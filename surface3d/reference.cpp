@@ -35,12 +35,19 @@ class DiscreteReference final : public ReferenceGeometry {
   explicit DiscreteReference(const TriSurface& s);
 
   Vector3d project(const Vector3d& p) const override { return tree_.closest(p).point; }
-  Vector3d normal(const Vector3d& x) const override;
+  Vector3d project(const Vector3d& p, Vector3d& normal_out) const override {
+    const TriangleTree::Closest c = tree_.closest(p);
+    normal_out = blended_normal(c);
+    return c.point;
+  }
+  Vector3d normal(const Vector3d& x) const override { return blended_normal(tree_.closest(x)); }
   Vector3d project_to_curve(const Vector3d& p, int curve) const override;
   int num_curves() const override { return static_cast<int>(curves_.size()); }
   double scale() const override { return scale_; }
 
  private:
+  // The closest face's normal blended with its vertices' (feature vertices take the face's).
+  Vector3d blended_normal(const TriangleTree::Closest& c) const;
   std::vector<Vector3d> points_;
   std::vector<std::array<int, 3>> tris_;
   std::vector<Vector3d> face_normal_;    // unit (zero for a degenerate face)
@@ -166,8 +173,7 @@ DiscreteReference::DiscreteReference(const TriSurface& s) {
   }
 }
 
-Vector3d DiscreteReference::normal(const Vector3d& x) const {
-  const TriangleTree::Closest c = tree_.closest(x);
+Vector3d DiscreteReference::blended_normal(const TriangleTree::Closest& c) const {
   const auto f = idx(c.triangle);
   const Vector3d& fn = face_normal_[f];
   Vector3d n = Vector3d::Zero();

@@ -20,6 +20,13 @@ class ReferenceGeometry {
   virtual Eigen::Vector3d project(const Eigen::Vector3d& p) const = 0;
   // The outward unit normal at (near) surface point x.
   virtual Eigen::Vector3d normal(const Eigen::Vector3d& x) const = 0;
+  // The closest point and the outward normal there, in one search where the reference can (the
+  // remesher's relaxation asks for both at every move).
+  virtual Eigen::Vector3d project(const Eigen::Vector3d& p, Eigen::Vector3d& normal_out) const {
+    const Eigen::Vector3d x = project(p);
+    normal_out = normal(x);
+    return x;
+  }
   // The closest point of feature curve c (0 <= c < num_curves()) to p.
   virtual Eigen::Vector3d project_to_curve(const Eigen::Vector3d& p, int curve) const = 0;
   virtual int num_curves() const = 0;

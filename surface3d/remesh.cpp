@@ -223,10 +223,11 @@ class Remesher {
 
   // Moving v to p keeps every face around v (except those in `skip`) turned by less than 84
   // degrees, non-degenerate and acceptably aligned with the reference.
-  bool move_keeps_faces(VH v, const Vec& p, FH skip0 = FH(), FH skip1 = FH()) {
+  // (known_normal: the reference's normal at p when the caller has it.)
+  bool move_keeps_faces(VH v, const Vec& p, FH skip0 = FH(), FH skip1 = FH(), const Vec* known_normal = nullptr) {
     const Vec* old_normal = vertex_normal(v);
     Vec new_normal;
-    if (old_normal) new_normal = ref_.normal(p);
+    if (old_normal) new_normal = known_normal ? *known_normal : ref_.normal(p);
     const Vec* np = old_normal ? &new_normal : nullptr;
     for (const FH f : m_.vf_range(v)) {
       if (f == skip0 || f == skip1) continue;
@@ -581,10 +582,18 @@ void Remesher::relax() {
   }
   for (const VH v : m_.vertices()) {
     if (!moves[static_cast<std::size_t>(v.idx())]) continue;
-    const Vec p = project_vertex(v, target[static_cast<std::size_t>(v.idx())]);
-    if (move_keeps_faces(v, p)) {
+    // A smooth vertex is projected with its normal in one search, and keeps that normal cached.
+    const bool smooth = vertex_normal(v) != nullptr;
+    Vec n;
+    const Vec p = smooth ? ref_.project(target[static_cast<std::size_t>(v.idx())], n)
+                         : project_vertex(v, target[static_cast<std::size_t>(v.idx())]);
+    if (move_keeps_faces(v, p, FH(), FH(), smooth ? &n : nullptr)) {
       m_.set_point(v, p);
       forget_metric(v);
+      if (smooth) {
+        vn_[static_cast<std::size_t>(v.idx())] = n;
+        have_n_[static_cast<std::size_t>(v.idx())] = 1;
+      }
     }
   }
 }
@@ -594,11 +603,15 @@ RemeshReport Remesher::run() {
   rep_.faces_before = m_.n_faces();
   grow_caches();
   for (int round = 0; round < opt_.iterations; ++round) {
+    const std::size_t changes = rep_.splits + rep_.collapses, flips = rep_.flips;
     split_long_edges();
     collapse_short_edges();
     flip_edges();
     for (int k = 0; k < 2; ++k) relax();
     ++rep_.rounds;
+    // Converged: a round that split and collapsed nothing and flipped under 0.5 % of the edges
+    // only relaxes further; the rounds stop (the final passes still run).
+    if (rep_.splits + rep_.collapses == changes && rep_.flips - flips < m_.n_edges() / 200) break;
   }
   // The final passes judge every face by its centroid's projection, as the fold count does.
   precise_ = true;

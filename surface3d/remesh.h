@@ -25,7 +25,7 @@
 namespace plaf {
 
 struct RemeshOptions {
-  int iterations = 8;
+  int iterations = 8;  // rounds at most (they stop early once a round splits and collapses nothing)
   std::size_t max_triangles = 20000000;  // more than this: MesherError (sizes too small for the surface)
 };
 
