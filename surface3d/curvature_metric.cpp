@@ -29,8 +29,8 @@ CurvatureMetricField::CurvatureMetricField(const MetricField<3>& base, const Ref
 
 CurvatureMetricField::Curvature CurvatureMetricField::curvature(const Eigen::Vector3d& x, double step) const {
   Curvature c;
-  const Eigen::Vector3d x0 = ref_.project(x);
-  c.normal = ref_.normal(x0);
+  // Points and normals come from one search each (ReferenceGeometry::project with normal).
+  const Eigen::Vector3d x0 = ref_.project(x, c.normal);
   Eigen::Vector3d t[2];
   tangent_frame(c.normal, t[0], t[1]);
   // S t_i: the normal's derivative along t_i, by central differences at a step small enough that
@@ -40,8 +40,8 @@ CurvatureMetricField::Curvature CurvatureMetricField::curvature(const Eigen::Vec
     double e = step;
     st[i].setZero();
     for (int halving = 0; halving < 40; ++halving) {
-      const Eigen::Vector3d xp = ref_.project(x0 + e * t[i]), xm = ref_.project(x0 - e * t[i]);
-      const Eigen::Vector3d np = ref_.normal(xp), nm = ref_.normal(xm);
+      Eigen::Vector3d np, nm;
+      const Eigen::Vector3d xp = ref_.project(x0 + e * t[i], np), xm = ref_.project(x0 - e * t[i], nm);
       const double dist = (xp - xm).norm();
       if (!(dist > 0)) break;
       st[i] = (np - nm) / dist;
