@@ -546,25 +546,22 @@ void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path)
     f.put(' ');
     f.write_int(num_facet_groups);
     f.write(" 1\n");
-    for (int t = 0; t < num_tags; ++t) {
-      if (!on_curves[static_cast<std::size_t>(t)]) continue;
-      f.write_int(t + 1);
-      f.put(' ');
-      write_box(f, curve_box[static_cast<std::size_t>(t)]);
-      f.write("1 ");
-      f.write_int(t + 1);
-      f.write(" 0\n");
-    }
   }
-  for (int t = 0; t < num_tags; ++t) {
-    if (!facet_group(t)) continue;
+  // An entity line of tag t: its bounding box, its one physical group (tag t + 1), no bounding
+  // entities.
+  auto write_entity = [&](int t, const auto& box) {
     f.write_int(t + 1);
     f.put(' ');
-    write_box(f, tag_box[static_cast<std::size_t>(t)]);
+    write_box(f, box);
     f.write("1 ");
     f.write_int(t + 1);
     f.write(" 0\n");
-  }
+  };
+  if (Dim == 3)
+    for (int t = 0; t < num_tags; ++t)
+      if (on_curves[static_cast<std::size_t>(t)]) write_entity(t, curve_box[static_cast<std::size_t>(t)]);
+  for (int t = 0; t < num_tags; ++t)
+    if (facet_group(t)) write_entity(t, tag_box[static_cast<std::size_t>(t)]);
   f.write("1 ");
   write_box(f, domain_box);
   f.write("1 ");
