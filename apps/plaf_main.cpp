@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "apps/run.h"
-#include "modules/error.h"
+#include "modules/base/error.h"
 
 namespace {
 

@@ -12,18 +12,18 @@
 #include <string>
 
 #include "layers/grow_layers.h"
-#include "modules/annulus.h"
-#include "modules/atomic_file.h"
-#include "modules/error.h"
-#include "modules/geometry2d.h"
-#include "modules/hybrid2d.h"
-#include "modules/metric_fields.h"
-#include "modules/msh_io.h"
-#include "modules/picture.h"
-#include "modules/quality.h"
-#include "modules/run_config.h"
-#include "modules/surface_mesh.h"
-#include "modules/writers.h"
+#include "modules/mesh/annulus.h"
+#include "modules/io/atomic_file.h"
+#include "modules/base/error.h"
+#include "modules/geometry/geometry2d.h"
+#include "modules/mesh/hybrid2d.h"
+#include "modules/metric/metric_fields.h"
+#include "modules/io/msh_io.h"
+#include "modules/io/picture.h"
+#include "modules/mesh/quality.h"
+#include "modules/pipeline/run_config.h"
+#include "modules/mesh/curve_mesh.h"
+#include "modules/io/writers.h"
 #include "volume/advancing_front_2d.h"
 
 namespace plaf {
@@ -118,7 +118,7 @@ MeshStage mesh_geometry(const RunConfig& c, const Geometry2D& geometry, const Me
     stage.mesh = mesh_annulus(c.geometry.annulus, c.order, metric);
     return stage;
   }
-  CurvedFront<2> front = mesh_surface(geometry, metric, c.order);
+  CurvedFront<2> front = mesh_curves(geometry, metric, c.order);
   if (!c.layers.enabled) {
     if (c.fill.enabled) {
       stage.mesh.nodes = front.nodes;
@@ -204,10 +204,10 @@ void report_fill(const volume::AdvancingFrontStats& f, QualityReport& report) {
 // Surface statistics as report keys surface.*; a summary line per loop on stdout.
 void report_surface(const CurvedFront<2>& front, const Geometry2D& geometry, const MetricField<2>& metric,
                     QualityReport& report) {
-  const SurfaceStats s = surface_stats(front, geometry, metric);
+  const CurveMeshStats s = curve_mesh_stats(front, geometry, metric);
   std::string loops = "[";
   for (std::size_t k = 0; k < s.loops.size(); ++k) {
-    const SurfaceLoopStats& l = s.loops[k];
+    const CurveLoopStats& l = s.loops[k];
     loops += std::string(k ? ", " : "") + "{\"tag\": " + json_string(l.tag) +
              ", \"elements\": " + std::to_string(l.elements) + ", \"nodes\": " + std::to_string(l.nodes) +
              ", \"metric_length_min\": " + json_number(l.metric_length_min) +

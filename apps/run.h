@@ -12,7 +12,9 @@ namespace plaf {
 // bad input before any output is written.
 int run_command(const std::filesystem::path& config, const std::optional<std::filesystem::path>& out_dir);
 
+inline namespace pipeline {
 struct RunConfig;
+}
 // The 3D surface run (run_surface3d.cpp), called by run_command for 3D geometries.
 int run_surface3d(const RunConfig& config, const std::filesystem::path& config_path);
 

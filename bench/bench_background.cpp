@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "modules/background_metric.h"
+#include "modules/metric/background_metric.h"
 
 namespace {
 

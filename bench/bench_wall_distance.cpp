@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "modules/geometry2d.h"
-#include "modules/wall_metric.h"
+#include "modules/geometry/geometry2d.h"
+#include "modules/metric/wall_metric.h"
 
 namespace {
 

@@ -7,9 +7,9 @@
 #include <cstdint>
 #include <limits>
 
-#include "modules/error.h"
-#include "modules/predicates.h"
-#include "modules/validity.h"
+#include "modules/base/error.h"
+#include "modules/geometry/predicates.h"
+#include "modules/elements/validity.h"
 
 namespace plaf::layers {
 

@@ -26,10 +26,10 @@
 #include <string>
 #include <vector>
 
-#include "modules/front.h"
-#include "modules/geometry2d.h"
-#include "modules/hybrid_mesh.h"
-#include "modules/metric.h"
+#include "modules/mesh/front.h"
+#include "modules/geometry/geometry2d.h"
+#include "modules/mesh/hybrid_mesh.h"
+#include "modules/metric/metric.h"
 
 namespace plaf::layers {
 

@@ -31,10 +31,10 @@
 #include <utility>
 #include <vector>
 
-#include "modules/airfoil_io.h"
-#include "modules/error.h"
-#include "modules/predicates.h"
-#include "modules/spline_loop.h"
+#include "modules/io/airfoil_io.h"
+#include "modules/base/error.h"
+#include "modules/geometry/predicates.h"
+#include "modules/geometry/spline_loop.h"
 
 namespace plaf {
 

@@ -24,7 +24,7 @@
 #include <memory>
 #include <string>
 
-#include "modules/tri_surface.h"
+#include "modules/geometry/tri_surface.h"
 #include "surface3d/reference.h"
 
 namespace plaf {

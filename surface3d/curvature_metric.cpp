@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "modules/error.h"
+#include "modules/base/error.h"
 
 namespace plaf {
 

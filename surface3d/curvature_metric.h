@@ -14,7 +14,7 @@
 // (the size is then h_min).
 #pragma once
 
-#include "modules/metric.h"
+#include "modules/metric/metric.h"
 #include "surface3d/reference.h"
 
 namespace plaf {

@@ -16,8 +16,8 @@
 #include <cmath>
 #include <string>
 
-#include "modules/error.h"
-#include "modules/predicates.h"
+#include "modules/base/error.h"
+#include "modules/geometry/predicates.h"
 
 namespace plaf {
 

@@ -19,7 +19,7 @@
 
 #include <vector>
 
-#include "modules/tri_surface.h"
+#include "modules/geometry/tri_surface.h"
 
 namespace plaf {
 

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "modules/error.h"
-#include "modules/lagrange.h"
-#include "modules/metric.h"
+#include "modules/base/error.h"
+#include "modules/elements/lagrange.h"
+#include "modules/metric/metric.h"
 
 namespace plaf {
 namespace {

@@ -16,9 +16,9 @@
 
 #include <cstddef>
 
-#include "modules/hybrid_mesh.h"
-#include "modules/tri_surface.h"
-#include "modules/validity.h"
+#include "modules/mesh/hybrid_mesh.h"
+#include "modules/geometry/tri_surface.h"
+#include "modules/elements/validity.h"
 #include "surface3d/reference.h"
 
 namespace plaf {

@@ -36,8 +36,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "modules/error.h"
-#include "modules/text_cursor.h"
+#include "modules/base/error.h"
+#include "modules/io/text_cursor.h"
 
 namespace plaf {
 namespace {

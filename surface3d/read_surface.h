@@ -21,7 +21,7 @@
 
 #include <filesystem>
 
-#include "modules/tri_surface.h"
+#include "modules/geometry/tri_surface.h"
 
 namespace plaf {
 

@@ -11,8 +11,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "modules/aabb_tree.h"
-#include "modules/error.h"
+#include "modules/geometry/aabb_tree.h"
+#include "modules/base/error.h"
 
 namespace plaf {
 

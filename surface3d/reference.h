@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 #include <memory>
 
-#include "modules/tri_surface.h"
+#include "modules/geometry/tri_surface.h"
 
 namespace plaf {
 

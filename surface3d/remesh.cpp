@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "modules/error.h"
+#include "modules/base/error.h"
 
 namespace plaf {
 

@@ -18,8 +18,8 @@
 #include <cstddef>
 #include <string>
 
-#include "modules/metric.h"
-#include "modules/tri_surface.h"
+#include "modules/metric/metric.h"
+#include "modules/geometry/tri_surface.h"
 #include "surface3d/reference.h"
 
 namespace plaf {

@@ -13,9 +13,9 @@
 #include <cstdio>
 #include <numeric>
 
-#include "modules/aabb_tree.h"
-#include "modules/error.h"
-#include "modules/predicates.h"
+#include "modules/geometry/aabb_tree.h"
+#include "modules/base/error.h"
+#include "modules/geometry/predicates.h"
 
 namespace plaf {
 

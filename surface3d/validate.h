@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "modules/tri_surface.h"
+#include "modules/geometry/tri_surface.h"
 
 namespace plaf {
 

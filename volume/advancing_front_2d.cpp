@@ -22,8 +22,8 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "modules/error.h"
-#include "modules/predicates.h"
+#include "modules/base/error.h"
+#include "modules/geometry/predicates.h"
 
 namespace plaf::volume {
 

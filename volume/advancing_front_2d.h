@@ -33,8 +33,8 @@
 
 #include <Eigen/Core>
 
-#include "modules/hybrid_mesh.h"
-#include "modules/metric.h"
+#include "modules/mesh/hybrid_mesh.h"
+#include "modules/metric/metric.h"
 
 namespace plaf::volume {
 

@@ -6,7 +6,7 @@
 #include <Eigen/Geometry>
 #include <sstream>
 
-#include "modules/error.h"
+#include "modules/base/error.h"
 
 namespace plaf::volume {
 

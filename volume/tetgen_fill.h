@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "modules/hybrid_mesh.h"
+#include "modules/mesh/hybrid_mesh.h"
 
 namespace plaf::volume {
 

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "modules/run_config.h"
+#include "modules/pipeline/run_config.h"
 #include "tests/test_support.h"
 
 namespace fs = std::filesystem;

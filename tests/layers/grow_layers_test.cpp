@@ -7,11 +7,11 @@
 #include <cmath>
 #include <random>
 
-#include "modules/airfoil_io.h"
-#include "modules/picture.h"
-#include "modules/quality.h"
-#include "modules/surface_mesh.h"
-#include "modules/wall_metric.h"
+#include "modules/io/airfoil_io.h"
+#include "modules/io/picture.h"
+#include "modules/mesh/quality.h"
+#include "modules/mesh/curve_mesh.h"
+#include "modules/metric/wall_metric.h"
 
 using namespace plaf;
 using Eigen::Vector2d;
@@ -66,7 +66,7 @@ TEST_CASE("layers: on a circle with the wall law, layer k has height h0 g^k and 
   w.h_max = 10;
   w.h_wall_max = 0.1;
   const WallPowerLawField metric({geo.loops[0].loop}, w);
-  const CurvedFront<2> front = mesh_surface(geo, metric, 2);
+  const CurvedFront<2> front = mesh_curves(geo, metric, 2);
   layers::LayerParams p;
   p.max_layers = 12;
   const layers::LayerResult r = layers::grow_layers(front, geo, metric, p);
@@ -114,7 +114,7 @@ TEST_CASE("layers: convex corners of 90, 150 and 179 degrees get fans of valid c
     // Interior angle of the body at the tip = 180 - turning.
     const Geometry2D geo = body(wedge(180.0 - turn), {0});
     const UniformMetricField<2> metric(Metric<2>::isotropic(0.05));
-    const CurvedFront<2> front = mesh_surface(geo, metric, 3);
+    const CurvedFront<2> front = mesh_curves(geo, metric, 3);
     layers::LayerParams p;
     p.max_layers = 3;
     const UniformMetricField<2> thin(Metric<2>::from_directions(Eigen::Matrix2d::Identity(), Vector2d(0.01, 0.01)));
@@ -136,7 +136,7 @@ TEST_CASE("layers: a concave 90 degree corner gets valid cells") {
   const Geometry2D geo = body(l, {0, 1, 2, 3, 4, 5});
   const UniformMetricField<2> metric(Metric<2>::isotropic(0.1));
   for (int q = 1; q <= 4; ++q) {
-    const CurvedFront<2> front = mesh_surface(geo, metric, q);
+    const CurvedFront<2> front = mesh_curves(geo, metric, q);
     layers::LayerParams p;
     p.max_layers = 4;
     const UniformMetricField<2> thin(Metric<2>::isotropic(0.02));
@@ -160,7 +160,7 @@ TEST_CASE("layers: Q = 1..4 on the E387 give valid, conforming layers") {
   const WallPowerLawField metric({geo.loops[0].loop}, w);
   for (int q = 1; q <= 4; ++q) {
     INFO("Q = ", q);
-    const CurvedFront<2> front = mesh_surface(geo, metric, q);
+    const CurvedFront<2> front = mesh_curves(geo, metric, q);
     layers::LayerParams p;
     p.max_layers = 8;
     p.corner_angle_deg = 70;
@@ -177,7 +177,7 @@ TEST_CASE("layers: growing from a straight wall leaves every element straight") 
   // A long thin rectangle: its sides are straight, its corners convex.
   const Geometry2D geo = body({{0, 0}, {0, 0.5}, {4, 0.5}, {4, 0}}, {0, 1, 2, 3});
   const UniformMetricField<2> metric(Metric<2>::isotropic(0.2));
-  const CurvedFront<2> front = mesh_surface(geo, metric, 3);
+  const CurvedFront<2> front = mesh_curves(geo, metric, 3);
   layers::LayerParams p;
   p.max_layers = 5;
   const UniformMetricField<2> thin(Metric<2>::isotropic(0.03));
@@ -206,7 +206,7 @@ TEST_CASE("layers: the 30P-30N elements (coves, cusp, blunt flap) grow valid, co
   w.curvature_factor = 0.3;
   w.h_corner = 0.003;
   const WallPowerLawField metric(walls, w);
-  const CurvedFront<2> front = mesh_surface(geo, metric, 3);
+  const CurvedFront<2> front = mesh_curves(geo, metric, 3);
   layers::LayerParams p;
   p.max_layers = 3;
   p.corner_angle_deg = 60;
@@ -231,7 +231,7 @@ TEST_CASE("layers: isotropic_stop node stops the nodes where the metric is isotr
   w.curvature_factor = 0.1;
   w.h_corner = 0.05;
   const WallPowerLawField metric({geo.loops[0].loop}, w);
-  const CurvedFront<2> front = mesh_surface(geo, metric, 3);
+  const CurvedFront<2> front = mesh_curves(geo, metric, 3);
   layers::LayerParams lp;
   lp.max_layers = 30;
   lp.isotropic_stop = "node";
@@ -265,7 +265,7 @@ TEST_CASE("layers: close_linear ends a front that is still curved with one valid
   w.h_wall_max = 0.5;
   w.curvature_factor = 0.5;
   const WallPowerLawField metric({geo.loops[0].loop}, w);
-  const CurvedFront<2> front = mesh_surface(geo, metric, 3);
+  const CurvedFront<2> front = mesh_curves(geo, metric, 3);
   layers::LayerParams p;
   p.max_layers = 2;
   const layers::LayerResult open = layers::grow_layers(front, geo, metric, p);

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "modules/airfoil_io.h"
-#include "modules/error.h"
-#include "modules/spline_loop.h"
+#include "modules/io/airfoil_io.h"
+#include "modules/base/error.h"
+#include "modules/geometry/spline_loop.h"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <set>
 #include <vector>
 
-#include "modules/error.h"
+#include "modules/base/error.h"
 
 namespace plaf {
 namespace {

@@ -13,9 +13,9 @@
 #include <utility>
 #include <vector>
 
-#include "modules/error.h"
-#include "modules/msh_io.h"
-#include "modules/quality.h"
+#include "modules/base/error.h"
+#include "modules/io/msh_io.h"
+#include "modules/mesh/quality.h"
 #include "tests/test_support.h"
 #include "tests/surface3d/test_surfaces.h"
 

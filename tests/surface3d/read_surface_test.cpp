@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "modules/error.h"
+#include "modules/base/error.h"
 #include "tests/test_support.h"
 
 namespace plaf {

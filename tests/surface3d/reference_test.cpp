@@ -8,7 +8,7 @@
 #include <map>
 #include <random>
 
-#include "modules/error.h"
+#include "modules/base/error.h"
 #include "tests/surface3d/test_surfaces.h"
 
 namespace plaf {

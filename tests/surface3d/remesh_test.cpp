@@ -7,9 +7,9 @@
 #include <map>
 #include <memory>
 
-#include "modules/error.h"
-#include "modules/metric.h"
-#include "modules/tri_surface.h"
+#include "modules/base/error.h"
+#include "modules/metric/metric.h"
+#include "modules/geometry/tri_surface.h"
 #include "surface3d/analytic.h"
 #include "surface3d/curvature_metric.h"
 #include "surface3d/features.h"

@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "modules/tri_surface.h"
+#include "modules/geometry/tri_surface.h"
 
 namespace plaf::test {
 

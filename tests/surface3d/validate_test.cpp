@@ -9,7 +9,7 @@
 #include <map>
 #include <numbers>
 
-#include "modules/error.h"
+#include "modules/base/error.h"
 
 namespace plaf {
 namespace {

@@ -11,8 +11,8 @@
 
 #include <Eigen/Geometry>
 
-#include "modules/error.h"
-#include "modules/predicates.h"
+#include "modules/base/error.h"
+#include "modules/geometry/predicates.h"
 
 using namespace plaf;
 using volume::AdvancingFrontResult;

@@ -5,8 +5,8 @@
 
 #include <Eigen/Geometry>
 
-#include "modules/error.h"
-#include "modules/quality.h"
+#include "modules/base/error.h"
+#include "modules/mesh/quality.h"
 
 using namespace plaf;
 

@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: MIT
+#include "modules/geometry/geometry2d.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "modules/io/airfoil_io.h"
+#include "modules/base/error.h"
+
+namespace plaf {
+inline namespace geometry {
+
+SplineLoop farfield_circle(const Eigen::Vector2d& center, double radius, int points) {
+  std::vector<Eigen::Vector2d> p;
+  for (int i = 0; i < points; ++i) {
+    const double a = 2 * M_PI * i / points;
+    p.push_back(center + radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
+  }
+  return SplineLoop(std::move(p), {}, "farfield");
+}
+
+SplineLoop farfield_rectangle(const Eigen::Vector2d& center, double width, double height) {
+  const Eigen::Vector2d h(width / 2, height / 2);
+  std::vector<Eigen::Vector2d> p = {center + Eigen::Vector2d(-h[0], -h[1]), center + Eigen::Vector2d(h[0], -h[1]),
+                                    center + Eigen::Vector2d(h[0], h[1]), center + Eigen::Vector2d(-h[0], h[1])};
+  return SplineLoop(std::move(p), {0, 1, 2, 3}, "farfield");
+}
+
+Geometry2D build_airfoils_geometry(const AirfoilsParams& params) {
+  // 1. Contours: read, check, and find their corners.
+  std::vector<BodyContour> contours;
+  for (const BodyParams& b : params.bodies) contours.push_back(read_body_contour(b.file));
+  check_disjoint(contours);
+  Geometry2D g;
+  g.body_min = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  g.body_max = -g.body_min;
+  for (std::size_t k = 0; k < contours.size(); ++k) {
+    const BodyContour& c = contours[k];
+    std::vector<int> corners = detect_corners(c.points, params.corner_angle_deg);
+    corners.insert(corners.end(), c.corners.begin(), c.corners.end());
+    for (const auto& xy : params.bodies[k].corners) {
+      const Eigen::Vector2d x(xy[0], xy[1]);
+      int best = 0;
+      for (int i = 1; i < static_cast<int>(c.points.size()); ++i)
+        if ((c.points[i] - x).norm() < (c.points[best] - x).norm()) best = i;
+      corners.push_back(best);
+    }
+    std::sort(corners.begin(), corners.end());
+    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+    for (const auto& p : c.points) {
+      g.body_min = g.body_min.cwiseMin(p);
+      g.body_max = g.body_max.cwiseMax(p);
+    }
+    g.loops.push_back({SplineLoop(c.points, corners, c.file), params.bodies[k].name, BoundaryKind::Wall});
+  }
+
+  // 2. Farfield around the bodies.
+  const FarfieldParams& f = params.farfield;
+  const Eigen::Vector2d center =
+      f.has_center ? Eigen::Vector2d(f.center[0], f.center[1]) : Eigen::Vector2d(0.5 * (g.body_min + g.body_max));
+  SplineLoop far = f.shape == "circle" ? farfield_circle(center, f.radius)
+                                       : farfield_rectangle(center, f.size[0], f.size[1]);
+  // The farfield must enclose every body point with a margin.
+  for (const GeometryLoop& b : g.loops)
+    for (const auto& p : b.loop.points()) {
+      const Eigen::Vector2d d = p - center;
+      const bool inside = f.shape == "circle" ? d.norm() < f.radius
+                                              : std::abs(d[0]) < f.size[0] / 2 && std::abs(d[1]) < f.size[1] / 2;
+      if (!inside)
+        throw ConfigError("geometry.farfield: the " + f.shape + " does not enclose the body " + b.loop.name() +
+                          " (point " + std::to_string(p[0]) + ", " + std::to_string(p[1]) + ")");
+    }
+  g.loops.push_back({std::move(far), "farfield", BoundaryKind::Farfield});
+  return g;
+}
+
+}  // namespace geometry
+}  // namespace plaf

@@ -1,0 +1,640 @@
+// SPDX-License-Identifier: MIT
+// Implements the Gmsh MSH 4.1 ASCII format (Gmsh reference manual, "MSH file format") for
+// HybridMesh; the layout choices are documented in msh_io.h.
+#include "modules/io/msh_io.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "modules/io/atomic_file.h"
+#include "modules/base/error.h"
+#include "modules/io/text_cursor.h"
+
+namespace plaf {
+inline namespace io {
+namespace {
+
+// ---- Gmsh element types ------------------------------------------------------------------
+
+struct GmshType {
+  int code;
+  int dim;
+  int nodes;
+  bool supported;  // a Lagrange element plaf represents
+  CellType type;
+  int order;
+};
+
+// Codes from Gmsh's GmshDefines.h (MSH_LIN_2 = 1, ...). Types plaf cannot represent are listed
+// with their node counts so that their blocks can be read (and ignored when lower-dimensional).
+constexpr GmshType gmsh_types[] = {
+    {1, 1, 2, true, CellType::Line, 1},
+    {8, 1, 3, true, CellType::Line, 2},
+    {26, 1, 4, true, CellType::Line, 3},
+    {27, 1, 5, true, CellType::Line, 4},
+    {2, 2, 3, true, CellType::Triangle, 1},
+    {9, 2, 6, true, CellType::Triangle, 2},
+    {21, 2, 10, true, CellType::Triangle, 3},
+    {23, 2, 15, true, CellType::Triangle, 4},
+    {3, 2, 4, true, CellType::Quadrilateral, 1},
+    {10, 2, 9, true, CellType::Quadrilateral, 2},
+    {36, 2, 16, true, CellType::Quadrilateral, 3},
+    {37, 2, 25, true, CellType::Quadrilateral, 4},
+    {4, 3, 4, true, CellType::Tetrahedron, 1},
+    {11, 3, 10, true, CellType::Tetrahedron, 2},
+    {29, 3, 20, true, CellType::Tetrahedron, 3},
+    {30, 3, 35, true, CellType::Tetrahedron, 4},
+    {6, 3, 6, true, CellType::Prism, 1},
+    {13, 3, 18, true, CellType::Prism, 2},
+    {90, 3, 40, true, CellType::Prism, 3},
+    {91, 3, 75, true, CellType::Prism, 4},
+    // Not representable: points, order-5 lines, serendipity and incomplete cells, hexahedra,
+    // pyramids, order >= 5.
+    {15, 0, 1, false, CellType::Line, 0},
+    {28, 1, 6, false, CellType::Line, 0},
+    {16, 2, 8, false, CellType::Quadrilateral, 0},
+    {20, 2, 9, false, CellType::Triangle, 0},
+    {22, 2, 12, false, CellType::Triangle, 0},
+    {24, 2, 15, false, CellType::Triangle, 0},
+    {25, 2, 21, false, CellType::Triangle, 0},
+    {38, 2, 36, false, CellType::Quadrilateral, 0},
+    {5, 3, 8, false, CellType::Tetrahedron, 0},
+    {12, 3, 27, false, CellType::Tetrahedron, 0},
+    {17, 3, 20, false, CellType::Tetrahedron, 0},
+    {92, 3, 64, false, CellType::Tetrahedron, 0},
+    {93, 3, 125, false, CellType::Tetrahedron, 0},
+    {7, 3, 5, false, CellType::Tetrahedron, 0},
+    {14, 3, 14, false, CellType::Tetrahedron, 0},
+    {19, 3, 13, false, CellType::Tetrahedron, 0},
+    {18, 3, 15, false, CellType::Prism, 0},
+    {31, 3, 56, false, CellType::Tetrahedron, 0},
+};
+
+const GmshType* find_gmsh_type(std::int64_t code) {
+  for (const GmshType& t : gmsh_types)
+    if (t.code == code) return &t;
+  return nullptr;
+}
+
+// ---- writer ------------------------------------------------------------------------------
+
+struct Box {
+  std::array<double, 3> lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                           std::numeric_limits<double>::infinity()};
+  std::array<double, 3> hi{-lo[0], -lo[1], -lo[2]};
+  bool empty() const { return lo[0] > hi[0]; }
+  template <class P>
+  void add(const P& p) {
+    for (int d = 0; d < static_cast<int>(p.size()); ++d) {
+      lo[d] = std::min(lo[d], p[d]);
+      hi[d] = std::max(hi[d], p[d]);
+    }
+    for (int d = static_cast<int>(p.size()); d < 3; ++d) lo[d] = hi[d] = 0.0;
+  }
+};
+
+void write_box(AtomicFile& f, const Box& b) {
+  for (int k = 0; k < 6; ++k) {
+    f.write_double(b.empty() ? 0.0 : (k < 3 ? b.lo[k] : b.hi[k - 3]));
+    f.put(' ');
+  }
+}
+
+template <int Dim>
+void check_block(const HybridMesh<Dim>& mesh, const CellBlock& b, int dim, const std::filesystem::path& path) {
+  auto fail = [&](const std::string& why) {
+    throw Error("cannot write " + path.string() + ": " + std::string(cell_name(b.type)) + " block of order " +
+                std::to_string(b.order) + " " + why);
+  };
+  if (ref_dim(b.type) != dim)
+    fail("has dimension " + std::to_string(ref_dim(b.type)) + ", expected " + std::to_string(dim));
+  if (b.order < 1 || b.order > max_order) fail("has an order outside 1.." + std::to_string(max_order));
+  if (b.connectivity.size() % static_cast<std::size_t>(b.nodes_per_cell()) != 0)
+    fail("has a connectivity length that is not a multiple of " + std::to_string(b.nodes_per_cell()));
+  const auto n = static_cast<NodeId>(mesh.nodes.size());
+  for (NodeId v : b.connectivity)
+    if (v < 0 || v >= n) fail("refers to node " + std::to_string(v) + " of " + std::to_string(n));
+}
+
+// ---- reader ------------------------------------------------------------------------------
+
+// Maps possibly sparse node tags to contiguous indices in file order.
+class NodeTagMap {
+ public:
+  // Dense storage when the tag range is at most a few times the node count.
+  void init(std::int64_t num_nodes, std::int64_t min_tag, std::int64_t max_tag) {
+    // Called with num_nodes == 0 or 1 <= min_tag <= max_tag (checked by the caller).
+    constexpr std::int64_t dense_factor = 4, dense_slack = 1024;
+    if (num_nodes == 0) return;
+    min_tag_ = min_tag;
+    max_tag_ = max_tag;
+    dense_ = max_tag - min_tag < dense_factor * num_nodes + dense_slack;
+    if (dense_) index_.assign(static_cast<std::size_t>(max_tag - min_tag + 1), -1);
+  }
+  // False if the tag was seen before.
+  bool insert(std::int64_t tag, NodeId id) {
+    if (dense_) {
+      NodeId& slot = index_[static_cast<std::size_t>(tag - min_tag_)];
+      if (slot >= 0) return false;
+      slot = id;
+      return true;
+    }
+    return sparse_.emplace(tag, id).second;
+  }
+  NodeId find(std::int64_t tag) const {
+    if (tag < min_tag_ || tag > max_tag_) return -1;
+    if (dense_) return index_[static_cast<std::size_t>(tag - min_tag_)];
+    auto it = sparse_.find(tag);
+    return it == sparse_.end() ? -1 : it->second;
+  }
+  std::int64_t min_tag() const { return min_tag_; }
+  std::int64_t max_tag() const { return max_tag_; }
+
+ private:
+  bool dense_ = true;
+  std::int64_t min_tag_ = 1, max_tag_ = 0;
+  std::vector<NodeId> index_;
+  std::unordered_map<std::int64_t, NodeId> sparse_;
+};
+
+struct RawBlock {
+  int line = 0;  // of the block header
+  int entity_dim = 0;
+  std::int64_t entity_tag = 0;
+  const GmshType* type = nullptr;
+  std::vector<NodeId> nodes;  // contiguous node indices, type->nodes per element
+};
+
+BoundaryKind kind_from_name(const std::string& name) {
+  auto starts = [&](std::string_view prefix) {
+    if (name.size() < prefix.size()) return false;
+    for (std::size_t i = 0; i < prefix.size(); ++i)
+      if (std::tolower(static_cast<unsigned char>(name[i])) != prefix[i]) return false;
+    return true;
+  };
+  if (starts("wall")) return BoundaryKind::Wall;
+  if (starts("farfield")) return BoundaryKind::Farfield;
+  if (starts("symmetry")) return BoundaryKind::Symmetry;
+  return BoundaryKind::Named;
+}
+
+class MshReader {
+ public:
+  MshReader(const std::filesystem::path& path, const std::string& text) : path_(path), in_(path, text) {}
+
+  MshMesh read() {
+    read_header();
+    while (!in_.at_end()) {
+      const int line = in_.line();
+      const std::string_view t = in_.token("a section");
+      if (t.size() < 2 || t[0] != '$') in_.fail("expected a section such as $Nodes, found " + TextCursor::quote(t));
+      const std::string name(t.substr(1));
+      if (!seen_.insert({name, line}).second) in_.fail("duplicate section $" + name);
+      // One reader per known section; a $NodeData reader would be added here, next to $Nodes.
+      if (name == "PhysicalNames")
+        read_physical_names();
+      else if (name == "Entities")
+        read_entities();
+      else if (name == "Nodes")
+        read_nodes();
+      else if (name == "Elements")
+        read_elements();
+      else
+        in_.skip_to_line("$End" + name, line, name);
+    }
+    if (!seen_.count("Nodes")) in_.fail("missing $Nodes section");
+    if (!seen_.count("Elements")) in_.fail("missing $Elements section");
+    return assemble();
+  }
+
+ private:
+  void read_header() {
+    in_.expect("$MeshFormat");
+    const std::string_view version = in_.token("the MSH version");
+    if (version != "4.1")
+      in_.fail("MSH version " + TextCursor::quote(version) + " is not supported (plaf reads MSH 4.1)");
+    const std::int64_t file_type = in_.integer("file type");
+    if (file_type == 1) in_.fail("binary MSH files are not supported (save the mesh as ASCII MSH 4.1)");
+    if (file_type != 0) in_.fail("bad file type " + std::to_string(file_type) + " (0 is ASCII)");
+    in_.integer("data size");
+    in_.expect("$EndMeshFormat");
+  }
+
+  void read_physical_names() {
+    const std::int64_t n = in_.count("number of physical names", 6);
+    for (std::int64_t i = 0; i < n; ++i) {
+      const int dim = static_cast<int>(in_.integer("physical dimension", 0, 3));
+      const std::int64_t tag = in_.integer("physical tag");
+      const int line = in_.line();
+      std::string name = in_.quoted_on_line("physical name");
+      declares_volume_ = declares_volume_ || dim == 3;
+      if (!physical_names_.emplace(std::make_pair(dim, tag), std::move(name)).second)
+        in_.fail_at(line, "physical group (dimension " + std::to_string(dim) + ", tag " + std::to_string(tag) +
+                              ") is named twice");
+    }
+    in_.expect("$EndPhysicalNames");
+  }
+
+  void read_entities() {
+    std::int64_t counts[4];
+    static const char* const what[4] = {"number of points", "number of curves", "number of surfaces",
+                                        "number of volumes"};
+    for (int d = 0; d < 4; ++d) counts[d] = in_.count(what[d], 8);
+    for (int d = 0; d < 4; ++d) {
+      for (std::int64_t i = 0; i < counts[d]; ++i) {
+        const std::int64_t tag = in_.integer("entity tag");
+        for (int k = 0; k < (d == 0 ? 3 : 6); ++k) in_.real(d == 0 ? "point coordinate" : "bounding box coordinate");
+        const std::int64_t num_physicals = in_.count("number of physical tags", 2);
+        std::int64_t first = 0;
+        for (std::int64_t k = 0; k < num_physicals; ++k) {
+          const std::int64_t p = in_.integer("physical tag");
+          if (k == 0) first = p;
+        }
+        if (d > 0) {
+          const std::int64_t num_bounding = in_.count("number of bounding entities", 2);
+          for (std::int64_t k = 0; k < num_bounding; ++k) in_.integer("bounding entity tag");
+        }
+        entity_physical_[{d, tag}] = first;
+      }
+    }
+    declares_volume_ = declares_volume_ || counts[3] > 0;
+    in_.expect("$EndEntities");
+  }
+
+  void read_nodes() {
+    if (seen_.count("Elements")) in_.fail("$Nodes must come before $Elements");
+    const std::int64_t num_blocks = in_.count("number of node blocks", 8);
+    const std::int64_t num_nodes = in_.count("number of nodes", 8);
+    if (num_nodes > std::numeric_limits<NodeId>::max()) in_.fail("too many nodes: " + std::to_string(num_nodes));
+    const std::int64_t min_tag = in_.integer("minimum node tag");
+    const std::int64_t max_tag = in_.integer("maximum node tag");
+    if (num_nodes > 0 && (min_tag < 1 || max_tag < min_tag || max_tag - min_tag + 1 < num_nodes))
+      in_.fail("bad node tag range " + std::to_string(min_tag) + ".." + std::to_string(max_tag) + " for " +
+               std::to_string(num_nodes) + " nodes");
+    tags_.init(num_nodes, min_tag, max_tag);
+    coords_.reserve(static_cast<std::size_t>(num_nodes));
+    for (std::int64_t b = 0; b < num_blocks; ++b) {
+      const int entity_dim = static_cast<int>(in_.integer("entity dimension", 0, 3));
+      in_.integer("entity tag");
+      const bool parametric = in_.integer("parametric flag", 0, 1) == 1;
+      const std::int64_t n = in_.count("number of nodes in block", 4);
+      if (static_cast<std::int64_t>(coords_.size()) + n > num_nodes)
+        in_.fail("node blocks hold more nodes than the " + std::to_string(num_nodes) + " announced");
+      const NodeId base = static_cast<NodeId>(coords_.size());
+      for (std::int64_t i = 0; i < n; ++i) {
+        const std::int64_t tag = in_.integer("node tag");
+        if (tag < tags_.min_tag() || tag > tags_.max_tag())
+          in_.fail("node tag " + std::to_string(tag) + " is outside the range " + std::to_string(tags_.min_tag()) +
+                   ".." + std::to_string(tags_.max_tag()) + " of the $Nodes header");
+        if (!tags_.insert(tag, base + static_cast<NodeId>(i))) in_.fail("duplicate node tag " + std::to_string(tag));
+      }
+      const int num_params = parametric ? entity_dim : 0;
+      for (std::int64_t i = 0; i < n; ++i) {
+        std::array<double, 3> x;
+        for (double& c : x) c = in_.real("node coordinate");
+        for (int k = 0; k < num_params; ++k) in_.real("parametric coordinate");
+        if (std::abs(x[2]) > max_abs_z_) {
+          max_abs_z_ = std::abs(x[2]);
+          max_abs_z_line_ = in_.line();
+        }
+        coords_.push_back(x);
+      }
+    }
+    if (static_cast<std::int64_t>(coords_.size()) != num_nodes)
+      in_.fail("node blocks hold " + std::to_string(coords_.size()) + " nodes, the $Nodes header announced " +
+               std::to_string(num_nodes));
+    in_.expect("$EndNodes");
+  }
+
+  void read_elements() {
+    if (!seen_.count("Nodes")) in_.fail("$Elements must come after $Nodes");
+    elements_line_ = in_.line();
+    const std::int64_t num_blocks = in_.count("number of element blocks", 8);
+    const std::int64_t num_elements = in_.count("number of elements", 4);
+    in_.integer("minimum element tag");
+    in_.integer("maximum element tag");
+    std::int64_t total = 0;
+    for (std::int64_t b = 0; b < num_blocks; ++b) {
+      RawBlock block;
+      block.entity_dim = static_cast<int>(in_.integer("entity dimension", 0, 3));
+      block.line = in_.line();
+      block.entity_tag = in_.integer("entity tag");
+      const std::int64_t code = in_.integer("element type");
+      block.type = find_gmsh_type(code);
+      if (!block.type) in_.fail("unsupported Gmsh element type " + std::to_string(code));
+      if (block.type->dim != block.entity_dim)
+        in_.fail("element type " + std::to_string(code) + " has dimension " + std::to_string(block.type->dim) +
+                 " but its entity has dimension " + std::to_string(block.entity_dim));
+      const int per = block.type->nodes;
+      const std::int64_t n = in_.count("number of elements in block", 2 * static_cast<std::size_t>(per) + 2);
+      total += n;
+      if (total > num_elements)
+        in_.fail("element blocks hold more elements than the " + std::to_string(num_elements) + " announced");
+      block.nodes.reserve(static_cast<std::size_t>(n * per));
+      for (std::int64_t e = 0; e < n; ++e) {
+        in_.integer("element tag");
+        for (int k = 0; k < per; ++k) {
+          const std::int64_t tag = in_.integer("node tag");
+          const NodeId id = tags_.find(tag);
+          if (id < 0) in_.fail("element refers to unknown node tag " + std::to_string(tag));
+          block.nodes.push_back(id);
+        }
+      }
+      blocks_.push_back(std::move(block));
+    }
+    if (total != num_elements)
+      in_.fail("element blocks hold " + std::to_string(total) + " elements, the $Elements header announced " +
+               std::to_string(num_elements));
+    in_.expect("$EndElements");
+  }
+
+  // The first physical group of a block's entity (0: none, or no $Entities section).
+  std::int64_t entity_physical(const RawBlock& b) {
+    if (!seen_.count("Entities")) return 0;
+    auto it = entity_physical_.find({b.entity_dim, b.entity_tag});
+    if (it == entity_physical_.end())
+      in_.fail_at(b.line, "element block refers to entity (dimension " + std::to_string(b.entity_dim) + ", tag " +
+                              std::to_string(b.entity_tag) + ") missing from $Entities");
+    return it->second;
+  }
+
+  // The boundary tag of a facet (or curve) block: from its entity's first physical group.
+  template <int Dim>
+  int facet_tag(HybridMesh<Dim>& mesh, const RawBlock& b) {
+    const std::int64_t physical = entity_physical(b);
+    std::string name;
+    if (physical == 0) {
+      name = "entity_" + std::to_string(b.entity_tag);
+    } else {
+      auto it = physical_names_.find({b.entity_dim, physical});
+      name = it != physical_names_.end() ? it->second : "physical_" + std::to_string(physical);
+    }
+    return mesh.add_tag(name, kind_from_name(name));
+  }
+
+  template <int Dim>
+  void fill(HybridMesh<Dim>& mesh) {
+    mesh.nodes.resize(coords_.size());
+    for (std::size_t i = 0; i < coords_.size(); ++i)
+      for (int d = 0; d < Dim; ++d) mesh.nodes[i][d] = coords_[i][d];
+    // Named physical groups of the facet dimension (and of curves in 3D) first, in physical tag
+    // order, so that tags written by write_msh41 come back with the same indices (and empty ones
+    // survive).
+    std::vector<std::tuple<std::int64_t, int, const std::string*>> named;
+    for (const auto& [key, name] : physical_names_)
+      if (key.first == Dim - 1 || (Dim == 3 && key.first == 1)) named.emplace_back(key.second, key.first, &name);
+    std::sort(named.begin(), named.end());
+    for (const auto& [tag, dim, name] : named) mesh.add_tag(*name, kind_from_name(*name));
+    for (const RawBlock& b : blocks_) {
+      if (Dim == 3 && b.type->dim == 1) {
+        if (b.type->supported && entity_physical(b) != 0) {
+          CellBlock& out = mesh.curve_block(b.type->order, facet_tag(mesh, b));
+          out.connectivity.insert(out.connectivity.end(), b.nodes.begin(), b.nodes.end());
+        }
+        continue;
+      }
+      if (b.type->dim < Dim - 1) continue;
+      if (!b.type->supported)
+        in_.fail_at(b.line, "unsupported Gmsh element type " + std::to_string(b.type->code) + " in a " +
+                                std::to_string(Dim) +
+                                "D mesh (plaf reads Lagrange lines, triangles, "
+                                "quadrilaterals, tetrahedra and prisms of order 1..4)");
+      CellBlock& out = b.type->dim == Dim ? mesh.block(b.type->type, b.type->order)
+                                          : mesh.boundary_block(b.type->type, b.type->order, facet_tag(mesh, b));
+      out.connectivity.insert(out.connectivity.end(), b.nodes.begin(), b.nodes.end());
+    }
+  }
+
+  MshMesh assemble() {
+    MshMesh result;
+    for (const RawBlock& b : blocks_) result.dim = std::max(result.dim, b.type->dim);
+    // Lines alone are a 2D surface mesh (boundary loops without cells).
+    if (result.dim == 1) result.dim = 2;
+    if (result.dim < 2) in_.fail_at(elements_line_, "no line, 2D or 3D elements in $Elements");
+    // Surface elements alone in a file that declares a volume (entity or physical group) are a 3D
+    // surface mesh, as write_msh41 writes one (its "domain" volume).
+    if (result.dim == 2 && declares_volume_) result.dim = 3;
+    if (result.dim == 2) {
+      // The mesh must lie in the plane z = 0, up to round-off relative to its extent.
+      constexpr double planar_z_tol_rel = 1e-10;
+      double extent = 0;
+      for (const auto& x : coords_) extent = std::max({extent, std::abs(x[0]), std::abs(x[1])});
+      if (max_abs_z_ > planar_z_tol_rel * extent)
+        in_.fail_at(max_abs_z_line_, "2D mesh has a node off the plane z = 0 (z = " + std::to_string(max_abs_z_) +
+                                         "; a 3D surface mesh must declare a volume entity or physical group)");
+      fill(result.mesh2);
+    } else {
+      fill(result.mesh3);
+    }
+    return result;
+  }
+
+  const std::filesystem::path& path_;
+  TextCursor in_;
+  std::map<std::string, int> seen_;  // section name -> line
+  std::map<std::pair<int, std::int64_t>, std::string> physical_names_;
+  std::map<std::pair<int, std::int64_t>, std::int64_t> entity_physical_;  // 0: none
+  NodeTagMap tags_;
+  std::vector<std::array<double, 3>> coords_;
+  std::vector<RawBlock> blocks_;
+  int elements_line_ = 0;
+  double max_abs_z_ = 0;
+  int max_abs_z_line_ = 0;
+  bool declares_volume_ = false;  // a volume entity or a physical group of dimension 3
+};
+
+}  // namespace
+
+int gmsh_element_type(CellType type, int order) {
+  for (const GmshType& t : gmsh_types)
+    if (t.supported && t.type == type && t.order == order) return t.code;
+  throw Error(std::string("no Gmsh element type for a ") + cell_name(type) + " of order " + std::to_string(order));
+}
+
+template <int Dim>
+void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path) {
+  // 1. Validate and measure before touching the file system.
+  const int num_tags = static_cast<int>(mesh.tags.size());
+  for (const BoundaryTag& t : mesh.tags)
+    if (t.name.find_first_of("\"\n\r") != std::string::npos)
+      throw Error("cannot write " + path.string() + ": boundary tag name " + TextCursor::quote(t.name) +
+                  " contains a quote or a line break");
+  for (const CellBlock& b : mesh.cells) check_block(mesh, b, Dim, path);
+  std::vector<Box> tag_box(static_cast<std::size_t>(num_tags));
+  for (const CellBlock& b : mesh.boundary) {
+    check_block(mesh, b, Dim - 1, path);
+    if (b.tag < 0 || b.tag >= num_tags)
+      throw Error("cannot write " + path.string() + ": boundary block has tag index " + std::to_string(b.tag) +
+                  " but the mesh has " + std::to_string(num_tags) + " tags");
+    for (NodeId v : b.connectivity) tag_box[static_cast<std::size_t>(b.tag)].add(mesh.nodes[v]);
+  }
+  // Curves (3D): which tags they use; a tag used by curves alone has no facet group or entity.
+  if (Dim != 3 && !mesh.curves.empty())
+    throw Error("cannot write " + path.string() + ": a 2D mesh has curves blocks (curves are 3D only)");
+  std::vector<Box> curve_box(static_cast<std::size_t>(num_tags));
+  std::vector<char> on_facets(static_cast<std::size_t>(num_tags), 0), on_curves(on_facets);
+  for (const CellBlock& b : mesh.boundary) on_facets[static_cast<std::size_t>(b.tag)] = 1;
+  for (const CellBlock& b : mesh.curves) {
+    check_block(mesh, b, 1, path);
+    if (b.tag < 0 || b.tag >= num_tags)
+      throw Error("cannot write " + path.string() + ": curves block has tag index " + std::to_string(b.tag) +
+                  " but the mesh has " + std::to_string(num_tags) + " tags");
+    on_curves[static_cast<std::size_t>(b.tag)] = 1;
+    for (NodeId v : b.connectivity) curve_box[static_cast<std::size_t>(b.tag)].add(mesh.nodes[v]);
+  }
+  auto facet_group = [&](int t) {
+    return on_facets[static_cast<std::size_t>(t)] || !on_curves[static_cast<std::size_t>(t)];
+  };
+  int num_facet_groups = 0, num_curve_groups = 0;
+  for (int t = 0; t < num_tags; ++t) {
+    num_facet_groups += facet_group(t) ? 1 : 0;
+    num_curve_groups += on_curves[static_cast<std::size_t>(t)] ? 1 : 0;
+  }
+  Box domain_box;
+  for (const auto& x : mesh.nodes) domain_box.add(x);
+  const std::int64_t num_nodes = static_cast<std::int64_t>(mesh.nodes.size());
+  std::int64_t num_elements = 0, num_blocks = 0;
+  for (const auto* blocks : {&mesh.cells, &mesh.boundary, &mesh.curves})
+    for (const CellBlock& b : *blocks)
+      if (b.size() > 0) {
+        num_elements += static_cast<std::int64_t>(b.size());
+        ++num_blocks;
+      }
+
+  AtomicFile f(path);
+  // 2. Header, physical groups (boundary tags at dimension Dim-1, then the domain).
+  f.write("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n");
+  f.write_int(num_facet_groups + num_curve_groups + 1);
+  f.put('\n');
+  auto write_group = [&](int dim, int t) {
+    f.write_int(dim);
+    f.put(' ');
+    f.write_int(t + 1);
+    f.write(" \"");
+    f.write(mesh.tags[static_cast<std::size_t>(t)].name);
+    f.write("\"\n");
+  };
+  for (int t = 0; t < num_tags; ++t)
+    if (on_curves[static_cast<std::size_t>(t)]) write_group(1, t);
+  for (int t = 0; t < num_tags; ++t)
+    if (facet_group(t)) write_group(Dim - 1, t);
+  f.write_int(Dim);
+  f.put(' ');
+  f.write_int(num_tags + 1);
+  f.write(" \"domain\"\n$EndPhysicalNames\n");
+
+  // 3. Entities: no points; one curve entity per curve tag (3D), one facet entity per other tag,
+  // and the domain entity.
+  f.write("$Entities\n");
+  if (Dim == 2) {
+    f.write("0 ");
+    f.write_int(num_tags);
+    f.write(" 1 0\n");
+  } else {
+    f.write("0 ");
+    f.write_int(num_curve_groups);
+    f.put(' ');
+    f.write_int(num_facet_groups);
+    f.write(" 1\n");
+  }
+  // An entity line of tag t: its bounding box, its one physical group (tag t + 1), no bounding
+  // entities.
+  auto write_entity = [&](int t, const auto& box) {
+    f.write_int(t + 1);
+    f.put(' ');
+    write_box(f, box);
+    f.write("1 ");
+    f.write_int(t + 1);
+    f.write(" 0\n");
+  };
+  if (Dim == 3)
+    for (int t = 0; t < num_tags; ++t)
+      if (on_curves[static_cast<std::size_t>(t)]) write_entity(t, curve_box[static_cast<std::size_t>(t)]);
+  for (int t = 0; t < num_tags; ++t)
+    if (facet_group(t)) write_entity(t, tag_box[static_cast<std::size_t>(t)]);
+  f.write("1 ");
+  write_box(f, domain_box);
+  f.write("1 ");
+  f.write_int(num_tags + 1);
+  f.write(" 0\n$EndEntities\n");
+
+  // 4. Nodes, all in the domain entity's block.
+  f.write("$Nodes\n");
+  if (num_nodes == 0) {
+    f.write("0 0 0 0\n");
+  } else {
+    f.write("1 ");
+    f.write_int(num_nodes);
+    f.write(" 1 ");
+    f.write_int(num_nodes);
+    f.put('\n');
+    f.write_int(Dim);
+    f.write(" 1 0 ");
+    f.write_int(num_nodes);
+    f.put('\n');
+    for (std::int64_t i = 1; i <= num_nodes; ++i) {
+      f.write_int(i);
+      f.put('\n');
+    }
+    for (const auto& x : mesh.nodes) f.write_point_line(x);
+  }
+  f.write("$EndNodes\n");
+
+  // 5. Elements: volume blocks, boundary blocks, then curves, tags 1..M in that order.
+  f.write("$Elements\n");
+  f.write_int(num_blocks);
+  f.put(' ');
+  f.write_int(num_elements);
+  f.write(num_elements > 0 ? " 1 " : " 0 ");
+  f.write_int(num_elements);
+  f.put('\n');
+  std::int64_t element_tag = 0;
+  auto write_block = [&](const CellBlock& b, int entity_dim, int entity_tag) {
+    if (b.size() == 0) return;
+    f.write_int(entity_dim);
+    f.put(' ');
+    f.write_int(entity_tag);
+    f.put(' ');
+    f.write_int(gmsh_element_type(b.type, b.order));
+    f.put(' ');
+    f.write_int(static_cast<std::int64_t>(b.size()));
+    f.put('\n');
+    const int per = b.nodes_per_cell();
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      f.write_int(++element_tag);
+      const NodeId* c = b.cell(i);
+      for (int k = 0; k < per; ++k) {
+        f.put(' ');
+        f.write_int(c[k] + 1);
+      }
+      f.put('\n');
+    }
+  };
+  for (const CellBlock& b : mesh.cells) write_block(b, Dim, 1);
+  for (const CellBlock& b : mesh.boundary) write_block(b, Dim - 1, b.tag + 1);
+  for (const CellBlock& b : mesh.curves) write_block(b, 1, b.tag + 1);
+  f.write("$EndElements\n");
+  f.commit();
+}
+
+MshMesh read_msh41(const std::filesystem::path& path) {
+  const std::string text = read_whole_file(path);
+  return MshReader(path, text).read();
+}
+
+template void write_msh41(const HybridMesh<2>&, const std::filesystem::path&);
+template void write_msh41(const HybridMesh<3>&, const std::filesystem::path&);
+
+}  // namespace io
+}  // namespace plaf

@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: MIT
+// Gmsh MSH 4.1 ASCII reader and writer for HybridMesh (format: Gmsh reference manual,
+// "MSH file format", version 4.1).
+//
+// Writing: one physical group of dimension Dim-1 per boundary tag, named by the tag's name, with
+// physical tag = tag index + 1; one physical group "domain" of dimension Dim with physical tag
+// = number of tags + 1. One entity per boundary tag (entity tag = tag index + 1) and one domain
+// entity (tag 1), each carrying its physical group and its bounding box. All nodes are written in
+// the domain entity's node block; node tags are 1..N in HybridMesh order. Elements come in one
+// block per (entity, element type): the volume blocks first, then the boundary blocks, with
+// element tags 1..M in that order. 2D meshes are written with z = 0. Coordinates are written in
+// the shortest form that reads back bit for bit.
+// Curves of a 3D mesh (HybridMesh::curves): a tag used by curves blocks gets a physical group of
+// dimension 1 (same name, physical tag = tag index + 1) and a curve entity (entity tag = tag index
+// + 1) holding those line elements, written after the boundary blocks; a tag used by curves only
+// gets no dimension-2 group or entity.
+//
+// Reading: the mesh dimension is the largest dimension of the elements present, except that a file
+// of surface elements (no volume elements) declaring a volume entity or a physical group of
+// dimension 3 is a 3D surface mesh (boundary facets and curves, no cells). Elements of that
+// dimension become cells, elements of dimension Dim-1 become boundary facets tagged by the
+// physical group of their entity; points are ignored. In 3D, line elements whose entity carries a
+// physical group become curves blocks tagged by that group (plaf's own symmetry loops, Gmsh's
+// physical curves); lines without a physical group (Gmsh's "save all") and line types plaf cannot
+// represent are ignored. Tags come in the order of their physical tags (dimension Dim-1 and, in
+// 3D, dimension 1), so a written mesh reads back with the same tag indices. A boundary tag's kind is
+// inferred from its name (case-insensitive prefix): "wall*" -> Wall, "farfield*" -> Farfield,
+// "symmetry*" -> Symmetry, else Named. So kinds survive a round trip only when the tag names
+// follow that convention. An entity with several physical groups takes the first; a physical
+// group without a name is called "physical_<tag>"; an entity without one "entity_<tag>".
+// Sparse node tags are renumbered contiguously in file order. Unknown sections ($NodeData,
+// $Periodic, ...) are skipped. Anything malformed throws InputError "path:line: reason".
+#pragma once
+
+#include <filesystem>
+
+#include "modules/mesh/hybrid_mesh.h"
+
+namespace plaf {
+inline namespace io {
+
+// Gmsh's element type number for (type, order), order 1..4 (Gmsh's GmshDefines.h).
+int gmsh_element_type(CellType type, int order);
+
+// Throws Error (naming the path) if the file cannot be written or the mesh refers to a missing
+// node or tag; never leaves a partial file behind (AtomicFile).
+template <int Dim>
+void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path);
+
+struct MshMesh {
+  int dim = 0;  // 2 or 3: which of the two meshes is filled
+  HybridMesh<2> mesh2;
+  HybridMesh<3> mesh3;
+};
+
+MshMesh read_msh41(const std::filesystem::path& path);
+
+}  // namespace io
+}  // namespace plaf

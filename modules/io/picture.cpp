@@ -1,0 +1,214 @@
+// SPDX-License-Identifier: MIT
+#include "modules/io/picture.h"
+
+#include <cairo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "modules/io/atomic_file.h"
+#include "modules/base/error.h"
+
+namespace plaf {
+inline namespace io {
+
+namespace {
+
+struct View {
+  double x_min, y_min, scale, ox, oy, height;  // model -> pixel: ox + (x - x_min) * scale, ...
+  double px(double x) const { return ox + (x - x_min) * scale; }
+  double py(double y) const { return oy + height - (y - y_min) * scale; }
+};
+
+View fit(double x_min, double x_max, double y_min, double y_max, double ox, double oy, double w, double h) {
+  const double margin = 0.04;
+  const double dx = std::max(x_max - x_min, 1e-300), dy = std::max(y_max - y_min, 1e-300);
+  const double scale = std::min(w / dx, h / dy) * (1 - 2 * margin);
+  View v{x_min, y_min, scale, 0, 0, h};
+  v.ox = ox + 0.5 * (w - dx * scale);
+  v.oy = oy - 0.5 * (h - dy * scale);
+  return v;
+}
+
+// Point of cell `c` at reference xi.
+Eigen::Vector2d map_point(const HybridMesh<2>& mesh, const LagrangeElement& e, const NodeId* c, const double* xi,
+                          double* phi) {
+  e.eval(xi, phi);
+  Eigen::Vector2d x = Eigen::Vector2d::Zero();
+  for (int k = 0; k < e.size(); ++k) x += phi[k] * mesh.nodes[c[k]];
+  return x;
+}
+
+// Trace the cell outline (curved edges, in order) as a closed cairo path.
+void outline(cairo_t* cr, const View& v, const HybridMesh<2>& mesh, const CellBlock& b, std::size_t i, double* phi) {
+  const LagrangeElement& e = lagrange_element(b.type, b.order);
+  const NodeId* c = b.cell(i);
+  const int nv = num_vertices(b.type);
+  const int samples = b.order == 1 ? 1 : 12;
+  bool first = true;
+  for (int k = 0; k < nv; ++k) {
+    const auto a = e.ref_node(k), z = e.ref_node((k + 1) % nv);
+    for (int s = 0; s < samples; ++s) {
+      const double t = static_cast<double>(s) / samples;
+      const double xi[3] = {a[0] + t * (z[0] - a[0]), a[1] + t * (z[1] - a[1]), 0};
+      const Eigen::Vector2d x = map_point(mesh, e, c, xi, phi);
+      if (first)
+        cairo_move_to(cr, v.px(x[0]), v.py(x[1]));
+      else
+        cairo_line_to(cr, v.px(x[0]), v.py(x[1]));
+      first = false;
+    }
+  }
+  cairo_close_path(cr);
+}
+
+void draw_mesh(cairo_t* cr, const View& v, const HybridMesh<2>& mesh, const std::vector<std::uint8_t>& valid,
+               double line_width) {
+  double phi[64];
+  std::size_t index = 0;
+  for (const CellBlock& b : mesh.cells)
+    for (std::size_t i = 0; i < b.size(); ++i, ++index) {
+      outline(cr, v, mesh, b, i, phi);
+      const bool ok = valid.empty() || valid[index];
+      if (!ok)
+        cairo_set_source_rgb(cr, 0.95, 0.1, 0.1);
+      else if (is_curved(mesh, b, i))
+        cairo_set_source_rgb(cr, 1.0, 0.85, 0.6);
+      else
+        cairo_set_source_rgb(cr, 0.78, 0.87, 0.97);
+      cairo_fill_preserve(cr);
+      cairo_set_source_rgb(cr, 0.15, 0.15, 0.2);
+      cairo_set_line_width(cr, line_width);
+      cairo_stroke(cr);
+    }
+  // Boundary facets, thicker, one colour per kind.
+  for (const CellBlock& b : mesh.boundary) {
+    const LagrangeElement& e = lagrange_element(b.type, b.order);
+    const BoundaryKind kind = b.tag >= 0 ? mesh.tags[b.tag].kind : BoundaryKind::Named;
+    switch (kind) {
+      case BoundaryKind::Wall:
+        cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+        break;
+      case BoundaryKind::Farfield:
+        cairo_set_source_rgb(cr, 0.1, 0.3, 0.8);
+        break;
+      case BoundaryKind::Symmetry:
+        cairo_set_source_rgb(cr, 0.1, 0.6, 0.2);
+        break;
+      case BoundaryKind::Named:
+        cairo_set_source_rgb(cr, 0.5, 0.2, 0.6);
+        break;
+    }
+    cairo_set_line_width(cr, 2.5 * line_width);
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      const NodeId* c = b.cell(i);
+      for (int s = 0; s <= 12; ++s) {
+        const double xi[3] = {s / 12.0, 0, 0};
+        const Eigen::Vector2d x = map_point(mesh, e, c, xi, phi);
+        if (s == 0)
+          cairo_move_to(cr, v.px(x[0]), v.py(x[1]));
+        else
+          cairo_line_to(cr, v.px(x[0]), v.py(x[1]));
+      }
+      cairo_stroke(cr);
+      // A surface mesh alone (no cells): show its nodes, linear ones larger than high-order ones.
+      if (mesh.cells.empty())
+        for (int k = 0; k < b.nodes_per_cell(); ++k) {
+          const Eigen::Vector2d& x = mesh.nodes[c[k]];
+          cairo_arc(cr, v.px(x[0]), v.py(x[1]), (k < 2 ? 3.0 : 1.8) * line_width, 0, 2 * M_PI);
+          cairo_fill(cr);
+        }
+    }
+  }
+}
+
+// Collects the PNG bytes in memory (no exception may cross cairo's C frames).
+cairo_status_t write_chunk(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
+}
+
+}  // namespace
+
+bool is_curved(const HybridMesh<2>& mesh, const CellBlock& b, std::size_t i, double rel_tol) {
+  if (b.order == 1) return false;
+  const LagrangeElement& e = lagrange_element(b.type, b.order);
+  const LagrangeElement& lin = lagrange_element(b.type, 1);
+  const NodeId* c = b.cell(i);
+  double size = 0, magnitude = 0;
+  for (int k = 1; k < lin.size(); ++k) size = std::max(size, (mesh.nodes[c[k]] - mesh.nodes[c[0]]).norm());
+  for (int k = 0; k < e.size(); ++k) magnitude = std::max(magnitude, mesh.nodes[c[k]].cwiseAbs().maxCoeff());
+  // Stored coordinates are rounded to a few ulps of their magnitude, which exceeds rel_tol * size
+  // for a small cell far from the origin: such offsets are no curvature.
+  const double tol = rel_tol * size + 16 * std::numeric_limits<double>::epsilon() * magnitude;
+  double phi[8];
+  for (int k = lin.size(); k < e.size(); ++k) {
+    const auto xi = e.ref_node(k);
+    lin.eval(xi.data(), phi);
+    Eigen::Vector2d x = Eigen::Vector2d::Zero();
+    for (int m = 0; m < lin.size(); ++m) x += phi[m] * mesh.nodes[c[m]];
+    if ((x - mesh.nodes[c[k]]).norm() > tol) return true;
+  }
+  return false;
+}
+
+void write_png(const HybridMesh<2>& mesh, const std::vector<std::uint8_t>& valid, const std::filesystem::path& path,
+               const PictureOptions& options) {
+  if (!valid.empty() && valid.size() != mesh.num_cells())
+    throw InputError(path.string() + ": " + std::to_string(valid.size()) + " validity flags for " +
+                     std::to_string(mesh.num_cells()) + " cells");
+  double x_min = std::numeric_limits<double>::infinity(), y_min = x_min, x_max = -x_min, y_max = -x_min;
+  for (const auto& p : mesh.nodes) {
+    x_min = std::min(x_min, p[0]);
+    x_max = std::max(x_max, p[0]);
+    y_min = std::min(y_min, p[1]);
+    y_max = std::max(y_max, p[1]);
+  }
+  if (mesh.nodes.empty()) x_min = y_min = 0, x_max = y_max = 1;
+  const int w = options.width, h = options.height;
+  const int panels = static_cast<int>(options.zooms.size());
+  const int main_h = panels ? h * 2 / 3 : h;
+  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
+  cairo_t* cr = cairo_create(surface);
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  const double lw = std::max(0.4, w / 2400.0);
+  draw_mesh(cr, fit(x_min, x_max, y_min, y_max, 0, 0, w, main_h), mesh, valid, lw);
+  for (int k = 0; k < panels; ++k) {
+    const ZoomBox& z = options.zooms[k];
+    const double pw = static_cast<double>(w) / panels, ph = h - main_h;
+    cairo_save(cr);
+    cairo_rectangle(cr, k * pw, main_h, pw, ph);
+    cairo_clip(cr);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    draw_mesh(cr, fit(z.x_min, z.x_max, z.y_min, z.y_max, k * pw, main_h, pw, ph), mesh, valid, lw);
+    cairo_restore(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 1.0);
+    cairo_rectangle(cr, k * pw + 0.5, main_h + 0.5, pw - 1, ph - 1);
+    cairo_stroke(cr);
+    cairo_move_to(cr, k * pw + 8, main_h + 20);
+    cairo_set_font_size(cr, 16);
+    cairo_show_text(cr, z.label.c_str());
+  }
+  if (!options.title.empty()) {
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_font_size(cr, 18);
+    cairo_move_to(cr, 10, 24);
+    cairo_show_text(cr, options.title.c_str());
+  }
+  cairo_surface_flush(surface);
+  std::string png;
+  const cairo_status_t st = cairo_surface_write_to_png_stream(surface, write_chunk, &png);
+  cairo_destroy(cr);
+  cairo_surface_destroy(surface);
+  if (st != CAIRO_STATUS_SUCCESS) throw Error(path.string() + ": cannot encode the PNG picture");
+  AtomicFile file(path);
+  file.write(png);
+  file.commit();
+}
+
+}  // namespace io
+}  // namespace plaf

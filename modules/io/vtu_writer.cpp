@@ -1,0 +1,229 @@
+// SPDX-License-Identifier: MIT
+// Implements the .vtu writer (VTK file formats, "XML File Formats": UnstructuredGrid) with
+// VTK 9's Lagrange cells; see vtu_writer.h for the choices.
+#include "modules/io/vtu_writer.h"
+
+#include <string_view>
+
+#include "modules/io/atomic_file.h"
+#include "modules/base/error.h"
+
+namespace plaf {
+inline namespace io {
+namespace {
+
+std::string xml_escape(std::string_view s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+void data_array(AtomicFile& f, const char* type, const std::string& name, int components) {
+  f.write("        <DataArray type=\"");
+  f.write(type);
+  f.write("\" Name=\"");
+  f.write(xml_escape(name));
+  f.write("\"");
+  if (components > 1) {
+    f.write(" NumberOfComponents=\"");
+    f.write_int(components);
+    f.write("\"");
+  }
+  f.write(" format=\"ascii\">\n");
+}
+
+constexpr std::string_view end_data_array = "        </DataArray>\n";
+
+}  // namespace
+
+int vtk_cell_type(CellType type, int order) {
+  check_order(order);
+  const bool linear = order == 1;
+  switch (type) {
+    case CellType::Line:
+      return linear ? 3 : 68;
+    case CellType::Triangle:
+      return linear ? 5 : 69;
+    case CellType::Quadrilateral:
+      return linear ? 9 : 70;
+    case CellType::Tetrahedron:
+      return linear ? 10 : 71;
+    case CellType::Prism:
+      return linear ? 13 : 73;
+  }
+  return 0;
+}
+
+std::vector<int> vtk_node_permutation(CellType type, int order) {
+  if (order == 1) {
+    std::vector<int> perm(static_cast<std::size_t>(num_vertices(type)));
+    for (std::size_t k = 0; k < perm.size(); ++k) perm[k] = static_cast<int>(k);
+    if (type == CellType::Prism) perm = {0, 2, 1, 3, 5, 4};  // VTK_WEDGE's base faces outward
+    return perm;
+  }
+  const std::vector<Lattice> gmsh = gmsh_lattice(type, order);
+  const std::vector<Lattice> vtk = vtk_lattice(type, order);
+  std::vector<int> perm(vtk.size(), -1);
+  for (std::size_t k = 0; k < vtk.size(); ++k)
+    for (std::size_t i = 0; i < gmsh.size(); ++i)
+      if (gmsh[i] == vtk[k]) perm[k] = static_cast<int>(i);
+  for (int p : perm)
+    if (p < 0) throw Error(std::string("VTK and Gmsh node lattices differ for a ") + cell_name(type));
+  return perm;
+}
+
+template <int Dim>
+void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, const std::vector<CellField>& fields) {
+  // 1. Validate before touching the file system.
+  auto fail = [&](const std::string& why) { throw Error("cannot write " + path.string() + ": " + why); };
+  // A mesh without cells (a surface mesh alone) is written as its boundary facets, and in 3D its
+  // curves after them (the fields cover the facets; curve cells get NaN).
+  const bool surface = mesh.cells.empty();
+  std::vector<const CellBlock*> blocks;  // pointers: the connectivity is not copied
+  for (const CellBlock& b : surface ? mesh.boundary : mesh.cells) blocks.push_back(&b);
+  std::size_t num_cells = 0;
+  for (const CellBlock* b : blocks) num_cells += b->size();
+  const std::size_t field_cells = num_cells;
+  const std::size_t num_facet_blocks = blocks.size();
+  if (surface && Dim == 3) {
+    for (const CellBlock& b : mesh.curves) {
+      blocks.push_back(&b);
+      num_cells += b.size();
+    }
+  }
+  const int block_dim = surface ? Dim - 1 : Dim;
+  const auto num_nodes = static_cast<NodeId>(mesh.nodes.size());
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    const CellField& fi = fields[i];
+    if (fi.name.empty() || fi.name == "block" || fi.name == "HigherOrderDegrees")
+      fail("cell field name '" + fi.name + "' is empty or reserved");
+    for (std::size_t j = 0; j < i; ++j)
+      if (fields[j].name == fi.name) fail("two cell fields are named '" + fi.name + "'");
+    if (fi.values.size() != field_cells)
+      fail("cell field '" + fi.name + "' has " + std::to_string(fi.values.size()) + " values for " +
+           std::to_string(field_cells) + " cells");
+  }
+  std::vector<std::vector<int>> perms;
+  for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
+    const CellBlock& b = *blocks[bi];
+    if (ref_dim(b.type) != (bi < num_facet_blocks ? block_dim : 1) || b.order < 1 || b.order > max_order)
+      fail(std::string("a ") + cell_name(b.type) + " block of order " + std::to_string(b.order) +
+           " is not a volume block of this mesh");
+    if (b.connectivity.size() % static_cast<std::size_t>(b.nodes_per_cell()) != 0)
+      fail(std::string("the connectivity of a ") + cell_name(b.type) + " block has a partial cell");
+    for (NodeId v : b.connectivity)
+      if (v < 0 || v >= num_nodes)
+        fail(std::string("a ") + cell_name(b.type) + " block refers to node " + std::to_string(v) + " of " +
+             std::to_string(num_nodes));
+    perms.push_back(vtk_node_permutation(b.type, b.order));
+  }
+
+  AtomicFile f(path);
+  // 2. Header and points.
+  f.write(
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+      "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"");
+  f.write_int(num_nodes);
+  f.write("\" NumberOfCells=\"");
+  f.write_int(static_cast<std::int64_t>(num_cells));
+  f.write("\">\n      <Points>\n");
+  data_array(f, "Float64", "Points", 3);
+  for (const auto& x : mesh.nodes) f.write_point_line(x);
+  f.write(end_data_array);
+  f.write("      </Points>\n      <Cells>\n");
+
+  // 3. Connectivity in VTK order, offsets, types.
+  data_array(f, "Int64", "connectivity", 1);
+  for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
+    const CellBlock& b = *blocks[bi];
+    const std::vector<int>& perm = perms[bi];
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      const NodeId* c = b.cell(i);
+      for (std::size_t k = 0; k < perm.size(); ++k) {
+        if (k > 0) f.put(' ');
+        f.write_int(c[perm[k]]);
+      }
+      f.put('\n');
+    }
+  }
+  f.write(end_data_array);
+  data_array(f, "Int64", "offsets", 1);
+  std::int64_t offset = 0;
+  for (std::size_t bi = 0; bi < blocks.size(); ++bi)
+    for (std::size_t i = 0; i < blocks[bi]->size(); ++i) {
+      offset += static_cast<std::int64_t>(perms[bi].size());
+      f.write_int(offset);
+      f.put('\n');
+    }
+  f.write(end_data_array);
+  data_array(f, "UInt8", "types", 1);
+  for (const CellBlock* bp : blocks) {
+    const CellBlock& b = *bp;
+    const int type = vtk_cell_type(b.type, b.order);
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      f.write_int(type);
+      f.put('\n');
+    }
+  }
+  f.write(end_data_array);
+  f.write("      </Cells>\n");
+
+  // 4. Cell data: block index, the caller's fields, the Lagrange degrees.
+  f.write("      <CellData Scalars=\"block\" HigherOrderDegrees=\"HigherOrderDegrees\">\n");
+  data_array(f, "Int32", "block", 1);
+  for (std::size_t bi = 0; bi < blocks.size(); ++bi)
+    for (std::size_t i = 0; i < blocks[bi]->size(); ++i) {
+      f.write_int(static_cast<std::int64_t>(bi));
+      f.put('\n');
+    }
+  f.write(end_data_array);
+  for (const CellField& field : fields) {
+    data_array(f, "Float64", field.name, 1);
+    for (double v : field.values) {
+      f.write_double(v);
+      f.put('\n');
+    }
+    for (std::size_t i = field_cells; i < num_cells; ++i) f.write("nan\n");
+    f.write(end_data_array);
+  }
+  data_array(f, "Int32", "HigherOrderDegrees", 3);
+  for (const CellBlock* bp : blocks) {
+    const CellBlock& b = *bp;
+    const int dim = ref_dim(b.type);
+    for (std::size_t i = 0; i < b.size(); ++i)
+      for (int d = 0; d < 3; ++d) {
+        f.write_int(d < dim ? b.order : 0);
+        f.put(d < 2 ? ' ' : '\n');
+      }
+  }
+  f.write(end_data_array);
+  f.write("      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
+  f.commit();
+}
+
+template void write_vtu(const HybridMesh<2>&, const std::filesystem::path&, const std::vector<CellField>&);
+template void write_vtu(const HybridMesh<3>&, const std::filesystem::path&, const std::vector<CellField>&);
+
+}  // namespace io
+}  // namespace plaf

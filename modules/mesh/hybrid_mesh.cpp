@@ -1,0 +1,267 @@
+// SPDX-License-Identifier: MIT
+// HybridMesh blocks, tags and the facet-hash conformity check (see hybrid_mesh.h).
+#include "modules/mesh/hybrid_mesh.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <sstream>
+#include <unordered_map>
+
+namespace plaf {
+inline namespace mesh {
+
+const char* boundary_kind_name(BoundaryKind kind) {
+  switch (kind) {
+    case BoundaryKind::Wall:
+      return "wall";
+    case BoundaryKind::Farfield:
+      return "farfield";
+    case BoundaryKind::Symmetry:
+      return "symmetry";
+    case BoundaryKind::Named:
+      return "named";
+  }
+  return "?";
+}
+
+template <int Dim>
+CellBlock& HybridMesh<Dim>::block(CellType type, int order) {
+  for (CellBlock& b : cells)
+    if (b.type == type && b.order == order) return b;
+  cells.push_back(CellBlock{type, order, -1, {}});
+  return cells.back();
+}
+
+template <int Dim>
+CellBlock& HybridMesh<Dim>::boundary_block(CellType type, int order, int tag) {
+  for (CellBlock& b : boundary)
+    if (b.type == type && b.order == order && b.tag == tag) return b;
+  boundary.push_back(CellBlock{type, order, tag, {}});
+  return boundary.back();
+}
+
+template <int Dim>
+CellBlock& HybridMesh<Dim>::curve_block(int order, int tag) {
+  for (CellBlock& b : curves)
+    if (b.order == order && b.tag == tag) return b;
+  curves.push_back(CellBlock{CellType::Line, order, tag, {}});
+  return curves.back();
+}
+
+template <int Dim>
+int HybridMesh<Dim>::add_tag(const std::string& name, BoundaryKind kind) {
+  for (std::size_t i = 0; i < tags.size(); ++i)
+    if (tags[i].name == name) return static_cast<int>(i);
+  tags.push_back(BoundaryTag{name, kind});
+  return static_cast<int>(tags.size()) - 1;
+}
+
+namespace {
+
+// A facet is identified by its sorted vertex ids (up to 4).
+using FacetKey = std::array<NodeId, 4>;
+
+struct FacetKeyHash {
+  std::size_t operator()(const FacetKey& k) const {
+    std::size_t h = 1469598103934665603ull;
+    for (NodeId v : k) h = (h ^ static_cast<std::size_t>(static_cast<std::uint32_t>(v))) * 1099511628211ull;
+    return h;
+  }
+};
+
+struct FacetUse {
+  int count = 0;
+  bool boundary = false;
+  std::array<NodeId, 2> around{-1, -1};  // successor and predecessor of the smallest vertex, first use
+  std::vector<NodeId> nodes;             // sorted high-order nodes of the first use
+};
+
+// The successor and predecessor of the smallest vertex in the facet's cyclic vertex order: two
+// cells on opposite sides of a facet traverse it in opposite directions (outward-oriented
+// facets of positively oriented cells), so the second use swaps them. For an edge (2 vertices)
+// the "successor" is the second vertex.
+std::array<NodeId, 2> around_min(const NodeId* cell, const std::vector<int>& local, int nv) {
+  int m = 0;
+  for (int v = 1; v < nv; ++v)
+    if (cell[local[v]] < cell[local[m]]) m = v;
+  if (nv == 1) return {local[0] == 0 ? 0 : 1, local[0] == 0 ? 1 : 0};  // a line's start or end
+  if (nv == 2) return {cell[local[1]], cell[local[0]]};
+  return {cell[local[(m + 1) % nv]], cell[local[(m + nv - 1) % nv]]};
+}
+
+FacetKey make_key(const NodeId* cell, const std::vector<int>& local, int nv) {
+  FacetKey k{-1, -1, -1, -1};
+  for (int v = 0; v < nv; ++v) {  // insertion sort of at most 4 ids
+    NodeId x = cell[local[v]];
+    int j = v;
+    for (; j > 0 && k[j - 1] > x; --j) k[j] = k[j - 1];
+    k[j] = x;
+  }
+  return k;
+}
+
+// Is the 2D edge with vertices key[0], key[1] and the (sorted) node set `nodes` straight sided:
+// its interior nodes on the chord at the equispaced parameters k / q? Then a lower-order cell
+// may share it (a linear triangle on the straight top edge of a curved layer cell).
+template <int Dim>
+bool straight_edge(const HybridMesh<Dim>& mesh, const FacetKey& key, const std::vector<NodeId>& nodes) {
+  if constexpr (Dim != 2) {
+    return false;
+  } else {
+    if (key[2] >= 0 || key[1] < 0) return false;
+    const auto a = mesh.nodes[key[0]], b = mesh.nodes[key[1]];
+    const double l2 = (b - a).squaredNorm();
+    const int q = static_cast<int>(nodes.size()) - 1;
+    std::vector<double> t;
+    for (NodeId v : nodes) {
+      if (v == key[0] || v == key[1]) continue;
+      const auto x = mesh.nodes[v];
+      const double s = (x - a).dot(b - a) / l2;
+      if ((a + s * (b - a) - x).norm() > 1e-9 * std::sqrt(l2)) return false;
+      t.push_back(s);
+    }
+    std::sort(t.begin(), t.end());
+    for (int k = 1; k < q; ++k)
+      if (std::abs(t[k - 1] - static_cast<double>(k) / q) > 1e-9) return false;
+    return q >= 1;
+  }
+}
+
+int facet_vertices(CellType cell, int facet) {
+  if (ref_dim(cell) == 1) return 1;
+  if (ref_dim(cell) == 2) return 2;
+  return static_cast<int>(topology(cell).faces[facet].size());
+}
+
+}  // namespace
+
+template <int Dim>
+ConformityReport check_conformity(const HybridMesh<Dim>& mesh) {
+  // A mesh of boundary facets alone (a surface mesh) is checked as a mesh of those facets: closed
+  // loops (2D) or closed surfaces (3D) with consistently oriented, shared high-order nodes; the
+  // curves of a 3D surface are its boundary (its edges allowed to stay open).
+  if (mesh.cells.empty() && !mesh.boundary.empty()) {
+    HybridMesh<Dim> surface;
+    surface.cells = mesh.boundary;
+    for (CellBlock& b : surface.cells) b.tag = -1;
+    if constexpr (Dim == 3) surface.boundary = mesh.curves;
+    return check_conformity(surface);
+  }
+  ConformityReport r;
+  std::unordered_map<FacetKey, FacetUse, FacetKeyHash> facets;
+  facets.reserve(mesh.num_cells() * 3);
+  auto problem = [&](const std::string& what) {
+    r.ok = false;
+    if (r.first_problem.empty()) r.first_problem = what;
+  };
+  auto describe = [](const FacetKey& k) {
+    std::ostringstream s;
+    s << "facet with vertices";
+    for (NodeId v : k)
+      if (v >= 0) s << ' ' << v;
+    return s.str();
+  };
+  std::vector<NodeId> sorted;
+  for (const CellBlock& b : mesh.cells) {
+    const LagrangeElement& e = lagrange_element(b.type, b.order);
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      const NodeId* c = b.cell(i);
+      for (int f = 0; f < e.num_facets(); ++f) {
+        const auto& local = e.facet_nodes(f);
+        const FacetKey key = make_key(c, local, facet_vertices(b.type, f));
+        sorted.clear();
+        for (int l : local) sorted.push_back(c[l]);
+        std::sort(sorted.begin(), sorted.end());
+        FacetUse& use = facets[key];
+        const auto around = around_min(c, local, facet_vertices(b.type, f));
+        if (use.count == 0) {
+          use.nodes = sorted;
+          use.around = around;
+        } else {
+          if (use.nodes != sorted && use.nodes.size() != sorted.size() &&
+              straight_edge(mesh, key, use.nodes.size() > sorted.size() ? use.nodes : sorted)) {
+            ++r.order_transitions;
+          } else if (use.nodes != sorted) {
+            ++r.node_mismatches;
+            problem("cells sharing the " + describe(key) + " have different high-order nodes on it");
+          }
+          if (use.count == 1 && !(around[0] == use.around[1] && around[1] == use.around[0])) {
+            ++r.orientation_mismatches;
+            problem("the two cells sharing the " + describe(key) +
+                    " lie on the same side of it (a duplicated, folded or mis-oriented cell)");
+          }
+        }
+        ++use.count;
+      }
+    }
+  }
+  for (const CellBlock& b : mesh.boundary) {
+    const int nv = num_vertices(b.type);
+    std::vector<int> local(nv);
+    for (int v = 0; v < nv; ++v) local[v] = v;
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      const FacetKey key = make_key(b.cell(i), local, nv);
+      auto it = facets.find(key);
+      if (it == facets.end()) {
+        ++r.stray_boundary;
+        problem("boundary " + describe(key) + " is not a facet of any cell");
+      } else {
+        it->second.boundary = true;
+        sorted.assign(b.cell(i), b.cell(i) + b.nodes_per_cell());
+        std::sort(sorted.begin(), sorted.end());
+        if (sorted != it->second.nodes && sorted.size() != it->second.nodes.size() &&
+            straight_edge(mesh, key, sorted.size() > it->second.nodes.size() ? sorted : it->second.nodes)) {
+          ++r.order_transitions;
+        } else if (sorted != it->second.nodes) {
+          ++r.node_mismatches;
+          problem("boundary " + describe(key) + " has other high-order nodes than the cell it bounds");
+        }
+      }
+    }
+  }
+  for (const auto& [key, use] : facets) {
+    if (use.count == 2 && !use.boundary) {
+      ++r.interior_facets;
+    } else if (use.count == 1 && use.boundary) {
+      ++r.boundary_facets;
+    } else if (use.count == 1) {
+      ++r.open_facets;
+      problem(describe(key) + " belongs to one cell and to no boundary (a hole in the mesh)");
+    } else if (use.count >= 3) {
+      ++r.overshared_facets;
+      problem(describe(key) + " is shared by " + std::to_string(use.count) + " cells");
+    } else {
+      ++r.interior_facets;  // count == 2 and tagged: an interior (embedded) boundary
+    }
+  }
+  return r;
+}
+
+template <int Dim>
+void compact_nodes(HybridMesh<Dim>& mesh) {
+  std::vector<NodeId> map(mesh.nodes.size(), -1);
+  for (const auto* blocks : {&mesh.cells, &mesh.boundary, &mesh.curves})
+    for (const CellBlock& b : *blocks)
+      for (NodeId v : b.connectivity) map[static_cast<std::size_t>(v)] = 0;
+  NodeId next = 0;
+  for (std::size_t i = 0; i < map.size(); ++i)
+    if (map[i] == 0) {
+      mesh.nodes[static_cast<std::size_t>(next)] = mesh.nodes[i];
+      map[i] = next++;
+    }
+  mesh.nodes.resize(static_cast<std::size_t>(next));
+  for (auto* blocks : {&mesh.cells, &mesh.boundary, &mesh.curves})
+    for (CellBlock& b : *blocks)
+      for (NodeId& v : b.connectivity) v = map[static_cast<std::size_t>(v)];
+}
+
+template void compact_nodes(HybridMesh<2>&);
+template void compact_nodes(HybridMesh<3>&);
+template struct HybridMesh<2>;
+template struct HybridMesh<3>;
+template ConformityReport check_conformity(const HybridMesh<2>&);
+template ConformityReport check_conformity(const HybridMesh<3>&);
+
+}  // namespace mesh
+}  // namespace plaf

@@ -1,0 +1,439 @@
+// SPDX-License-Identifier: MIT
+#include "modules/mesh/quality.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <unordered_map>
+
+#include "modules/elements/mapping.h"
+
+namespace plaf {
+inline namespace mesh {
+
+namespace {
+
+// Reference-to-regular maps W (columns: edge vectors of the regular cell from vertex 0).
+Eigen::Matrix3d regular_cell_map(CellType t) {
+  Eigen::Matrix3d w = Eigen::Matrix3d::Identity();
+  const double s3 = std::sqrt(3.0);
+  switch (t) {
+    case CellType::Triangle:
+    case CellType::Prism:
+      w(0, 1) = 0.5;
+      w(1, 1) = s3 / 2;
+      break;
+    case CellType::Tetrahedron:
+      w.col(1) = Eigen::Vector3d(0.5, s3 / 2, 0);
+      w.col(2) = Eigen::Vector3d(0.5, s3 / 6, std::sqrt(2.0 / 3.0));
+      break;
+    default:
+      break;
+  }
+  return w;
+}
+
+std::array<double, 3> centroid(CellType t) {
+  switch (t) {
+    case CellType::Triangle:
+      return {1.0 / 3, 1.0 / 3, 0};
+    case CellType::Quadrilateral:
+      return {0.5, 0.5, 0};
+    case CellType::Tetrahedron:
+      return {0.25, 0.25, 0.25};
+    case CellType::Prism:
+      return {1.0 / 3, 1.0 / 3, 0.5};
+    default:
+      return {0.5, 0, 0};
+  }
+}
+
+template <int Dim>
+double aspect_ratio(const LagrangeElement& e, const double* coords, double* grad) {
+  const auto xi = centroid(e.type());
+  const Eigen::Matrix<double, Dim, Dim> j = mapping_jacobian<Dim>(e, coords, xi.data(), grad);
+  const Eigen::Matrix<double, Dim, Dim> w = regular_cell_map(e.type()).template topLeftCorner<Dim, Dim>();
+  const Eigen::Matrix<double, Dim, Dim> m = j * w.inverse();
+  Eigen::JacobiSVD<Eigen::Matrix<double, Dim, Dim>> svd(m);
+  const auto s = svd.singularValues();
+  return s[Dim - 1] > 0 ? s[0] / s[Dim - 1] : std::numeric_limits<double>::infinity();
+}
+
+std::string type_key(const CellBlock& b) {
+  return std::string(cell_name(b.type)) + "_Q" + std::to_string(b.order);
+}
+
+// Accumulates edge lengths into one EdgeLengthStats (finish() turns the sums into statistics).
+class EdgeLengthAccumulator {
+ public:
+  EdgeLengthAccumulator(EdgeLengthStats& out, int bins) : out_(out), bins_(bins) {
+    // Bins of log2(L) over [-3, 3] (L in [1/8, 8]), the outer bins open-ended.
+    out.bin_edges.resize(bins + 1);
+    for (int k = 0; k <= bins; ++k) out.bin_edges[k] = std::exp2(-3.0 + 6.0 * k / bins);
+    out.histogram.assign(bins, 0);
+    out.min = std::numeric_limits<double>::infinity();
+  }
+  void add(double len) {
+    ++out_.count;
+    sum_ += len;
+    out_.min = std::min(out_.min, len);
+    out_.max = std::max(out_.max, len);
+    if (len >= 1 / std::sqrt(2.0) && len <= std::sqrt(2.0)) ++unit_;
+    // Clamped as a double: a collapsed edge (len 0) gives pos = -inf, whose cast is undefined.
+    const double pos = (std::log2(len) + 3.0) / 6.0 * bins_;
+    out_.histogram[pos > 0 ? static_cast<int>(std::min(std::floor(pos), bins_ - 1.0)) : 0]++;
+  }
+  void finish() {
+    if (out_.count) {
+      out_.mean = sum_ / static_cast<double>(out_.count);
+      out_.unit_fraction = static_cast<double>(unit_) / static_cast<double>(out_.count);
+    } else {
+      out_.min = 0;
+    }
+  }
+
+ private:
+  EdgeLengthStats& out_;
+  int bins_;
+  double sum_ = 0;
+  std::size_t unit_ = 0;
+};
+
+// Metric lengths of the distinct edges of the cells, each measured once as the curved Lagrange
+// edge it is: into all, and (when triangles is not null) the edges of triangle cells into
+// triangles too.
+template <int Dim>
+void measure_edges(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& blocks, const MetricField<Dim>& metric,
+                   int bins, EdgeLengthStats& all, EdgeLengthStats* triangles) {
+  EdgeLengthAccumulator acc_all(all, bins);
+  std::optional<EdgeLengthAccumulator> acc_tri;
+  if (triangles) acc_tri.emplace(*triangles, bins);
+  // Per distinct edge: its length, and whether a triangle has counted it.
+  std::unordered_map<std::uint64_t, std::pair<double, bool>> seen;
+  std::vector<double> edge;
+  for (const CellBlock& b : blocks) {
+    const bool triangle = triangles && b.type == CellType::Triangle;
+    const LagrangeElement& e = lagrange_element(b.type, b.order);
+    const CellTopology& topo = topology(b.type);
+    edge.resize(static_cast<std::size_t>(b.order + 1) * Dim);
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      const NodeId* c = b.cell(i);
+      for (std::size_t k = 0; k < topo.edges.size(); ++k) {
+        const NodeId v0 = c[topo.edges[k][0]], v1 = c[topo.edges[k][1]];
+        const std::uint64_t key =
+            (static_cast<std::uint64_t>(std::min(v0, v1)) << 32) | static_cast<std::uint32_t>(std::max(v0, v1));
+        auto [it, fresh] = seen.try_emplace(key, 0.0, false);
+        if (fresh) {
+          // Gmsh line order: the two ends, then the interior nodes.
+          const auto& en = e.edge_nodes(static_cast<int>(k));
+          for (int d = 0; d < Dim; ++d) {
+            edge[d] = mesh.nodes[c[en.front()]][d];
+            edge[Dim + d] = mesh.nodes[c[en.back()]][d];
+          }
+          for (int s = 1; s < b.order; ++s)
+            for (int d = 0; d < Dim; ++d) edge[(s + 1) * Dim + d] = mesh.nodes[c[en[s]]][d];
+          it->second.first = metric_length_curved<Dim>(metric, edge.data(), b.order);
+          acc_all.add(it->second.first);
+        }
+        if (triangle && !it->second.second) {
+          it->second.second = true;
+          acc_tri->add(it->second.first);
+        }
+      }
+    }
+  }
+  acc_all.finish();
+  if (acc_tri) acc_tri->finish();
+}
+
+// Records one certified cell in the report and the per-cell results; `where` describes it
+// ("<type> cell i of block b at (x, y)") and is called only for the first invalid cell.
+template <class Where>
+void record_cell(const JacobianBounds& jb, double sj, double ar, QualityReport& r, CellQuality* per_cell,
+                 Where&& where) {
+  if (!jb.valid && r.cells_invalid++ == 0) r.first_invalid = where();
+  if (!jb.proven) ++r.cells_unproven;
+  r.scaled_jacobian_min = std::min(r.scaled_jacobian_min, sj);
+  if (jb.valid) r.aspect_ratio_max = std::max(r.aspect_ratio_max, ar);
+  if (per_cell) {
+    per_cell->valid.push_back(jb.valid ? 1 : 0);
+    per_cell->scaled_jacobian.push_back(sj);
+    per_cell->aspect_ratio.push_back(ar);
+  }
+}
+
+// The triangles of a 3D surface mesh (boundary blocks, no cells) as its cells: certified relative
+// to their flat triangles, aspect ratio in the flat triangle's plane frame. Quadrilateral facets
+// have no flat reference (four points need not be coplanar): they are not certified or counted
+// (per_cell gets valid = 1 and NaN values for them, keeping the block order of the writers).
+template <int Dim>
+void assess_surface(const HybridMesh<Dim>& mesh, JacobianCertifier& certifier, QualityReport& r,
+                    CellQuality* per_cell) {
+  if constexpr (Dim == 3) {
+    std::vector<Eigen::Vector3d> nodes;
+    std::vector<double> plane, grad;
+    for (const CellBlock& b : mesh.boundary) {
+      const bool triangle = b.type == CellType::Triangle;
+      if (triangle) {
+        r.cells_by_type[type_key(b)] += b.size();
+        r.cells_total += b.size();
+      }
+      const LagrangeElement& e = lagrange_element(b.type, b.order);
+      nodes.resize(static_cast<std::size_t>(e.size()));
+      plane.resize(static_cast<std::size_t>(e.size()) * 2);
+      grad.resize(static_cast<std::size_t>(e.size()) * 2);
+      for (std::size_t i = 0; i < b.size(); ++i) {
+        if (!triangle) {
+          if (per_cell) {
+            per_cell->valid.push_back(1);
+            per_cell->scaled_jacobian.push_back(std::numeric_limits<double>::quiet_NaN());
+            per_cell->aspect_ratio.push_back(std::numeric_limits<double>::quiet_NaN());
+          }
+          continue;
+        }
+        const NodeId* c = b.cell(i);
+        for (int k = 0; k < e.size(); ++k) nodes[static_cast<std::size_t>(k)] = mesh.nodes[c[k]];
+        const JacobianBounds jb = certify_surface_triangle(certifier, b.order, nodes.data());
+        const double sj = jb.scaled_lower();
+        const double ar = surface_triangle_plane_coords(b.order, nodes.data(), plane.data())
+                              ? aspect_ratio<2>(e, plane.data(), grad.data())
+                              : std::numeric_limits<double>::infinity();
+        record_cell(jb, sj, ar, r, per_cell, [&] {
+          std::ostringstream w;
+          w << "surface triangle " << i << " of boundary block " << (&b - mesh.boundary.data()) << " at ("
+            << nodes[0][0] << ", " << nodes[0][1] << ", " << nodes[0][2] << ")";
+          return w.str();
+        });
+      }
+    }
+  } else {
+    (void)mesh, (void)certifier, (void)r, (void)per_cell;
+  }
+}
+
+}  // namespace
+
+std::string json_number(double x) {
+  if (!std::isfinite(x)) return "null";
+  std::ostringstream s;
+  s << std::setprecision(10) << x;
+  return s.str();
+}
+
+std::string json_string(const std::string& x) {
+  std::string out = "\"";
+  for (char ch : x) {
+    const auto u = static_cast<unsigned char>(ch);
+    if (u < 0x20) {  // control characters may not appear raw in a JSON string (RFC 8259, Sec. 7)
+      out += "\\u00";
+      out += "0123456789abcdef"[u >> 4];
+      out += "0123456789abcdef"[u & 0xf];
+      continue;
+    }
+    if (ch == '"' || ch == '\\') out += '\\';
+    out += ch;
+  }
+  return out + "\"";
+}
+
+template <int Dim>
+QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>* metric, const QualityOptions& options,
+                             CellQuality* per_cell) {
+  QualityReport r;
+  JacobianCertifier certifier(options.validity);
+  r.scaled_jacobian_min = std::numeric_limits<double>::infinity();
+  std::vector<double> coords, grad;
+  if (per_cell) *per_cell = CellQuality{};
+
+  // 1. Cells: certified validity, scaled Jacobian and aspect ratio.
+  // A 3D mesh of boundary triangles alone (a surface mesh): the triangles are the cells, certified
+  // relative to their flat triangles (validity.h).
+  r.surface = Dim == 3 && mesh.cells.empty() && !mesh.boundary.empty();
+  if (r.surface) assess_surface(mesh, certifier, r, per_cell);
+  for (const CellBlock& b : mesh.cells) {
+    const LagrangeElement& e = lagrange_element(b.type, b.order);
+    coords.resize(static_cast<std::size_t>(e.size()) * Dim);
+    grad.resize(static_cast<std::size_t>(e.size()) * Dim);
+    r.cells_by_type[type_key(b)] += b.size();
+    r.cells_total += b.size();
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      gather_coords(mesh, b, i, coords.data());
+      const JacobianBounds jb = certifier.certify(b.type, b.order, coords.data());
+      const double sj = jb.scaled_lower();
+      const double ar = aspect_ratio<Dim>(e, coords.data(), grad.data());
+      record_cell(jb, sj, ar, r, per_cell, [&] {
+        std::ostringstream w;
+        w << cell_name(b.type) << " cell " << i << " of block " << (&b - mesh.cells.data()) << " at (";
+        for (int d = 0; d < Dim; ++d) w << (d ? ", " : "") << mesh.nodes[b.cell(i)[0]][d];
+        w << ")";
+        return w.str();
+      });
+    }
+  }
+  if (r.cells_total == 0) r.scaled_jacobian_min = 0;
+
+  // 2. Metric length of every distinct edge (keyed by its two vertices), and the triangles' share.
+  if (metric) {
+    r.has_metric = true;
+    measure_edges<Dim>(mesh, r.surface ? mesh.boundary : mesh.cells, *metric, options.histogram_bins, r.metric,
+                       Dim == 2 ? &r.triangle_metric.edges : nullptr);
+    if constexpr (Dim == 2) {
+      TriangleMetricStats& t = r.triangle_metric;
+      t.quality_histogram.assign(10, 0);
+      t.quality_min = std::numeric_limits<double>::infinity();
+      double sum = 0;
+      for (const CellBlock& b : mesh.cells) {
+        if (b.type != CellType::Triangle) continue;
+        for (std::size_t i = 0; i < b.size(); ++i) {
+          const NodeId* c = b.cell(i);
+          const Eigen::Vector2d p0 = mesh.nodes[c[0]], p1 = mesh.nodes[c[1]], p2 = mesh.nodes[c[2]];
+          const Eigen::Matrix2d m = metric->evaluate((p0 + p1 + p2) / 3).matrix();
+          const Eigen::Vector2d e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2;
+          const double area = 0.5 * (e0.x() * (-e2).y() - e0.y() * (-e2).x()) * std::sqrt(m.determinant());
+          const double l2 = e0.dot(m * e0) + e1.dot(m * e1) + e2.dot(m * e2);
+          const double q = l2 > 0 ? std::max(0.0, 4 * std::sqrt(3.0) * area / l2) : 0.0;
+          ++t.triangles;
+          sum += q;
+          t.quality_min = std::min(t.quality_min, q);
+          t.quality_histogram[static_cast<std::size_t>(std::min(9.0, std::floor(10 * q)))]++;
+        }
+      }
+      if (t.triangles) t.quality_mean = sum / static_cast<double>(t.triangles);
+      else t.quality_min = 0;
+    }
+  }
+
+  // 3. Conformity.
+  r.conformity = check_conformity(mesh);
+  return r;
+}
+
+namespace {
+
+// The report's extra keys as a tree: "a.b.c" -> {"a": {"b": {"c": value}}}, groups and keys in
+// the order they were first added.
+struct JsonTree {
+  std::string value;  // leaf
+  std::vector<std::pair<std::string, JsonTree>> children;
+  JsonTree& child(const std::string& k) {
+    for (auto& [name, c] : children)
+      if (name == k) return c;
+    children.emplace_back(k, JsonTree{});
+    return children.back().second;
+  }
+  void insert(const std::string& key, const std::string& v) {
+    const auto dot = key.find('.');
+    if (dot == std::string::npos) {
+      child(key).value = v;
+    } else {
+      child(key.substr(0, dot)).insert(key.substr(dot + 1), v);
+    }
+  }
+  std::string text() const {
+    if (children.empty()) return value;
+    std::string out = "{";
+    for (std::size_t k = 0; k < children.size(); ++k)
+      out += (k ? ", " : "") + json_string(children[k].first) + ": " + children[k].second.text();
+    return out + "}";
+  }
+};
+
+}  // namespace
+
+std::string report_json(const QualityReport& r) {
+  std::ostringstream s;
+  s << "{\n  \"name\": " << json_string(r.name) << ",\n";
+  s << "  \"ok\": " << (r.ok() ? "true" : "false") << ",\n";
+  s << "  \"cells\": {\n    \"total\": " << r.cells_total << ",\n    \"surface\": " << (r.surface ? "true" : "false")
+    << ",\n    \"by_type\": {";
+  bool first = true;
+  for (const auto& [k, n] : r.cells_by_type) {
+    s << (first ? "" : ", ") << json_string(k) << ": " << n;
+    first = false;
+  }
+  s << "},\n    \"invalid\": " << r.cells_invalid << ",\n    \"unproven\": " << r.cells_unproven
+    << ",\n    \"first_invalid\": " << json_string(r.first_invalid) << "\n  },\n";
+  s << "  \"scaled_jacobian\": {\"min\": " << json_number(r.scaled_jacobian_min) << "},\n";
+  s << "  \"aspect_ratio\": {\"max\": " << json_number(r.aspect_ratio_max) << "},\n";
+  if (r.has_metric) {
+    const EdgeLengthStats& m = r.metric;
+    s << "  \"metric\": {\n    \"edges\": " << m.count << ",\n    \"unit_fraction\": " << json_number(m.unit_fraction)
+      << ",\n    \"min\": " << json_number(m.min) << ",\n    \"max\": " << json_number(m.max)
+      << ",\n    \"mean\": " << json_number(m.mean) << ",\n    \"histogram\": {\"bin_edges\": [";
+    for (std::size_t k = 0; k < m.bin_edges.size(); ++k) s << (k ? ", " : "") << json_number(m.bin_edges[k]);
+    s << "], \"counts\": [";
+    for (std::size_t k = 0; k < m.histogram.size(); ++k) s << (k ? ", " : "") << m.histogram[k];
+    s << "]}";
+    const TriangleMetricStats& t = r.triangle_metric;
+    if (t.triangles) {
+      s << ",\n    \"triangles\": {\"count\": " << t.triangles << ", \"edges\": " << t.edges.count
+        << ", \"unit_fraction\": " << json_number(t.edges.unit_fraction) << ", \"edge_min\": " << json_number(t.edges.min)
+        << ", \"edge_max\": " << json_number(t.edges.max) << ", \"edge_mean\": " << json_number(t.edges.mean)
+        << ", \"edge_histogram_counts\": [";
+      for (std::size_t k = 0; k < t.edges.histogram.size(); ++k) s << (k ? ", " : "") << t.edges.histogram[k];
+      s << "], \"quality_min\": " << json_number(t.quality_min) << ", \"quality_mean\": " << json_number(t.quality_mean)
+        << ", \"quality_histogram\": {\"bin_edges\": [0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1], "
+           "\"counts\": [";
+      for (std::size_t k = 0; k < t.quality_histogram.size(); ++k) s << (k ? ", " : "") << t.quality_histogram[k];
+      s << "]}}";
+    }
+    s << "\n  },\n";
+  }
+  const ConformityReport& c = r.conformity;
+  s << "  \"conformity\": {\"ok\": " << (c.ok ? "true" : "false") << ", \"interior_facets\": " << c.interior_facets
+    << ", \"boundary_facets\": " << c.boundary_facets << ", \"open_facets\": " << c.open_facets
+    << ", \"overshared_facets\": " << c.overshared_facets << ", \"node_mismatches\": " << c.node_mismatches
+    << ", \"order_transitions\": " << c.order_transitions
+    << ", \"orientation_mismatches\": " << c.orientation_mismatches << ", \"stray_boundary\": " << c.stray_boundary
+    << ", \"first_problem\": " << json_string(c.first_problem) << "},\n";
+  // Extra sections: dotted keys nest, "a.b.c" under "a" then "b" (groups in name order).
+  JsonTree tree;
+  for (const auto& [k, v] : r.extra) tree.insert(k, v);
+  for (const auto& [g, child] : tree.children) s << "  " << json_string(g) << ": " << child.text() << ",\n";
+  s << "  \"timings_s\": {";
+  for (std::size_t k = 0; k < r.timings_s.size(); ++k)
+    s << (k ? ", " : "") << json_string(r.timings_s[k].first) << ": " << json_number(r.timings_s[k].second);
+  s << "}\n}\n";
+  return s.str();
+}
+
+std::string report_summary(const QualityReport& r) {
+  std::ostringstream s;
+  s << std::setprecision(4);
+  if (r.cells_total == 0) {
+    s << r.name << ": no cells (a surface mesh alone)\n  conformity: "
+      << (r.conformity.ok ? "ok" : "FAILED: " + r.conformity.first_problem) << '\n';
+    return s.str();
+  }
+  s << r.name << ": " << r.cells_total << (r.surface ? " surface triangles (" : " cells (");
+  bool first = true;
+  for (const auto& [k, n] : r.cells_by_type) {
+    s << (first ? "" : ", ") << n << ' ' << k;
+    first = false;
+  }
+  s << ")\n  invalid cells: " << r.cells_invalid;
+  if (r.cells_unproven) s << " (" << r.cells_unproven << " undecided at the depth limit)";
+  s << "\n  min scaled Jacobian: " << r.scaled_jacobian_min << "   max aspect ratio: " << r.aspect_ratio_max << '\n';
+  if (r.has_metric)
+    s << "  metric edge lengths: " << r.metric.count << " edges, " << 100.0 * r.metric.unit_fraction
+      << "% in [1/sqrt2, sqrt2], min " << r.metric.min << ", max " << r.metric.max << '\n';
+  if (r.has_metric && r.triangle_metric.triangles)
+    s << "  triangles in the metric: " << 100.0 * r.triangle_metric.edges.unit_fraction
+      << "% of their edges unit, shape quality min " << r.triangle_metric.quality_min << ", mean "
+      << r.triangle_metric.quality_mean << '\n';
+  s << "  conformity: " << (r.conformity.ok ? "ok" : "FAILED: " + r.conformity.first_problem) << '\n';
+  if (!r.ok())
+    s << "  MESH FAILED: " << r.cells_invalid << " invalid cells"
+      << (r.first_invalid.empty() ? "" : " (first: " + r.first_invalid + ")")
+      << (r.conformity.ok ? "" : ", not conforming") << '\n';
+  return s.str();
+}
+
+template QualityReport assess_quality(const HybridMesh<2>&, const MetricField<2>*, const QualityOptions&, CellQuality*);
+template QualityReport assess_quality(const HybridMesh<3>&, const MetricField<3>*, const QualityOptions&, CellQuality*);
+
+}  // namespace mesh
+}  // namespace plaf

@@ -1,0 +1,100 @@
+// SPDX-License-Identifier: MIT
+// The quality report of a mesh: per-type counts, certified validity (validity.h) and scaled
+// Jacobian, aspect ratio, metric conformity of edges, conformity of the mesh, and stage timings.
+//
+// Aspect ratio of a cell: sigma_max / sigma_min of J W^-1 at the cell's centroid, where J is the
+// mapping Jacobian and W maps the reference cell onto the regular cell of its type (equilateral
+// triangle, unit square, regular tetrahedron, equilateral prism of unit height): 1 for a regular
+// cell, w/h for a w x h rectangle.
+// Metric conformity: every distinct linear edge of the cells is measured as the curved Lagrange
+// edge it is (metric.h); the unit fraction is the share of lengths in [1/sqrt 2, sqrt 2].
+// A 3D mesh of boundary facets alone (a surface mesh, e.g. the curved surface of surface3d) is
+// assessed through its triangles: they are the report's cells, certified relative to their flat
+// triangles (certify_surface_triangle, validity.h), with the aspect ratio in the flat triangle's
+// plane and the metric lengths of their edges; the report is marked `surface`.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "modules/mesh/hybrid_mesh.h"
+#include "modules/metric/metric.h"
+#include "modules/elements/validity.h"
+
+namespace plaf {
+inline namespace mesh {
+
+struct EdgeLengthStats {
+  std::size_t count = 0;
+  double unit_fraction = 0;
+  double min = 0, max = 0, mean = 0;
+  std::vector<double> bin_edges;     // histogram of log2(length): bins between these edges
+  std::vector<std::size_t> histogram;
+};
+
+// The triangles' share of the metric section (2D): their distinct edges, and their shape in the
+// metric, q = 4 sqrt(3) A_M / (l1^2 + l2^2 + l3^2) from the vertices with the metric at the
+// centroid (1 for a triangle equilateral in the metric, 0 for a degenerate one).
+struct TriangleMetricStats {
+  std::size_t triangles = 0;
+  EdgeLengthStats edges;
+  double quality_min = 0, quality_mean = 0;
+  std::vector<std::size_t> quality_histogram;  // 10 bins over [0, 1]
+};
+
+// Per-cell results, in block order (for pictures and VTU fields).
+struct CellQuality {
+  std::vector<std::uint8_t> valid;
+  std::vector<double> scaled_jacobian;  // certified lower bound of min det J / max det J
+  std::vector<double> aspect_ratio;
+};
+
+struct QualityReport {
+  std::string name;
+  bool surface = false;  // a 3D surface mesh: the cells are its boundary triangles
+  std::size_t cells_total = 0;
+  std::map<std::string, std::size_t> cells_by_type;  // "quadrilateral_Q3": n
+  std::size_t cells_invalid = 0;
+  std::size_t cells_unproven = 0;  // undecided at the depth limit (counted invalid too)
+  std::string first_invalid;       // "<type> cell <i> of block <b> at (x, y[, z])" of the first invalid cell
+  double scaled_jacobian_min = 0;
+  double aspect_ratio_max = 0;
+  bool has_metric = false;
+  EdgeLengthStats metric;
+  TriangleMetricStats triangle_metric;  // when has_metric and the mesh has triangles
+  ConformityReport conformity;
+  std::vector<std::pair<std::string, double>> timings_s;
+  // Further sections added by later stages, as (dotted key, JSON value text).
+  std::vector<std::pair<std::string, std::string>> extra;
+
+  bool ok() const { return cells_invalid == 0 && conformity.ok; }
+};
+
+struct QualityOptions {
+  ValidityOptions validity;
+  int histogram_bins = 12;
+};
+
+// Metric conformity: every distinct linear edge of the cells is measured as the curved Lagrange
+// edge it is; the edges of triangle cells are counted once more in triangle_metric.
+// metric may be null (no metric section, e.g. for `plaf check`).
+template <int Dim>
+QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>* metric,
+                             const QualityOptions& options, CellQuality* per_cell = nullptr);
+
+// JSON with nested keys cells.total, cells.by_type, cells.invalid, scaled_jacobian.min,
+// aspect_ratio.max, metric.unit_fraction, timings_s.<stage>, conformity.*, plus `extra`.
+std::string report_json(const QualityReport& report);
+// JSON text of a number (null if not finite) and of a string (escaped), for report sections.
+std::string json_number(double x);
+std::string json_string(const std::string& x);
+
+// A few human lines for stdout.
+std::string report_summary(const QualityReport& report);
+
+}  // namespace mesh
+}  // namespace plaf

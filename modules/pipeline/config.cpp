@@ -1,0 +1,298 @@
+// SPDX-License-Identifier: MIT
+// Strict YAML reading (see config.h). yaml-cpp exceptions are translated into ConfigError with
+// the file, line and column from Node::Mark().
+#include "modules/pipeline/config.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "modules/base/error.h"
+
+namespace plaf {
+inline namespace pipeline {
+
+struct ConfigNode::State {
+  std::string file;
+  std::string path;  // dotted path of this map ("" at the top)
+  YAML::Node node;
+  YAML::Mark mark;
+  std::set<std::string> asked;
+  std::vector<std::shared_ptr<State>> children;
+};
+
+namespace {
+
+std::string position(const std::string& file, const YAML::Mark& m) {
+  std::ostringstream s;
+  s << file;
+  if (m.line >= 0) s << ':' << m.line + 1 << ':' << m.column + 1;
+  return s.str();
+}
+
+std::string dotted(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+
+std::string join(const std::vector<std::string>& words) {
+  std::string out;
+  for (const auto& w : words) out += (out.empty() ? "" : ", ") + w;
+  return out;
+}
+
+// Const lookup: yaml-cpp's non-const operator[] would insert the key into the map.
+YAML::Node lookup(const YAML::Node& map, const std::string& key) {
+  return map[key];
+}
+
+std::string format_double(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+}  // namespace
+
+ConfigNode::ConfigNode(std::shared_ptr<State> s) : s_(std::move(s)) {}
+ConfigNode::~ConfigNode() = default;
+ConfigNode::ConfigNode(const ConfigNode&) = default;
+ConfigNode& ConfigNode::operator=(const ConfigNode&) = default;
+
+ConfigNode ConfigNode::load_string(const std::string& text, const std::string& name) {
+  auto s = std::make_shared<State>();
+  s->file = name;
+  try {
+    s->node = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(position(name, e.mark) + ": YAML syntax error: " + e.msg);
+  }
+  if (s->node.IsNull()) s->node = YAML::Node(YAML::NodeType::Map);
+  if (!s->node.IsMap()) throw ConfigError(position(name, s->node.Mark()) + ": the top level must be a map of keys");
+  s->mark = s->node.Mark();
+  return ConfigNode(s);
+}
+
+ConfigNode ConfigNode::load_file(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path.string() + ": cannot open the config file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return load_string(buffer.str(), path.string());
+}
+
+const std::string& ConfigNode::file() const {
+  return s_->file;
+}
+
+std::string ConfigNode::where(const std::string& key) const {
+  if (key.empty()) return position(s_->file, s_->mark) + ": " + (s_->path.empty() ? "(top level)" : s_->path);
+  const YAML::Node n = lookup(s_->node, key);
+  return position(s_->file, n.IsDefined() ? n.Mark() : s_->mark) + ": " + dotted(s_->path, key);
+}
+
+bool ConfigNode::has(const std::string& key) const {
+  s_->asked.insert(key);
+  const YAML::Node n = lookup(s_->node, key);
+  return n.IsDefined() && !n.IsNull();
+}
+
+const YAML::Node* ConfigNode::value(const std::string& key) const {
+  s_->asked.insert(key);
+  thread_local YAML::Node holder;
+  const YAML::Node n = lookup(s_->node, key);
+  if (!n.IsDefined() || n.IsNull()) return nullptr;  // an absent key gives an invalid node
+  holder.reset(n);                                   // rebind (assignment would copy content)
+  return &holder;
+}
+
+double ConfigNode::get_double(const std::string& key, double fallback) const {
+  const YAML::Node* n = value(key);
+  if (!n) return fallback;
+  double x = 0;
+  try {
+    if (!n->IsScalar()) throw YAML::Exception(n->Mark(), "");
+    x = n->as<double>();
+  } catch (const YAML::Exception&) {
+    throw ConfigError(where(key) + ": expected a number, got '" + (n->IsScalar() ? n->Scalar() : "a list or map") +
+                      "'");
+  }
+  if (!std::isfinite(x)) throw ConfigError(where(key) + ": expected a finite number");
+  return x;
+}
+
+double ConfigNode::get_positive(const std::string& key, double fallback) const {
+  const double x = get_double(key, fallback);
+  if (!(x > 0)) throw ConfigError(where(key) + ": must be positive, got " + format_double(x));
+  return x;
+}
+
+double ConfigNode::get_in_range(const std::string& key, double fallback, double lo, double hi) const {
+  const double x = get_double(key, fallback);
+  if (x < lo || x > hi)
+    throw ConfigError(where(key) + ": " + format_double(x) + " is outside [" + format_double(lo) + ", " +
+                      format_double(hi) + "]");
+  return x;
+}
+
+int ConfigNode::get_int(const std::string& key, int fallback, int lo, int hi) const {
+  const YAML::Node* n = value(key);
+  if (!n) return fallback;
+  long long x = 0;
+  try {
+    if (!n->IsScalar()) throw YAML::Exception(n->Mark(), "");
+    x = n->as<long long>();
+  } catch (const YAML::Exception&) {
+    throw ConfigError(where(key) + ": expected an integer, got '" + (n->IsScalar() ? n->Scalar() : "a list or map") +
+                      "'");
+  }
+  if (x < lo || x > hi)
+    throw ConfigError(where(key) + ": " + std::to_string(x) + " is outside " + std::to_string(lo) + ".." +
+                      std::to_string(hi));
+  return static_cast<int>(x);
+}
+
+bool ConfigNode::get_bool(const std::string& key, bool fallback) const {
+  const YAML::Node* n = value(key);
+  if (!n) return fallback;
+  try {
+    if (!n->IsScalar()) throw YAML::Exception(n->Mark(), "");
+    return n->as<bool>();
+  } catch (const YAML::Exception&) {
+    throw ConfigError(where(key) + ": expected true or false, got '" + (n->IsScalar() ? n->Scalar() : "a list or map") +
+                      "'");
+  }
+}
+
+std::string ConfigNode::get_string(const std::string& key, const std::string& fallback) const {
+  const YAML::Node* n = value(key);
+  if (!n) return fallback;
+  if (!n->IsScalar()) throw ConfigError(where(key) + ": expected a word, got a list or map");
+  return n->Scalar();
+}
+
+std::string ConfigNode::get_choice(const std::string& key, const std::string& fallback,
+                                   const std::vector<std::string>& allowed) const {
+  const std::string v = get_string(key, fallback);
+  if (std::find(allowed.begin(), allowed.end(), v) == allowed.end())
+    throw ConfigError(where(key) + ": unknown value '" + v + "' (known: " + join(allowed) + ")");
+  return v;
+}
+
+std::vector<std::string> ConfigNode::get_string_list(const std::string& key, const std::vector<std::string>& fallback,
+                                                     const std::vector<std::string>& allowed) const {
+  const YAML::Node* n = value(key);
+  if (!n) return fallback;
+  if (!n->IsSequence()) throw ConfigError(where(key) + ": expected a list like [a, b]");
+  std::vector<std::string> out;
+  for (const auto& item : *n) {
+    if (!item.IsScalar()) throw ConfigError(where(key) + ": list items must be words");
+    const std::string v = item.Scalar();
+    if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), v) == allowed.end())
+      throw ConfigError(position(s_->file, item.Mark()) + ": " + dotted(s_->path, key) + ": unknown value '" + v +
+                        "' (known: " + join(allowed) + ")");
+    out.push_back(v);
+  }
+  return out;
+}
+
+std::vector<double> ConfigNode::get_double_list(const std::string& key, const std::vector<double>& fallback) const {
+  const YAML::Node* n = value(key);
+  if (!n) return fallback;
+  if (!n->IsSequence()) throw ConfigError(where(key) + ": expected a list of numbers like [1, 2]");
+  std::vector<double> out;
+  for (const auto& item : *n) {
+    try {
+      out.push_back(item.as<double>());
+    } catch (const YAML::Exception&) {
+      throw ConfigError(position(s_->file, item.Mark()) + ": " + dotted(s_->path, key) + ": expected a number");
+    }
+    if (!std::isfinite(out.back())) throw ConfigError(where(key) + ": expected finite numbers");
+  }
+  return out;
+}
+
+std::vector<std::array<double, 2>> ConfigNode::get_point_list(const std::string& key) const {
+  const YAML::Node* n = value(key);
+  std::vector<std::array<double, 2>> out;
+  if (!n) return out;
+  const std::string what = dotted(s_->path, key) + ": expected a list of points like [[0.5, 0.1], [1, 0]]";
+  if (!n->IsSequence()) throw ConfigError(position(s_->file, n->Mark()) + ": " + what);
+  for (const auto& item : *n) {
+    if (!item.IsSequence() || item.size() != 2) throw ConfigError(position(s_->file, item.Mark()) + ": " + what);
+    try {
+      out.push_back({item[0].as<double>(), item[1].as<double>()});
+    } catch (const YAML::Exception&) {
+      throw ConfigError(position(s_->file, item.Mark()) + ": " + what);
+    }
+    if (!std::isfinite(out.back()[0]) || !std::isfinite(out.back()[1]))
+      throw ConfigError(position(s_->file, item.Mark()) + ": " + what);
+  }
+  return out;
+}
+
+ConfigNode ConfigNode::child(const std::string& key) const {
+  s_->asked.insert(key);
+  auto c = std::make_shared<State>();
+  c->file = s_->file;
+  c->path = dotted(s_->path, key);
+  const YAML::Node n = lookup(s_->node, key);
+  if (!n.IsDefined() || n.IsNull()) {
+    c->node = YAML::Node(YAML::NodeType::Map);
+    c->mark = s_->mark;
+  } else if (!n.IsMap()) {
+    throw ConfigError(position(s_->file, n.Mark()) + ": " + c->path + ": expected a map of keys");
+  } else {
+    c->node = n;
+    c->mark = n.Mark();
+  }
+  s_->children.push_back(c);
+  return ConfigNode(c);
+}
+
+std::vector<ConfigNode> ConfigNode::child_list(const std::string& key) const {
+  s_->asked.insert(key);
+  std::vector<ConfigNode> out;
+  const YAML::Node n = lookup(s_->node, key);
+  if (!n.IsDefined() || n.IsNull()) return out;
+  if (!n.IsSequence())
+    throw ConfigError(position(s_->file, n.Mark()) + ": " + dotted(s_->path, key) + ": expected a list of maps");
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const YAML::Node item = n[i];
+    auto c = std::make_shared<State>();
+    c->file = s_->file;
+    c->path = dotted(s_->path, key) + "[" + std::to_string(i) + "]";
+    if (!item.IsMap()) throw ConfigError(position(s_->file, item.Mark()) + ": " + c->path + ": expected a map of keys");
+    c->node = item;
+    c->mark = item.Mark();
+    s_->children.push_back(c);
+    out.push_back(ConfigNode(c));
+  }
+  return out;
+}
+
+std::string ConfigNode::get_path(const std::string& key, const std::string& fallback) const {
+  const std::string v = get_string(key, fallback);
+  if (v.empty()) return v;
+  const std::filesystem::path p(v);
+  if (p.is_absolute()) return v;
+  return (std::filesystem::path(s_->file).parent_path() / p).lexically_normal().string();
+}
+
+void ConfigNode::finish() const {
+  for (const auto& kv : s_->node) {
+    const std::string key = kv.first.Scalar();
+    if (!s_->asked.count(key)) {
+      std::vector<std::string> known(s_->asked.begin(), s_->asked.end());
+      throw ConfigError(position(s_->file, kv.first.Mark()) + ": unknown key '" + dotted(s_->path, key) +
+                        "' (known here: " + (known.empty() ? std::string("none") : join(known)) + ")");
+    }
+  }
+  for (const auto& c : s_->children) ConfigNode(c).finish();
+}
+
+}  // namespace pipeline
+}  // namespace plaf

@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT
+// Strict YAML reading on yaml-cpp: every value is read through a ConfigNode, which remembers the
+// keys asked for; finish() rejects any key nobody asked for. Every error is a ConfigError
+// "file:line:column: key.path: reason" (lines and columns 1-based).
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace YAML {
+class Node;
+}
+
+namespace plaf {
+inline namespace pipeline {
+
+class ConfigNode {
+ public:
+  // Parses a YAML file whose top level is a map. Missing file: InputError; syntax: ConfigError.
+  static ConfigNode load_file(const std::filesystem::path& path);
+  static ConfigNode load_string(const std::string& text, const std::string& name = "<string>");
+  ~ConfigNode();
+  ConfigNode(const ConfigNode&);
+  ConfigNode& operator=(const ConfigNode&);
+
+  bool has(const std::string& key) const;
+  // Values with defaults used when the key is absent; ranges are inclusive unless *_exclusive.
+  double get_double(const std::string& key, double fallback) const;
+  double get_positive(const std::string& key, double fallback) const;  // > 0
+  double get_in_range(const std::string& key, double fallback, double lo, double hi) const;
+  int get_int(const std::string& key, int fallback, int lo, int hi) const;
+  bool get_bool(const std::string& key, bool fallback) const;
+  std::string get_string(const std::string& key, const std::string& fallback) const;
+  // One of the allowed words; anything else is an error listing them.
+  std::string get_choice(const std::string& key, const std::string& fallback,
+                         const std::vector<std::string>& allowed) const;
+  std::vector<std::string> get_string_list(const std::string& key, const std::vector<std::string>& fallback,
+                                           const std::vector<std::string>& allowed) const;
+  std::vector<double> get_double_list(const std::string& key, const std::vector<double>& fallback) const;
+  // A list of points [[x, y], ...] (empty when absent).
+  std::vector<std::array<double, 2>> get_point_list(const std::string& key) const;
+  // A nested map (empty when absent: every key takes its default).
+  ConfigNode child(const std::string& key) const;
+  // A list of maps (empty when absent), e.g. `bodies: [{file: a.dat}, {file: b.dat}]`.
+  std::vector<ConfigNode> child_list(const std::string& key) const;
+  // A path value, resolved relative to the folder of the config file (absolute paths stay).
+  std::string get_path(const std::string& key, const std::string& fallback) const;
+
+  // Throws on the first key of this map or any child read through child() that was never asked for.
+  void finish() const;
+
+  // "file:line:col: path.key" of a key (or of this map when key is empty), for messages.
+  std::string where(const std::string& key = "") const;
+  const std::string& file() const;
+
+ private:
+  struct State;
+  explicit ConfigNode(std::shared_ptr<State> s);
+  std::shared_ptr<State> s_;
+  const YAML::Node* value(const std::string& key) const;  // marks the key used; null if absent
+};
+
+}  // namespace pipeline
+}  // namespace plaf

@@ -1,0 +1,265 @@
+// SPDX-License-Identifier: MIT
+#include "modules/io/airfoil_io.h"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "modules/base/error.h"
+#include "modules/geometry/spline_loop.h"
+#include "tests/test_support.h"
+
+using namespace plaf;
+using Eigen::Vector2d;
+using test::read_lines;
+using test::TempDir;
+using test::write_text;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path airfoils = fs::path(PLAF_SHARED_DATA) / "airfoils";
+
+double signed_area(const std::vector<Vector2d>& p) {
+  double twice = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const Vector2d& a = p[i];
+    const Vector2d& b = p[(i + 1) % p.size()];
+    twice += a.x() * b.y() - a.y() * b.x();
+  }
+  return 0.5 * twice;
+}
+
+std::string error_of(const fs::path& p) {
+  try {
+    read_body_contour(p);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+std::string disjoint_error(const std::vector<BodyContour>& bodies) {
+  try {
+    check_disjoint(bodies);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+BodyContour transformed(BodyContour b, double scale, const Vector2d& shift, const std::string& file) {
+  for (Vector2d& p : b.points) p = scale * p + shift;
+  b.file = file;
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("airfoil: every real file reads with the point count and trailing edge of SOURCES.md") {
+  // All facts from shared/data/SOURCES.md: file points, header, TE closed (first == last) or the
+  // two open TE end points, and whether the file runs counter-clockwise (Selig) or clockwise.
+  struct Case {
+    const char* file;
+    int file_points;
+    bool closed;
+    const char* title;
+    Vector2d te_first, te_last;  // the first and last file points
+    bool ccw;
+  };
+  const Case cases[] = {
+      {"e387.dat", 61, true, "E387", {1.0, 0.0}, {1.0, 0.0}, true},
+      {"rae2822.dat", 129, true, "RAE 2822 AIRFOIL", {1.0, 0.0}, {1.0, 0.0}, true},
+      {"naca0012.dat", 69, false, "Naca 0012 By Naca.exe D. LEDNICER", {1.0, 0.00126}, {1.0, -0.00126}, true},
+      {"n0012.dat", 131, false, "NACA 0012 AIRFOILS", {1.0, 0.00126}, {1.0, -0.00126}, true},
+      {"naca0012_sharp.dat", 200, true, "", {1.0, 0.0}, {1.0, 0.0}, true},
+      {"nlr7301.dat", 79, false, "NLR-7301 AIRFOIL", {1.0, 0.00055}, {1.0, -0.00055}, true},
+      {"30p30n_slat.dat", 201, true, "", {0.018772, 0.005079}, {0.018772, 0.005079}, false},
+      {"30p30n_main.dat", 221, true, "", {0.874007, 0.030943}, {0.874007, 0.030943}, false},
+      {"30p30n_flap.dat", 242, false, "", {1.128307, -0.145799}, {1.130859, -0.140497}, false},
+  };
+  for (const Case& k : cases) {
+    CAPTURE(k.file);
+    const BodyContour b = read_body_contour(airfoils / k.file);
+    const int n = static_cast<int>(b.points.size());
+    const int title_lines = std::string(k.title).empty() ? 0 : 1;
+    CHECK(b.file == (airfoils / k.file).string());
+    CHECK(b.title == k.title);
+    CHECK(n == (k.closed ? k.file_points - 1 : k.file_points));
+    CHECK(b.blunt == !k.closed);
+    CHECK(b.lines.size() == b.points.size());
+    CHECK(signed_area(b.points) < 0);  // clockwise
+    if (k.closed) {
+      REQUIRE(b.corners == std::vector<int>{0});
+      CHECK((b.points[0] - k.te_first).norm() <= 1e-12);
+      CHECK(b.lines[0] == 1 + title_lines);
+    } else {
+      // The closing straight segment runs from the last point to the first.
+      REQUIRE(b.corners == std::vector<int>{0, n - 1});
+      const Vector2d& first = k.ccw ? k.te_last : k.te_first;  // reversed when the file is CCW
+      const Vector2d& last = k.ccw ? k.te_first : k.te_last;
+      CHECK((b.points[0] - first).norm() <= 1e-12);
+      CHECK((b.points[n - 1] - last).norm() <= 1e-12);
+    }
+    // Counter-clockwise files come out reversed, clockwise ones in file order.
+    CHECK((b.lines[2] < b.lines[1]) == k.ccw);
+    for (int line : b.lines) {
+      CHECK(line >= 1 + title_lines);
+      CHECK(line <= k.file_points + title_lines);
+    }
+    const SplineLoop loop(b.points, b.corners, b.file);
+    CHECK(loop.signed_area() < 0);
+  }
+  // SOURCES.md: E387 shoelace area +0.0573 in file order.
+  CHECK(signed_area(read_body_contour(airfoils / "e387.dat").points) == doctest::Approx(-0.0573).epsilon(1e-3));
+}
+
+TEST_CASE("airfoil: the Lednicer layout reads to the same loop as the Selig layout") {
+  TempDir dir("airfoil_lednicer");
+  SUBCASE("separate LE points (naca0012_sharp: the upper surface ends where y turns negative)") {
+    const std::vector<std::string> lines = read_lines(airfoils / "naca0012_sharp.dat");
+    size_t split = 0;
+    while (split < lines.size() && std::stod(lines[split].substr(lines[split].find(' '))) >= 0) ++split;
+    std::string text = "NACA 0012 sharp, Lednicer layout\n" + std::to_string(split) + ".\t" +
+                       std::to_string(lines.size() - split) + ".\n\n";
+    for (size_t k = split; k-- > 0;) text += lines[k] + "\n";  // upper LE -> TE
+    text += "\n";
+    for (size_t k = split; k < lines.size(); ++k) text += lines[k] + "\n";  // lower LE -> TE
+    write_text(dir / "lednicer.dat", text);
+    const BodyContour selig = read_body_contour(airfoils / "naca0012_sharp.dat");
+    const BodyContour lednicer = read_body_contour(dir / "lednicer.dat");
+    CHECK(lednicer.title == "NACA 0012 sharp, Lednicer layout");
+    CHECK(lednicer.points == selig.points);
+    CHECK(lednicer.corners == selig.corners);
+    CHECK(lednicer.blunt == selig.blunt);
+  }
+  SUBCASE("a shared LE point given in both blocks (rae2822: 65 upper and 65 lower points)") {
+    const std::vector<std::string> lines = read_lines(airfoils / "rae2822.dat");  // title + 129
+    std::string text = "RAE 2822, Lednicer layout\n65. 65.\n\n";
+    for (size_t k = 65; k >= 1; --k) text += lines[k] + "\n";  // upper LE -> TE
+    text += "\n";
+    for (size_t k = 65; k <= 129; ++k) text += lines[k] + "\n";  // lower LE -> TE
+    write_text(dir / "rae_lednicer.dat", text);
+    const BodyContour selig = read_body_contour(airfoils / "rae2822.dat");
+    const BodyContour lednicer = read_body_contour(dir / "rae_lednicer.dat");
+    CHECK(lednicer.points.size() == 128);
+    CHECK(lednicer.points == selig.points);
+    CHECK(lednicer.corners == selig.corners);
+  }
+}
+
+TEST_CASE("airfoil: numbers in UIUC styles, tabs, CRLF and scales from 1e-8 to 1e8") {
+  TempDir dir("airfoil_styles");
+  write_text(dir / "styles.dat", "title\r\n 1.0\t0.0\r\n.5   .05\r\n\t0 0\r\n5E-1 -.05\r\n+1. -0\r\n");
+  const BodyContour b = read_body_contour(dir / "styles.dat");
+  CHECK(b.title == "title");
+  // (1, 0) and (+1., -0) close the contour; counter-clockwise, so reversed with the TE kept first.
+  CHECK(b.points == std::vector<Vector2d>{{1.0, 0.0}, {0.5, -0.05}, {0.0, 0.0}, {0.5, 0.05}});
+  CHECK(b.lines == std::vector<int>{2, 5, 4, 3});
+  CHECK(b.corners == std::vector<int>{0});
+
+  // Coincidence tolerances are relative to the chord.
+  const std::vector<std::string> lines = read_lines(airfoils / "e387.dat");
+  for (double scale : {1e-8, 1e8}) {
+    std::ostringstream text;
+    text.precision(17);
+    text << lines[0] << "\n";
+    for (size_t k = 1; k < lines.size(); ++k) {
+      std::istringstream in(lines[k]);
+      double x, y;
+      in >> x >> y;
+      text << x * scale << " " << y * scale << "\n";
+    }
+    write_text(dir / "scaled.dat", text.str());
+    const BodyContour s = read_body_contour(dir / "scaled.dat");
+    CHECK(s.points.size() == 60);
+    CHECK(s.corners == std::vector<int>{0});
+    CHECK(signed_area(s.points) == doctest::Approx(-0.0573 * scale * scale).epsilon(1e-3));
+  }
+}
+
+TEST_CASE("airfoil: bad files are rejected with file:line and the reason") {
+  TempDir dir("airfoil_bad");
+  struct Case {
+    const char* file;
+    const char* text;
+    int line;  // 0: the message names only the file
+    const char* reason;
+  };
+  const Case cases[] = {
+      {"empty.dat", "", 1, "empty file"},
+      {"blank.dat", "\n  \t\n\n", 1, "empty file"},
+      {"one_column.dat", "title\n1.0 0.0\n0.5\n0.0 0.0\n0.5 -0.1\n", 3, "expected two numbers x y, found 1"},
+      {"three_columns.dat", "1.0 0.0 0.0\n0.5 0.1\n0.0 0.0\n0.5 -0.1\n", 1, "expected two numbers x y, found 3"},
+      {"text.dat", "title\n1 0\n0.5 0.1\n0.0 abc\n0.5 -0.1\n1 0\n", 4, "'abc' is not a number"},
+      {"nan.dat", "title\n1 0\n0.5 nan\n0 0\n0.5 -0.1\n", 3, "coordinate is not finite"},
+      {"inf.dat", "title\n1 0\n0.5 0.1\n-inf 0\n0.5 -0.1\n", 4, "coordinate is not finite"},
+      {"three_points.dat", "title\n1 0\n0 0.1\n0 -0.1\n", 4, "only 3 points, a contour needs at least 4"},
+      {"title_only.dat", "just a title\n", 1, "only 0 points"},
+      {"repeated.dat", "title\n1 0\n0.5 0.1\n0.5 0.1\n0 0\n0.5 -0.1\n1 0\n", 4, "repeats the point of line 3"},
+      {"repeated_closing.dat", "1 0\n0.5 0.1\n0 0\n0.5 -0.1\n1 0\n1 0\n", 6, "repeats the point of line 5"},
+      {"bow_tie.dat", "0 0\n1 1\n1 0\n0 1\n", 1,
+       "the contour intersects itself: the segment of lines 1-2 crosses the segment of lines 3-4"},
+      {"crossing_te.dat", "title\n1 0.01\n0.5 0.1\n0 0\n0.5 -0.1\n0.9 0.05\n", 2,
+       "the contour intersects itself: the segment of lines 2-3 crosses the segment of lines 5-6"},
+      {"fold_back.dat", "0 0\n1 0\n0.5 0\n0.5 1\n", 2, "the contour turns back on itself"},
+  };
+  for (const Case& k : cases) {
+    CAPTURE(k.file);
+    write_text(dir / k.file, k.text);
+    const std::string where = (dir / k.file).string() + ":" + std::to_string(k.line) + ": ";
+    const std::string message = error_of(dir / k.file);
+    CHECK(message.rfind(where, 0) == 0);
+    CHECK(message.find(k.reason) != std::string::npos);
+  }
+  const std::string missing = error_of(dir / "no_such_file.dat");
+  CHECK(missing == (dir / "no_such_file.dat").string() + ": cannot open the contour file");
+}
+
+TEST_CASE("airfoil: check_disjoint accepts 30P-30N and rejects crossing and nested contours") {
+  const BodyContour slat = read_body_contour(airfoils / "30p30n_slat.dat");
+  const BodyContour main = read_body_contour(airfoils / "30p30n_main.dat");
+  const BodyContour flap = read_body_contour(airfoils / "30p30n_flap.dat");
+  CHECK_NOTHROW(check_disjoint({slat, main, flap}));
+
+  const BodyContour e387 = read_body_contour(airfoils / "e387.dat");
+  CHECK_NOTHROW(check_disjoint({e387, transformed(e387, 1.0, Vector2d(1.5, 0.0), "e387_behind.dat")}));
+
+  const std::string crossing = disjoint_error({e387, transformed(e387, 1.0, Vector2d(0.5, 0.01), "e387_shifted.dat")});
+  CHECK(crossing.find("e387.dat:") != std::string::npos);
+  CHECK(crossing.find("e387_shifted.dat") != std::string::npos);
+  CHECK(crossing.find("intersects the contour of") != std::string::npos);
+
+  // E387 is 0.09 thick near x = 0.3 (SOURCES.md); a 0.1-chord copy at (0.25, 0.02) spans
+  // y in [0.0185, 0.0283], well inside.
+  const BodyContour small = transformed(e387, 0.1, Vector2d(0.25, 0.02), "small.dat");
+  for (const auto& bodies : {std::vector<BodyContour>{e387, small}, std::vector<BodyContour>{small, e387}}) {
+    const std::string nested = disjoint_error(bodies);
+    CHECK(nested.rfind("small.dat:2: the contour lies inside the contour of " + e387.file + " (lines 2-61)", 0) == 0);
+  }
+}
+
+TEST_CASE("airfoil: a 20000-point contour is read and checked with the segment grid") {
+  TempDir dir("airfoil_big");
+  const int n = 20000;
+  std::ostringstream text;
+  text.precision(17);
+  text << "big ellipse\n";
+  for (int k = 0; k < n; ++k) {
+    const double a = 2.0 * M_PI * k / n;
+    text << 0.5 + 0.5 * std::cos(a) << " " << 0.06 * std::sin(a) << "\n";
+  }
+  write_text(dir / "big.dat", text.str());
+  const BodyContour b = read_body_contour(dir / "big.dat");
+  CHECK(b.points.size() == n);
+  CHECK(b.blunt);  // first != last: closed by a (tiny) straight segment
+  CHECK(signed_area(b.points) == doctest::Approx(-M_PI * 0.5 * 0.06).epsilon(1e-6));
+  CHECK_NOTHROW(check_disjoint({b, transformed(b, 1.0, Vector2d(0.0, 0.2), "above.dat")}));
+  // Reversed to clockwise, the blunt contour starts at the last file line, 20001.
+  CHECK(disjoint_error({b, transformed(b, 0.5, Vector2d(0.25, 0.0), "inner.dat")}) ==
+        "inner.dat:20001: the contour lies inside the contour of " + b.file + " (lines 2-20001)");
+}

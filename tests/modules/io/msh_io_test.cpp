@@ -1,0 +1,849 @@
+// SPDX-License-Identifier: MIT
+#include "modules/io/msh_io.h"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <map>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "modules/io/atomic_file.h"
+#include "modules/base/error.h"
+#include "tests/test_support.h"
+
+using namespace plaf;
+using test::read_text;
+using test::TempDir;
+using test::write_text;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Builds meshes from cells placed on a global integer lattice: a cell of order q with frame
+// (O, A, B, C) has its local lattice point l at O + (l0 (A-O) + l1 (B-O) + l2 (C-O)) / q. Nodes at
+// the same global lattice point are shared. A lattice step of `unit` per cell (divisible by 1..4)
+// lets cells of every order share their vertices.
+template <int Dim>
+struct LatticeMesh {
+  static constexpr int unit = 12;
+  using Point = typename HybridMesh<Dim>::Point;
+  HybridMesh<Dim> mesh;
+  std::map<Lattice, NodeId> ids;
+  std::vector<Lattice> where;  // global lattice point of each node
+  std::function<Point(const Lattice&)> place;
+
+  NodeId node(const Lattice& g) {
+    auto [it, inserted] = ids.emplace(g, static_cast<NodeId>(mesh.nodes.size()));
+    if (inserted) {
+      mesh.nodes.push_back(place(g));
+      where.push_back(g);
+    }
+    return it->second;
+  }
+
+  void add_cell(CellType t, int q, const std::array<Lattice, 4>& frame) {
+    CellBlock& b = mesh.block(t, q);
+    for (const Lattice& l : gmsh_lattice(t, q)) {
+      Lattice g = frame[0];
+      for (int d = 0; d < 3; ++d)
+        for (int e = 0; e < 3; ++e) g[d] += l[e] * (frame[e + 1][d] - frame[0][d]) / q;
+      b.connectivity.push_back(node(g));
+    }
+  }
+
+  // Facets used by one cell become boundary facets, tagged by classify(vertex lattice points).
+  void add_boundary(const std::function<std::pair<std::string, BoundaryKind>(const std::vector<Lattice>&)>& classify) {
+    std::map<std::vector<NodeId>, std::pair<int, std::vector<NodeId>>> facets;  // sorted vertices -> uses, nodes
+    std::map<std::vector<NodeId>, std::pair<CellType, int>> kinds;
+    for (const CellBlock& b : mesh.cells) {
+      const LagrangeElement& e = lagrange_element(b.type, b.order);
+      for (std::size_t i = 0; i < b.size(); ++i)
+        for (int f = 0; f < e.num_facets(); ++f) {
+          const int nv = Dim == 2 ? 2 : static_cast<int>(topology(b.type).faces[f].size());
+          std::vector<NodeId> nodes, key;
+          for (int k : e.facet_nodes(f)) nodes.push_back(b.cell(i)[k]);
+          key.assign(nodes.begin(), nodes.begin() + nv);
+          std::sort(key.begin(), key.end());
+          auto& use = facets[key];
+          ++use.first;
+          use.second = nodes;
+          kinds[key] = {Dim == 2 ? CellType::Line : (nv == 3 ? CellType::Triangle : CellType::Quadrilateral), b.order};
+        }
+    }
+    for (const auto& [key, use] : facets) {
+      if (use.first != 1) continue;
+      std::vector<Lattice> vertices;
+      for (NodeId v : key) vertices.push_back(where[v]);
+      const auto [name, kind] = classify(vertices);
+      const auto [type, order] = kinds[key];
+      CellBlock& b = mesh.boundary_block(type, order, mesh.add_tag(name, kind));
+      b.connectivity.insert(b.connectivity.end(), use.second.begin(), use.second.end());
+    }
+  }
+};
+
+// Six times the signed volume of a tetrahedron of lattice points.
+long lattice_volume(const std::array<Lattice, 4>& v) {
+  long e[3][3];
+  for (int a = 0; a < 3; ++a)
+    for (int d = 0; d < 3; ++d) e[a][d] = v[a + 1][d] - v[0][d];
+  return e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) - e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+         e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
+}
+
+// An annulus sector r in [1, 2], theta in [0.1, 1.3] (and z in [0, 0.5] in 3D), nx x ny (x nz)
+// lattice cells scaled by `scale`; order(i, j, k) gives each cell's order. In 2D the lower half
+// of the theta range holds quadrilaterals, the upper half pairs of triangles; in 3D the lower half
+// of z holds prisms and the upper half six (Kuhn) tetrahedra per cell.
+template <int Dim>
+HybridMesh<Dim> annulus_sector(int nx, int ny, int nz, double scale, const std::function<int(int, int, int)>& order) {
+  constexpr int u = LatticeMesh<Dim>::unit;
+  LatticeMesh<Dim> m;
+  m.place = [&](const Lattice& g) {
+    const double r = 1.0 + static_cast<double>(g[0]) / (u * nx);
+    const double t = 0.1 + 1.2 * static_cast<double>(g[1]) / (u * ny);
+    typename HybridMesh<Dim>::Point p;
+    p[0] = scale * r * std::cos(t);
+    p[1] = scale * r * std::sin(t);
+    if constexpr (Dim == 3) p[2] = scale * 0.5 * static_cast<double>(g[2]) / (u * nz);
+    return p;
+  };
+  for (int k = 0; k < (Dim == 3 ? nz : 1); ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const int q = order(i, j, k);
+        auto at = [&](int a, int b, int c) { return Lattice{u * (i + a), u * (j + b), u * (k + c)}; };
+        if constexpr (Dim == 2) {
+          if (2 * j < ny) {
+            m.add_cell(CellType::Quadrilateral, q, {at(0, 0, 0), at(1, 0, 0), at(0, 1, 0), at(0, 0, 0)});
+          } else {
+            m.add_cell(CellType::Triangle, q, {at(0, 0, 0), at(1, 0, 0), at(1, 1, 0), at(0, 0, 0)});
+            m.add_cell(CellType::Triangle, q, {at(0, 0, 0), at(1, 1, 0), at(0, 1, 0), at(0, 0, 0)});
+          }
+        } else if (2 * k < nz) {
+          m.add_cell(CellType::Prism, q, {at(0, 0, 0), at(1, 0, 0), at(1, 1, 0), at(0, 0, 1)});
+          m.add_cell(CellType::Prism, q, {at(0, 0, 0), at(1, 1, 0), at(0, 1, 0), at(0, 0, 1)});
+        } else {
+          // Kuhn: one tetrahedron per axis permutation, along the diagonal (0,0,0)-(1,1,1).
+          const int perms[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
+          for (const auto& p : perms) {
+            std::array<int, 3> s{0, 0, 0};
+            std::array<Lattice, 4> v;
+            v[0] = at(0, 0, 0);
+            for (int a = 0; a < 3; ++a) {
+              s[p[a]] = 1;
+              v[a + 1] = at(s[0], s[1], s[2]);
+            }
+            if (lattice_volume(v) < 0) std::swap(v[2], v[3]);
+            m.add_cell(CellType::Tetrahedron, q, v);
+          }
+        }
+      }
+  m.add_boundary([&](const std::vector<Lattice>& vs) -> std::pair<std::string, BoundaryKind> {
+    auto all = [&](int d, int value) {
+      for (const Lattice& v : vs)
+        if (v[d] != value) return false;
+      return true;
+    };
+    if (all(0, 0)) return {"wall_inner", BoundaryKind::Wall};
+    if (all(0, u * nx)) return {"Farfield", BoundaryKind::Farfield};
+    if (all(1, 0)) return {"symmetry plane", BoundaryKind::Symmetry};
+    return {"outlet", BoundaryKind::Named};
+  });
+  return m.mesh;
+}
+
+template <int Dim>
+void check_same(const HybridMesh<Dim>& a, const HybridMesh<Dim>& b) {
+  REQUIRE(a.nodes.size() == b.nodes.size());
+  for (std::size_t i = 0; i < a.nodes.size(); ++i)
+    for (int d = 0; d < Dim; ++d) {
+      INFO("node ", i, " coordinate ", d);
+      CHECK(std::bit_cast<std::uint64_t>(a.nodes[i][d]) == std::bit_cast<std::uint64_t>(b.nodes[i][d]));
+    }
+  auto same_blocks = [](const std::vector<CellBlock>& x, const std::vector<CellBlock>& y) {
+    REQUIRE(x.size() == y.size());
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      CHECK(x[i].type == y[i].type);
+      CHECK(x[i].order == y[i].order);
+      CHECK(x[i].tag == y[i].tag);
+      CHECK(x[i].connectivity == y[i].connectivity);
+    }
+  };
+  same_blocks(a.cells, b.cells);
+  same_blocks(a.boundary, b.boundary);
+  REQUIRE(a.tags.size() == b.tags.size());
+  for (std::size_t i = 0; i < a.tags.size(); ++i) {
+    CHECK(a.tags[i].name == b.tags[i].name);
+    CHECK(a.tags[i].kind == b.tags[i].kind);
+  }
+}
+
+// Node k of every cell sits at the affine image of its reference lattice point (cells with
+// straight edges), to a tolerance relative to the cell size.
+template <int Dim>
+void check_nodes_on_lattice(const HybridMesh<Dim>& mesh, const CellBlock& b) {
+  const std::vector<Lattice> lattice = gmsh_lattice(b.type, b.order);
+  const int nv = num_vertices(b.type);
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    const NodeId* c = b.cell(i);
+    const auto& o = mesh.nodes[c[0]];
+    const double size_abs = (mesh.nodes[c[1]] - o).norm();
+    for (std::size_t k = 0; k < lattice.size(); ++k) {
+      auto x = o;
+      // Reference vertex e+1 of triangles, tetrahedra and prisms is the unit point on axis e;
+      // quadrilaterals use vertices 1 and 3; the prism's third axis ends at vertex 3.
+      const int axis_vertex[3] = {1, b.type == CellType::Quadrilateral ? 3 : 2, 3};
+      for (int e = 0; e < ref_dim(b.type); ++e)
+        x += (mesh.nodes[c[axis_vertex[e]]] - o) * (static_cast<double>(lattice[k][e]) / b.order);
+      INFO(cell_name(b.type), " cell ", i, " node ", k, " of ", nv, " vertices");
+      CHECK((mesh.nodes[c[k]] - x).norm() <= 1e-10 * size_abs);
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("io: MSH round trip keeps nodes bit for bit, blocks, tags and kinds (2D quads + triangles)") {
+  TempDir dir("msh2d");
+  for (int q = 1; q <= max_order; ++q)
+    for (double scale : {1e-8, 1.0, 1e8}) {
+      INFO("order ", q, " scale ", scale);
+      HybridMesh<2> mesh = annulus_sector<2>(3, 4, 1, scale, [&](int, int, int) { return q; });
+      REQUIRE(check_conformity(mesh).ok);
+      // Extreme values survive too (stored as extra, unused nodes).
+      for (double v : {-0.0, 5e-324, std::numeric_limits<double>::max(), 0.1, -1.0 / 3.0})
+        mesh.nodes.push_back(HybridMesh<2>::Point(v, -v));
+      write_msh41(mesh, dir / "m.msh");
+      const MshMesh back = read_msh41(dir / "m.msh");
+      CHECK(back.dim == 2);
+      check_same(mesh, back.mesh2);
+    }
+}
+
+TEST_CASE("io: MSH round trip in 3D: tetrahedra + prisms of every order, and mixed orders") {
+  TempDir dir("msh3d");
+  for (int q = 0; q <= max_order; ++q) {
+    INFO("order ", q, " (0: mixed)");
+    const HybridMesh<3> mesh = annulus_sector<3>(
+        2, 2, 2, 1.0, [&](int i, int j, int k) { return q > 0 ? q : 1 + (i + 2 * j + k) % max_order; });
+    if (q > 0) REQUIRE(check_conformity(mesh).ok);
+    write_msh41(mesh, dir / "m.msh");
+    const MshMesh back = read_msh41(dir / "m.msh");
+    CHECK(back.dim == 3);
+    check_same(mesh, back.mesh3);
+  }
+}
+
+TEST_CASE("io: MSH writer uses Gmsh's element type numbers (Gmsh's GmshDefines.h)") {
+  struct Row {
+    CellType type;
+    int codes[max_order];
+  };
+  const Row table[] = {{CellType::Line, {1, 8, 26, 27}},
+                       {CellType::Triangle, {2, 9, 21, 23}},
+                       {CellType::Quadrilateral, {3, 10, 36, 37}},
+                       {CellType::Tetrahedron, {4, 11, 29, 30}},
+                       {CellType::Prism, {6, 13, 90, 91}}};
+  for (const Row& r : table)
+    for (int q = 1; q <= max_order; ++q) CHECK(gmsh_element_type(r.type, q) == r.codes[q - 1]);
+  CHECK_THROWS_AS(gmsh_element_type(CellType::Prism, 5), Error);
+}
+
+// Written by Gmsh 4.8.4: `gmsh -2 -order 2 -save_parametric` on the unit square with physical
+// curves "Wall_bottom" (y = 0), "farfield" (x = 1, y = 1), an unnamed group 7 (x = 0), and
+// physical surface "fluid".
+constexpr const char* gmsh_square_tri6 = R"($MeshFormat
+4.1 0 8
+$EndMeshFormat
+$PhysicalNames
+3
+1 1 "Wall_bottom"
+1 2 "farfield"
+2 8 "fluid"
+$EndPhysicalNames
+$Entities
+4 4 1 0
+1 0 0 0 0 
+2 1 0 0 0 
+3 1 1 0 0 
+4 0 1 0 0 
+1 0 0 0 1 0 0 1 1 2 1 -2 
+2 1 0 0 1 1 0 1 2 2 2 -3 
+3 0 1 0 1 1 0 1 2 2 3 -4 
+4 0 0 0 0 1 0 1 7 2 4 -1 
+1 0 0 0 1 1 0 1 8 4 1 2 3 4 
+$EndEntities
+$Nodes
+9 13 1 13
+0 1 0 1
+1
+0 0 0
+0 2 0 1
+2
+1 0 0
+0 3 0 1
+3
+1 1 0
+0 4 0 1
+4
+0 1 0
+1 1 1 1
+5
+0.4999999999986718 0 0 0.4999999999986718
+1 2 1 1
+6
+1 0.4999999999986718 0 0.4999999999986718
+1 3 1 1
+7
+0.5000000000013305 1 0 0.4999999999986696
+1 4 1 1
+8
+0 0.5000000000013305 0 0.4999999999986696
+2 1 1 5
+9
+10
+11
+12
+13
+0.5 0.5 0 0.5 0.5
+0.75 0.25 0 0.25 0.75
+0.25 0.25 0 0.25 0.25
+0.25 0.75 0 0.75 0.25
+0.75 0.75 0 0.75 0.75
+$EndNodes
+$Elements
+5 8 1 8
+1 1 8 1
+1 1 2 5 
+1 2 8 1
+2 2 3 6 
+1 3 8 1
+3 3 4 7 
+1 4 8 1
+4 4 1 8 
+2 1 9 4
+5 1 2 9 5 10 11 
+6 4 1 9 8 11 12 
+7 2 3 9 6 13 10 
+8 3 4 9 7 12 13 
+$EndElements
+)";
+
+// Written by Gmsh 4.8.4: `gmsh -3 -order 2` on the triangle (0,0), (1,0), (0,1) extruded by 0.5
+// in one recombined layer, with physical surfaces "wall" (z = 0), "symmetry_top" (z = 0.5),
+// "outlet" (the sides) and physical volume "fluid". Note the empty node blocks.
+constexpr const char* gmsh_prism18 = R"($MeshFormat
+4.1 0 8
+$EndMeshFormat
+$PhysicalNames
+4
+2 1 "wall"
+2 2 "symmetry_top"
+2 3 "outlet"
+3 4 "fluid"
+$EndPhysicalNames
+$Entities
+6 9 5 1
+1 0 0 0 0 
+2 1 0 0 0 
+3 0 1 0 0 
+4 0 0 0.5 0 
+5 1 0 0.5 0 
+9 0 1 0.5 0 
+1 0 0 0 1 0 0 0 2 1 -2 
+2 0 0 0 1 1 0 0 2 2 -3 
+3 0 0 0 0 1 0 0 2 3 -1 
+5 0 0 0.5 1 0 0.5 0 2 4 -5 
+6 0 0 0.5 1 1 0.5 0 2 5 -9 
+7 0 0 0.5 0 1 0.5 0 2 9 -4 
+9 0 0 0 0 0 0.5 0 2 1 -4 
+10 1 0 0 1 0 0.5 0 2 2 -5 
+14 0 1 0 0 1 0.5 0 2 3 -9 
+1 0 0 0 1 1 0 1 1 3 1 2 3 
+11 0 0 0 1 0 0.5 1 3 4 1 10 -5 -9 
+15 0 0 0 1 1 0.5 1 3 4 2 14 -6 -10 
+19 0 0 0 0 1 0.5 1 3 4 3 9 -7 -14 
+20 0 0 0.5 1 1 0.5 1 2 3 5 6 7 
+1 0 0 0 1 1 0.5 1 4 5 -1 20 11 15 19 
+$EndEntities
+$Nodes
+21 18 1 18
+0 1 0 1
+1
+0 0 0
+0 2 0 1
+2
+1 0 0
+0 3 0 1
+3
+0 1 0
+0 4 0 1
+4
+0 0 0.5
+0 5 0 1
+5
+1 0 0.5
+0 9 0 1
+6
+0 1 0.5
+1 1 0 1
+7
+0.4999999999986718 0 0
+1 2 0 1
+8
+0.5000000000013294 0.4999999999986707 0
+1 3 0 1
+9
+0 0.5000000000013305 0
+1 5 0 1
+10
+0.4999999999986718 0 0.5
+1 6 0 1
+11
+0.5000000000013294 0.4999999999986707 0.5
+1 7 0 1
+12
+0 0.5000000000013305 0.5
+1 9 0 1
+13
+0 0 0.2499999999993359
+1 10 0 1
+14
+1 0 0.2499999999993359
+1 14 0 1
+15
+0 1 0.2499999999993359
+2 1 0 0
+2 11 0 1
+16
+0.4999999999986717 0 0.2499999999993359
+2 15 0 1
+17
+0.5000000000013294 0.4999999999986706 0.2499999999993359
+2 19 0 1
+18
+0 0.5000000000013305 0.2499999999993359
+2 20 0 0
+3 1 0 0
+$EndNodes
+$Elements
+6 6 1 6
+2 1 9 1
+1 1 2 3 7 8 9 
+2 11 10 1
+2 1 2 5 4 7 14 10 13 16 
+2 15 10 1
+3 2 3 6 5 8 15 11 14 17 
+2 19 10 1
+4 3 1 4 6 9 13 12 15 18 
+2 20 9 1
+5 4 5 6 10 11 12 
+3 1 13 1
+6 1 2 3 4 5 6 7 9 13 8 14 15 10 12 11 16 18 17 
+$EndElements
+)";
+
+TEST_CASE("io: MSH reader takes Gmsh's own files: physical names, kinds, parametric and empty node blocks") {
+  TempDir dir("gmsh_files");
+  SUBCASE("2D, second-order triangles") {
+    write_text(dir / "square.msh", gmsh_square_tri6);
+    const MshMesh m = read_msh41(dir / "square.msh");
+    REQUIRE(m.dim == 2);
+    const HybridMesh<2>& mesh = m.mesh2;
+    REQUIRE(mesh.cells.size() == 1);
+    CHECK(mesh.cells[0].type == CellType::Triangle);
+    CHECK(mesh.cells[0].order == 2);
+    check_nodes_on_lattice(mesh, mesh.cells[0]);
+    // Every facet is interior or tagged, and the tags come from the physical groups.
+    const ConformityReport conformity = check_conformity(mesh);
+    CHECK_MESSAGE(conformity.ok, conformity.first_problem);
+    REQUIRE(mesh.tags.size() == 3);
+    CHECK(mesh.tags[0].name == "Wall_bottom");
+    CHECK(mesh.tags[0].kind == BoundaryKind::Wall);
+    CHECK(mesh.tags[1].name == "farfield");
+    CHECK(mesh.tags[1].kind == BoundaryKind::Farfield);
+    CHECK(mesh.tags[2].name == "physical_7");
+    CHECK(mesh.tags[2].kind == BoundaryKind::Named);
+    for (const CellBlock& b : mesh.boundary)
+      for (NodeId v : b.connectivity) {
+        const auto& x = mesh.nodes[v];
+        if (b.tag == 0) CHECK(x[1] == 0.0);
+        if (b.tag == 2) CHECK(x[0] == 0.0);
+      }
+    // The triangles tile the unit square.
+    double area = 0;
+    const CellBlock& b = mesh.cells[0];
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      const auto e1 = mesh.nodes[b.cell(i)[1]] - mesh.nodes[b.cell(i)[0]];
+      const auto e2 = mesh.nodes[b.cell(i)[2]] - mesh.nodes[b.cell(i)[0]];
+      area += std::abs(e1[0] * e2[1] - e1[1] * e2[0]) / 2;
+    }
+    CHECK(area == doctest::Approx(1.0).epsilon(1e-12));
+  }
+  SUBCASE("3D, second-order prism with triangle and quadrilateral facets") {
+    write_text(dir / "prism.msh", gmsh_prism18);
+    const MshMesh m = read_msh41(dir / "prism.msh");
+    REQUIRE(m.dim == 3);
+    const HybridMesh<3>& mesh = m.mesh3;
+    REQUIRE(mesh.cells.size() == 1);
+    CHECK(mesh.cells[0].type == CellType::Prism);
+    CHECK(mesh.cells[0].order == 2);
+    check_nodes_on_lattice(mesh, mesh.cells[0]);
+    for (const CellBlock& b : mesh.boundary) check_nodes_on_lattice(mesh, b);
+    const ConformityReport conformity = check_conformity(mesh);
+    CHECK_MESSAGE(conformity.ok, conformity.first_problem);
+    REQUIRE(mesh.tags.size() == 3);
+    CHECK(mesh.tags[0].kind == BoundaryKind::Wall);
+    CHECK(mesh.tags[1].kind == BoundaryKind::Symmetry);
+    CHECK(mesh.tags[2].name == "outlet");
+    CHECK(mesh.tags[2].kind == BoundaryKind::Named);
+  }
+}
+
+namespace {
+
+// One triangle in the plane, no $Entities: the smallest valid file.
+constexpr const char* minimal_msh = R"($MeshFormat
+4.1 0 8
+$EndMeshFormat
+$Nodes
+1 3 1 3
+2 1 0 3
+1
+2
+3
+0 0 0
+1 0 0
+0 1 0
+$EndNodes
+$Elements
+2 2 1 2
+2 1 2 1
+1 1 2 3
+1 5 1 1
+2 1 2
+$EndElements
+)";
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  const std::size_t at = s.find(from);
+  REQUIRE(at != std::string::npos);
+  return s.replace(at, from.size(), to);
+}
+
+}  // namespace
+
+TEST_CASE("io: MSH reader accepts a minimal file without $Entities, facets without physicals get entity tags") {
+  TempDir dir("msh_minimal");
+  write_text(dir / "m.msh", minimal_msh);
+  const MshMesh m = read_msh41(dir / "m.msh");
+  REQUIRE(m.dim == 2);
+  REQUIRE(m.mesh2.tags.size() == 1);
+  CHECK(m.mesh2.tags[0].name == "entity_5");
+  REQUIRE(m.mesh2.boundary.size() == 1);
+  CHECK(m.mesh2.boundary[0].connectivity == std::vector<NodeId>{0, 1});
+  // Sparse node tags map to contiguous indices in file order.
+  write_text(dir / "sparse.msh",
+             replace(replace(replace(replace(minimal_msh, "1 3 1 3", "1 3 10 3000"), "1\n2\n3\n", "3000\n10\n200\n"),
+                             "1 1 2 3", "1 200 3000 10"),
+                     "2 1 2\n$End", "2 3000 10\n$End"));
+  const MshMesh s = read_msh41(dir / "sparse.msh");
+  CHECK(s.mesh2.cells[0].connectivity == std::vector<NodeId>{2, 0, 1});
+  CHECK(s.mesh2.boundary[0].connectivity == std::vector<NodeId>{0, 1});
+}
+
+TEST_CASE("io: malformed MSH files throw InputError \"path:line: reason\", never crash") {
+  TempDir dir("msh_bad");
+  struct Case {
+    const char* what;
+    std::string text;
+    const char* fragment;
+    int line;  // expected line in the message; 0: not checked
+  };
+  const std::string m = minimal_msh;
+  const std::vector<Case> cases = {
+      {"empty file", "", "unexpected end of file", 1},
+      {"not an MSH file", "solid cube\nfacet normal 0 0 1\n", "expected $MeshFormat", 1},
+      {"MSH 2.2", replace(m, "4.1 0 8", "2.2 0 8"), "MSH version '2.2' is not supported", 2},
+      {"binary MSH", replace(m, "4.1 0 8", "4.1 1 8"), "binary MSH files are not supported", 2},
+      {"bad number", replace(m, "1 0 0\n0 1 0", "1 0 0\n0 1x 0"), "bad node coordinate '1x'", 12},
+      {"non-finite coordinate", replace(m, "1 0 0\n", "1 nan 0\n"), "bad node coordinate 'nan'", 11},
+      {"truncated in $Nodes", m.substr(0, m.find("0 1 0\n$EndNodes")), "unexpected end of file", 12},
+      {"missing $Elements", m.substr(0, m.find("$Elements")), "missing $Elements section", 0},
+      {"missing $Nodes", m.substr(0, m.find("$Nodes")), "missing $Nodes section", 0},
+      {"misspelled section", replace(m, "$Nodes", "$Nodez"), "section $Nodez has no $EndNodez", 4},
+      {"unknown node tag", replace(m, "1 1 2 3", "1 1 2 99"), "unknown node tag 99", 17},
+      {"duplicate node tag", replace(m, "1\n2\n3\n", "1\n2\n2\n"), "duplicate node tag 2", 9},
+      {"hexahedra", replace(m, "2 1 2 1\n1 1 2 3", "3 1 5 1\n1 1 2 3 1 2 3 1 2"), "unsupported Gmsh element type 5",
+       16},
+      {"unknown element type", replace(m, "2 1 2 1", "2 1 999 1"), "unsupported Gmsh element type 999", 16},
+      {"type and entity dimension differ", replace(m, "2 1 2 1", "1 1 2 1"),
+       "has dimension 2 but its entity has dimension 1", 16},
+      {"more nodes than announced", replace(m, "1 3 1 3", "1 2 1 3"), "more nodes than the 2 announced", 6},
+      {"fewer elements than announced", replace(m, "2 2 1 2", "2 3 1 2"), "element blocks hold 2 elements", 19},
+      {"absurd count", replace(m, "1 3 1 3", "1 999999999999 1 999999999999"), "exceeds what the rest of the file", 5},
+      {"negative count", replace(m, "1 3 1 3", "1 -3 1 3"), "negative number of nodes", 5},
+      {"wrong end keyword", replace(m, "$EndNodes", "$EndNode"), "expected $EndNodes, found '$EndNode'", 13},
+      {"unterminated unknown section", m + "$NodeData\n1\n\"u\"\n", "section $NodeData has no $EndNodeData", 21},
+      {"no nodes, extreme tag range",
+       "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n0 0 -9223372036854775807 9223372036854775807\n$EndNodes\n"
+       "$Elements\n1 1 1 1\n2 1 2 1\n1 1 2 3\n$EndElements\n",
+       "unknown node tag 1", 10},
+      {"elements before nodes", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Elements\n0 0 0 0\n$EndElements\n",
+       "$Elements must come after $Nodes", 4},
+      {"only points",
+       "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 1 1 1\n0 1 0 1\n1\n0 0 0\n$EndNodes\n"
+       "$Elements\n1 1 1 1\n0 1 15 1\n1 1\n$EndElements\n",
+       "no line, 2D or 3D elements", 10},
+      {"node off the plane", replace(m, "0 1 0\n$EndNodes", "0 1 0.25\n$EndNodes"), "off the plane z = 0", 12},
+      {"unknown entity", replace(m, "$Nodes", "$Entities\n0 0 1 0\n1 0 0 0 1 1 0 0 0\n$EndEntities\n$Nodes"),
+       "entity (dimension 1, tag 5) missing from $Entities", 22},
+      {"unterminated physical name", replace(m, "$Nodes", "$PhysicalNames\n1\n1 5 \"wall\n$EndPhysicalNames\n$Nodes"),
+       "unterminated physical name", 6},
+      {"duplicate section", m + "$Nodes\n0 0 0 0\n$EndNodes\n", "duplicate section $Nodes", 21},
+      {"garbage after the header", replace(m, "$Nodes", "\x01\x02\xff"), "expected a section such as $Nodes", 4},
+  };
+  for (const Case& c : cases) {
+    INFO(std::string(c.what));
+    const fs::path p = dir / "bad.msh";
+    write_text(p, c.text);
+    std::string message;
+    try {
+      read_msh41(p);
+    } catch (const InputError& e) {
+      message = e.what();
+    }
+    REQUIRE_MESSAGE(!message.empty(), "no InputError for: ", std::string(c.what));
+    CHECK_MESSAGE(message.find(c.fragment) != std::string::npos, message);
+    CHECK(message.find('\n') == std::string::npos);
+    CHECK(message.rfind(p.string() + ":", 0) == 0);
+    if (c.line > 0) CHECK_MESSAGE(message.rfind(p.string() + ":" + std::to_string(c.line) + ": ", 0) == 0, message);
+  }
+  CHECK_THROWS_AS(read_msh41(dir / "does_not_exist.msh"), InputError);
+}
+
+TEST_CASE("io: every truncation and random corruption of an MSH file parses or throws InputError") {
+  TempDir dir("msh_fuzz");
+  const HybridMesh<2> mesh = annulus_sector<2>(1, 2, 1, 1.0, [](int, int, int) { return 2; });
+  write_msh41(mesh, dir / "good.msh");
+  const std::string good = read_text(dir / "good.msh");
+  const fs::path p = dir / "bad.msh";
+  auto outcome = [&](const std::string& text) {
+    write_text(p, text);
+    try {
+      read_msh41(p);
+      return 0;
+    } catch (const InputError&) {
+      return 1;
+    }  // any other exception fails the test case
+  };
+  // Every proper prefix misses at least the final $EndElements.
+  int rejected = 0;
+  for (std::size_t n = 0; n + 1 < good.size(); ++n) rejected += outcome(good.substr(0, n));
+  CHECK(rejected == static_cast<int>(good.size()) - 1);
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<std::size_t> pos(0, good.size() - 1);
+  std::uniform_int_distribution<int> byte(0, 255);
+  for (int trial = 0; trial < 300; ++trial) {
+    std::string text = good;
+    for (int k = 0; k < 1 + trial % 4; ++k) text[pos(rng)] = static_cast<char>(byte(rng));
+    outcome(text);
+  }
+}
+
+TEST_CASE("io: AtomicFile leaves no file on failure and replaces the target on commit") {
+  TempDir dir("atomic");
+  const fs::path target = dir / "out.txt";
+  SUBCASE("an exception mid-write leaves neither the target nor the temporary") {
+    fs::path temp;
+    try {
+      AtomicFile f(target);
+      temp = f.temp_path();
+      f.write("partial");
+      CHECK(fs::exists(temp));
+      throw std::runtime_error("writer failed");
+    } catch (const std::runtime_error&) {
+    }
+    CHECK(!temp.empty());
+    CHECK(!fs::exists(target));
+    CHECK(!fs::exists(temp));
+  }
+  SUBCASE("a failed write keeps the previous file; commit replaces it") {
+    write_text(target, "old");
+    try {
+      AtomicFile f(target);
+      f.write("new but failed");
+      throw std::runtime_error("writer failed");
+    } catch (const std::runtime_error&) {
+    }
+    CHECK(read_text(target) == "old");
+    fs::path temp;
+    {
+      AtomicFile f(target);
+      temp = f.temp_path();
+      f.write("new");
+      CHECK(read_text(target) == "old");
+      f.commit();
+    }
+    CHECK(read_text(target) == "new");
+    CHECK(!fs::exists(temp));
+  }
+  SUBCASE("numbers round-trip through the buffer, across several flushes") {
+    std::mt19937_64 rng(3);
+    std::vector<double> values = {0.0, -0.0, 5e-324, std::numeric_limits<double>::max(), 0.1, 1.0 / 3.0};
+    while (values.size() < 200000) {  // about 4 MB: several buffer flushes
+      const double v = std::bit_cast<double>(rng());
+      if (std::isfinite(v)) values.push_back(v);
+    }
+    {
+      AtomicFile f(target);
+      f.write_int(std::numeric_limits<std::int64_t>::min());
+      f.put('\n');
+      for (double v : values) {
+        f.write_double(v);
+        f.put('\n');
+      }
+      f.write(std::string(3 << 20, 'x'));  // larger than the buffer
+      f.commit();
+    }
+    std::istringstream in(read_text(target));
+    std::string token;
+    in >> token;
+    CHECK(token == std::to_string(std::numeric_limits<std::int64_t>::min()));
+    for (double v : values) {
+      in >> token;
+      const double back = std::strtod(token.c_str(), nullptr);
+      REQUIRE(std::bit_cast<std::uint64_t>(back) == std::bit_cast<std::uint64_t>(v));
+    }
+    in >> token;
+    CHECK(token.size() == (3u << 20));
+  }
+  SUBCASE("an unwritable target throws Error naming the path") {
+    const fs::path bad = dir / "no_such_dir" / "out.msh";
+    try {
+      AtomicFile f(bad);
+      FAIL("no error");
+    } catch (const Error& e) {
+      CHECK(std::string(e.what()).find(bad.string()) != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("io: MSH writer rejects a broken mesh without leaving a file") {
+  TempDir dir("msh_broken");
+  HybridMesh<2> mesh = annulus_sector<2>(1, 2, 1, 1.0, [](int, int, int) { return 3; });
+  const fs::path p = dir / "m.msh";
+  SUBCASE("node out of range") {
+    mesh.cells[0].connectivity[5] = static_cast<NodeId>(mesh.nodes.size());
+  }
+  SUBCASE("missing tag") {
+    mesh.boundary[0].tag = 7;
+  }
+  SUBCASE("quote in a tag name") {
+    mesh.tags[0].name = "wall \"a\"";
+  }
+  SUBCASE("partial cell") {
+    mesh.cells[0].connectivity.pop_back();
+  }
+  CHECK_THROWS_AS(write_msh41(mesh, p), Error);
+  CHECK(fs::is_empty(dir.path));
+}
+
+TEST_CASE("io: a file of lines alone reads as a 2D surface mesh (boundary loops, no cells)") {
+  TempDir dir("msh_lines");
+  HybridMesh<2> m;
+  m.nodes = {{0, 0}, {1, 0}, {0, 1}, {0.5, -0.1}, {0.6, 0.6}, {-0.1, 0.5}};
+  const int wall = m.add_tag("wall", BoundaryKind::Wall);
+  m.boundary_block(CellType::Line, 2, wall).connectivity = {0, 1, 3, 1, 2, 4, 2, 0, 5};
+  write_msh41(m, dir / "loop.msh");
+  const MshMesh r = read_msh41(dir / "loop.msh");
+  CHECK(r.dim == 2);
+  CHECK(r.mesh2.cells.empty());
+  REQUIRE(r.mesh2.boundary.size() == 1);
+  CHECK(r.mesh2.boundary[0].connectivity == m.boundary[0].connectivity);
+  CHECK(r.mesh2.tags.at(static_cast<std::size_t>(r.mesh2.boundary[0].tag)).kind == BoundaryKind::Wall);
+}
+
+TEST_CASE("io: a 3D surface mesh with curves round-trips: curve entities of dimension 1 with their own groups") {
+  TempDir dir("msh_curves");
+  // Two order-2 triangles bent out of the plane (a 3D surface), its rim a "symmetry" curve.
+  HybridMesh<3> m;
+  m.nodes = {{0, 0, 0},     {1, 0, 0},     {1, 1, 0.5}, {0, 1, 0},      {0.5, 0, 0},
+             {1, 0.5, 0.2}, {0.5, 1, 0.2}, {0, 0.5, 0}, {0.5, 0.5, 0.3}};
+  const int symmetry = m.add_tag("symmetry_rim", BoundaryKind::Symmetry);
+  const int wall = m.add_tag("wall", BoundaryKind::Wall);
+  const int both = m.add_tag("edge_and_face", BoundaryKind::Named);
+  m.boundary_block(CellType::Triangle, 2, wall).connectivity = {0, 1, 2, 4, 5, 8};
+  m.boundary_block(CellType::Triangle, 2, both).connectivity = {0, 2, 3, 8, 6, 7};
+  m.curve_block(2, symmetry).connectivity = {0, 1, 4, 1, 2, 5, 2, 3, 6};
+  m.curve_block(2, both).connectivity = {3, 0, 7};
+  REQUIRE(check_conformity(m).ok);
+  write_msh41(m, dir / "surface.msh");
+  const std::string text = read_text(dir / "surface.msh");
+  // Curve tags are physical groups of dimension 1; a tag used by curves alone has none of dimension 2.
+  CHECK(text.find("1 1 \"symmetry_rim\"") != std::string::npos);
+  CHECK(text.find("2 1 \"symmetry_rim\"") == std::string::npos);
+  CHECK(text.find("1 3 \"edge_and_face\"") != std::string::npos);
+  CHECK(text.find("2 3 \"edge_and_face\"") != std::string::npos);
+  CHECK(text.find("2 2 \"wall\"") != std::string::npos);
+  CHECK(text.find("$Entities\n0 2 2 1\n") != std::string::npos);
+  const MshMesh back = read_msh41(dir / "surface.msh");
+  REQUIRE(back.dim == 3);
+  CHECK(back.mesh3.cells.empty());
+  check_same(m, back.mesh3);
+  REQUIRE(back.mesh3.curves.size() == 2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    CHECK(back.mesh3.curves[i].type == CellType::Line);
+    CHECK(back.mesh3.curves[i].order == 2);
+    CHECK(back.mesh3.curves[i].tag == m.curves[i].tag);
+    CHECK(back.mesh3.curves[i].connectivity == m.curves[i].connectivity);
+  }
+  CHECK(check_conformity(back.mesh3).ok);
+
+  // Lines of an entity without a physical group are ignored in 3D (Gmsh's "save all").
+  const std::string entity_line = "1 0 0 0 1 1 0.5 1 1 0\n";  // curve entity 1 with physical 1
+  REQUIRE(text.find(entity_line) != std::string::npos);
+  write_text(dir / "unnamed.msh", replace(text, entity_line, "1 0 0 0 1 1 0.5 0 0\n"));
+  const MshMesh unnamed = read_msh41(dir / "unnamed.msh");
+  REQUIRE(unnamed.mesh3.curves.size() == 1);
+  CHECK(unnamed.mesh3.curves[0].connectivity == m.curves[1].connectivity);
+
+  // A 2D mesh may not carry curves.
+  HybridMesh<2> flat;
+  flat.nodes = {{0, 0}, {1, 0}};
+  flat.add_tag("c", BoundaryKind::Named);
+  flat.curves.push_back(CellBlock{CellType::Line, 1, 0, {0, 1}});
+  CHECK_THROWS_AS(write_msh41(flat, dir / "flat.msh"), Error);
+}
+
+TEST_CASE("io: curves of a 3D volume mesh round-trip next to its cells") {
+  TempDir dir("msh_volume_curves");
+  HybridMesh<3> mesh = annulus_sector<3>(2, 2, 2, 1.0, [](int, int, int) { return 2; });
+  REQUIRE(!mesh.boundary.empty());
+  // The first boundary facet's first edge as a tagged curve.
+  const CellBlock& f = mesh.boundary[0];
+  const LagrangeElement& e = lagrange_element(f.type, f.order);
+  const std::vector<int>& edge = e.edge_nodes(0);
+  const int tag = mesh.add_tag("symmetry_line", BoundaryKind::Symmetry);
+  CellBlock& c = mesh.curve_block(2, tag);
+  c.connectivity = {f.cell(0)[edge.front()], f.cell(0)[edge.back()], f.cell(0)[edge[1]]};
+  write_msh41(mesh, dir / "m.msh");
+  const MshMesh back = read_msh41(dir / "m.msh");
+  REQUIRE(back.dim == 3);
+  check_same(mesh, back.mesh3);
+  REQUIRE(back.mesh3.curves.size() == 1);
+  CHECK(back.mesh3.curves[0].connectivity == c.connectivity);
+  CHECK(back.mesh3.tags[static_cast<std::size_t>(back.mesh3.curves[0].tag)].name == "symmetry_line");
+}

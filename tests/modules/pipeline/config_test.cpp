@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: MIT
+#include "modules/pipeline/config.h"
+
+#include <doctest/doctest.h>
+
+#include <memory>
+
+#include "modules/base/error.h"
+#include "modules/pipeline/registry.h"
+
+using namespace plaf;
+
+TEST_CASE("config: values, defaults and nested maps") {
+  const ConfigNode c = ConfigNode::load_string(
+      "order: 3\nmetric:\n  type: uniform\n  h: 0.25\nflag: true\n"
+      "formats: [msh, vtu]\n",
+      "run.yaml");
+  CHECK(c.get_int("order", 1, 1, 4) == 3);
+  CHECK(c.get_bool("flag", false));
+  CHECK(c.get_double("missing", 7.5) == 7.5);
+  const ConfigNode m = c.child("metric");
+  CHECK(m.get_string("type", "") == "uniform");
+  CHECK(m.get_positive("h", 1.0) == 0.25);
+  CHECK(c.get_string_list("formats", {}, {"msh", "vtu", "png"}) == std::vector<std::string>{"msh", "vtu"});
+  CHECK_NOTHROW(c.finish());
+}
+
+TEST_CASE("config: an unknown key is an error naming file, line, column and key") {
+  const ConfigNode c = ConfigNode::load_string("order: 3\nmetric:\n  type: uniform\n  hh: 0.25\n", "run.yaml");
+  c.get_int("order", 1, 1, 4);
+  c.child("metric").get_string("type", "");
+  CHECK_THROWS_WITH_AS(c.finish(), "run.yaml:4:3: unknown key 'metric.hh' (known here: type)", ConfigError);
+}
+
+TEST_CASE("config: wrong types and out-of-range values name the key and the value") {
+  const ConfigNode c = ConfigNode::load_string("order: 7\nh: -0.5\nname: [a]\nx: abc\nq: -1\nmode: fast\n", "bad.yaml");
+  CHECK_THROWS_WITH_AS(c.get_int("order", 3, 1, 4), "bad.yaml:1:8: order: 7 is outside 1..4", ConfigError);
+  CHECK_THROWS_WITH_AS(c.get_positive("h", 1), "bad.yaml:2:4: h: must be positive, got -0.5", ConfigError);
+  CHECK_THROWS_WITH_AS(c.get_string("name", ""), "bad.yaml:3:7: name: expected a word, got a list or map", ConfigError);
+  CHECK_THROWS_WITH_AS(c.get_double("x", 0), "bad.yaml:4:4: x: expected a number, got 'abc'", ConfigError);
+  CHECK_THROWS_WITH_AS(c.get_int("q", 3, 1, 4), "bad.yaml:5:4: q: -1 is outside 1..4", ConfigError);
+  CHECK_THROWS_WITH_AS(c.get_choice("mode", "slow", {"slow", "exact"}),
+                       "bad.yaml:6:7: mode: unknown value 'fast' (known: slow, exact)", ConfigError);
+}
+
+TEST_CASE("config: syntax errors, non-map documents and missing files") {
+  CHECK_THROWS_AS(ConfigNode::load_string("a: [1, 2\n", "broken.yaml"), ConfigError);
+  CHECK_THROWS_WITH_AS(ConfigNode::load_string("- 1\n- 2\n", "list.yaml"),
+                       "list.yaml:1:1: the top level must be a map of keys", ConfigError);
+  CHECK_THROWS_AS(ConfigNode::load_file("/nonexistent/run.yaml"), InputError);
+}
+
+TEST_CASE("registry: plugins by name, an unknown name lists the known ones") {
+  Registry<std::unique_ptr<int>(int)> r("widget");
+  r.add("double", [](int x) { return std::make_unique<int>(2 * x); });
+  r.add("square", [](int x) { return std::make_unique<int>(x * x); });
+  CHECK(*r.create("square", "here", 5) == 25);
+  CHECK_THROWS_WITH_AS(r.create("cube", "run.yaml:3:9: metric.type", 2),
+                       "run.yaml:3:9: metric.type: unknown widget 'cube' (known: double, square)", ConfigError);
+  CHECK_THROWS_AS(r.add("double", [](int x) { return std::make_unique<int>(x); }), Error);
+}
+
+TEST_CASE("config: asking for an absent key does not create it") {
+  const ConfigNode c = ConfigNode::load_string("a: 1\n", "run.yaml");
+  CHECK(c.get_double("b", 2.0) == 2.0);
+  CHECK_FALSE(c.has("b"));
+  CHECK(c.get_double("a", 0.0) == 1.0);
+  CHECK_NOTHROW(c.finish());
+}

@@ -1,0 +1,364 @@
+// SPDX-License-Identifier: MIT
+#include "modules/pipeline/run_config.h"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <array>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "modules/base/error.h"
+#include "modules/io/writers.h"
+#include "tests/test_support.h"
+
+using namespace plaf;
+using test::TempDir;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string one_body = "geometry:\n  type: airfoils\n  bodies:\n    - file: a.dat\n";
+
+// A YAML text with one '^' before the character an error must point at: the text without the
+// marker, and "name:line:col" of that character (1-based, as yaml-cpp's marks are reported).
+struct Marked {
+  std::string text, position;
+};
+
+Marked unmark(const std::string& marked, const std::string& name) {
+  const std::size_t at = marked.find('^');
+  REQUIRE_MESSAGE(at != std::string::npos, "no ^ marker in: ", marked);
+  const std::size_t line_start = marked.rfind('\n', at);
+  const std::size_t line = 1 + static_cast<std::size_t>(std::count(marked.begin(), marked.begin() + at, '\n'));
+  const std::size_t col = line_start == std::string::npos ? at + 1 : at - line_start;
+  return {marked.substr(0, at) + marked.substr(at + 1), name + ":" + std::to_string(line) + ":" + std::to_string(col)};
+}
+
+std::string config_error(const std::string& text, const std::string& name = "t.yaml") {
+  try {
+    parse_run_config(text, name);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+}  // namespace
+
+TEST_CASE("run config: airfoil bodies with names, corners and the default tags wall, wall_2, ...") {
+  const RunConfig c = parse_run_config(
+      "geometry:\n"
+      "  type: airfoils\n"
+      "  bodies:\n"
+      "    - file: /data/slat.dat\n"
+      "      corners: [[0.5, 0.125], [-1, 2e-3]]\n"
+      "    - {file: /data/main.dat, name: main}\n"
+      "    - {file: /data/flap.dat}\n"
+      "  corner_angle_deg: 45\n",
+      "cases/high_lift.yaml");
+  CHECK(c.name == "high_lift");  // the stem of the config's name
+  CHECK(c.geometry.type == "airfoils");
+  const AirfoilsParams& a = c.geometry.airfoils;
+  REQUIRE(a.bodies.size() == 3);
+  CHECK(a.bodies[0].file == "/data/slat.dat");
+  CHECK(a.bodies[0].name == "wall");
+  CHECK(a.bodies[0].corners == std::vector<std::array<double, 2>>{{0.5, 0.125}, {-1.0, 2e-3}});
+  CHECK(a.bodies[1].name == "main");
+  CHECK(a.bodies[1].corners.empty());
+  CHECK(a.bodies[2].name == "wall_3");  // the default counts the body's position, named or not
+  CHECK(a.corner_angle_deg == 45);
+  // A string config resolves relative paths against the folder of its name.
+  CHECK(parse_run_config(one_body, "cases/x.yaml").geometry.airfoils.bodies[0].file == "cases/a.dat");
+}
+
+TEST_CASE("run config: farfield keys and their documented defaults") {
+  // Defaults from the header of run_config.h.
+  const AirfoilsParams d = parse_run_config(one_body, "t.yaml").geometry.airfoils;
+  CHECK(d.corner_angle_deg == 30);
+  CHECK(d.farfield.shape == "circle");
+  CHECK(d.farfield.radius == 20);
+  CHECK(d.farfield.size == std::array<double, 2>{40, 40});
+  CHECK_FALSE(d.farfield.has_center);
+
+  const AirfoilsParams r =
+      parse_run_config(one_body + "  farfield: {shape: rectangle, size: [30, 12.5], center: [0.5, -1]}\n", "t.yaml")
+          .geometry.airfoils;
+  CHECK(r.farfield.shape == "rectangle");
+  CHECK(r.farfield.size == std::array<double, 2>{30, 12.5});
+  CHECK(r.farfield.has_center);
+  CHECK(r.farfield.center == std::array<double, 2>{0.5, -1});
+  const AirfoilsParams c = parse_run_config(one_body + "  farfield: {radius: 7.5}\n", "t.yaml").geometry.airfoils;
+  CHECK(c.farfield.shape == "circle");
+  CHECK(c.farfield.radius == 7.5);
+}
+
+TEST_CASE("run config: wall_power_law keys, the exponential law's delta defaulting to h0") {
+  // Defaults from the header of run_config.h.
+  const WallLawParams d = parse_run_config(one_body + "metric: {type: wall_power_law}\n", "t.yaml").metric.wall_law;
+  CHECK(d.h0 == 0.005);
+  CHECK(d.growth == 1.2);
+  CHECK_FALSE(d.exponential);
+  CHECK(d.delta == d.h0);
+  CHECK(d.h_max == 1);
+  CHECK(d.h_wall_max == 0.05);
+  CHECK(d.curvature_factor == 0.25);
+  CHECK(d.h_corner == 0.01);
+
+  const WallLawParams e = parse_run_config(one_body +
+                                               "metric:\n  type: wall_power_law\n  h0: 2e-4\n  growth: 1.15\n"
+                                               "  law: exponential\n  h_max: 3\n  h_wall_max: 0.02\n"
+                                               "  curvature_factor: 0.4\n  h_corner: 0.002\n",
+                                           "t.yaml")
+                              .metric.wall_law;
+  CHECK(e.h0 == 2e-4);
+  CHECK(e.growth == 1.15);
+  CHECK(e.exponential);
+  CHECK(e.delta == 2e-4);  // the given h0
+  CHECK(e.h_max == 3);
+  CHECK(e.h_wall_max == 0.02);
+  CHECK(e.curvature_factor == 0.4);
+  CHECK(e.h_corner == 0.002);
+  CHECK(parse_run_config(one_body + "metric: {type: wall_power_law, law: exponential, delta: 0.03}\n", "t.yaml")
+            .metric.wall_law.delta == 0.03);
+  // h0 = h_max is allowed (a uniform normal size), h0 > h_max is not.
+  CHECK(config_error(one_body + "metric: {type: wall_power_law, h0: 0.5, h_max: 0.5}\n") == "no error");
+}
+
+TEST_CASE("run config: background keys: the file is required and the mean is a choice") {
+  const BackgroundParams b =
+      parse_run_config("metric: {type: background, file: /m/bg.mesh, sol: /m/bg.sol, mean: affine_invariant}\n",
+                       "t.yaml")
+          .metric.background;
+  CHECK(b.file == "/m/bg.mesh");
+  CHECK(b.sol == "/m/bg.sol");
+  CHECK(b.mean == "affine_invariant");
+  const BackgroundParams d =
+      parse_run_config("metric: {type: background, file: /m/bg.msh}\n", "t.yaml").metric.background;
+  CHECK(d.sol.empty());
+  CHECK(d.mean == "log_euclidean");
+}
+
+TEST_CASE("run config: output formats are the writer registry's names, zooms carry a label and a box") {
+  // Every registered writer is accepted alone, all of them together in any order.
+  const std::vector<std::string> names = writer_registry().names();
+  REQUIRE_FALSE(names.empty());
+  std::string all;
+  for (const std::string& n : names) {
+    CHECK(parse_run_config("output: {formats: [" + n + "]}\n", "t.yaml").output.formats == std::vector<std::string>{n});
+    all = n + (all.empty() ? "" : ", ") + all;
+  }
+  const OutputParams o = parse_run_config("output: {formats: [" + all + "]}\n", "t.yaml").output;
+  CHECK(o.formats.size() == names.size());
+  for (const std::string& n : names) CHECK(o.wants(n));
+  // The default is every format the header lists, each of them a registered writer.
+  const OutputParams d = parse_run_config("", "t.yaml").output;
+  CHECK(d.formats == std::vector<std::string>{"msh", "vtu", "report", "png"});
+  for (const std::string& f : d.formats) CHECK(std::find(names.begin(), names.end(), f) != names.end());
+  CHECK(d.zooms.empty());
+
+  const OutputParams z = parse_run_config(
+                             "output:\n  zooms:\n    - {label: leading edge, box: [-0.05, 0.1, -0.06, 0.06]}\n"
+                             "    - box: [0.9, 1.02, -0.5e-1, 4e-2]\n",
+                             "t.yaml")
+                             .output;
+  REQUIRE(z.zooms.size() == 2);
+  CHECK(z.zooms[0].label == "leading edge");
+  CHECK(z.zooms[0].box == std::array<double, 4>{-0.05, 0.1, -0.06, 0.06});
+  CHECK(z.zooms[1].label.empty());
+  CHECK(z.zooms[1].box == std::array<double, 4>{0.9, 1.02, -0.05, 0.04});
+}
+
+TEST_CASE("run config: one bad value per key is a ConfigError naming file:line:col and the dotted key") {
+  // '^' marks the character the message must point at: the value, the list item or the map.
+  struct Case {
+    const char* key;
+    std::string yaml;
+    std::string reason;
+  };
+  std::string writers;  // the registry's names, as the message lists them
+  for (const std::string& n : writer_registry().names()) writers += (writers.empty() ? "" : ", ") + n;
+  const std::string g = "geometry: {type: airfoils, bodies: [{file: a.dat}], ";
+  const std::string b = "geometry: {type: airfoils, bodies: [{file: a.dat, ";
+  const std::string wall = one_body + "metric: {type: wall_power_law, ";
+  const Case cases[] = {
+      {"name", "name: ^a/b\n", "plain file name"},
+      {"order", "order: ^0\n", "outside 1..4"},
+      {"geometry.type", "geometry: {type: ^blob}\n", "unknown value 'blob'"},
+      {"geometry.r_inner", "geometry: {type: annulus, r_inner: ^0}\n", "must be positive"},
+      {"geometry.bodies", "geometry: {type: airfoils, bodies: ^[]}\n", "at least one body"},
+      {"geometry.bodies", "geometry: ^{type: airfoils}\n", "at least one body"},
+      {"geometry.bodies", "geometry: {type: airfoils, bodies: ^{file: a.dat}}\n", "list of maps"},
+      {"geometry.bodies[1]", "geometry: {type: airfoils, bodies: [{file: a.dat}, ^{name: slat}]}\n",
+       "file is required"},
+      {"geometry.bodies[0].name", b + "name: ^[x]}]}\n", "expected a word"},
+      {"geometry.bodies[0].name", b + "name: ^farfield}]}\n", "farfield"},
+      {"geometry.bodies[0].corners", b + "corners: [[1, 2], ^[1]]}]}\n", "list of points"},
+      {"geometry.bodies[0].corners", b + "corners: ^3}]}\n", "list of points"},
+      {"geometry.corner_angle_deg", g + "corner_angle_deg: ^200}\n", "outside [0, 180]"},
+      {"geometry.farfield", g + "farfield: ^[1]}\n", "expected a map"},
+      {"geometry.farfield.shape", g + "farfield: {shape: ^oval}}\n", "unknown value 'oval' (known: circle, rectangle)"},
+      {"geometry.farfield.radius", g + "farfield: {radius: ^0}}\n", "must be positive"},
+      {"geometry.farfield.size", g + "farfield: {size: ^[1]}}\n", "two numbers"},
+      {"geometry.farfield.size", g + "farfield: {size: ^[30, -1]}}\n", "positive"},
+      {"geometry.farfield.center", g + "farfield: {center: ^[1, 2, 3]}}\n", "two numbers"},
+      {"metric.type", "metric: {type: ^magic}\n", "unknown metric field 'magic'"},
+      {"metric.h", "metric: {type: uniform, h: ^0}\n", "must be positive"},
+      {"metric.sizes", "metric: {type: uniform, sizes: ^[0.1, 0.2, 0.3]}\n", "two sizes"},
+      {"metric.sizes", "metric: {type: uniform, h: 1, sizes: ^[0.1, 0.2]}\n", "either h or sizes"},
+      {"metric.h0", wall + "h0: ^-1}\n", "must be positive"},
+      {"metric.h0", wall + "h_max: 0.001, h0: ^0.005}\n", "must not exceed h_max"},
+      {"metric.growth", wall + "growth: ^1}\n", "larger than 1"},
+      {"metric.growth", wall + "growth: ^11}\n", "outside"},
+      {"metric.law", wall + "law: ^cubic}\n", "unknown value 'cubic' (known: linear, exponential)"},
+      {"metric.delta", wall + "law: exponential, delta: ^0}\n", "must be positive"},
+      {"metric.h_max", wall + "h_max: ^-2}\n", "must be positive"},
+      {"metric.h_wall_max", wall + "h_wall_max: ^0}\n", "must be positive"},
+      {"metric.curvature_factor", wall + "curvature_factor: ^-0.1}\n", "must be positive"},
+      {"metric.h_corner", wall + "h_corner: ^abc}\n", "expected a number, got 'abc'"},
+      {"metric", "metric: ^{type: background}\n", "file is required"},
+      {"metric.mean", "metric: {type: background, file: a.msh, mean: ^median}\n",
+       "unknown value 'median' (known: log_euclidean, affine_invariant)"},
+      {"metric.sol", "metric: {type: background, file: a.mesh, sol: ^[a]}\n", "expected a word"},
+      {"validity.rel_tol", "validity: {rel_tol: ^2}\n", "outside"},
+      {"validity.max_depth", "validity: {max_depth: ^0}\n", "outside 1..20"},
+      {"output.formats", "output: {formats: [msh, ^stl]}\n", "unknown value 'stl' (known: " + writers + ")"},
+      {"output.formats", "output: {formats: ^msh}\n", "expected a list"},
+      {"output.picture_width", "output: {picture_width: ^10}\n", "outside 64..16384"},
+      {"output.picture_height", "output: {picture_height: ^1.5}\n", "expected an integer"},
+      {"output.histogram_bins", "output: {histogram_bins: ^1}\n", "outside 2..1000"},
+      {"output.zooms", "output: {zooms: ^{box: [0, 1, 0, 1]}}\n", "list of maps"},
+      {"output.zooms[0].label", "output: {zooms: [{label: ^[a], box: [0, 1, 0, 1]}]}\n", "expected a word"},
+      {"output.zooms[1].box", "output: {zooms: [{box: [0, 1, 0, 1]}, {box: ^[0, 1, 1, 0]}]}\n", "min < max"},
+      {"output.zooms[0].box", "output: {zooms: [{box: ^[0, 1, 2]}]}\n", "x_min, x_max, y_min, y_max"},
+      {"output.zooms[0].box", "output: {zooms: [^{label: a}]}\n", "x_min, x_max, y_min, y_max"},
+      {"output.zooms[0].box", "output: {zooms: [{box: [0, ^one, 0, 1]}]}\n", "expected a number"},
+  };
+  for (const Case& k : cases) {
+    const Marked m = unmark(k.yaml, "cases/bad.yaml");
+    INFO(m.text);
+    const std::string e = config_error(m.text, "cases/bad.yaml");
+    INFO(e);
+    CHECK(e.rfind(m.position + ": " + k.key + ": ", 0) == 0);
+    CHECK(e.find(k.reason) != std::string::npos);
+  }
+}
+
+TEST_CASE("run config: unknown keys are rejected, in list items and in the chosen plugin's section") {
+  struct Case {
+    const char* key;
+    std::string yaml;
+  };
+  const Case cases[] = {
+      {"colour", "^colour: red\n"},
+      {"geometry.bodies[0].colour", "geometry: {type: airfoils, bodies: [{file: a.dat, ^colour: red}]}\n"},
+      {"geometry.bodies[1].corner",
+       "geometry:\n  type: airfoils\n  bodies:\n    - file: a.dat\n    - file: b.dat\n      ^corner: [[0, 0]]\n"},
+      {"geometry.farfield.radious", "geometry: {type: airfoils, bodies: [{file: a.dat}], farfield: {^radious: 3}}\n"},
+      // Keys of another plugin type are unknown in the chosen one's section.
+      {"geometry.r_inner", "geometry: {type: airfoils, bodies: [{file: a.dat}], ^r_inner: 1}\n"},
+      {"geometry.bodies", "geometry: {type: annulus, ^bodies: [{file: a.dat}]}\n"},
+      {"metric.h", one_body + "metric: {type: wall_power_law, ^h: 0.1}\n"},
+      {"metric.h0", "metric: {type: uniform, ^h0: 0.1}\n"},
+      {"metric.file", "metric: {type: uniform, ^file: a.msh}\n"},
+      {"output.zooms[0].colour", "output: {zooms: [{box: [0, 1, 0, 1], ^colour: red}]}\n"},
+  };
+  for (const Case& k : cases) {
+    const Marked m = unmark(k.yaml, "u.yaml");
+    INFO(m.text);
+    const std::string e = config_error(m.text, "u.yaml");
+    INFO(e);
+    CHECK(e.rfind(m.position + ": unknown key '" + k.key + "'", 0) == 0);
+  }
+}
+
+TEST_CASE("run config: load_run_config resolves paths relative to the config file's folder") {
+  const TempDir d("run_config");
+  fs::create_directories(d.path / "cases");
+  const fs::path cfg = d.path / "cases" / "two_bodies.yaml";
+  std::ofstream(cfg) << "geometry:\n  type: airfoils\n  bodies:\n    - file: ../data/main.dat\n"
+                        "    - {file: /abs/flap.dat, name: flap}\n"
+                        "metric: {type: background, file: bg/metric.mesh, sol: ./bg/metric.sol}\n";
+  const RunConfig c = load_run_config(cfg);
+  CHECK(c.file == cfg);
+  CHECK(c.name == "two_bodies");
+  CHECK(c.geometry.airfoils.bodies[0].file == (d.path / "data" / "main.dat").string());
+  CHECK(c.geometry.airfoils.bodies[1].file == "/abs/flap.dat");
+  CHECK(c.metric.background.file == (d.path / "cases" / "bg" / "metric.mesh").string());
+  CHECK(c.metric.background.sol == (d.path / "cases" / "bg" / "metric.sol").string());
+
+  // Errors name the file as given.
+  std::ofstream(d.path / "bad.yaml") << "order: 9\n";
+  CHECK_THROWS_WITH_AS(load_run_config(d.path / "bad.yaml"),
+                       ((d.path / "bad.yaml").string() + ":1:8: order: 9 is outside 1..4").c_str(), ConfigError);
+  CHECK_THROWS_AS(load_run_config(d.path / "missing.yaml"), InputError);
+}
+
+TEST_CASE("run config: 3D geometries make a 3D run with its surface section, a 3D uniform metric, no png") {
+  const RunConfig s = parse_run_config("geometry: {type: sphere, radius: 2, center: [1, 2, 3]}\n"
+                                       "metric: {type: uniform, h: 0.1}\n"
+                                       "surface: {ridge_angle_deg: 40, iterations: 5, curvature_factor: 0.3}\n",
+                                       "s.yaml");
+  CHECK(s.dim == 3);
+  CHECK(s.geometry.surface3.radius == 2);
+  CHECK(s.geometry.surface3.center[2] == 3);
+  CHECK(s.surface.ridge_angle_deg == 40);
+  CHECK(s.surface.iterations == 5);
+  CHECK(s.surface.curvature_factor == doctest::Approx(0.3));
+  CHECK(s.surface.curvature_h_min == 0);
+  CHECK(s.output.formats == std::vector<std::string>{"msh", "vtu", "report"});
+
+  const RunConfig w = parse_run_config("geometry: {type: wing, file: e387.dat, span: 3, root: rounded, tip: symmetry}\n"
+                                       "metric: {type: uniform, sizes: [0.1, 0.2, 0.3]}\n",
+                                       "w.yaml");
+  CHECK(w.geometry.surface3.root == "rounded");
+  CHECK(w.geometry.surface3.tip == "symmetry");
+  CHECK(w.geometry.surface3.span == 3);
+  CHECK(w.metric.uniform.sizes.size() == 3);
+
+  const RunConfig f = parse_run_config("geometry: {type: surface_file, file: m6.fmt, symmetry_planes: "
+                                       "[{normal: [0, 0, 2], offset: 1}], inner_components: drop}\n",
+                                       "f.yaml");
+  REQUIRE(f.geometry.surface3.symmetry_planes.size() == 1);
+  CHECK(f.geometry.surface3.symmetry_planes[0].normal[2] == doctest::Approx(1));
+  CHECK(f.geometry.surface3.symmetry_planes[0].offset == doctest::Approx(0.5));  // normalised with the normal
+  CHECK(f.geometry.surface3.drop_inner_components);
+  CHECK(f.geometry.surface3.check_self_intersections);
+
+  // 2D runs are untouched.
+  CHECK(parse_run_config(one_body, "a.yaml").dim == 2);
+}
+
+TEST_CASE("run config: 3D keys are checked like the 2D ones") {
+  const auto err = [](const std::string& yaml) { return doctest::String(config_error(yaml).c_str()); };
+  CHECK(err("geometry: {type: sphere, radius: -1}\n") ==
+        doctest::Contains("geometry.radius"));
+  CHECK(err("geometry: {type: box, lo: [0, 0, 0], hi: [1, 0, 1]}\n") ==
+        doctest::Contains("must exceed lo"));
+  CHECK(err("geometry: {type: sphere, center: [0, 0]}\n") == doctest::Contains("three numbers"));
+  CHECK(err("geometry: {type: wing}\n") == doctest::Contains("file (the airfoil section) is required"));
+  CHECK(err("geometry: {type: wing, file: a.dat, tip: pointed}\n") == doctest::Contains("pointed"));
+  CHECK(err("geometry: {type: surface_file}\n") == doctest::Contains("file is required"));
+  CHECK(err("geometry: {type: surface_file, file: a.stl, symmetry_planes: [{normal: [0, 0, 0]}]}\n") ==
+        doctest::Contains("must not be zero"));
+  CHECK(err("geometry: {type: sphere}\nmetric: {type: wall_power_law}\n") ==
+        doctest::Contains("2D only"));
+  CHECK(err("geometry: {type: sphere}\nmetric: {type: uniform, sizes: [1, 2]}\n") ==
+        doctest::Contains("three sizes"));
+  CHECK(err("geometry: {type: sphere}\nmetric: {type: uniform, angle_deg: 3}\n") ==
+        doctest::Contains("angle_deg"));
+  CHECK(err("geometry: {type: sphere}\noutput: {formats: [msh, png]}\n") == doctest::Contains("2D only"));
+  CHECK(err("geometry: {type: sphere}\nsurface: {ridge_angle: 3}\n") == doctest::Contains("ridge_angle"));
+  CHECK(err(one_body + "surface: {iterations: 3}\n") == doctest::Contains("for 3D geometries"));
+  CHECK(err("geometry: {type: sphere}\nlayers: {max: 3}\n") == doctest::Contains("layers"));
+  CHECK(err("geometry: {type: sphere}\nmetric: {type: uniform, h: 0.1}\nsurface: {curvature_h_min: 0.2}\n") ==
+        doctest::Contains("surface.curvature_h_min: 0.2"));
+  CHECK(err("geometry: {type: surface_file, file: a.stl, symmetry_planes: [{offset: 1}]}\n") ==
+        doctest::Contains("normal is required"));
+  CHECK(err("geometry: {type: wing, file: a.dat, corner_angle_deg: 180}\n") ==
+        doctest::Contains("geometry.corner_angle_deg: must lie strictly between 0 and 180"));
+  CHECK(err("geometry: {type: sphere}\noutput: {zooms: []}\n") == doctest::Contains("output.zooms"));
+  CHECK(err("geometry: {type: sphere}\nsurface: {max_triangles: 0}\n") == doctest::Contains("surface.max_triangles"));
+}
