@@ -46,7 +46,7 @@ std::unique_ptr<MetricField<3>> make_metric_field3(const RunConfig& c) {
 // The geometry step's product: the surface to remesh and the reference it lives on.
 struct SurfaceInput {
   TriSurface surface;
-  std::unique_ptr<ReferenceGeometry> reference;
+  std::unique_ptr<ReferenceGeometry<3>> reference;
   std::size_t input_triangles = 0;
   std::string what;                   // a progress line
   std::optional<SurfaceCheckReport> check;  // file inputs

@@ -305,7 +305,7 @@ CubeLattice build_cube(MeshBuilder& mb, const std::array<int, 3>& n, const Map& 
 // ------------------------------------------------------------------------------------------------
 // Sphere.
 
-class SphereReference final : public ReferenceGeometry {
+class SphereReference final : public ReferenceGeometry<3> {
  public:
   SphereReference(const Vector3d& c, double r) : c_(c), r_(r) {}
   Vector3d project(const Vector3d& p) const override { return c_ + r_ * direction(p); }
@@ -417,7 +417,7 @@ Vector3d ellipsoid_closest(const Vector3d& e, const Vector3d& y) {
   return x;
 }
 
-class EllipsoidReference final : public ReferenceGeometry {
+class EllipsoidReference final : public ReferenceGeometry<3> {
  public:
   EllipsoidReference(const Vector3d& c, const Vector3d& e) : c_(c), e_(e) {}
   Vector3d project(const Vector3d& p) const override { return c_ + ellipsoid_closest(e_, p - c_); }
@@ -439,7 +439,7 @@ class EllipsoidReference final : public ReferenceGeometry {
 // ------------------------------------------------------------------------------------------------
 // Box.
 
-class BoxReference final : public ReferenceGeometry {
+class BoxReference final : public ReferenceGeometry<3> {
  public:
   BoxReference(const Vector3d& lo, const Vector3d& hi) : lo_(lo), hi_(hi) {}
   Vector3d project(const Vector3d& p) const override {
@@ -744,7 +744,7 @@ struct CurvePiece {
   int end = 0;            // HalfCircle: the end (0 root, 1 tip)
 };
 
-class WingReference final : public ReferenceGeometry {
+class WingReference final : public ReferenceGeometry<3> {
  public:
   WingReference(SplineLoop loop, double span, std::array<WingEnd, 2> ends, std::vector<int> te_corners)
       : loop_(std::move(loop)), span_(span), ends_(ends) {

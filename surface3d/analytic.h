@@ -25,12 +25,12 @@
 #include <string>
 
 #include "modules/geometry/tri_surface.h"
-#include "surface3d/reference.h"
+#include "surface3d/discrete_reference.h"
 
 namespace plaf {
 
 struct AnalyticBody {
-  std::unique_ptr<ReferenceGeometry> reference;
+  std::unique_ptr<ReferenceGeometry<3>> reference;
   TriSurface initial;
 };
 

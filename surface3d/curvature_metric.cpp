@@ -20,7 +20,7 @@ void tangent_frame(const Eigen::Vector3d& n, Eigen::Vector3d& t1, Eigen::Vector3
 
 }  // namespace
 
-CurvatureMetricField::CurvatureMetricField(const MetricField<3>& base, const ReferenceGeometry& reference,
+CurvatureMetricField::CurvatureMetricField(const MetricField<3>& base, const ReferenceGeometry<3>& reference,
                                            double factor, double h_min)
     : base_(base), ref_(reference), factor_(factor), h_min_(h_min) {
   if (!(factor > 0)) throw ConfigError("curvature metric: the factor must be positive");
@@ -29,7 +29,7 @@ CurvatureMetricField::CurvatureMetricField(const MetricField<3>& base, const Ref
 
 CurvatureMetricField::Curvature CurvatureMetricField::curvature(const Eigen::Vector3d& x, double step) const {
   Curvature c;
-  // Points and normals come from one search each (ReferenceGeometry::project with normal).
+  // Points and normals come from one search each (ReferenceGeometry<3>::project with normal).
   const Eigen::Vector3d x0 = ref_.project(x, c.normal);
   Eigen::Vector3d t[2];
   tangent_frame(c.normal, t[0], t[1]);

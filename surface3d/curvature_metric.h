@@ -15,14 +15,14 @@
 #pragma once
 
 #include "modules/metric/metric.h"
-#include "surface3d/reference.h"
+#include "surface3d/discrete_reference.h"
 
 namespace plaf {
 
 class CurvatureMetricField final : public MetricField<3> {
  public:
   // base and reference must outlive the field.
-  CurvatureMetricField(const MetricField<3>& base, const ReferenceGeometry& reference, double factor, double h_min);
+  CurvatureMetricField(const MetricField<3>& base, const ReferenceGeometry<3>& reference, double factor, double h_min);
   Metric<3> evaluate(const Point& x) const override;
 
   // The principal curvatures (|kappa_1| >= |kappa_2|, signed: > 0 convex) and their unit
@@ -37,7 +37,7 @@ class CurvatureMetricField final : public MetricField<3> {
   bool near_curve(const Eigen::Vector3d& x, double distance) const;
 
   const MetricField<3>& base_;
-  const ReferenceGeometry& ref_;
+  const ReferenceGeometry<3>& ref_;
   double factor_, h_min_;
 };
 

@@ -47,7 +47,7 @@ Eigen::Vector3d edge_point(const Eigen::Vector3d& a, const Eigen::Vector3d& b, i
 // from them, and writes the current positions into the surface's properties.
 class Curving {
  public:
-  Curving(TriSurface& s, const ReferenceGeometry& reference, int q) : s_(s), m_(s.mesh), q_(q) {
+  Curving(TriSurface& s, const ReferenceGeometry<3>& reference, int q) : s_(s), m_(s.mesh), q_(q) {
     const std::size_t ne = m_.n_edges(), nf = m_.n_faces();
     edge_curved_.resize(ne);
     edge_t_.assign(ne, 1.0);
@@ -86,7 +86,7 @@ class Curving {
   }
 
  private:
-  void place_edges(const ReferenceGeometry& reference) {
+  void place_edges(const ReferenceGeometry<3>& reference) {
     const int num_curves = reference.num_curves();
     for (const EdgeHandle e : m_.edges()) {
       const int curve = m_.property(s_.edge_curve, e);
@@ -123,7 +123,7 @@ class Curving {
   // the edge nodes' displacements are normal, so the face nodes are the projected lattice points;
   // nodes of a feature-curve edge, pulled along the surface toward their curve, carry the face
   // nodes with them.
-  void place_faces(const ReferenceGeometry& reference) {
+  void place_faces(const ReferenceGeometry<3>& reference) {
     const int n_face = num_nodes(CellType::Triangle, q_) - 3 * q_;
     const LagrangeElement& tri = lagrange_element(CellType::Triangle, q_);
     const LagrangeElement& line = lagrange_element(CellType::Line, q_);
@@ -199,7 +199,7 @@ JacobianBounds certify_face(const TriSurface& s, JacobianCertifier& certifier, F
 
 }  // namespace
 
-CurvingReport curve_surface(TriSurface& s, const ReferenceGeometry& reference, int order,
+CurvingReport curve_surface(TriSurface& s, const ReferenceGeometry<3>& reference, int order,
                             const ValidityOptions& validity) {
   check_order(order);
   TriMesh& m = s.mesh;

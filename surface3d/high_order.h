@@ -19,7 +19,7 @@
 #include "modules/mesh/hybrid_mesh.h"
 #include "modules/geometry/tri_surface.h"
 #include "modules/elements/validity.h"
-#include "surface3d/reference.h"
+#include "surface3d/discrete_reference.h"
 
 namespace plaf {
 
@@ -34,7 +34,7 @@ struct CurvingReport {
 // still certified). Curve edges (edge_curve >= 0) project onto reference.project_to_curve; a curve
 // number the reference does not have throws MesherError. min_scaled_jacobian is the smallest
 // certified lower bound of min det J / max det J over the final triangles.
-CurvingReport curve_surface(TriSurface& s, const ReferenceGeometry& reference, int order,
+CurvingReport curve_surface(TriSurface& s, const ReferenceGeometry<3>& reference, int order,
                             const ValidityOptions& validity = {});
 
 // certify_surface_triangle(certifier, order, nodes) (validity.h, included here) certifies one

@@ -33,7 +33,7 @@ constexpr double kGoodAlignment = 0.5;
 
 class Remesher {
  public:
-  Remesher(TriSurface& s, const ReferenceGeometry& ref, const MetricField<3>& metric, const RemeshOptions& o)
+  Remesher(TriSurface& s, const ReferenceGeometry<3>& ref, const MetricField<3>& metric, const RemeshOptions& o)
       : s_(s), m_(s.mesh), ref_(ref), metric_(metric), opt_(o) {}
 
   RemeshReport run();
@@ -292,7 +292,7 @@ class Remesher {
 
   TriSurface& s_;
   Mesh& m_;
-  const ReferenceGeometry& ref_;
+  const ReferenceGeometry<3>& ref_;
   const MetricField<3>& metric_;
   RemeshOptions opt_;
   RemeshReport rep_;
@@ -656,7 +656,7 @@ RemeshReport Remesher::run() {
 
 }  // namespace
 
-RemeshReport remesh_surface(TriSurface& s, const ReferenceGeometry& reference, const MetricField<3>& metric,
+RemeshReport remesh_surface(TriSurface& s, const ReferenceGeometry<3>& reference, const MetricField<3>& metric,
                             const RemeshOptions& options) {
   return Remesher(s, reference, metric, options).run();
 }

@@ -20,7 +20,7 @@
 
 #include "modules/metric/metric.h"
 #include "modules/geometry/tri_surface.h"
-#include "surface3d/reference.h"
+#include "surface3d/discrete_reference.h"
 
 namespace plaf {
 
@@ -40,7 +40,7 @@ struct RemeshReport {
   double seconds = 0;
 };
 
-RemeshReport remesh_surface(TriSurface& s, const ReferenceGeometry& reference, const MetricField<3>& metric,
+RemeshReport remesh_surface(TriSurface& s, const ReferenceGeometry<3>& reference, const MetricField<3>& metric,
                             const RemeshOptions& options);
 
 }  // namespace plaf

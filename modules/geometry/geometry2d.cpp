@@ -75,5 +75,46 @@ Geometry2D build_airfoils_geometry(const AirfoilsParams& params) {
   return g;
 }
 
+Eigen::Vector2d Geometry2D::project(const Eigen::Vector2d& p, Eigen::Vector2d& normal_out) const {
+  if (loops.empty()) throw Error("geometry: no loop to project onto");
+  const GeometryLoop* best = nullptr;
+  SplineLoop::Closest c{0, p, std::numeric_limits<double>::infinity()};
+  for (const GeometryLoop& l : loops) {
+    const SplineLoop::Closest k = l.loop.closest_point(p);
+    if (k.distance < c.distance) {
+      c = k;
+      best = &l;
+    }
+  }
+  normal_out = best->loop.normal(c.t);
+  return c.point;
+}
+
+Eigen::Vector2d Geometry2D::project(const Eigen::Vector2d& p) const {
+  Eigen::Vector2d n;
+  return project(p, n);
+}
+
+Eigen::Vector2d Geometry2D::normal(const Eigen::Vector2d& x) const {
+  Eigen::Vector2d n;
+  project(x, n);
+  return n;
+}
+
+Eigen::Vector2d Geometry2D::project_to_curve(const Eigen::Vector2d& p, int curve) const {
+  if (curve < 0 || curve >= num_curves()) throw Error("geometry: no loop " + std::to_string(curve));
+  return loops[static_cast<std::size_t>(curve)].loop.closest_point(p).point;
+}
+
+double Geometry2D::scale() const {
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const GeometryLoop& l : loops)
+    for (const Eigen::Vector2d& x : l.loop.points()) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+  return loops.empty() ? 1.0 : (hi - lo).norm();
+}
+
 }  // namespace geometry
 }  // namespace plaf

@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: MIT
 // The 2D geometry of a run: body loops (clockwise) and the farfield loop (counter-clockwise),
-// all cubic-spline loops with corners (spline_loop.h), each with its boundary tag.
+// all cubic-spline loops with corners (spline_loop.h), each with its boundary tag. It is the 2D
+// reference geometry (reference.h): its curves are the loops, its normals the splines' left
+// normals (into the domain).
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "modules/geometry/reference.h"
 #include "modules/mesh/hybrid_mesh.h"
 #include "modules/pipeline/run_config.h"
 #include "modules/geometry/spline_loop.h"
@@ -19,10 +22,20 @@ struct GeometryLoop {
   BoundaryKind kind;
 };
 
-struct Geometry2D {
+struct Geometry2D final : ReferenceGeometry<2> {
   std::vector<GeometryLoop> loops;  // bodies first, then the farfield (if any)
   // Bounding box of the bodies.
   Eigen::Vector2d body_min{0, 0}, body_max{0, 0};
+
+  // The closest point of any loop (exact on the splines, SplineLoop::closest_point).
+  Eigen::Vector2d project(const Eigen::Vector2d& p) const override;
+  Eigen::Vector2d project(const Eigen::Vector2d& p, Eigen::Vector2d& normal_out) const override;
+  // The left normal of the loop closest to x, at its closest point.
+  Eigen::Vector2d normal(const Eigen::Vector2d& x) const override;
+  Eigen::Vector2d project_to_curve(const Eigen::Vector2d& p, int curve) const override;
+  int num_curves() const override { return static_cast<int>(loops.size()); }
+  // The diagonal of the bounding box of every loop's points (1 without loops).
+  double scale() const override;
 };
 
 // Reads the body files, checks they are simple and disjoint, finds corners (turning angle above

@@ -16,7 +16,7 @@
 // - Features: an edge is a ridge when the dihedral angle between its faces departs from flat by
 //   more than a threshold (features.h); boundary edges (open loops, allowed only on symmetry
 //   planes) are features too. Chains of feature edges between corners are feature curves, numbered
-//   0.. in edge_curve; the reference geometry (surface3d/reference.h) projects onto curve c.
+//   0.. in edge_curve; the reference geometry (surface3d/discrete_reference.h) projects onto curve c.
 //   Corners are vertices where the curves end or meet, or with a large angle defect.
 #pragma once
 

@@ -53,7 +53,7 @@ Counts count(const TriSurface& s) {
 void check_body(const AnalyticBody& b, long euler, const std::function<double(const Vector3d&)>& residual,
                 unsigned seed, double spread = 0.3) {
   const TriSurface& s = b.initial;
-  const plaf::ReferenceGeometry& ref = *b.reference;
+  const plaf::ReferenceGeometry<3>& ref = *b.reference;
   const double L = ref.scale();
   REQUIRE(L > 0);
   REQUIRE(s.tags.size() >= 1);
@@ -470,7 +470,7 @@ TEST_CASE("analytic wing: a rounded tip is a half body of revolution, tangent-co
     p.root = plaf::WingEnd::Symmetry;
     p.tip = plaf::WingEnd::Rounded;
     const AnalyticBody b = plaf::make_wing(p, 0.2);
-    const plaf::ReferenceGeometry& ref = *b.reference;
+    const plaf::ReferenceGeometry<3>& ref = *b.reference;
     const Section sec(p.file.string(), p.chord, p.corner_angle_deg);
     // Points above the tip land on the cap: on the half circle through the upper and lower
     // surface points of their chord station, with the outward radial normal.

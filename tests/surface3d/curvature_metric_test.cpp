@@ -10,7 +10,7 @@
 namespace plaf {
 namespace {
 
-class Sphere final : public ReferenceGeometry {
+class Sphere final : public ReferenceGeometry<3> {
  public:
   explicit Sphere(double r) : r_(r) {}
   Eigen::Vector3d project(const Eigen::Vector3d& p) const override { return r_ * p.normalized(); }
@@ -24,7 +24,7 @@ class Sphere final : public ReferenceGeometry {
 };
 
 // The cylinder x^2 + y^2 = r^2 along z.
-class Cylinder final : public ReferenceGeometry {
+class Cylinder final : public ReferenceGeometry<3> {
  public:
   explicit Cylinder(double r) : r_(r) {}
   Eigen::Vector3d project(const Eigen::Vector3d& p) const override {
@@ -41,7 +41,7 @@ class Cylinder final : public ReferenceGeometry {
 };
 
 // The roof z = -|x|: two planes meeting at a convex ridge along y.
-class Roof final : public ReferenceGeometry {
+class Roof final : public ReferenceGeometry<3> {
  public:
   Eigen::Vector3d project(const Eigen::Vector3d& p) const override {
     const Eigen::Vector3d n = normal(p);
@@ -112,7 +112,7 @@ namespace plaf {
 namespace {
 
 // The roof without its ridge declared as a curve: a crease finer than h_min is then curvature.
-class UndeclaredRoof final : public ReferenceGeometry {
+class UndeclaredRoof final : public ReferenceGeometry<3> {
  public:
   Eigen::Vector3d project(const Eigen::Vector3d& p) const override { return roof_.project(p); }
   Eigen::Vector3d normal(const Eigen::Vector3d& x) const override { return roof_.normal(x); }

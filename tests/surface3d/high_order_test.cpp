@@ -26,7 +26,7 @@ namespace {
 constexpr double pi = std::numbers::pi;
 
 // The unit sphere as the reference; curve 0 (when there is one) is the equator z = 0.
-class SphereReference : public ReferenceGeometry {
+class SphereReference : public ReferenceGeometry<3> {
  public:
   explicit SphereReference(int curves = 0) : curves_(curves) {}
   Eigen::Vector3d project(const Eigen::Vector3d& p) const override { return p.normalized(); }
@@ -55,7 +55,7 @@ class FoldingReference : public SphereReference {
 };
 
 // The plane z = 0; curve 0 is the unit circle in it.
-class DiskReference : public ReferenceGeometry {
+class DiskReference : public ReferenceGeometry<3> {
  public:
   Eigen::Vector3d project(const Eigen::Vector3d& p) const override { return {p.x(), p.y(), 0}; }
   Eigen::Vector3d normal(const Eigen::Vector3d&) const override { return Eigen::Vector3d::UnitZ(); }

@@ -20,7 +20,7 @@ namespace plaf {
 namespace {
 
 // The unit sphere, projecting radially (test-local: the remesher sees only the interface).
-class UnitSphere final : public ReferenceGeometry {
+class UnitSphere final : public ReferenceGeometry<3> {
  public:
   Eigen::Vector3d project(const Eigen::Vector3d& p) const override { return p.normalized(); }
   Eigen::Vector3d normal(const Eigen::Vector3d& x) const override { return x.normalized(); }
@@ -194,7 +194,7 @@ TEST_CASE("remesh: a discrete torus keeps its genus (chi = 0) and reaches the me
   CHECK(check.volume == doctest::Approx(2 * M_PI * M_PI * 0.09).epsilon(0.03));
   detect_features(s, FeatureOptions{});
   CHECK(count_features(s).curves == 0);
-  const std::unique_ptr<ReferenceGeometry> ref = make_discrete_reference(s);
+  const std::unique_ptr<ReferenceGeometry<3>> ref = make_discrete_reference(s);
   const UniformMetricField<3> metric(Metric<3>::isotropic(0.05));
   const RemeshReport r = remesh_surface(s, *ref, metric, RemeshOptions{});
   CHECK(s.euler_characteristic() == 0);

@@ -5,7 +5,7 @@
 // smooth regions instead of jumping at every input edge; vertices on feature edges keep the
 // face's own normal, so a ridge is never rounded off. Feature curves are the polylines of the
 // edges carrying each curve id, and projecting onto one is the closest point on its segments.
-#include "surface3d/reference.h"
+#include "surface3d/discrete_reference.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -30,7 +30,7 @@ double corner_angle(const Vector3d& a, const Vector3d& b, const Vector3d& c) {
   return std::atan2(u.cross(v).norm(), u.dot(v));
 }
 
-class DiscreteReference final : public ReferenceGeometry {
+class DiscreteReference final : public ReferenceGeometry<3> {
  public:
   explicit DiscreteReference(const TriSurface& s);
 
@@ -198,7 +198,7 @@ Vector3d DiscreteReference::project_to_curve(const Vector3d& p, int curve) const
 
 }  // namespace
 
-std::unique_ptr<ReferenceGeometry> make_discrete_reference(const TriSurface& input) {
+std::unique_ptr<ReferenceGeometry<3>> make_discrete_reference(const TriSurface& input) {
   return std::make_unique<DiscreteReference>(input);
 }
 

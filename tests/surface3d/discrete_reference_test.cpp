@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "surface3d/reference.h"
+#include "surface3d/discrete_reference.h"
 
 #include <doctest/doctest.h>
 
