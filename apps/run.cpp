@@ -11,7 +11,7 @@
 #include <sstream>
 #include <string>
 
-#include "layers/grow_layers.h"
+#include "layers/grow_layers_2d.h"
 #include "modules/mesh/annulus.h"
 #include "modules/io/atomic_file.h"
 #include "modules/base/error.h"
@@ -35,7 +35,7 @@ namespace {
 struct MeshStage {
   HybridMesh<2> mesh;
   std::optional<CurvedFront<2>> front;
-  std::optional<layers::LayerResult> layers;
+  std::optional<layers::LayerResult<2>> layers;
   std::optional<volume::AdvancingFrontStats> fill;
   std::size_t split_quads = 0;
 };
@@ -49,7 +49,10 @@ layers::LayerParams layer_params(const LayersParams& c) {
   p.fan_angle_deg = c.fan_angle_deg;
   p.integrate_height = c.integrate_height;
   p.smooth_normals = c.smooth_normals;
-  p.isotropic_stop = c.isotropic_stop;
+  p.isotropic_stop = c.isotropic_stop == "node" ? layers::IsotropicStop::Node
+                     : c.isotropic_stop == "any"  ? layers::IsotropicStop::Any
+                     : c.isotropic_stop == "all"  ? layers::IsotropicStop::All
+                                                  : layers::IsotropicStop::Off;
   return p;
 }
 
@@ -74,31 +77,14 @@ void add_boundary_loops(HybridMesh<2>& mesh, const CurvedFront<2>& front, const 
 // and the surface mesh of the other loops (the farfield, bodies without layers); its triangles
 // join the mesh at order Q (uniform_order) or 1.
 void fill_domain(const RunConfig& c, const MetricField<2>& metric, const CurvedFront<2>& surface,
-                 const layers::LayerResult* lr, MeshStage& stage) {
+                 const layers::LayerResult<2>& lr, MeshStage& stage) {
   HybridMesh<2>& mesh = stage.mesh;
-  volume::LinearFront2 lf;
-  lf.nodes = mesh.nodes;
   std::vector<const FrontLoop*> bare;  // loops of the surface mesh that bound the fill directly
-  auto add_loop = [&](const CurvedFront<2>& f, const FrontLoop& l) {
-    std::vector<NodeId> ids;
-    for (std::size_t e = 0; e < l.size(); ++e) ids.push_back(f.element(l, e)[0]);
-    lf.loops.push_back(std::move(ids));
-  };
-  std::vector<std::uint8_t> layered(surface.loops.size(), 0);
-  if (lr)
-    for (const FrontLoop& l : lr->outer.loops) {
-      add_loop(lr->outer, l);
-      for (std::size_t k = 0; k < surface.loops.size(); ++k)
-        if (surface.loops[k].geometry_loop == l.geometry_loop) layered[k] = 1;
-    }
-  for (std::size_t k = 0; k < surface.loops.size(); ++k)
-    if (!layered[k]) {
-      add_loop(surface, surface.loops[k]);
-      bare.push_back(&surface.loops[k]);
-    }
+  for (const LinearLoop& l : lr.fill_front.loops)
+    if (!l.layered) bare.push_back(&surface.loops[static_cast<std::size_t>(l.source_loop)]);
   volume::AdvancingFrontParams params;
   params.max_triangles = static_cast<std::size_t>(c.fill.max_triangles);
-  volume::AdvancingFrontResult fill = volume::advancing_front_fill(lf, metric, params);
+  volume::AdvancingFrontResult fill = volume::advancing_front_fill(lr.fill_front, metric, params);
   mesh.nodes = std::move(fill.nodes);
   const bool uniform = c.output.uniform_order || c.order == 1;
   // The bare loops' boundary lines: at order Q they give the triangles their curved edges.
@@ -121,8 +107,9 @@ MeshStage mesh_geometry(const RunConfig& c, const Geometry2D& geometry, const Me
   CurvedFront<2> front = mesh_curves(geometry, metric, c.order);
   if (!c.layers.enabled) {
     if (c.fill.enabled) {
-      stage.mesh.nodes = front.nodes;
-      fill_domain(c, metric, front, nullptr, stage);
+      const layers::LayerResult<2> none = layers::no_layers(front);
+      stage.mesh = none.mesh;
+      fill_domain(c, metric, front, none, stage);
     } else {
       stage.mesh = front_mesh(front);
     }
@@ -131,13 +118,13 @@ MeshStage mesh_geometry(const RunConfig& c, const Geometry2D& geometry, const Me
   }
   layers::LayerParams lp = layer_params(c.layers);
   lp.close_linear = c.fill.enabled;  // the fill starts from a linear front
-  layers::LayerResult lr = layers::grow_layers(front, geometry, metric, lp);
+  layers::LayerResult<2> lr = layers::grow_layers(front, metric, lp);
   if (lr.layers.empty() && c.layers.max > 0)
     throw MesherError("layers: not even the first layer could be grown (" +
                       (lr.events.empty() ? std::string("no wall loop") : lr.events.back()) + ")");
   stage.mesh = lr.mesh;
   if (c.fill.enabled) {
-    fill_domain(c, metric, front, &lr, stage);
+    fill_domain(c, metric, front, lr, stage);
   } else {
     // Layers alone: the outermost front is tagged "layers_outer".
     const int outer = stage.mesh.add_tag("layers_outer", BoundaryKind::Named);
@@ -153,7 +140,7 @@ MeshStage mesh_geometry(const RunConfig& c, const Geometry2D& geometry, const Me
 }
 
 // layers.* report keys and a per-layer table from the certified per-cell quality.
-void report_layers(const layers::LayerResult& lr, const HybridMesh<2>& mesh, const CellQuality& pc,
+void report_layers(const layers::LayerResult<2>& lr, const HybridMesh<2>& mesh, const CellQuality& pc,
                    QualityReport& report) {
   std::string table = "[";
   std::cout << "  layer  cells  curved  max_clip/h  min_scaled_J  max_aspect\n";

@@ -169,7 +169,7 @@ std::string point_text(const Vec& p) {
 
 class Filler {
  public:
-  Filler(const LinearFront2& front, const MetricField<2>& metric, const AdvancingFrontParams& params)
+  Filler(const LinearFront<2>& front, const MetricField<2>& metric, const AdvancingFrontParams& params)
       : metric_(metric), params_(params), index_(domain_box(front)) {
     const Box b = domain_box(front);
     root_extent_ = std::max(b.x1 - b.x0, b.y1 - b.y0);
@@ -215,11 +215,11 @@ class Filler {
     Vec point;
   };
 
-  static Box domain_box(const LinearFront2& front) {
+  static Box domain_box(const LinearFront<2>& front) {
     Box b{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
           -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-    for (const auto& loop : front.loops)
-      for (NodeId v : loop) {
+    for (const LinearLoop& front_loop : front.loops)
+      for (NodeId v : front_loop.nodes) {
         if (v < 0 || static_cast<std::size_t>(v) >= front.nodes.size())
           throw MesherError("advancing front: node id " + std::to_string(v) + " out of range");
         const Vec& p = front.nodes[v];
@@ -292,10 +292,11 @@ class Filler {
     heap_.push({outer_angle(o), o, occ_[o].version});
   }
 
-  void build_front(const LinearFront2& front) {
+  void build_front(const LinearFront<2>& front) {
     std::vector<std::uint8_t> used(front.nodes.size(), 0);
     double area = 0;
-    for (const auto& loop : front.loops) {
+    for (const LinearLoop& front_loop : front.loops) {
+      const std::vector<NodeId>& loop = front_loop.nodes;
       if (loop.size() < 3) throw MesherError("advancing front: a front loop has fewer than 3 nodes");
       const int first = static_cast<int>(occ_.size());
       const int n = static_cast<int>(loop.size());
@@ -340,14 +341,14 @@ class Filler {
 
   // Each loop must be oriented as its nesting requires: counter-clockwise (it bounds the region
   // from outside) when inside an even number of other loops, clockwise (a hole) when odd.
-  void check_nesting(const LinearFront2& front) {
+  void check_nesting(const LinearFront<2>& front) {
     if (front.loops.size() < 2) return;
     for (std::size_t i = 0; i < front.loops.size(); ++i) {
-      const Vec& q = pt(front.loops[i][0]);
+      const Vec& q = pt(front.loops[i].nodes[0]);
       int inside = 0;
       double area = 0;
       for (std::size_t j = 0; j < front.loops.size(); ++j) {
-        const auto& l = front.loops[j];
+        const std::vector<NodeId>& l = front.loops[j].nodes;
         bool in = false;
         for (std::size_t k = 0; k < l.size(); ++k) {
           const Vec &a = pt(l[k]), &b = pt(l[(k + 1) % l.size()]);
@@ -685,7 +686,7 @@ class Filler {
 
 }  // namespace
 
-AdvancingFrontResult advancing_front_fill(const LinearFront2& front, const MetricField<2>& metric,
+AdvancingFrontResult advancing_front_fill(const LinearFront<2>& front, const MetricField<2>& metric,
                                           const AdvancingFrontParams& params) {
   Filler f(front, metric, params);
   return f.run();

@@ -34,16 +34,10 @@
 #include <Eigen/Core>
 
 #include "modules/mesh/hybrid_mesh.h"
+#include "modules/mesh/linear_front.h"
 #include "modules/metric/metric.h"
 
 namespace plaf::volume {
-
-// Closed loops of node ids with the region to fill on the left of every edge (bodies clockwise,
-// the farfield counter-clockwise). Loops must be simple and must not touch each other.
-struct LinearFront2 {
-  std::vector<Eigen::Vector2d> nodes;  // may include nodes no loop uses (they are left alone)
-  std::vector<std::vector<NodeId>> loops;
-};
 
 struct AdvancingFrontParams {
   std::size_t max_triangles = 20000000;  // a MesherError beyond this
@@ -70,9 +64,10 @@ struct AdvancingFrontResult {
   AdvancingFrontStats stats;
 };
 
-// Fills the region of `front`. Throws MesherError when the loops cross or touch, are oriented
+// Fills the region of `front` (linear_front.h: its loops' orientation, simplicity and node
+// numbering; the result's nodes are front.nodes, same ids, then the new ones). Throws MesherError when the loops cross or touch, are oriented
 // so that they bound no region, or the fill exceeds max_triangles.
-AdvancingFrontResult advancing_front_fill(const LinearFront2& front, const MetricField<2>& metric,
+AdvancingFrontResult advancing_front_fill(const LinearFront<2>& front, const MetricField<2>& metric,
                                           const AdvancingFrontParams& params = {});
 
 }  // namespace plaf::volume

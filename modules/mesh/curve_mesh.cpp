@@ -100,6 +100,7 @@ CurvedFront<2> mesh_curves(const Geometry2D& geometry, const MetricField<2>& met
       linear_id[e] = static_cast<NodeId>(front.nodes.size());
       front.nodes.push_back(loop.point(wrap(linear_t[e], loop.period())));
       front.params.push_back(wrap(linear_t[e], loop.period()));
+      front.normals.push_back(loop.normal(front.params.back()));
     }
     for (std::size_t e = 0; e < ne; ++e) {
       const double ta = linear_t[e];
@@ -113,6 +114,7 @@ CurvedFront<2> mesh_curves(const Geometry2D& geometry, const MetricField<2>& met
         fl.elements.push_back(static_cast<NodeId>(front.nodes.size()));
         front.nodes.push_back(loop.point(t));
         front.params.push_back(t);
+        front.normals.push_back(loop.normal(t));
       }
       fl.corner.push_back(is_corner[e]);
     }

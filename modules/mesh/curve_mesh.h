@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "modules/mesh/front.h"
+#include "modules/mesh/curved_front.h"
 #include "modules/geometry/geometry2d.h"
 #include "modules/metric/metric.h"
 

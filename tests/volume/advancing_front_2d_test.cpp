@@ -16,7 +16,7 @@
 
 using namespace plaf;
 using volume::AdvancingFrontResult;
-using volume::LinearFront2;
+using LinearFront2 = LinearFront<2>;
 
 namespace {
 
@@ -48,7 +48,8 @@ void check_triangulation(const LinearFront2& f, const AdvancingFrontResult& r) {
   CHECK(inverted == 0);
   std::size_t front_ok = 0, front_edges = 0;
   std::map<std::pair<NodeId, NodeId>, int> front;
-  for (const auto& l : f.loops) {
+  for (const LinearLoop& loop : f.loops) {
+    const std::vector<NodeId>& l = loop.nodes;
     region += loop_area(f, l);
     for (std::size_t k = 0; k < l.size(); ++k) {
       const std::pair<NodeId, NodeId> e{l[k], l[(k + 1) % l.size()]};
@@ -90,7 +91,7 @@ void add_ellipse(LinearFront2& f, Vec c, double a, double b, int n, bool clockwi
     loop.push_back(static_cast<NodeId>(f.nodes.size()));
     f.nodes.emplace_back(c.x() + a * std::cos(t), c.y() + b * std::sin(t));
   }
-  f.loops.push_back(loop);
+  f.loops.push_back({"loop", BoundaryKind::Wall, false, -1, loop});
 }
 
 // An ellipse loop whose edges have unit length in `metric` (equidistributed), appended to f.
@@ -109,7 +110,7 @@ void add_metric_ellipse(LinearFront2& f, Vec c, double a, double b, const Metric
     loop.push_back(static_cast<NodeId>(f.nodes.size()));
     f.nodes.push_back(at(k));
   }
-  f.loops.push_back(loop);
+  f.loops.push_back({"loop", BoundaryKind::Wall, false, -1, loop});
 }
 
 LinearFront2 square(double scale, Vec offset, int n) {
@@ -121,7 +122,7 @@ LinearFront2 square(double scale, Vec offset, int n) {
       loop.push_back(static_cast<NodeId>(f.nodes.size()));
       f.nodes.push_back(offset + scale * (corners[s] + (corners[(s + 1) % 4] - corners[s]) * k / n));
     }
-  f.loops.push_back(loop);
+  f.loops.push_back({"loop", BoundaryKind::Wall, false, -1, loop});
   return f;
 }
 
@@ -192,7 +193,7 @@ TEST_CASE("advancing front: random star polygons in random metrics all fill") {
       loop.push_back(static_cast<NodeId>(f.nodes.size()));
       f.nodes.emplace_back(r * std::cos(t), r * std::sin(t));
     }
-    f.loops.push_back(loop);
+    f.loops.push_back({"loop", BoundaryKind::Wall, false, -1, loop});
     const double h1 = 0.02 + 0.2 * u(rng), ratio = 1 + 19 * u(rng) * u(rng);
     const Eigen::Matrix2d dirs = Eigen::Rotation2Dd(std::numbers::pi * u(rng)).toRotationMatrix();
     const UniformMetricField<2> metric(Metric<2>::from_directions(dirs, Vec(h1 / ratio, h1)));
@@ -218,7 +219,7 @@ TEST_CASE("advancing front: crossing, touching and mis-oriented loops are Mesher
   CHECK_THROWS_WITH_AS(volume::advancing_front_fill(hole_ccw, metric), doctest::Contains("a hole"), MesherError);
   LinearFront2 tiny;
   tiny.nodes = {{0, 0}, {1, 0}};
-  tiny.loops = {{0, 1}};
+  tiny.loops = {{"tiny", BoundaryKind::Wall, false, -1, {0, 1}}};
   CHECK_THROWS_AS(volume::advancing_front_fill(tiny, metric), MesherError);
   volume::AdvancingFrontParams few;
   few.max_triangles = 10;

@@ -1,0 +1,482 @@
+// SPDX-License-Identifier: MIT
+// The 2D front specifics of the layers (see grow_layers_2d.h for the steps and the paper's
+// sections; the generic core is layer_core.cpp).
+#include "layers/grow_layers_2d.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "layers/front_crossings_2d.h"
+#include "modules/base/error.h"
+#include "modules/elements/lagrange.h"
+
+namespace plaf::layers {
+
+namespace {
+
+using Vec = Eigen::Vector2d;
+
+Vec left_normal(const Vec& t) {
+  return Vec(-t.y(), t.x());
+}
+double signed_angle(const Vec& a, const Vec& b) {
+  return std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+}
+Vec rotate(const Vec& v, double a) {
+  return Vec(std::cos(a) * v.x() - std::sin(a) * v.y(), std::sin(a) * v.x() + std::cos(a) * v.y());
+}
+
+// Where a linear node's layer ends: one top for regular and concave nodes, a fan for convex ones.
+struct VertexTop {
+  enum class Kind { Regular, Concave, Convex, Stopped } kind = Kind::Regular;
+  std::vector<Vec> normals;                  // fan normals n_0 (left panel) .. n_m (right panel); one otherwise
+  std::vector<Vec> tops;                     // P_k
+  std::vector<std::vector<NodeId>> columns;  // Q node ids (j = 1..Q) per top
+};
+
+// One built layer of one loop: the generic part, the new front and, per cell and per new front
+// element, the span of the loop's node sequence it grew from (what a failure shrinks).
+struct LoopLayer {
+  BuiltLayer built;                       // cells[0] quads, cells[1] transition triangles
+  std::vector<std::size_t> cell_seq;      // per quad: the sequence index of its first base node
+  std::vector<int> cell_span;             // per quad: how many sequence indices its base spans
+  std::vector<std::size_t> triangle_seq;  // per triangle: the sequence index of its base's start
+  FrontLoop top;
+  std::vector<std::size_t> top_seq;  // per new front element: the sequence index it grew from
+  std::vector<int> top_span;         // ... and how many sequence indices its base spans
+};
+
+// Builds one layer on one loop: the loop as a sequence of its nodes (element e's start, then its
+// interior nodes), normals, the tops of the linear nodes, then the cells element by element.
+class LoopLayerBuilder {
+ public:
+  LoopLayerBuilder(HybridMesh<2>& mesh, const MetricField<2>& metric, const LayerParams& p, int q,
+                   const CurvedFront<2>& front0, const FrontLoop& loop, bool first_layer,
+                   const std::vector<double>& scale, const std::vector<std::uint8_t>& stopped, double f_atten)
+      : mesh_(mesh), metric_(metric), p_(p), q_(q), front0_(front0), loop_(loop), first_layer_(first_layer),
+        scale_(scale), stopped_(stopped), f_atten_(f_atten), ne_(loop.size()), n_(ne_ * static_cast<std::size_t>(q)),
+        quad_(lagrange_element(CellType::Quadrilateral, q)),
+        grid_(static_cast<std::size_t>((q + 1) * (q + 1))) {}
+
+  LoopLayer build() {
+    sequence_and_normals();
+    vertex_tops();
+    out_.top.tag = loop_.tag;
+    out_.top.kind = loop_.kind;
+    out_.top.geometry_loop = loop_.geometry_loop;
+    for (std::size_t e = 0; e < ne_; ++e) {
+      fan(e);
+      const bool a_stopped = vt_[e].kind == VertexTop::Kind::Stopped;
+      const bool b_stopped = vt_[(e + 1) % ne_].kind == VertexTop::Kind::Stopped;
+      if (a_stopped && b_stopped)
+        emit_front(el(e)[0], el(e)[1], std::vector<NodeId>(el(e) + 2, el(e) + q_ + 1), e * q_, q_);
+      else if (a_stopped || b_stopped)
+        transition(e, a_stopped);
+      else
+        regular(e);
+    }
+    return std::move(out_);
+  }
+
+ private:
+  const NodeId* el(std::size_t e) const { return loop_.elements.data() + e * static_cast<std::size_t>(q_ + 1); }
+  // By value: add_node appends to the node array, which may move it.
+  Vec at(std::size_t i) const { return mesh_.nodes[seq_[i % n_]]; }
+  double height(const Vec& x, const Vec& n) const { return layer_height<2>(metric_, x, n, p_.integrate_height); }
+  NodeId add_node(const Vec& x) {
+    mesh_.nodes.push_back(x);
+    return static_cast<NodeId>(mesh_.nodes.size() - 1);
+  }
+  // Column of Q nodes from base (excluded) to top (included), uniform.
+  std::vector<NodeId> column(const Vec& base, const Vec& top) {
+    std::vector<NodeId> c;
+    for (int j = 1; j <= q_; ++j) c.push_back(add_node(base + (static_cast<double>(j) / q_) * (top - base)));
+    return c;
+  }
+  NodeId& g_at(int u, int v) { return grid_[static_cast<std::size_t>(v * (q_ + 1) + u)]; }
+  bool is_corner(std::size_t i) const { return i % q_ == 0 && std::abs(turning_[i]) > corner_rad_; }
+
+  // 1-2. The node sequence, panel directions, turning angles and normals: the reference normal on
+  // the first layer, averaged panel normals afterwards (optionally smoothed).
+  void sequence_and_normals() {
+    seq_.resize(n_);
+    for (std::size_t e = 0; e < ne_; ++e) {
+      seq_[e * q_] = el(e)[0];
+      for (int k = 1; k < q_; ++k) seq_[e * q_ + k] = el(e)[1 + k];
+    }
+    panel_.resize(n_);
+    for (std::size_t i = 0; i < n_; ++i) {
+      const Vec d = at(i + 1) - at(i);
+      if (!(d.norm() > 0)) throw MesherError("layers: two consecutive front nodes coincide on loop " + loop_.tag);
+      panel_[i] = d.normalized();
+    }
+    normal_.resize(n_);
+    turning_.assign(n_, 0.0);
+    for (std::size_t i = 0; i < n_; ++i) {
+      const Vec& before = panel_[(i + n_ - 1) % n_];
+      turning_[i] = signed_angle(before, panel_[i]);
+      normal_[i] = (left_normal(before) + left_normal(panel_[i])).normalized();
+      const NodeId id = seq_[i];
+      if (first_layer_ && !is_corner(i) && static_cast<std::size_t>(id) < front0_.normals.size())
+        normal_[i] = front0_.normals[static_cast<std::size_t>(id)];
+    }
+    if (p_.smooth_normals) {
+      std::vector<Vec> s = normal_;
+      for (std::size_t i = 0; i < n_; ++i)
+        if (!is_corner(i)) s[i] = (normal_[(i + n_ - 1) % n_] + 2 * normal_[i] + normal_[(i + 1) % n_]).normalized();
+      normal_ = s;
+    }
+  }
+
+  // 2. Tops of the linear nodes: regular, concave (merged normal) or convex (fan), each with its
+  // column of Q nodes.
+  void vertex_tops() {
+    vt_.assign(ne_, VertexTop{});
+    for (std::size_t e = 0; e < ne_; ++e) {
+      const std::size_t i = e * q_;
+      const Vec c = at(i);
+      VertexTop& v = vt_[e];
+      const Vec n_left = left_normal(panel_[(i + n_ - 1) % n_]), n_right = left_normal(panel_[i]);
+      if (stopped_[e]) {
+        v.kind = VertexTop::Kind::Stopped;
+        continue;  // no top, no column: the node does not move
+      }
+      if (turning_[i] > corner_rad_) {
+        // Concave (left turn). Sec. II.B makes the intersection of the neighbours' normals the
+        // vertex of a single element spanning both panels; with panels long against the layer
+        // height that vertex lies far out and distorts the neighbours, so we use the robust
+        // merged normal instead: the bisector, long enough (h / cos(half angle)) that both
+        // panels' layers keep the height h — the intersection of the two offset panels.
+        v.kind = VertexTop::Kind::Concave;
+        const Vec m = (n_left + n_right).normalized();
+        const double h = height(c, m) * scale_[i];
+        v.normals = {m};
+        v.tops = {c + h / std::max(m.dot(n_left), 0.1) * m};
+      } else if (turning_[i] < -corner_rad_) {
+        // Convex (right turn), Fig. 4: normals dividing the corner angle equally.
+        v.kind = VertexTop::Kind::Convex;
+        const int m =
+            std::max(1, static_cast<int>(std::ceil(-turning_[i] / (p_.fan_angle_deg * M_PI / 180) - 1e-9)));
+        // One height for the whole fan: unequal neighbouring heights would fold the kites, and at
+        // the corner point itself the metric's frame belongs to one side only (the wall normal is
+        // one-sided there), so the size along the other side's normal can be the size along the
+        // wall. Every fan normal takes the smaller of the two sides' heights.
+        const double h_corner = std::min(height(c, n_left), height(c, n_right)) * scale_[i];
+        for (int k = 0; k <= m; ++k) {
+          const Vec nk = rotate(n_left, turning_[i] * k / m);
+          v.normals.push_back(nk);
+          v.tops.push_back(c + h_corner * nk);
+        }
+      } else {
+        v.normals = {normal_[i]};
+        v.tops = {c + height(c, normal_[i]) * scale_[i] * normal_[i]};
+      }
+      for (const Vec& t : v.tops) v.columns.push_back(column(c, t));
+    }
+  }
+  const std::vector<NodeId>& right_column(std::size_t e) const { return vt_[e % ne_].columns.back(); }
+  const std::vector<NodeId>& left_column(std::size_t e) const { return vt_[e % ne_].columns.front(); }
+  Vec right_top(std::size_t e) const { return vt_[e % ne_].tops.back(); }
+  Vec left_top(std::size_t e) const { return vt_[e % ne_].tops.front(); }
+
+  void emit_cell(std::size_t seq_first, int span) {
+    for (const Lattice& l : quad_.lattice()) out_.built.cells[0].push_back(g_at(l[0], l[1]));
+    out_.cell_seq.push_back(seq_first);
+    out_.cell_span.push_back(span);
+  }
+  void emit_front(NodeId a, NodeId b, const std::vector<NodeId>& interior, std::size_t seq_first, int span) {
+    out_.top_seq.push_back(seq_first);
+    out_.top_span.push_back(span);
+    out_.top.elements.push_back(a);
+    out_.top.elements.push_back(b);
+    out_.top.elements.insert(out_.top.elements.end(), interior.begin(), interior.end());
+    out_.top.corner.push_back(0);
+  }
+
+  // 4a. The fan at the start vertex of element e: kites between adjacent fan normals.
+  void fan(std::size_t e) {
+    const VertexTop& v = vt_[e];
+    const std::size_t iv = e * q_;
+    for (std::size_t k = 0; k + 1 < v.tops.size(); ++k) {
+      const Vec& pk = v.tops[k];
+      const Vec& pk1 = v.tops[k + 1];
+      // X_k: perpendiculars to n_k at P_k and to n_k+1 at P_k+1 intersect.
+      const Vec tk = left_normal(v.normals[k]), tk1 = left_normal(v.normals[k + 1]);
+      Eigen::Matrix2d a;
+      a.col(0) = tk;
+      a.col(1) = -tk1;
+      const Vec st = a.colPivHouseholderQr().solve(pk1 - pk);
+      const Vec xk = pk + st[0] * tk;
+      const Vec c = at(iv);
+      // Kite lattice: (0,0) C, (Q,0) P_k+1, (Q,Q) X_k, (0,Q) P_k; bilinear.
+      g_at(0, 0) = seq_[iv];
+      for (int j = 1; j <= q_; ++j) {
+        g_at(j, 0) = v.columns[k + 1][static_cast<std::size_t>(j - 1)];
+        g_at(0, j) = v.columns[k][static_cast<std::size_t>(j - 1)];
+      }
+      for (int vv = 1; vv <= q_; ++vv)
+        for (int u = 1; u <= q_; ++u) {
+          const double s = static_cast<double>(u) / q_, t = static_cast<double>(vv) / q_;
+          g_at(u, vv) = add_node((1 - s) * (1 - t) * c + s * (1 - t) * pk1 + s * t * xk + (1 - s) * t * pk);
+        }
+      emit_cell(iv, 1);
+      std::vector<NodeId> inner;
+      for (int u = 1; u < q_; ++u) inner.push_back(g_at(u, q_));
+      emit_front(g_at(0, q_), g_at(q_, q_), inner, iv, 1);
+      inner.clear();
+      for (int vv = q_ - 1; vv >= 1; --vv) inner.push_back(g_at(q_, vv));
+      emit_front(g_at(q_, q_), g_at(q_, 0), inner, iv, 1);
+    }
+  }
+
+  // 4b. Element e with exactly one stopped end (isotropic_stop: node): a transition triangle from
+  // the element to the moving node's top, x(xi, eta) = (1 - eta) base(xi / (1 - eta)) + eta P, P
+  // the top (a collapsed quadrilateral: the base stays curved, the two other sides straight).
+  void transition(std::size_t e, bool a_stopped) {
+    const std::size_t iv = e * q_;
+    const NodeId* base = el(e);
+    const LagrangeElement& tri = lagrange_element(CellType::Triangle, q_);
+    const LagrangeElement& line = lagrange_element(CellType::Line, q_);
+    const Vec apex = a_stopped ? left_top(e + 1) : right_top(e);
+    const std::vector<NodeId>& col = a_stopped ? left_column(e + 1) : right_column(e);
+    double phi[max_order + 1];
+    auto base_at = [&](double s) {
+      line.eval(&s, phi);
+      Vec p = Vec::Zero();
+      for (int k = 0; k <= q_; ++k) p += phi[k] * mesh_.nodes[base[k]];
+      return p;
+    };
+    std::vector<NodeId> ids;
+    std::vector<NodeId> hyp(static_cast<std::size_t>(q_ + 1), -1);  // hypotenuse, by eta index j
+    for (const Lattice& l : tri.lattice()) {
+      const int i = l[0], j = l[1];
+      NodeId id;
+      if (j == 0) {
+        id = i == 0 ? base[0] : i == q_ ? base[1] : base[1 + i];
+      } else if (a_stopped && i + j == q_) {
+        id = col[static_cast<std::size_t>(j - 1)];  // the moving end's column
+      } else if (!a_stopped && i == 0) {
+        id = col[static_cast<std::size_t>(j - 1)];
+      } else {
+        const double xi = static_cast<double>(i) / q_, eta = static_cast<double>(j) / q_;
+        id = add_node((1 - eta) * base_at(xi / (1 - eta)) + eta * apex);
+      }
+      if ((a_stopped && i == 0) || (!a_stopped && i + j == q_)) hyp[static_cast<std::size_t>(j)] = id;
+      ids.push_back(id);
+    }
+    out_.built.cells[1].insert(out_.built.cells[1].end(), ids.begin(), ids.end());
+    out_.triangle_seq.push_back(iv);
+    // The hypotenuse is the new front: stopped node -> top (a stopped) or top -> stopped node.
+    std::vector<NodeId> inner;
+    if (a_stopped) {
+      for (int j = 1; j < q_; ++j) inner.push_back(hyp[static_cast<std::size_t>(j)]);
+      emit_front(base[0], col.back(), inner, iv, q_);
+    } else {
+      for (int j = q_ - 1; j >= 1; --j) inner.push_back(hyp[static_cast<std::size_t>(j)]);
+      emit_front(col.back(), base[1], inner, iv, q_);
+    }
+  }
+
+  // 4c. The regular element e: tops of its high-order nodes, attenuated (Fig. 5), and its quad.
+  void regular(std::size_t e) {
+    const std::size_t iv = e * q_;
+    const Vec a_top = right_top(e), b_top = left_top(e + 1);
+    std::vector<Vec> tops(static_cast<std::size_t>(q_ + 1));
+    std::vector<double> heights(static_cast<std::size_t>(q_ + 1), 0.0);
+    for (int k = 1; k < q_; ++k) {
+      const std::size_t i = iv + k;
+      heights[static_cast<std::size_t>(k)] = height(at(i), normal_[i]) * scale_[i];
+      tops[static_cast<std::size_t>(k)] = at(i) + heights[static_cast<std::size_t>(k)] * normal_[i];
+    }
+    // A straight element grows a straight top: its high-order tops are the linear interpolation
+    // of its vertex tops (the attenuation target, Fig. 5), whatever the vertex normals. Offsets
+    // along panel normals would bend it wherever the vertex normals are tilted (next to a fan),
+    // only for the attenuation to straighten it again over several layers.
+    bool straight = true;
+    const Vec a0 = at(iv), b0 = at(iv + q_);
+    for (int k = 1; k < q_ && straight; ++k)
+      straight = (at(iv + k) - (a0 + (static_cast<double>(k) / q_) * (b0 - a0))).norm() <= 1e-12 * (b0 - a0).norm();
+    // Next to a concave corner the offsets of the high-order nodes run into the corner's merged
+    // normal (at 90 degrees, one h along the wall from the corner they meet its top): the top
+    // is taken straight there too.
+    straight = straight || vt_[e].kind == VertexTop::Kind::Concave ||
+               vt_[(e + 1) % ne_].kind == VertexTop::Kind::Concave;
+    double clipped = 0;
+    if (straight)
+      for (int k = 1; k < q_; ++k)
+        tops[static_cast<std::size_t>(k)] = a_top + (static_cast<double>(k) / q_) * (b_top - a_top);
+    else
+      clipped = attenuate(tops, a_top, b_top, heights, f_atten_);
+    if (clipped > 0) out_.built.linear = false;
+    out_.built.max_clipped_rel = std::max(out_.built.max_clipped_rel, clipped);
+    const NodeId* base = el(e);
+    for (int u = 0; u <= q_; ++u) g_at(u, 0) = u == 0 ? base[0] : u == q_ ? base[1] : base[1 + u];
+    for (int j = 1; j <= q_; ++j) {
+      g_at(0, j) = right_column(e)[static_cast<std::size_t>(j - 1)];
+      g_at(q_, j) = left_column(e + 1)[static_cast<std::size_t>(j - 1)];
+    }
+    for (int u = 1; u < q_; ++u) {
+      const Vec b = mesh_.nodes[base[1 + u]];
+      const Vec top = tops[static_cast<std::size_t>(u)];
+      for (int j = 1; j <= q_; ++j) g_at(u, j) = add_node(b + (static_cast<double>(j) / q_) * (top - b));
+    }
+    emit_cell(iv, q_);
+    std::vector<NodeId> inner;
+    for (int u = 1; u < q_; ++u) inner.push_back(g_at(u, q_));
+    emit_front(g_at(0, q_), g_at(q_, q_), inner, iv, q_);
+  }
+
+  HybridMesh<2>& mesh_;
+  const MetricField<2>& metric_;
+  const LayerParams& p_;
+  const int q_;
+  const CurvedFront<2>& front0_;
+  const FrontLoop& loop_;
+  const bool first_layer_;
+  const std::vector<double>& scale_;
+  const std::vector<std::uint8_t>& stopped_;
+  const double f_atten_;
+  const std::size_t ne_, n_;
+  const double corner_rad_ = p_.corner_angle_deg * M_PI / 180;
+  const LagrangeElement& quad_;
+  std::vector<NodeId> grid_;
+  std::vector<NodeId> seq_;
+  std::vector<Vec> panel_, normal_;
+  std::vector<double> turning_;
+  std::vector<VertexTop> vt_;
+  LoopLayer out_;
+};
+
+// The wall loops of a 2D front as the parts of the generic layer core.
+class LoopFronts final : public FrontGrower<2> {
+ public:
+  LoopFronts(HybridMesh<2>& mesh, const CurvedFront<2>& front0, std::vector<FrontLoop> loops,
+             const MetricField<2>& metric, const LayerParams& p)
+      : mesh_(mesh), front0_(front0), loops_(std::move(loops)), metric_(metric), p_(p), q_(front0.order) {}
+
+  std::array<CellType, 2> cell_types() const override { return {CellType::Quadrilateral, CellType::Triangle}; }
+  std::size_t num_parts() const override { return loops_.size(); }
+  const std::string& part_tag(std::size_t part) const override { return loops_[part].tag; }
+  std::size_t num_sites(std::size_t part) const override { return loops_[part].size() * static_cast<std::size_t>(q_); }
+  std::vector<Vec> stop_points(std::size_t part) const override {
+    std::vector<Vec> v;
+    const FrontLoop& l = loops_[part];
+    for (std::size_t e = 0; e < l.size(); ++e) v.push_back(mesh_.nodes[l.elements[e * static_cast<std::size_t>(q_ + 1)]]);
+    return v;
+  }
+  BuiltLayer build(std::size_t part, int layer, const std::vector<double>& scale,
+                   const std::vector<std::uint8_t>& stopped, double f_atten) override {
+    pending_ = LoopLayerBuilder(mesh_, metric_, p_, q_, front0_, loops_[part], layer == 1, scale, stopped, f_atten)
+                   .build();
+    return std::move(pending_.built);
+  }
+  std::vector<std::size_t> collisions(std::size_t part) const override {
+    std::vector<FrontSegment> segs;
+    append_polyline(pending_.top, mesh_.nodes, q_, true, segs);
+    const std::size_t mine = segs.size();
+    for (std::size_t other = 0; other < loops_.size(); ++other)
+      if (other != part) append_polyline(loops_[other], mesh_.nodes, q_, false, segs);
+    return front_crossings(std::move(segs), mine);
+  }
+  Vec front_point(std::size_t e) const override {
+    return mesh_.nodes[pending_.top.elements[e * static_cast<std::size_t>(q_ + 1)]];
+  }
+  // Heights halve over the failing cell's or element's span of the node sequence and one node
+  // beyond either end.
+  void shrink(std::size_t part, const std::vector<LayerFailure>& failures, std::vector<double>& scale) const override {
+    const std::size_t n = num_sites(part);
+    for (const LayerFailure& f : failures) {
+      std::size_t first;
+      int span;
+      if (f.block == LayerFailure::kFrontElement) {
+        first = pending_.top_seq[f.index];
+        span = pending_.top_span[f.index];
+      } else if (f.block == 0) {
+        first = pending_.cell_seq[f.index];
+        span = pending_.cell_span[f.index];
+      } else {
+        first = pending_.triangle_seq[f.index];
+        span = q_;
+      }
+      for (int s2 = -1; s2 <= span + 1; ++s2) scale[(first + n - 1 + static_cast<std::size_t>(s2 + 1)) % n] *= 0.5;
+    }
+  }
+  void accept(std::size_t part) override { loops_[part] = std::move(pending_.top); }
+  const std::vector<FrontLoop>& loops() const { return loops_; }
+
+ private:
+  HybridMesh<2>& mesh_;
+  const CurvedFront<2>& front0_;
+  std::vector<FrontLoop> loops_;
+  const MetricField<2>& metric_;
+  const LayerParams& p_;
+  const int q_;
+  LoopLayer pending_;
+};
+
+LinearLoop linear_loop(const CurvedFront<2>& f, const FrontLoop& l, bool layered, int source) {
+  LinearLoop out{l.tag, l.kind, layered, source, {}};
+  for (std::size_t e = 0; e < l.size(); ++e) out.nodes.push_back(f.element(l, e)[0]);
+  return out;
+}
+
+}  // namespace
+
+double attenuate(std::vector<Vec>& tops, const Vec& a, const Vec& b, const std::vector<double>& heights,
+                 double f_atten) {
+  const std::size_t q = tops.size() - 1;
+  if (q < 2) return 0;
+  std::vector<Vec> inner(tops.begin() + 1, tops.end() - 1), targets;
+  for (std::size_t k = 1; k < q; ++k)
+    targets.push_back(a + (static_cast<double>(k) / static_cast<double>(q)) * (b - a));
+  const double clipped =
+      attenuate<2>(inner, targets, std::vector<double>(heights.begin() + 1, heights.end() - 1), f_atten);
+  std::copy(inner.begin(), inner.end(), tops.begin() + 1);
+  return clipped;
+}
+
+LayerResult<2> grow_layers(const CurvedFront<2>& front, const MetricField<2>& metric, const LayerParams& p) {
+  check_order(front.order);
+  const int q = front.order;
+  LayerResult<2> r;
+  r.mesh.nodes = front.nodes;
+  std::vector<FrontLoop> walls;
+  std::vector<int> wall_source;
+  for (std::size_t k = 0; k < front.loops.size(); ++k) {
+    const FrontLoop& l = front.loops[k];
+    if (l.kind != BoundaryKind::Wall) continue;
+    const int tag = r.mesh.add_tag(l.tag, l.kind);
+    CellBlock& b = r.mesh.boundary_block(CellType::Line, q, tag);
+    b.connectivity.insert(b.connectivity.end(), l.elements.begin(), l.elements.end());
+    walls.push_back(l);
+    wall_source.push_back(static_cast<int>(k));
+  }
+  LoopFronts fronts(r.mesh, front, std::move(walls), metric, p);
+  grow_fronts<2>(fronts, metric, p, q, r);
+  r.outer.order = q;
+  r.outer.nodes = r.mesh.nodes;
+  r.outer.loops = fronts.loops();
+  // The fill's boundary: the grown loops' outer fronts, then the loops that did not grow.
+  r.fill_front.nodes = r.mesh.nodes;
+  std::vector<std::uint8_t> grown(front.loops.size(), 0);
+  for (std::size_t k = 0; k < r.outer.loops.size(); ++k) {
+    r.fill_front.loops.push_back(linear_loop(r.outer, r.outer.loops[k], true, wall_source[k]));
+    grown[static_cast<std::size_t>(wall_source[k])] = 1;
+  }
+  for (std::size_t k = 0; k < front.loops.size(); ++k)
+    if (!grown[k]) r.fill_front.loops.push_back(linear_loop(front, front.loops[k], false, static_cast<int>(k)));
+  return r;
+}
+
+LayerResult<2> no_layers(const CurvedFront<2>& front) {
+  LayerResult<2> r;
+  r.mesh.nodes = front.nodes;
+  r.outer = front;
+  r.fill_front.nodes = front.nodes;
+  for (std::size_t k = 0; k < front.loops.size(); ++k)
+    r.fill_front.loops.push_back(linear_loop(front, front.loops[k], false, static_cast<int>(k)));
+  return r;
+}
+
+}  // namespace plaf::layers

@@ -1,0 +1,149 @@
+// SPDX-License-Identifier: MIT
+// The dimension-generic core of the prismatic layers of K. J. Fidkowski, "Anisotropic
+// Metric-Based Curved Meshing Using Prismatic Layers" (PLAF), Sec. II.A-B (2D) and II.E (3D):
+// everything a layer does that does not depend on the shape of the front.
+//
+// Per layer, for every part of the front (a loop in 2D, a connected surface in 3D):
+//  1. stop rules: a part stops when it runs out of layers, when the metric is isotropic at its
+//     nodes (isotropic_stop), or when a layer cannot be made valid;
+//  2. the front's specifics (FrontGrower: normals, corner fans and concave merges in 2D, ridge and
+//     corner fans in 3D) build the new cells, with heights from the metric (layer_height) and the
+//     high-order nodes of the new front attenuated toward their linear positions (attenuate,
+//     Fig. 5);
+//  3. certify-and-shrink: every new cell is certified (Bezier bounds of its Jacobian, validity.h)
+//     and the new front is tested for collisions (FrontGrower::collisions); where either fails the
+//     heights around the failure are halved and the layer is rebuilt, shrink_attempts times; a part
+//     that still fails stops growing (an event);
+//  4. the per-layer table (LayerStats) and the events record what happened.
+// With close_linear, a part that stops while its front is still curved gets one closing layer
+// with straight tops (unlimited attenuation), so the fill starts from a linear front.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "modules/elements/lagrange.h"
+#include "modules/mesh/curved_front.h"
+#include "modules/mesh/hybrid_mesh.h"
+#include "modules/mesh/linear_front.h"
+#include "modules/metric/metric.h"
+
+namespace plaf::layers {
+
+// Where the metric is isotropic at a front node (a layer would be as tall as the metric's size
+// in every direction): stop that node alone (Node; its elements stay in the front, and
+// transition cells join them to the moving neighbours), stop the part when it is so at every
+// node (All) or at any node (Any), or never (Off).
+enum class IsotropicStop { Off, Node, Any, All };
+
+struct LayerParams {
+  int max_layers = 24;
+  bool stop_when_linear = false;
+  double f_atten = 0.2;
+  double corner_angle_deg = 30.0;  // |turning angle| (2D) or dihedral deviation (3D) of a corner/ridge
+  double fan_angle_deg = 45.0;     // largest angle between adjacent normals of a convex fan
+  bool integrate_height = false;   // unit metric length along the normal instead of the size
+  bool smooth_normals = false;     // one Laplacian pass over the normals of each new layer
+  IsotropicStop isotropic_stop = IsotropicStop::Off;
+  int shrink_attempts = 4;
+  // End with a linear front (for the fill): a part whose front is still curved when it stops
+  // gets a closing layer with straight tops.
+  bool close_linear = false;
+};
+
+struct LayerStats {
+  int layer = 0;                     // 1-based
+  std::size_t cells = 0;             // main cells (2D quadrilaterals, 3D prisms)
+  std::size_t transition_cells = 0;  // cells next to stopped nodes (isotropic_stop: node)
+  double max_clipped_rel = 0;        // largest attenuation move still needed / height (0 if linear)
+  bool linear = false;               // the new front is linear
+  std::size_t shrinks = 0;           // invalid cells and front crossings that made heights halve
+  std::size_t first_cell = 0;        // this layer's cells in the main block (LayerResult::mesh.cells[0])
+};
+
+// The layer stage's product. Node-numbering contract: mesh.nodes starts with the input
+// CurvedFront's nodes, same ids, then the nodes the layers added; fill_front (linear_front.h)
+// refers to mesh.nodes.
+template <int Dim>
+struct LayerResult {
+  HybridMesh<Dim> mesh;    // main cells (block 0) and transition cells (block 1, if any) of order
+                           // Q; boundary: the wall facets the layers grew from, tagged
+  CurvedFront<Dim> outer;  // the outermost front of the grown parts (same orientation as the input)
+  LinearFront<Dim> fill_front;  // the boundary of the region left to fill: the outer fronts of the
+                                // grown parts, then every part of the input that did not grow
+  std::vector<LayerStats> layers;
+  int linear_after = -1;            // 1-based index of the first layer with a linear front, -1 if none
+  std::vector<std::string> events;  // what stopped or shrank growth, one line each
+};
+
+// The layer's height along unit normal n at x (Sec. II.B): the metric size h = 1/sqrt(n^T M n),
+// or (integrate) the distance to unit metric length along the normal.
+template <int Dim>
+double layer_height(const MetricField<Dim>& metric, const Eigen::Matrix<double, Dim, 1>& x,
+                    const Eigen::Matrix<double, Dim, 1>& n, bool integrate);
+
+// Curvature attenuation (Fig. 5): moves every tops[k] toward targets[k] (its position on the
+// linear element) by at most f_atten * heights[k]. Returns the largest needed move over its
+// height among the clipped nodes (0 when none was clipped: the element is now linear).
+template <int Dim>
+double attenuate(std::vector<Eigen::Matrix<double, Dim, 1>>& tops,
+                 const std::vector<Eigen::Matrix<double, Dim, 1>>& targets, const std::vector<double>& heights,
+                 double f_atten);
+
+// True when the metric is isotropic to 0.1 % (its largest size within 0.999 of its smallest).
+template <int Dim>
+bool is_isotropic(const Metric<Dim>& m);
+
+// What a front's specifics built for one layer of one part: the new cells of the two cell types
+// (cell_types()), each in Gmsh order over LayerResult::mesh.nodes.
+struct BuiltLayer {
+  std::array<std::vector<NodeId>, 2> cells;
+  double max_clipped_rel = 0;
+  bool linear = true;
+};
+
+// A failure of the last build: cell `index` of cell type `block`, or (block == kFrontElement)
+// element `index` of the new front.
+struct LayerFailure {
+  static constexpr int kFrontElement = -1;
+  int block = 0;
+  std::size_t index = 0;
+};
+
+// The front's specifics, one implementation per dimension (grow_layers_2d.h; 3D prisms next).
+// It appends the nodes it creates to the mesh it was built on; the core rolls them back when a
+// build is rejected.
+template <int Dim>
+class FrontGrower {
+ public:
+  using Vec = Eigen::Matrix<double, Dim, 1>;
+  virtual ~FrontGrower() = default;
+  virtual std::array<CellType, 2> cell_types() const = 0;  // main, transition
+  virtual std::size_t num_parts() const = 0;
+  virtual const std::string& part_tag(std::size_t part) const = 0;
+  // The number of height scale entries of a part (one per front node).
+  virtual std::size_t num_sites(std::size_t part) const = 0;
+  // The nodes whose metric decides the isotropic stop; `stopped` in build() is indexed like them.
+  virtual std::vector<Vec> stop_points(std::size_t part) const = 0;
+  // One layer on a part; heights are multiplied by scale[site].
+  virtual BuiltLayer build(std::size_t part, int layer, const std::vector<double>& scale,
+                           const std::vector<std::uint8_t>& stopped, double f_atten) = 0;
+  // Elements of the last build's new front that cross another part's front or itself.
+  virtual std::vector<std::size_t> collisions(std::size_t part) const = 0;
+  // A point of element e of the last build's new front (for events).
+  virtual Vec front_point(std::size_t e) const = 0;
+  // Halves the heights around the failures of the last build.
+  virtual void shrink(std::size_t part, const std::vector<LayerFailure>& failures, std::vector<double>& scale) const = 0;
+  // The last build becomes the part's front.
+  virtual void accept(std::size_t part) = 0;
+};
+
+// Grows layers on every part of `grower` into r.mesh (whose nodes the grower appends to),
+// filling r.layers, r.linear_after and r.events (steps 1-4 above, and the closing layer).
+template <int Dim>
+void grow_fronts(FrontGrower<Dim>& grower, const MetricField<Dim>& metric, const LayerParams& params, int order,
+                 LayerResult<Dim>& r);
+
+}  // namespace plaf::layers

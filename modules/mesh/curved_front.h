@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: MIT
+// CurvedFront<Dim>: the order-Q surface mesh the layers grow from (PLAF Sec. II.B, II.E); what
+// crosses from the surface-mesh stage (2D: modules/mesh/curve_mesh.h, 3D: surface3d/) to the
+// layer stage. It carries the reference normal at every node, linear and high-order, so the layers
+// never ask the geometry.
+//
+// Conventions:
+// - normals[i] is the unit normal of the reference geometry at node i, pointing into the domain
+//   (reference.h); at a corner (2D) or on a feature curve (3D) it is the normal of one side and
+//   the layers classify the node themselves.
+// - 2D: loops keep the geometry's orientation (domain on the left: bodies clockwise, farfield
+//   counter-clockwise). Element e of a loop has order+1 node ids in Gmsh line order (start, end,
+//   then interior nodes from start to end); element e's end is element e+1's start, and the last
+//   element ends at the first element's start.
+// - 3D: triangles of (Q+1)(Q+2)/2 node ids each in Gmsh triangle order, counter-clockwise seen
+//   from the domain (their right-hand normal points into the domain, out of the body).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "modules/mesh/hybrid_mesh.h"
+
+namespace plaf {
+inline namespace mesh {
+
+struct FrontLoop {
+  std::string tag;
+  BoundaryKind kind = BoundaryKind::Wall;
+  int geometry_loop = -1;              // index into Geometry2D::loops, -1 if none
+  std::vector<NodeId> elements;        // (order + 1) ids per element
+  std::vector<std::uint8_t> corner;    // per element: its start node is a geometric corner
+  std::size_t size() const { return corner.size(); }
+};
+
+template <int Dim>
+struct CurvedFront;
+
+template <>
+struct CurvedFront<2> {
+  int order = 1;
+  std::vector<Eigen::Vector2d> nodes;
+  std::vector<Eigen::Vector2d> normals;  // per node, into the domain
+  std::vector<double> params;            // spline parameter of each node on its geometry loop
+  std::vector<FrontLoop> loops;
+
+  const NodeId* element(const FrontLoop& l, std::size_t e) const {
+    return l.elements.data() + e * static_cast<std::size_t>(order + 1);
+  }
+};
+
+template <>
+struct CurvedFront<3> {
+  int order = 1;
+  std::vector<Eigen::Vector3d> nodes;
+  std::vector<Eigen::Vector3d> normals;  // per node, into the domain
+  std::vector<NodeId> triangles;         // (Q+1)(Q+2)/2 ids per triangle, Gmsh order
+  std::vector<int> triangle_tag;         // per triangle: index into tags
+  std::vector<BoundaryTag> tags;
+
+  std::size_t num_triangles() const { return triangle_tag.size(); }
+  const NodeId* triangle(std::size_t t) const {
+    return triangles.data() + t * static_cast<std::size_t>((order + 1) * (order + 2) / 2);
+  }
+};
+
+// The front as a mesh of boundary facets only (order Q, one boundary block per tag), for output.
+HybridMesh<2> front_mesh(const CurvedFront<2>& front);
+
+}  // namespace mesh
+}  // namespace plaf
