@@ -16,6 +16,8 @@ constexpr const char* usage =
     "       plaf check MESH.msh [--metric CONFIG.yaml] [--report FILE.json]\n"
     "                                          re-read a Gmsh MSH 4.1 mesh and certify its cells; measure\n"
     "                                          its edges in CONFIG's metric; write the JSON report\n"
+    "       plaf plugins                        list the registered type of every stage (geometry, metric,\n"
+    "                                          surface, layers, fill) and the output formats\n"
     "       plaf --help | --version\n"
     "Outputs of run: <name>.msh (Gmsh 4.1), <name>.vtu (VTK Lagrange cells), <name>.report.json, <name>.png.\n"
     "Exit codes: 0 success, 1 bad input or usage, 2 mesh written but invalid or not conforming.\n";
@@ -57,6 +59,10 @@ int main(int argc, char** argv) {
       std::optional<std::filesystem::path> out_dir;
       if (out) out_dir = *out;
       return plaf::run_command(*config, out_dir);
+    }
+    if (args[0] == "plugins") {
+      if (args.size() > 1) return fail_usage("plugins takes no argument");
+      return plaf::plugins_command();
     }
     if (args[0] == "check") {
       std::optional<std::string> mesh, metric, report;

@@ -12,11 +12,11 @@ namespace plaf {
 // bad input before any output is written.
 int run_command(const std::filesystem::path& config, const std::optional<std::filesystem::path>& out_dir);
 
-inline namespace pipeline {
-struct RunConfig;
-}
-// The 3D surface run (run_surface3d.cpp), called by run_command for 3D geometries.
-int run_surface3d(const RunConfig& config, const std::filesystem::path& config_path);
+// Registers every library's stage plugins (idempotent).
+void register_all_plugins();
+
+// Prints every stage's registered types; returns 0.
+int plugins_command();
 
 // Re-reads a Gmsh MSH 4.1 file and reports validity and quality; 0 when valid and conforming.
 // With metric_config, the edges are also measured in that run configuration's metric (its

@@ -415,12 +415,6 @@ class LoopFronts final : public FrontGrower<2> {
   LoopLayer pending_;
 };
 
-LinearLoop linear_loop(const CurvedFront<2>& f, const FrontLoop& l, bool layered, int source) {
-  LinearLoop out{l.tag, l.kind, layered, source, {}};
-  for (std::size_t e = 0; e < l.size(); ++e) out.nodes.push_back(f.element(l, e)[0]);
-  return out;
-}
-
 }  // namespace
 
 double attenuate(std::vector<Vec>& tops, const Vec& a, const Vec& b, const std::vector<double>& heights,
@@ -466,16 +460,6 @@ LayerResult<2> grow_layers(const CurvedFront<2>& front, const MetricField<2>& me
   }
   for (std::size_t k = 0; k < front.loops.size(); ++k)
     if (!grown[k]) r.fill_front.loops.push_back(linear_loop(front, front.loops[k], false, static_cast<int>(k)));
-  return r;
-}
-
-LayerResult<2> no_layers(const CurvedFront<2>& front) {
-  LayerResult<2> r;
-  r.mesh.nodes = front.nodes;
-  r.outer = front;
-  r.fill_front.nodes = front.nodes;
-  for (std::size_t k = 0; k < front.loops.size(); ++k)
-    r.fill_front.loops.push_back(linear_loop(front, front.loops[k], false, static_cast<int>(k)));
   return r;
 }
 

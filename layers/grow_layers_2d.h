@@ -40,7 +40,4 @@ double attenuate(std::vector<Eigen::Vector2d>& tops, const Eigen::Vector2d& a, c
 // their vertices.
 LayerResult<2> grow_layers(const CurvedFront<2>& front, const MetricField<2>& metric, const LayerParams& params);
 
-// The same result without layers: the front's nodes and every loop bounding the fill.
-LayerResult<2> no_layers(const CurvedFront<2>& front);
-
 }  // namespace plaf::layers

@@ -131,28 +131,6 @@ cairo_status_t write_chunk(void* closure, const unsigned char* data, unsigned in
 
 }  // namespace
 
-bool is_curved(const HybridMesh<2>& mesh, const CellBlock& b, std::size_t i, double rel_tol) {
-  if (b.order == 1) return false;
-  const LagrangeElement& e = lagrange_element(b.type, b.order);
-  const LagrangeElement& lin = lagrange_element(b.type, 1);
-  const NodeId* c = b.cell(i);
-  double size = 0, magnitude = 0;
-  for (int k = 1; k < lin.size(); ++k) size = std::max(size, (mesh.nodes[c[k]] - mesh.nodes[c[0]]).norm());
-  for (int k = 0; k < e.size(); ++k) magnitude = std::max(magnitude, mesh.nodes[c[k]].cwiseAbs().maxCoeff());
-  // Stored coordinates are rounded to a few ulps of their magnitude, which exceeds rel_tol * size
-  // for a small cell far from the origin: such offsets are no curvature.
-  const double tol = rel_tol * size + 16 * std::numeric_limits<double>::epsilon() * magnitude;
-  double phi[8];
-  for (int k = lin.size(); k < e.size(); ++k) {
-    const auto xi = e.ref_node(k);
-    lin.eval(xi.data(), phi);
-    Eigen::Vector2d x = Eigen::Vector2d::Zero();
-    for (int m = 0; m < lin.size(); ++m) x += phi[m] * mesh.nodes[c[m]];
-    if ((x - mesh.nodes[c[k]]).norm() > tol) return true;
-  }
-  return false;
-}
-
 void write_png(const HybridMesh<2>& mesh, const std::vector<std::uint8_t>& valid, const std::filesystem::path& path,
                const PictureOptions& options) {
   if (!valid.empty() && valid.size() != mesh.num_cells())

@@ -30,9 +30,6 @@ struct PictureOptions {
 void write_png(const HybridMesh<2>& mesh, const std::vector<std::uint8_t>& valid, const std::filesystem::path& path,
                const PictureOptions& options);
 
-// True when some high-order node of the cell is off its linear (affine/bilinear) position by
-// more than rel_tol times the cell's size.
-bool is_curved(const HybridMesh<2>& mesh, const CellBlock& block, std::size_t cell, double rel_tol = 1e-12);
 
 }  // namespace io
 }  // namespace plaf

@@ -14,18 +14,20 @@ inline namespace io {
 
 namespace {
 
-void write_msh(const WriteJob& j) {
+template <int Dim>
+void write_msh(const WriteJob<Dim>& j) {
   write_msh41(j.mesh, j.base.string() + ".msh");
 }
 
-void write_vtu_file(const WriteJob& j) {
+template <int Dim>
+void write_vtu_file(const WriteJob<Dim>& j) {
   // VTK 9.1 reads "-inf" as +inf: fully inverted cells (scaled Jacobian -inf) and degenerate
   // ones (aspect ratio inf) are written as the most extreme finite values.
   auto finite = [](std::vector<double> v) {
     for (double& x : v) x = std::clamp(x, std::numeric_limits<double>::lowest(), std::numeric_limits<double>::max());
     return v;
   };
-  if (j.mesh.cells.empty()) {  // a surface mesh alone: its lines, no per-cell quality
+  if (j.per_cell.valid.empty()) {  // a 2D surface mesh alone: its lines, no per-cell quality
     write_vtu(j.mesh, j.base.string() + ".vtu");
     return;
   }
@@ -36,7 +38,7 @@ void write_vtu_file(const WriteJob& j) {
              {"aspect_ratio", finite(j.per_cell.aspect_ratio)}});
 }
 
-void write_picture(const WriteJob& j) {
+void write_picture(const WriteJob<2>& j) {
   PictureOptions po;
   po.width = j.config.output.picture_width;
   po.height = j.config.output.picture_height;
@@ -45,7 +47,8 @@ void write_picture(const WriteJob& j) {
   write_png(j.mesh, j.per_cell.valid, j.base.string() + ".png", po);
 }
 
-void write_report(const WriteJob& j) {
+template <int Dim>
+void write_report(const WriteJob<Dim>& j) {
   AtomicFile f(j.base.string() + ".report.json");
   f.write(report_json(j.report));
   f.commit();
@@ -53,13 +56,26 @@ void write_report(const WriteJob& j) {
 
 }  // namespace
 
-Writer2Registry& writer_registry() {
-  static Writer2Registry registry = [] {
-    Writer2Registry r("output format");
-    r.add("msh", write_msh);
-    r.add("vtu", write_vtu_file);
+template <>
+WriterRegistry<2>& writer_registry<2>() {
+  static WriterRegistry<2> registry = [] {
+    WriterRegistry<2> r("output format");
+    r.add("msh", write_msh<2>);
+    r.add("vtu", write_vtu_file<2>);
     r.add("png", write_picture);
-    r.add("report", write_report);
+    r.add("report", write_report<2>);
+    return r;
+  }();
+  return registry;
+}
+
+template <>
+WriterRegistry<3>& writer_registry<3>() {
+  static WriterRegistry<3> registry = [] {
+    WriterRegistry<3> r("output format");
+    r.add("msh", write_msh<3>);
+    r.add("vtu", write_vtu_file<3>);
+    r.add("report", write_report<3>);
     return r;
   }();
   return registry;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The registry of output writers, selected by `output.formats`. Each writes <base>.<ext>
+// The registries of output writers (one per dimension), selected by `output.formats`. Each writes <base>.<ext>
 // atomically from the mesh, its per-cell quality and the report.
 #pragma once
 
@@ -14,17 +14,20 @@
 namespace plaf {
 inline namespace io {
 
+template <int Dim>
 struct WriteJob {
-  const HybridMesh<2>& mesh;
+  const HybridMesh<Dim>& mesh;
   const CellQuality& per_cell;
   const QualityReport& report;
   const RunConfig& config;
   std::filesystem::path base;  // output path without extension
 };
 
-using Writer2Registry = Registry<void(const WriteJob&)>;
-// Built-in: msh (Gmsh 4.1), vtu (VTK Lagrange cells), png (picture), report (JSON).
-Writer2Registry& writer_registry();
+template <int Dim>
+using WriterRegistry = Registry<void(const WriteJob<Dim>&)>;
+// Built-in: msh (Gmsh 4.1), vtu (VTK Lagrange cells), report (JSON); 2D also png (picture).
+template <int Dim>
+WriterRegistry<Dim>& writer_registry();
 
 }  // namespace io
 }  // namespace plaf

@@ -213,5 +213,60 @@ std::size_t split_quads(HybridMesh<2>& mesh) {
   return split;
 }
 
+namespace {
+
+// Adds a front's loops (order-Q elements) to the mesh's boundary under their tags; at order 1
+// (their vertices alone) when `linear`.
+void add_boundary_loops(HybridMesh<2>& mesh, const CurvedFront<2>& front, const std::vector<const FrontLoop*>& loops,
+                        bool linear) {
+  for (const FrontLoop* l : loops) {
+    const int tag = mesh.add_tag(l->tag, l->kind);
+    CellBlock& b = mesh.boundary_block(CellType::Line, linear ? 1 : front.order, tag);
+    for (std::size_t e = 0; e < l->size(); ++e) {
+      const NodeId* c = front.element(*l, e);
+      if (linear)
+        b.connectivity.insert(b.connectivity.end(), c, c + 2);
+      else
+        b.connectivity.insert(b.connectivity.end(), c, c + front.order + 1);
+    }
+  }
+}
+
+}  // namespace
+
+Assembled2D assemble_hybrid_2d(const CurvedFront<2>& surface, const LayerResult<2>& layers,
+                               const FillResult<2>* fill, const AssemblyOptions& o) {
+  Assembled2D out;
+  HybridMesh<2>& mesh = out.mesh;
+  const bool grown = !layers.mesh.cells.empty() || !layers.mesh.boundary.empty();
+  if (!grown && !fill) return {front_mesh(surface), 0};
+  mesh = layers.mesh;
+  if (fill) {
+    std::vector<const FrontLoop*> bare;  // loops of the surface mesh that bound the fill directly
+    for (const LinearLoop& l : layers.fill_front.loops)
+      if (!l.layered) bare.push_back(&surface.loops[static_cast<std::size_t>(l.source_loop)]);
+    mesh.nodes = fill->nodes;
+    const bool uniform = o.uniform_order || o.order == 1;
+    // The bare loops' boundary lines: at order Q they give the triangles their curved edges.
+    add_boundary_loops(mesh, surface, bare, !uniform);
+    if (uniform) {
+      add_triangles_at_order(mesh, fill->simplices, o.order);
+    } else {
+      CellBlock& t = mesh.block(CellType::Triangle, 1);
+      for (const auto& tri : fill->simplices) t.connectivity.insert(t.connectivity.end(), tri.begin(), tri.end());
+    }
+    if (!grown) return out;
+  } else {
+    // Layers alone: the outermost front is tagged "layers_outer".
+    const int outer = mesh.add_tag("layers_outer", BoundaryKind::Named);
+    CellBlock& b = mesh.boundary_block(CellType::Line, o.order, outer);
+    for (const FrontLoop& l : layers.outer.loops)
+      b.connectivity.insert(b.connectivity.end(), l.elements.begin(), l.elements.end());
+  }
+  if (o.split_quads) out.split_quads = split_quads(mesh);
+  compact_nodes(mesh);  // e.g. the farfield's surface nodes are not part of a layers-only mesh
+  return out;
+}
+
 }  // namespace mesh
 }  // namespace plaf

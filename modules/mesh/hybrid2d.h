@@ -6,7 +6,10 @@
 #include <array>
 #include <vector>
 
+#include "modules/mesh/curved_front.h"
 #include "modules/mesh/hybrid_mesh.h"
+#include "modules/mesh/layer_mesh.h"
+#include "modules/mesh/linear_front.h"
 
 namespace plaf {
 inline namespace mesh {
@@ -27,6 +30,25 @@ std::size_t add_triangles_at_order(HybridMesh<2>& mesh, const std::vector<std::a
 // whose certified Jacobian is not positive while the other does not. Quad blocks are replaced by
 // triangle blocks. Returns the number of quadrilaterals split.
 std::size_t split_quads(HybridMesh<2>& mesh);
+
+struct AssemblyOptions {
+  int order = 1;
+  bool uniform_order = true;  // the fill's triangles at order Q (else order 1, and the bare loops too)
+  bool split_quads = false;
+};
+
+struct Assembled2D {
+  HybridMesh<2> mesh;
+  std::size_t split_quads = 0;
+};
+
+// The 2D hybrid mesh from the stages' products: the layer mesh (or the surface front's nodes,
+// when `layers` is the unlayered result), the fill's triangles joined at order Q, the loops that
+// bound the fill directly (the farfield, bodies without layers) as boundary lines from `surface`
+// (ids valid by LayerResult's node-numbering contract), the outer front tagged `layers_outer`
+// when there is no fill; then the optional quad split and node compaction.
+Assembled2D assemble_hybrid_2d(const CurvedFront<2>& surface, const LayerResult<2>& layers,
+                               const FillResult<2>* fill, const AssemblyOptions& options);
 
 }  // namespace mesh
 }  // namespace plaf

@@ -2,6 +2,8 @@
 // HybridMesh blocks, tags and the facet-hash conformity check (see hybrid_mesh.h).
 #include "modules/mesh/hybrid_mesh.h"
 
+#include <limits>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -262,6 +264,32 @@ template struct HybridMesh<2>;
 template struct HybridMesh<3>;
 template ConformityReport check_conformity(const HybridMesh<2>&);
 template ConformityReport check_conformity(const HybridMesh<3>&);
+
+template <int Dim>
+bool is_curved(const HybridMesh<Dim>& mesh, const CellBlock& b, std::size_t i, double rel_tol) {
+  if (b.order == 1) return false;
+  const LagrangeElement& e = lagrange_element(b.type, b.order);
+  const LagrangeElement& lin = lagrange_element(b.type, 1);
+  const NodeId* c = b.cell(i);
+  double size = 0, magnitude = 0;
+  for (int k = 1; k < lin.size(); ++k) size = std::max(size, (mesh.nodes[c[k]] - mesh.nodes[c[0]]).norm());
+  for (int k = 0; k < e.size(); ++k) magnitude = std::max(magnitude, mesh.nodes[c[k]].cwiseAbs().maxCoeff());
+  // Stored coordinates are rounded to a few ulps of their magnitude, which exceeds rel_tol * size
+  // for a small cell far from the origin: such offsets are no curvature.
+  const double tol = rel_tol * size + 16 * std::numeric_limits<double>::epsilon() * magnitude;
+  double phi[8];
+  for (int k = lin.size(); k < e.size(); ++k) {
+    const auto xi = e.ref_node(k);
+    lin.eval(xi.data(), phi);
+    typename HybridMesh<Dim>::Point x = HybridMesh<Dim>::Point::Zero();
+    for (int m = 0; m < lin.size(); ++m) x += phi[m] * mesh.nodes[c[m]];
+    if ((x - mesh.nodes[c[k]]).norm() > tol) return true;
+  }
+  return false;
+}
+
+template bool is_curved<2>(const HybridMesh<2>&, const CellBlock&, std::size_t, double);
+template bool is_curved<3>(const HybridMesh<3>&, const CellBlock&, std::size_t, double);
 
 }  // namespace mesh
 }  // namespace plaf

@@ -92,6 +92,11 @@ struct ConformityReport {
 template <int Dim>
 ConformityReport check_conformity(const HybridMesh<Dim>& mesh);
 
+// True when a high-order node of cell i of block b lies off the cell's linear interpolation of its
+// vertices by more than rel_tol times its size (and the rounding of its coordinates).
+template <int Dim>
+bool is_curved(const HybridMesh<Dim>& mesh, const CellBlock& block, std::size_t cell, double rel_tol = 1e-12);
+
 // Coordinates of cell i of block b, row-major (Dim per node), in Gmsh order, into out.
 template <int Dim>
 void gather_coords(const HybridMesh<Dim>& mesh, const CellBlock& b, std::size_t i, double* out) {

@@ -56,5 +56,13 @@ struct LinearFront<3> {
   std::vector<Eigen::Vector3d> holes;
 };
 
+// What a fill returns (the contract above): front.nodes first, same ids, then the new nodes; its
+// linear simplices (2D counter-clockwise triangles, 3D tetrahedra of positive volume).
+template <int Dim>
+struct FillResult {
+  std::vector<Eigen::Matrix<double, Dim, 1>> nodes;
+  std::vector<std::array<NodeId, Dim + 1>> simplices;
+};
+
 }  // namespace mesh
 }  // namespace plaf

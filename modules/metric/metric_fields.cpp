@@ -56,5 +56,10 @@ std::unique_ptr<MetricField<2>> make_metric_field(const RunConfig& config, const
   return metric_field_registry().create(config.metric.type, config.metric.where, config, geometry);
 }
 
+Metric<3> uniform_metric_3d(const UniformMetricParams& u) {
+  if (u.sizes.empty()) return Metric<3>::isotropic(u.h);
+  return Metric<3>::from_directions(Eigen::Matrix3d::Identity(), Eigen::Vector3d(u.sizes[0], u.sizes[1], u.sizes[2]));
+}
+
 }  // namespace metric
 }  // namespace plaf

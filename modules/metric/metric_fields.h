@@ -20,5 +20,8 @@ MetricField2Registry& metric_field_registry();
 // The configured field (ConfigError naming the file, line and type if unknown).
 std::unique_ptr<MetricField<2>> make_metric_field(const RunConfig& config, const Geometry2D& geometry);
 
+// The 3D uniform metric of `metric: {type: uniform}`: isotropic h, or sizes along x, y, z.
+Metric<3> uniform_metric_3d(const UniformMetricParams& params);
+
 }  // namespace metric
 }  // namespace plaf

@@ -9,6 +9,7 @@
 #include "modules/base/error.h"
 #include "modules/elements/lagrange.h"
 #include "modules/metric/metric_fields.h"
+#include "modules/pipeline/stages.h"
 #include "modules/io/writers.h"
 
 namespace plaf {
@@ -191,28 +192,24 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     b.mean = m.get_choice("mean", b.mean, {"log_euclidean", "affine_invariant"});
   }
 
-  if (c.has("layers")) {
-    const ConfigNode l = c.child("layers");
-    LayersParams& lp = r.layers;
-    lp.max = l.get_int("max", lp.max, 0, 10000);
-    lp.stop_when_linear = l.get_bool("stop_when_linear", lp.stop_when_linear);
-    lp.f_atten = l.get_in_range("f_atten", lp.f_atten, 0.0, 1.0);
-    lp.corner_angle_deg = l.get_in_range("corner_angle_deg", lp.corner_angle_deg, 1.0, 179.0);
-    lp.fan_angle_deg = l.get_in_range("fan_angle_deg", lp.fan_angle_deg, 5.0, 90.0);
-    lp.integrate_height = l.get_choice("height", "size", {"size", "integrate"}) == "integrate";
-    lp.smooth_normals = l.get_bool("smooth_normals", lp.smooth_normals);
-    lp.isotropic_stop = l.get_choice("isotropic_stop", lp.isotropic_stop, {"off", "node", "any", "all"});
-    lp.enabled = lp.max > 0;  // max: 0 is the surface mesh alone
-    if (r.geometry.type != "airfoils") throw ConfigError(l.where() + ": layers need a spline geometry (type airfoils)");
-  }
-
-  std::string fill_where;  // checked after the keys: an unknown key is reported first
-  if (c.has("fill")) {
-    const ConfigNode f = c.child("fill");
-    r.fill.enabled = true;
-    r.fill.max_triangles = f.get_int("max_triangles", static_cast<int>(r.fill.max_triangles), 1, 2000000000);
-    fill_where = f.where();
-  }
+  // Plugin sections: the chosen type's factory parses and checks its own keys (stages.h).
+  auto plan = [&](StageKind kind, const std::string& fallback_type, PlannedStage& out) {
+    const std::string key = stage_kind_name(kind);
+    if (!c.has(key)) return;
+    const ConfigNode s = c.child(key);
+    out.type = s.get_string("type", fallback_type);
+    out.where = s.where("type");
+    out.section = s.where();
+    if (r.dim == 2)
+      out.run2 = stage_registry<2>(kind).create(out.type, out.where, s, r);
+    else
+      out.run3 = stage_registry<3>(kind).create(out.type, out.where, s, r);
+  };
+  r.surface_type = r.dim == 3 ? "remesh" : r.geometry.type == "annulus" ? "annulus" : "curves";
+  if (c.has("layers") && r.geometry.type != "airfoils")
+    throw ConfigError(c.child("layers").where() + ": layers need a spline geometry (type airfoils)");
+  plan(StageKind::Layers, "extrude", r.layers);
+  plan(StageKind::Fill, "advancing_front", r.fill);
 
   const ConfigNode v = c.child("validity");
   r.validity.rel_tol = v.get_in_range("rel_tol", r.validity.rel_tol, 1e-6, 1.0);
@@ -221,7 +218,7 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   const ConfigNode o = c.child("output");
   r.output.dir = o.get_string("dir", r.output.dir.string());
   if (r.dim == 3) r.output.formats = {"msh", "vtu", "report"};
-  r.output.formats = o.get_string_list("formats", r.output.formats, writer_registry().names());
+  r.output.formats = o.get_string_list("formats", r.output.formats, writer_registry<2>().names());
   if (r.dim == 3 && r.output.wants("png"))
     throw ConfigError(o.where("formats") + ": png pictures are 2D only (3D runs write msh, vtu, report)");
   r.output.histogram_bins = o.get_int("histogram_bins", r.output.histogram_bins, 2, 1000);
@@ -252,8 +249,8 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   if (!surface_where.empty() && r.dim != 3)
     throw ConfigError(surface_where + ": the surface section is for 3D geometries (sphere, ellipsoid, box, wing, "
                       "surface_file)");
-  if (r.fill.enabled && r.geometry.type != "airfoils")
-    throw ConfigError(fill_where + ": the fill needs a spline geometry (type airfoils)");
+  if (r.fill.enabled() && r.geometry.type != "airfoils")
+    throw ConfigError(r.fill.section + ": the fill needs a spline geometry (type airfoils)");
   return r;
 }
 

@@ -71,20 +71,10 @@
 //     file: <path>          Gmsh .msh with a tensor $NodeData view, or a libMeshb .mesh  (required)
 //     sol: <path>           the .sol of a .mesh file              default: none
 //     mean: log_euclidean|affine_invariant                        default: log_euclidean
-//   layers:                 prismatic layers grown from the walls (layers/grow_layers.h); absent: none
-//     max: <0..10000>       number of layers                      default: 24
-//     stop_when_linear: <bool>  stop after the first linear front  default: false
-//     f_atten: <0..1>       curvature attenuation fraction (Fig. 5)   default: 0.2
-//     corner_angle_deg: <>0>  turning angle of a corner           default: 30
-//     fan_angle_deg: <>0>   largest angle between fan normals     default: 45
-//     height: size|integrate  metric size along the normal, or unit metric length   default: size
-//     smooth_normals: <bool>  smooth the normals of each layer    default: false
-//     isotropic_stop: off|node|any|all  stop a node where the metric is isotropic there, or the
-//                           loop when it is so at any/all nodes   default: off
-//   fill:                   advancing-front fill of the domain between the fronts (the layers' outer
-//                           front, or the surface mesh of bodies without layers, and the farfield)
-//                           with linear triangles (volume/advancing_front_2d.h); absent: no fill
-//     max_triangles: <n>    give up (an error) beyond this many triangles   default: 20000000
+//   layers:                 prismatic layers grown from the walls; absent: none. Keys of the
+//     type: extrude         chosen type, parsed by its plugin: layers/plugins.h
+//   fill:                   the fill of the domain between the layers' outer front (or the surface
+//     type: advancing_front mesh) and the farfield; absent: none. Keys: volume/plugins.h
 //   validity:
 //     rel_tol: <0..1>       Bezier bounds refined to this         default: 0.01
 //     max_depth: <1..20>    subdivision depth limit               default: 12
@@ -106,6 +96,7 @@
 
 #include <array>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -210,21 +201,19 @@ struct MetricParams {
   BackgroundParams background;
 };
 
-struct LayersParams {
-  bool enabled = false;
-  int max = 24;
-  bool stop_when_linear = false;
-  double f_atten = 0.2;
-  double corner_angle_deg = 30.0;
-  double fan_angle_deg = 45.0;
-  bool integrate_height = false;
-  bool smooth_normals = false;
-  std::string isotropic_stop = "off";
-};
+template <int Dim>
+struct RunState;
+class StageReport;
 
-struct FillParams {
-  bool enabled = false;
-  long long max_triangles = 20000000;
+// A stage chosen by its section's `type:` and configured by its plugin (stages.h); run2/run3 is
+// set for the run's dimension. Type "none" (the section is absent) does nothing.
+struct PlannedStage {
+  std::string type = "none";
+  std::string where;    // "file:line:col: section.type", for messages
+  std::string section;  // "file:line:col: section"
+  std::function<void(RunState<2>&, StageReport&)> run2;
+  std::function<void(RunState<3>&, StageReport&)> run3;
+  bool enabled() const { return type != "none"; }
 };
 
 struct ValidityParams {
@@ -256,8 +245,9 @@ struct RunConfig {
   GeometryParams geometry;
   SurfaceParams surface;
   MetricParams metric;
-  LayersParams layers;
-  FillParams fill;
+  std::string surface_type;  // the surface-mesh stage: annulus | curves (2D), remesh (3D)
+  PlannedStage layers;
+  PlannedStage fill;
   ValidityParams validity;
   OutputParams output;
 };

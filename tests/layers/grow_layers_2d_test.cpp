@@ -25,7 +25,7 @@ Geometry2D body(std::vector<Vector2d> points, std::vector<int> corners) {
 }
 
 // Certified validity and conformity of the layer mesh (its outer front tagged, so it closes).
-QualityReport check(const layers::LayerResult<2>& r) {
+QualityReport check(const LayerResult<2>& r) {
   HybridMesh<2> m = r.mesh;
   const int outer = m.add_tag("outer", BoundaryKind::Named);
   CellBlock& b = m.boundary_block(CellType::Line, r.outer.order, outer);
@@ -69,7 +69,7 @@ TEST_CASE("layers: on a circle with the wall law, layer k has height h0 g^k and 
   const CurvedFront<2> front = mesh_curves(geo, metric, 2);
   layers::LayerParams p;
   p.max_layers = 12;
-  const layers::LayerResult<2> r = layers::grow_layers(front, metric, p);
+  const LayerResult<2> r = layers::grow_layers(front, metric, p);
   REQUIRE(r.layers.size() == 12);
   CHECK(r.events.empty());  // no cell had to be shrunk: growth alone keeps them valid
   CHECK(check(r).ok());
@@ -118,7 +118,7 @@ TEST_CASE("layers: convex corners of 90, 150 and 179 degrees get fans of valid c
     layers::LayerParams p;
     p.max_layers = 3;
     const UniformMetricField<2> thin(Metric<2>::from_directions(Eigen::Matrix2d::Identity(), Vector2d(0.01, 0.01)));
-    const layers::LayerResult<2> r = layers::grow_layers(front, thin, p);
+    const LayerResult<2> r = layers::grow_layers(front, thin, p);
     CHECK(r.layers.size() == 3);
     const QualityReport q = check(r);
     CHECK(r.events.empty());  // no cell had to be shrunk: growth alone keeps them valid
@@ -140,7 +140,7 @@ TEST_CASE("layers: a concave 90 degree corner gets valid cells") {
     layers::LayerParams p;
     p.max_layers = 4;
     const UniformMetricField<2> thin(Metric<2>::isotropic(0.02));
-    const layers::LayerResult<2> r = layers::grow_layers(front, thin, p);
+    const LayerResult<2> r = layers::grow_layers(front, thin, p);
     CHECK(r.layers.size() == 4);
     CHECK(r.events.empty());  // no cell had to be shrunk: growth alone keeps them valid
     const QualityReport qr = check(r);
@@ -164,7 +164,7 @@ TEST_CASE("layers: Q = 1..4 on the E387 give valid, conforming layers") {
     layers::LayerParams p;
     p.max_layers = 8;
     p.corner_angle_deg = 70;
-    const layers::LayerResult<2> r = layers::grow_layers(front, metric, p);
+    const LayerResult<2> r = layers::grow_layers(front, metric, p);
     CHECK(r.layers.size() == 8);
     CHECK(r.events.empty());  // no cell had to be shrunk: growth alone keeps them valid
     const QualityReport qr = check(r);
@@ -181,7 +181,7 @@ TEST_CASE("layers: growing from a straight wall leaves every element straight") 
   layers::LayerParams p;
   p.max_layers = 5;
   const UniformMetricField<2> thin(Metric<2>::isotropic(0.03));
-  const layers::LayerResult<2> r = layers::grow_layers(front, thin, p);
+  const LayerResult<2> r = layers::grow_layers(front, thin, p);
   REQUIRE(r.layers.size() == 5);
   CHECK(r.events.empty());  // no cell had to be shrunk: growth alone keeps them valid
   CHECK(r.linear_after == 1);
@@ -210,7 +210,7 @@ TEST_CASE("layers: the 30P-30N elements (coves, cusp, blunt flap) grow valid, co
   layers::LayerParams p;
   p.max_layers = 3;
   p.corner_angle_deg = 60;
-  const layers::LayerResult<2> r = layers::grow_layers(front, metric, p);
+  const LayerResult<2> r = layers::grow_layers(front, metric, p);
   CHECK(r.layers.size() == 3);
   const QualityReport q = check(r);
   CHECK(q.cells_invalid == 0);
@@ -235,7 +235,7 @@ TEST_CASE("layers: isotropic_stop node stops the nodes where the metric is isotr
   layers::LayerParams lp;
   lp.max_layers = 30;
   lp.isotropic_stop = layers::IsotropicStop::Node;
-  const layers::LayerResult<2> r = layers::grow_layers(front, metric, lp);
+  const LayerResult<2> r = layers::grow_layers(front, metric, lp);
   std::size_t transition = 0;
   for (const auto& st : r.layers) transition += st.transition_cells;
   CHECK(transition > 0);
@@ -268,11 +268,11 @@ TEST_CASE("layers: close_linear ends a front that is still curved with one valid
   const CurvedFront<2> front = mesh_curves(geo, metric, 3);
   layers::LayerParams p;
   p.max_layers = 2;
-  const layers::LayerResult<2> open = layers::grow_layers(front, metric, p);
+  const LayerResult<2> open = layers::grow_layers(front, metric, p);
   REQUIRE(open.layers.size() == 2);
   CHECK(open.linear_after == -1);  // still curved: the case to close
   p.close_linear = true;
-  const layers::LayerResult<2> r = layers::grow_layers(front, metric, p);
+  const LayerResult<2> r = layers::grow_layers(front, metric, p);
   REQUIRE(r.layers.size() == 3);
   CHECK(r.layers.back().linear);
   CHECK(r.linear_after == 3);

@@ -143,7 +143,7 @@ TEST_CASE("run config: background keys: the file is required and the mean is a c
 
 TEST_CASE("run config: output formats are the writer registry's names, zooms carry a label and a box") {
   // Every registered writer is accepted alone, all of them together in any order.
-  const std::vector<std::string> names = writer_registry().names();
+  const std::vector<std::string> names = writer_registry<2>().names();
   REQUIRE_FALSE(names.empty());
   std::string all;
   for (const std::string& n : names) {
@@ -179,7 +179,7 @@ TEST_CASE("run config: one bad value per key is a ConfigError naming file:line:c
     std::string reason;
   };
   std::string writers;  // the registry's names, as the message lists them
-  for (const std::string& n : writer_registry().names()) writers += (writers.empty() ? "" : ", ") + n;
+  for (const std::string& n : writer_registry<2>().names()) writers += (writers.empty() ? "" : ", ") + n;
   const std::string g = "geometry: {type: airfoils, bodies: [{file: a.dat}], ";
   const std::string b = "geometry: {type: airfoils, bodies: [{file: a.dat, ";
   const std::string wall = one_body + "metric: {type: wall_power_law, ";

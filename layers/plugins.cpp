@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: MIT
+#include "layers/plugins.h"
+
+#include "layers/grow_layers_2d.h"
+#include "modules/base/error.h"
+#include "modules/pipeline/run_state.h"
+#include "modules/pipeline/stages.h"
+
+namespace plaf::layers {
+
+LayerParams parse_layer_params(const ConfigNode& l) {
+  LayerParams p;
+  p.max_layers = l.get_int("max", p.max_layers, 0, 10000);
+  p.stop_when_linear = l.get_bool("stop_when_linear", p.stop_when_linear);
+  p.f_atten = l.get_in_range("f_atten", p.f_atten, 0.0, 1.0);
+  p.corner_angle_deg = l.get_in_range("corner_angle_deg", p.corner_angle_deg, 1.0, 179.0);
+  p.fan_angle_deg = l.get_in_range("fan_angle_deg", p.fan_angle_deg, 5.0, 90.0);
+  p.integrate_height = l.get_choice("height", "size", {"size", "integrate"}) == "integrate";
+  p.smooth_normals = l.get_bool("smooth_normals", p.smooth_normals);
+  const std::string stop = l.get_choice("isotropic_stop", "off", {"off", "node", "any", "all"});
+  p.isotropic_stop = stop == "node" ? IsotropicStop::Node
+                     : stop == "any" ? IsotropicStop::Any
+                     : stop == "all" ? IsotropicStop::All
+                                     : IsotropicStop::Off;
+  return p;
+}
+
+void register_plugins() {
+  static const bool once = [] {
+    stage_registry<2>(StageKind::Layers).add("extrude", [](const ConfigNode& section, const RunConfig&) -> Stage<2> {
+      LayerParams p = parse_layer_params(section);
+      return [p](RunState<2>& s, StageReport&) mutable {
+        if (!s.front) throw MesherError("layers: the geometry gave no surface front to grow from");
+        if (p.max_layers == 0) {  // the surface mesh alone
+          s.layers = unlayered(*s.front);
+          return;
+        }
+        p.close_linear = s.config.fill.enabled();  // the fill starts from a linear front
+        s.layers = grow_layers(*s.front, *s.metric, p);
+        if (s.layers->layers.empty())
+          throw MesherError("layers: not even the first layer could be grown (" +
+                            (s.layers->events.empty() ? std::string("no wall loop") : s.layers->events.back()) +
+                            ")");
+      };
+    });
+    return true;
+  }();
+  (void)once;
+}
+
+}  // namespace plaf::layers

@@ -1,0 +1,27 @@
+// SPDX-License-Identifier: MIT
+// The layer stage's plugins (modules/pipeline/stages.h), registered by register_plugins():
+//   layers:                 prismatic layers grown from the walls (grow_layers_2d.h)
+//     type: extrude         2D: curved quadrilaterals along the normals    default type
+//     max: <0..10000>       number of layers (0: none, the surface mesh alone)   default: 24
+//     stop_when_linear: <bool>  stop after the first linear front  default: false
+//     f_atten: <0..1>       curvature attenuation fraction (Fig. 5)   default: 0.2
+//     corner_angle_deg: <1..179>  turning angle of a corner       default: 30
+//     fan_angle_deg: <5..90>  largest angle between fan normals   default: 45
+//     height: size|integrate  metric size along the normal, or unit metric length   default: size
+//     smooth_normals: <bool>  smooth the normals of each layer    default: false
+//     isotropic_stop: off|node|any|all  stop a node where the metric is isotropic there, or the
+//                           loop when it is so at any/all nodes   default: off
+// With a fill after the layers, a loop that stops curved gets a closing layer (layer_core.h).
+#pragma once
+
+#include "layers/layer_core.h"
+#include "modules/pipeline/config.h"
+
+namespace plaf::layers {
+
+// The layer options of a `layers:` section (ConfigError naming the key for a bad value).
+LayerParams parse_layer_params(const ConfigNode& section);
+
+void register_plugins();
+
+}  // namespace plaf::layers

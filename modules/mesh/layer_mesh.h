@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+// LayerResult<Dim>: the product of the layer stage (layers/), which crosses to the fill stage
+// (volume/, through its fill_front) and to the assembly of the hybrid mesh and the report (its
+// per-layer table and events). The algorithms live in layers/layer_core.h.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "modules/mesh/curved_front.h"
+#include "modules/mesh/hybrid_mesh.h"
+#include "modules/mesh/linear_front.h"
+
+namespace plaf {
+inline namespace mesh {
+
+struct LayerStats {
+  int layer = 0;                     // 1-based
+  std::size_t cells = 0;             // main cells (2D quadrilaterals, 3D prisms)
+  std::size_t transition_cells = 0;  // cells next to stopped nodes (isotropic_stop: node)
+  double max_clipped_rel = 0;        // largest attenuation move still needed / height (0 if linear)
+  bool linear = false;               // the new front is linear
+  std::size_t shrinks = 0;           // invalid cells and front crossings that made heights halve
+  std::size_t first_cell = 0;        // this layer's cells in the main block (LayerResult::mesh.cells[0])
+};
+
+// The layer stage's product. Node-numbering contract: mesh.nodes starts with the input
+// CurvedFront's nodes, same ids, then the nodes the layers added; fill_front (linear_front.h)
+// refers to mesh.nodes.
+template <int Dim>
+struct LayerResult {
+  HybridMesh<Dim> mesh;    // main cells (block 0) and transition cells (block 1, if any) of order
+                           // Q; boundary: the wall facets the layers grew from, tagged
+  CurvedFront<Dim> outer;  // the outermost front of the grown parts (same orientation as the input)
+  LinearFront<Dim> fill_front;  // the boundary of the region left to fill: the outer fronts of the
+                                // grown parts, then every part of the input that did not grow
+  std::vector<LayerStats> layers;
+  int linear_after = -1;            // 1-based index of the first layer with a linear front, -1 if none
+  std::vector<std::string> events;  // what stopped or shrank growth, one line each
+};
+
+// The 2D front's loop `l` by its vertices, as a loop of a linear front.
+LinearLoop linear_loop(const CurvedFront<2>& front, const FrontLoop& l, bool layered, int source_loop);
+
+// The layer stage's result without layers: the front's nodes, and every loop of the front bounding
+// the fill (layers type `none`).
+LayerResult<2> unlayered(const CurvedFront<2>& front);
+
+}  // namespace mesh
+}  // namespace plaf

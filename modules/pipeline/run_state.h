@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+// RunState<Dim>: what the stages of one run have produced so far, in core types only. The driver
+// (apps/) hands it from stage to stage in the order of the pipeline (DESIGN.md):
+//   geometry -> metric -> surface mesh -> layers -> fill -> assembly -> quality -> writers.
+// A stage reads the fields earlier stages filled and fills its own; stages never call each other.
+#pragma once
+
+#include <memory>
+#include <optional>
+
+#include "modules/geometry/geometry2d.h"
+#include "modules/geometry/reference.h"
+#include "modules/geometry/tri_surface.h"
+#include "modules/mesh/curved_front.h"
+#include "modules/mesh/hybrid_mesh.h"
+#include "modules/mesh/layer_mesh.h"
+#include "modules/mesh/linear_front.h"
+#include "modules/metric/metric.h"
+#include "modules/pipeline/run_config.h"
+
+namespace plaf {
+inline namespace pipeline {
+
+template <int Dim>
+struct RunState;
+
+template <>
+struct RunState<2> {
+  explicit RunState(const RunConfig& c) : config(c) {}
+  const RunConfig& config;
+  Geometry2D geometry;                      // geometry: the spline loops (none for the annulus)
+  std::unique_ptr<MetricField<2>> metric;   // metric
+  std::optional<CurvedFront<2>> front;      // surface mesh of the loops
+  std::optional<LayerResult<2>> layers;     // layers (or the front itself, without layers)
+  std::optional<FillResult<2>> fill;        // fill
+  HybridMesh<2> mesh;                       // the assembled mesh (the annulus: its surface stage)
+  bool mesh_done = false;                   // a surface stage that makes the whole mesh sets it
+  const MetricField<2>* measure() const { return metric.get(); }
+};
+
+template <>
+struct RunState<3> {
+  explicit RunState(const RunConfig& c) : config(c) {}
+  const RunConfig& config;
+  TriSurface surface;                               // geometry: the input; surface: remeshed and curved
+  std::unique_ptr<ReferenceGeometry<3>> reference;  // geometry: what the surface lives on
+  std::unique_ptr<MetricField<3>> metric;           // metric
+  std::unique_ptr<MetricField<3>> surface_metric;   // surface: the metric it followed (curvature)
+  std::optional<CurvedFront<3>> front;
+  std::optional<LayerResult<3>> layers;
+  std::optional<FillResult<3>> fill;
+  HybridMesh<3> mesh;
+  bool mesh_done = false;
+  const MetricField<3>* measure() const { return surface_metric ? surface_metric.get() : metric.get(); }
+};
+
+}  // namespace pipeline
+}  // namespace plaf

@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: MIT
+// Stage registries and core's own plugins (stages.h).
+#include "modules/pipeline/stages.h"
+
+#include <iostream>
+
+#include "modules/base/error.h"
+#include "modules/io/writers.h"
+#include "modules/mesh/annulus.h"
+#include "modules/mesh/curve_mesh.h"
+#include "modules/metric/metric_fields.h"
+#include "modules/pipeline/run_state.h"
+
+namespace plaf {
+inline namespace pipeline {
+
+const char* stage_kind_name(StageKind kind) {
+  switch (kind) {
+    case StageKind::Geometry: return "geometry";
+    case StageKind::Metric: return "metric";
+    case StageKind::Surface: return "surface";
+    case StageKind::Layers: return "layers";
+    case StageKind::Fill: return "fill";
+  }
+  return "?";
+}
+
+template <int Dim>
+StageRegistry<Dim>& stage_registry(StageKind kind) {
+  static std::vector<StageRegistry<Dim>> registries = [] {
+    std::vector<StageRegistry<Dim>> r;
+    for (StageKind k : all_stage_kinds) r.emplace_back(std::to_string(Dim) + "D " + stage_kind_name(k) + " type");
+    return r;
+  }();
+  return registries[static_cast<std::size_t>(kind)];
+}
+template StageRegistry<2>& stage_registry<2>(StageKind);
+template StageRegistry<3>& stage_registry<3>(StageKind);
+
+namespace {
+
+// The surface statistics of the 2D loops (curve_mesh.h) as the surface section.
+void report_curves(const CurvedFront<2>& front, const Geometry2D& geometry, const MetricField<2>& metric,
+                   StageReport& rep) {
+  const CurveMeshStats s = curve_mesh_stats(front, geometry, metric);
+  std::vector<std::string> loops;
+  for (const CurveLoopStats& l : s.loops) {
+    loops.push_back("{\"tag\": " + json_string(l.tag) + ", \"elements\": " + std::to_string(l.elements) +
+                    ", \"nodes\": " + std::to_string(l.nodes) +
+                    ", \"metric_length_min\": " + json_number(l.metric_length_min) +
+                    ", \"metric_length_max\": " + json_number(l.metric_length_max) + "}");
+    rep.line("surface loop " + l.tag + ": " + std::to_string(l.elements) + " elements, " + std::to_string(l.nodes) +
+             " nodes, metric length " + std::to_string(l.metric_length_min) + " .. " +
+             std::to_string(l.metric_length_max));
+  }
+  rep.add("order", front.order);
+  rep.add_json("loops", json_array(loops));
+  rep.add("metric_length_min", s.metric_length_min);
+  rep.add("metric_length_max", s.metric_length_max);
+  rep.add("unit_fraction", s.unit_fraction);
+  rep.add("short_corner_segments", s.short_segments);
+}
+
+void register_2d() {
+  StageRegistry<2>& geometry = stage_registry<2>(StageKind::Geometry);
+  geometry.add("annulus", [](const ConfigNode&, const RunConfig&) -> Stage<2> {
+    return [](RunState<2>&, StageReport& rep) { rep.line("geometry: the exact annulus map"); };
+  });
+  geometry.add("airfoils", [](const ConfigNode&, const RunConfig& c) -> Stage<2> {
+    const AirfoilsParams params = c.geometry.airfoils;
+    return [params](RunState<2>& s, StageReport&) { s.geometry = build_airfoils_geometry(params); };
+  });
+  for (const std::string& name : metric_field_registry().names())
+    stage_registry<2>(StageKind::Metric).add(name, [](const ConfigNode&, const RunConfig&) -> Stage<2> {
+      return [](RunState<2>& s, StageReport&) { s.metric = make_metric_field(s.config, s.geometry); };
+    });
+  StageRegistry<2>& surface = stage_registry<2>(StageKind::Surface);
+  surface.add("curves", [](const ConfigNode&, const RunConfig&) -> Stage<2> {
+    return [](RunState<2>& s, StageReport& rep) {
+      s.front = mesh_curves(s.geometry, *s.metric, s.config.order);
+      report_curves(*s.front, s.geometry, *s.metric, rep);
+    };
+  });
+  surface.add("annulus", [](const ConfigNode&, const RunConfig&) -> Stage<2> {
+    return [](RunState<2>& s, StageReport&) {
+      s.mesh = mesh_annulus(s.config.geometry.annulus, s.config.order, *s.metric);
+      s.mesh_done = true;
+    };
+  });
+}
+
+void register_3d() {
+  stage_registry<3>(StageKind::Metric).add("uniform", [](const ConfigNode&, const RunConfig&) -> Stage<3> {
+    return [](RunState<3>& s, StageReport&) {
+      s.metric = std::make_unique<UniformMetricField<3>>(uniform_metric_3d(s.config.metric.uniform));
+    };
+  });
+}
+
+template <int Dim>
+void register_none() {
+  for (StageKind k : {StageKind::Layers, StageKind::Fill})
+    stage_registry<Dim>(k).add("none", [](const ConfigNode&, const RunConfig&) -> Stage<Dim> {
+      return [](RunState<Dim>&, StageReport&) {};
+    });
+}
+
+}  // namespace
+
+void register_core_plugins() {
+  static const bool once = [] {
+    register_2d();
+    register_3d();
+    register_none<2>();
+    register_none<3>();
+    return true;
+  }();
+  (void)once;
+}
+
+std::string plugin_listing() {
+  std::string out;
+  auto names = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (const std::string& n : v) s += (s.empty() ? "" : ", ") + n;
+    return s.empty() ? std::string("-") : s;
+  };
+  for (StageKind k : all_stage_kinds) {
+    out += std::string(stage_kind_name(k)) + ":\n";
+    out += "  2D: " + names(stage_registry<2>(k).names()) + "\n";
+    out += "  3D: " + names(stage_registry<3>(k).names()) + "\n";
+  }
+  out += "output formats:\n  2D: " + names(writer_registry<2>().names()) + "\n  3D: " +
+         names(writer_registry<3>().names()) + "\n";
+  return out;
+}
+
+}  // namespace pipeline
+}  // namespace plaf

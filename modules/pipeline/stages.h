@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: MIT
+// Stage plugins: every stage of the pipeline is chosen by name from a registry, one registry per
+// stage kind and dimension. A factory receives its configuration section (and the whole run
+// configuration), parses and checks its own keys there, before anything runs, and returns the
+// configured stage: a function of the run state that fills its part and its StageReport.
+//
+// Registration: each library registers its own plugins in one function the driver calls at start
+// (core: register_core_plugins below; surface3d/plugins.h, layers/plugins.h, volume/plugins.h).
+// Types (kind: 2D | 3D):
+//   geometry: annulus, airfoils | sphere, ellipsoid, box, wing, surface_file
+//   metric:   uniform, wall_power_law, background | uniform
+//   surface:  annulus, curves | remesh
+//   layers:   none, extrude | none
+//   fill:     none, advancing_front | none
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "modules/pipeline/config.h"
+#include "modules/pipeline/registry.h"
+#include "modules/pipeline/run_config.h"
+#include "modules/pipeline/stage_report.h"
+
+namespace plaf {
+inline namespace pipeline {
+
+template <int Dim>
+struct RunState;
+
+template <int Dim>
+using Stage = std::function<void(RunState<Dim>&, StageReport&)>;
+
+enum class StageKind { Geometry, Metric, Surface, Layers, Fill };
+constexpr StageKind all_stage_kinds[] = {StageKind::Geometry, StageKind::Metric, StageKind::Surface,
+                                         StageKind::Layers, StageKind::Fill};
+const char* stage_kind_name(StageKind kind);  // "geometry", ... (also the config section and report key)
+
+// section: the stage's config section (empty when absent); config: the run configuration.
+template <int Dim>
+using StageRegistry = Registry<Stage<Dim>(const ConfigNode& section, const RunConfig& config)>;
+
+template <int Dim>
+StageRegistry<Dim>& stage_registry(StageKind kind);
+
+// Registers core's stages: 2D geometries, metrics and surface meshes, the 3D uniform metric, and
+// the "none" layers and fill of both dimensions. Idempotent.
+void register_core_plugins();
+
+// One line per stage kind and dimension with its registered types, and the output formats.
+std::string plugin_listing();
+
+}  // namespace pipeline
+}  // namespace plaf
