@@ -30,22 +30,20 @@ namespace {
 // The stage a config chose for `kind`, configured by its plugin. Geometry, metric and surface
 // types come from their sections' keys (run_config.h); layers and fill were configured when the
 // config was read (their plugins parse their own sections).
+// The stage the config chose for `kind`, configured by its plugin when the config was read.
 template <int Dim>
-Stage<Dim> chosen(const RunConfig& c, StageKind kind) {
-  const ConfigNode none = ConfigNode::load_string("{}");
-  switch (kind) {
-    case StageKind::Geometry: return stage_registry<Dim>(kind).create(c.geometry.type, c.geometry.where, none, c);
-    case StageKind::Metric: return stage_registry<Dim>(kind).create(c.metric.type, c.metric.where, none, c);
-    case StageKind::Surface: return stage_registry<Dim>(kind).create(c.surface_type, c.file.string(), none, c);
-    case StageKind::Layers:
-    case StageKind::Fill: {
-      const PlannedStage& p = kind == StageKind::Layers ? c.layers : c.fill;
-      if (!p.enabled()) return [](RunState<Dim>&, StageReport&) {};
-      if constexpr (Dim == 2) return p.run2;
-      else return p.run3;
-    }
-  }
-  throw Error("unknown stage kind");
+const Stage<Dim>& chosen(const RunConfig& c, StageKind kind) {
+  static const Stage<Dim> nothing = [](RunState<Dim>&, StageReport&) {};
+  const PlannedStage& p = kind == StageKind::Geometry ? c.geometry
+                          : kind == StageKind::Metric ? c.metric_stage
+                          : kind == StageKind::Surface ? c.surface
+                          : kind == StageKind::Layers ? c.layers
+                                                      : c.fill;
+  if (!p.enabled()) return nothing;
+  if constexpr (Dim == 2)
+    return p.run2;
+  else
+    return p.run3;
 }
 
 // Step 5 of the pipeline: the mesh of the run from the stages' products.
@@ -82,7 +80,7 @@ int run_pipeline(const RunConfig& c, const std::filesystem::path& config_path) {
   // 1-5. Geometry, metric, surface mesh, layers and fill, each the plugin the config chose.
   step(StageKind::Geometry, c.geometry.type);
   step(StageKind::Metric, c.metric.type);
-  step(StageKind::Surface, c.surface_type);
+  step(StageKind::Surface, c.surface.type);
   step(StageKind::Layers, c.layers.type);
   step(StageKind::Fill, c.fill.type);
   // 6. The mesh of the run.
@@ -163,13 +161,16 @@ int check_command(const std::filesystem::path& path, const std::optional<std::fi
   StageClock clock(timings);
   // The metric first: a bad config fails before the (possibly long) read.
   std::optional<RunConfig> c;
-  Geometry2D geometry;
   std::unique_ptr<MetricField<2>> metric;
   QualityOptions qo;
   if (metric_config) {
     c = load_run_config(*metric_config);
-    if (c->geometry.type == "airfoils") geometry = build_airfoils_geometry(c->geometry.airfoils);
-    metric = make_metric_field(*c, geometry);
+    if (c->dim != 2) throw InputError(metric_config->string() + ": --metric takes a 2D configuration");
+    RunState<2> s(*c);  // the config's geometry and metric stages, nothing else
+    StageReport ignored;
+    chosen<2>(*c, StageKind::Geometry)(s, ignored);
+    chosen<2>(*c, StageKind::Metric)(s, ignored);
+    metric = std::move(s.metric);
     qo.histogram_bins = c->output.histogram_bins;
     clock.done("metric", c->metric.type + " from " + metric_config->string());
   }

@@ -22,6 +22,83 @@ namespace plaf {
 
 namespace {
 
+std::array<double, 3> get_triple(const ConfigNode& n, const std::string& key, std::array<double, 3> fallback) {
+  const std::vector<double> v = n.get_double_list(key, {fallback[0], fallback[1], fallback[2]});
+  if (v.size() != 3) throw ConfigError(n.where(key) + ": expected three numbers [x, y, z]");
+  return {v[0], v[1], v[2]};
+}
+
+}  // namespace
+
+Geometry3Params parse_geometry3_params(const ConfigNode& g, const std::string& type) {
+  Geometry3Params s;
+  if (type == "sphere" || type == "ellipsoid") s.center = get_triple(g, "center", s.center);
+  if (type == "sphere") s.radius = g.get_positive("radius", s.radius);
+  if (type == "ellipsoid") {
+    s.semi_axes = get_triple(g, "semi_axes", s.semi_axes);
+    for (double a : s.semi_axes)
+      if (!(a > 0)) throw ConfigError(g.where("semi_axes") + ": semi-axes must be positive");
+  }
+  if (type == "box") {
+    s.lo = get_triple(g, "lo", s.lo);
+    s.hi = get_triple(g, "hi", s.hi);
+    for (int k = 0; k < 3; ++k)
+      if (!(s.hi[k] > s.lo[k])) throw ConfigError(g.where("hi") + ": every coordinate must exceed lo's");
+  }
+  if (type == "wing") {
+    s.file = g.get_path("file", "");
+    if (s.file.empty()) throw ConfigError(g.where() + ": file (the airfoil section) is required for a wing");
+    s.chord = g.get_positive("chord", s.chord);
+    s.span = g.get_positive("span", s.span);
+    s.root = g.get_choice("root", s.root, {"flat", "rounded", "symmetry"});
+    s.tip = g.get_choice("tip", s.tip, {"flat", "rounded", "symmetry"});
+    s.corner_angle_deg = g.get_in_range("corner_angle_deg", s.corner_angle_deg, 0.0, 180.0);
+    if (!(s.corner_angle_deg > 0 && s.corner_angle_deg < 180))
+      throw ConfigError(g.where("corner_angle_deg") + ": must lie strictly between 0 and 180");
+  }
+  if (type == "surface_file") {
+    s.file = g.get_path("file", "");
+    if (s.file.empty()) throw ConfigError(g.where() + ": file is required for a surface_file geometry");
+    s.weld_rel = g.get_in_range("weld_rel", s.weld_rel, 0.0, 0.1);
+    for (const ConfigNode& p : g.child_list("symmetry_planes")) {
+      SymmetryPlaneParams plane;
+      if (!p.has("normal")) throw ConfigError(p.where() + ": normal is required ([nx, ny, nz])");
+      plane.normal = get_triple(p, "normal", plane.normal);
+      const double len = std::sqrt(plane.normal[0] * plane.normal[0] + plane.normal[1] * plane.normal[1] +
+                                   plane.normal[2] * plane.normal[2]);
+      if (!(len > 0)) throw ConfigError(p.where("normal") + ": the plane normal must not be zero");
+      for (double& x : plane.normal) x /= len;
+      plane.offset = p.get_double("offset", plane.offset) / len;
+      s.symmetry_planes.push_back(plane);
+    }
+    s.check_self_intersections = g.get_choice("self_intersections", "check", {"check", "skip"}) == "check";
+    s.drop_inner_components = g.get_choice("inner_components", "error", {"error", "drop"}) == "drop";
+  }
+  return s;
+}
+
+SurfaceParams parse_surface_params(const ConfigNode& sf, const RunConfig& config) {
+  SurfaceParams sp;
+  sp.ridge_angle_deg = sf.get_in_range("ridge_angle_deg", sp.ridge_angle_deg, 0.0, 180.0);
+  sp.corner_defect_deg = sf.get_in_range("corner_defect_deg", sp.corner_defect_deg, 0.0, 360.0);
+  sp.curve_turn_deg = sf.get_in_range("curve_turn_deg", sp.curve_turn_deg, 0.0, 180.0);
+  sp.remesh = sf.get_bool("remesh", sp.remesh);
+  sp.iterations = sf.get_int("iterations", sp.iterations, 1, 100);
+  sp.curvature_factor = sf.get_in_range("curvature_factor", sp.curvature_factor, 0.0, 100.0);
+  sp.curvature_h_min = sf.has("curvature_h_min") ? sf.get_positive("curvature_h_min", 1.0) : 0;
+  sp.max_triangles = sf.get_int("max_triangles", sp.max_triangles, 1, 2000000000);
+  if (sp.curvature_h_min > 0) {
+    const UniformMetricParams& u = config.metric.uniform;
+    const double smallest = u.sizes.empty() ? u.h : *std::min_element(u.sizes.begin(), u.sizes.end());
+    if (sp.curvature_h_min >= smallest)
+      throw ConfigError(sf.where("curvature_h_min") + ": " + std::to_string(sp.curvature_h_min) +
+                        " must be smaller than the metric's smallest size " + std::to_string(smallest));
+  }
+  return sp;
+}
+
+namespace {
+
 Eigen::Vector3d vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
 WingEnd wing_end(const std::string& s) {
@@ -55,44 +132,24 @@ FeatureOptions feature_options(const SurfaceParams& sp) {
   return fo;
 }
 
-// An analytic body, triangulated at 1.5 times the metric's largest size at its centre: one split
-// brings its edges to 0.75, inside the unit band (a start at exactly twice the size splits the
-// lattice's diagonals to 1/sqrt 2, on the band's edge).
-void analytic_body(RunState<3>& s, StageReport& rep) {
-  const RunConfig& c = s.config;
-  const Surface3Params& g = c.geometry.surface3;
-  const double h0 = 1.5 * uniform_metric_3d(c.metric.uniform).max_size();
-  AnalyticBody body;
-  if (c.geometry.type == "sphere") {
-    body = make_sphere(vec(g.center), g.radius, std::min(h0, g.radius));
-  } else if (c.geometry.type == "ellipsoid") {
-    body = make_ellipsoid(vec(g.center), vec(g.semi_axes), std::min(h0, vec(g.semi_axes).minCoeff()));
-  } else if (c.geometry.type == "box") {
-    body = make_box(vec(g.lo), vec(g.hi), std::min(h0, (vec(g.hi) - vec(g.lo)).minCoeff() / 2));
-  } else {
-    WingParams w;
-    w.file = g.file;
-    w.chord = g.chord;
-    w.span = g.span;
-    w.root = wing_end(g.root);
-    w.tip = wing_end(g.tip);
-    w.corner_angle_deg = g.corner_angle_deg;
-    body = make_wing(w, std::min(h0, std::min(g.chord, g.span) / 4));
-  }
-  s.surface = std::move(body.initial);
-  s.reference = std::move(body.reference);
-  const FeatureReport features = count_features(s.surface);
-  rep.set_section("surface");
-  rep.add("geometry", c.geometry.type);
-  rep.add("input_triangles", s.surface.mesh.n_faces());
-  rep.add_json("features.input", feature_json(features));
-  rep.line("geometry: " + c.geometry.type + ", initial " + std::to_string(s.surface.mesh.n_faces()) + " triangles");
-  rep.line("features (input): " + feature_line(features));
+// An analytic body (analytic.h) at size h: its exact reference and initial triangulation.
+AnalyticBody make_body(const std::string& type, const Geometry3Params& g, double h) {
+  if (type == "sphere") return make_sphere(vec(g.center), g.radius, std::min(h, g.radius));
+  if (type == "ellipsoid") return make_ellipsoid(vec(g.center), vec(g.semi_axes), std::min(h, vec(g.semi_axes).minCoeff()));
+  if (type == "box") return make_box(vec(g.lo), vec(g.hi), std::min(h, (vec(g.hi) - vec(g.lo)).minCoeff() / 2));
+  WingParams w;
+  w.file = g.file;
+  w.chord = g.chord;
+  w.span = g.span;
+  w.root = wing_end(g.root);
+  w.tip = wing_end(g.tip);
+  w.corner_angle_deg = g.corner_angle_deg;
+  return make_wing(w, std::min(h, std::min(g.chord, g.span) / 4));
 }
 
-// A surface file: read, validated (repairs reported), its features detected; it is its own reference.
-void surface_file(RunState<3>& s, StageReport& rep) {
-  const Surface3Params& g = s.config.geometry.surface3;
+// A surface file: read and validated (repairs reported); the surface stage detects its features
+// and makes it the reference.
+void surface_file(const Geometry3Params& g, RunState<3>& s, StageReport& rep) {
   const TriangleSoup soup = read_surface_file(g.file, ReadSurfaceOptions{g.weld_rel});
   SurfaceCheckOptions so;
   for (const SymmetryPlaneParams& p : g.symmetry_planes) so.symmetry_planes.push_back({vec(p.normal), p.offset});
@@ -101,14 +158,11 @@ void surface_file(RunState<3>& s, StageReport& rep) {
   SurfaceCheckReport k;
   s.surface = validate_surface(soup, so, &k);
   for (const std::string& r : k.repairs) std::cerr << "[plaf] repaired: " << r << '\n';
-  const FeatureReport features = detect_features(s.surface, feature_options(s.config.surface));
-  s.reference = make_discrete_reference(s.surface);
   std::vector<std::string> repairs;
   for (const std::string& r : k.repairs) repairs.push_back(json_string(r));
   rep.set_section("surface");
   rep.add("geometry", s.config.geometry.type);
   rep.add("input_triangles", k.input_triangles);
-  rep.add_json("features.input", feature_json(features));
   rep.add("input.components", k.components);
   rep.add("input.euler_characteristic", k.euler_characteristic);
   rep.add("input.volume", k.volume);
@@ -117,28 +171,44 @@ void surface_file(RunState<3>& s, StageReport& rep) {
   rep.add_json("input.repairs", json_array(repairs));
   rep.line("geometry: " + g.file + ": " + std::to_string(k.input_triangles) + " triangles, " +
            std::to_string(k.components) + " components, chi = " + std::to_string(k.euler_characteristic));
-  rep.line("features (input): " + feature_line(features));
 }
 
 // The surface mesh: curvature-driven sizes (optional), remeshing with features kept, the features
 // detected again on the final mesh as a check, order-Q nodes on the reference, every triangle
 // certified.
-void remesh_and_curve(RunState<3>& s, StageReport& rep) {
+void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep) {
   const RunConfig& c = s.config;
+  // An analytic body starts from a triangulation at 1.5 times the metric's largest size at its
+  // centre: one split brings its edges to 0.75, inside the unit band (a start at exactly twice the
+  // size splits the lattice's diagonals to 1/sqrt 2, on the band's edge).
+  if (s.build_body) {
+    s.build_body(s, 1.5 * s.metric->evaluate(s.body_center).max_size());
+    const FeatureReport features = count_features(s.surface);
+    rep.add("input_triangles", s.surface.mesh.n_faces());
+    rep.add_json("features.input", feature_json(features));
+    rep.line("initial triangulation: " + std::to_string(s.surface.mesh.n_faces()) + " triangles");
+    rep.line("features (input): " + feature_line(features));
+  } else if (!s.reference) {
+    // A surface file is its own reference, with the features the surface section asks for.
+    const FeatureReport features = detect_features(s.surface, feature_options(sp));
+    s.reference = make_discrete_reference(s.surface);
+    rep.add_json("features.input", feature_json(features));
+    rep.line("features (input): " + feature_line(features));
+  }
   TriSurface& surface = s.surface;
-  if (c.surface.curvature_factor > 0) {
+  if (sp.curvature_factor > 0) {
     if (surface.mesh.n_vertices() == 0) throw MesherError("surface: no vertices to mesh");
     const double base_min = s.metric->evaluate(surface.mesh.point(*surface.mesh.vertices().begin())).min_size();
-    const double h_min = c.surface.curvature_h_min > 0 ? c.surface.curvature_h_min : base_min / 20;
+    const double h_min = sp.curvature_h_min > 0 ? sp.curvature_h_min : base_min / 20;
     s.surface_metric =
-        std::make_unique<CurvatureMetricField>(*s.metric, *s.reference, c.surface.curvature_factor, h_min);
+        std::make_unique<CurvatureMetricField>(*s.metric, *s.reference, sp.curvature_factor, h_min);
   }
   const MetricField<3>& field = *s.measure();
   RemeshReport rr;
-  if (c.surface.remesh) {
+  if (sp.remesh) {
     RemeshOptions ro;
-    ro.iterations = c.surface.iterations;
-    ro.max_triangles = static_cast<std::size_t>(c.surface.max_triangles);
+    ro.iterations = sp.iterations;
+    ro.max_triangles = static_cast<std::size_t>(sp.max_triangles);
     rr = remesh_surface(surface, *s.reference, field, ro);
     rep.line("remesh: " + std::to_string(rr.faces_before) + " -> " + std::to_string(rr.faces_after) +
              " triangles, unit fraction " + std::to_string(rr.unit_fraction) + ", " +
@@ -147,7 +217,7 @@ void remesh_and_curve(RunState<3>& s, StageReport& rep) {
   }
   const FeatureReport kept = count_features(surface);
   TriSurface probe = surface;
-  const FeatureReport detected = detect_features(probe, feature_options(c.surface));
+  const FeatureReport detected = detect_features(probe, feature_options(sp));
   rep.line("features (final): " + feature_line(kept));
   rep.line("features (detected on the final mesh): " + feature_line(detected));
 
@@ -195,11 +265,30 @@ void remesh_and_curve(RunState<3>& s, StageReport& rep) {
 void register_surface3d_plugins() {
   static const bool once = [] {
     StageRegistry<3>& geometry = stage_registry<3>(StageKind::Geometry);
-    for (const char* body : {"sphere", "ellipsoid", "box", "wing"})
-      geometry.add(body, [](const ConfigNode&, const RunConfig&) -> Stage<3> { return analytic_body; });
-    geometry.add("surface_file", [](const ConfigNode&, const RunConfig&) -> Stage<3> { return surface_file; });
-    stage_registry<3>(StageKind::Surface)
-        .add("remesh", [](const ConfigNode&, const RunConfig&) -> Stage<3> { return remesh_and_curve; });
+    for (const char* name : {"sphere", "ellipsoid", "box", "wing"})
+      geometry.add(name, [](const ConfigNode& section, const RunConfig&) -> Stage<3> {
+        const std::string type = section.get_string("type", "");
+        const Geometry3Params g = parse_geometry3_params(section, type);
+        return [type, g](RunState<3>& s, StageReport& rep) {
+          s.body_center = vec(g.center);
+          s.build_body = [type, g](RunState<3>& state, double h) {
+            AnalyticBody body = make_body(type, g, h);
+            state.surface = std::move(body.initial);
+            state.reference = std::move(body.reference);
+          };
+          rep.set_section("surface");
+          rep.add("geometry", type);
+          rep.line("geometry: " + type + " (exact reference, triangulated at the surface stage)");
+        };
+      });
+    geometry.add("surface_file", [](const ConfigNode& section, const RunConfig&) -> Stage<3> {
+      const Geometry3Params g = parse_geometry3_params(section, "surface_file");
+      return [g](RunState<3>& s, StageReport& rep) { surface_file(g, s, rep); };
+    });
+    stage_registry<3>(StageKind::Surface).add("remesh", [](const ConfigNode& section, const RunConfig& c) -> Stage<3> {
+      const SurfaceParams sp = parse_surface_params(section, c);
+      return [sp](RunState<3>& s, StageReport& rep) { remesh_and_curve(sp, s, rep); };
+    });
     return true;
   }();
   (void)once;

@@ -1,13 +1,84 @@
 // SPDX-License-Identifier: MIT
-// The 3D surface stages' plugins (modules/pipeline/stages.h), registered by register_plugins():
-//   geometry: sphere, ellipsoid, box, wing (analytic.h) and surface_file (read_surface.h,
-//             validate.h, features.h; the discrete reference) — keys in modules/pipeline/run_config.h;
-//   surface:  remesh — metric-conforming remeshing with features kept (remesh.h), sizes optionally
-//             following the curvature (curvature_metric.h), order-Q nodes on the reference, every
-//             triangle certified (high_order.h). A folded or invalid surface fails the run.
+// The 3D surface stages' plugins (modules/pipeline/stages.h), registered by
+// register_surface3d_plugins(); each parses its own section:
+//   geometry:               3D surfaces (the run is 3D)
+//     type: sphere          center: [x, y, z] (default origin), radius: <>0> (default 1)
+//     type: ellipsoid       center, semi_axes: [a, b, c] along x, y, z   default: [1.5, 1.2, 1]
+//     type: box             lo: [x, y, z], hi: [x, y, z]          default: [-1,-1,-1], [1,1,1]
+//     type: wing            a straight wing along +z from z = 0 to span (analytic.h)
+//       file: <path>        airfoil section (Selig or Lednicer)   (required)
+//       chord: <>0>         default: 1        span: <>0>          default: 1
+//       root: flat|rounded|symmetry   the end at z = 0            default: symmetry
+//       tip: flat|rounded|symmetry    the end at z = span         default: flat
+//       corner_angle_deg: <(0, 180)>  section corners             default: 30
+//     type: surface_file    a triangulated or Plot3D surface (read_surface.h), validated
+//                           (validate.h), its features detected (features.h); its own reference
+//       file: <path>        .stl .obj .off .ply .fmt .p3d         (required)
+//       weld_rel: <0..0.1>  merge points closer than this x bbox diagonal   default: 1e-9
+//       symmetry_planes:    open boundaries allowed on these planes, tagged symmetry:
+//         - normal: [nx, ny, nz]   (required)   offset: <d>   (the plane normal . x = d, default 0)
+//       self_intersections: check|skip                            default: check
+//       inner_components: error|drop  bodies nested in another    default: error
+//   surface:                the `remesh` surface stage: features, remeshing (features.h, remesh.h),
+//                           order-Q nodes on the reference, every triangle certified (high_order.h)
+//     ridge_angle_deg: <0..180>   dihedral deviation of a ridge   default: 30
+//     corner_defect_deg: <0..360> angle defect of a cone corner   default: 60
+//     curve_turn_deg: <0..180>    turn of a feature curve making a corner   default: 45
+//     remesh: <bool>        remesh to the metric                  default: true
+//     iterations: <1..100>  remeshing rounds                      default: 8
+//     curvature_factor: <0..100>  sizes at most this x radius of curvature (0: off)   default: 0
+//     curvature_h_min: <>0, < the metric's size>  the smallest size curvature asks for   default: the metric's size / 20
+//     max_triangles: <n>    give up (an error) beyond this many triangles   default: 20000000
+// An analytic body gives its exact reference at the geometry stage and its initial
+// triangulation at the surface stage, at 1.5 times the metric's largest size there.
+// A folded or invalid surface fails the run (exit 2, the mesh written for inspection).
 #pragma once
 
+#include <array>
+#include <string>
+#include <vector>
+
+#include "modules/pipeline/config.h"
+#include "modules/pipeline/run_config.h"
+
 namespace plaf {
+
+struct SymmetryPlaneParams {
+  std::array<double, 3> normal = {0, 0, 1};
+  double offset = 0;
+};
+
+// The 3D geometries' keys (only the chosen type's are read).
+struct Geometry3Params {
+  std::array<double, 3> center = {0, 0, 0};
+  double radius = 1;
+  std::array<double, 3> semi_axes = {1.5, 1.2, 1.0};
+  std::array<double, 3> lo = {-1, -1, -1}, hi = {1, 1, 1};
+  std::string file;  // wing section or surface file
+  double chord = 1, span = 1;
+  std::string root = "symmetry", tip = "flat";
+  double corner_angle_deg = 30;
+  double weld_rel = 1e-9;
+  std::vector<SymmetryPlaneParams> symmetry_planes;
+  bool check_self_intersections = true;
+  bool drop_inner_components = false;
+};
+
+struct SurfaceParams {
+  double ridge_angle_deg = 30;
+  double corner_defect_deg = 60;
+  double curve_turn_deg = 45;
+  bool remesh = true;
+  int iterations = 8;
+  double curvature_factor = 0;
+  double curvature_h_min = 0;  // 0: the metric's smallest size / 20
+  int max_triangles = 20000000;
+};
+
+// The keys of a 3D geometry section of type `type` (ConfigError naming the key).
+Geometry3Params parse_geometry3_params(const ConfigNode& geometry, const std::string& type);
+// The keys of the surface section; the curvature size is checked against the run's metric.
+SurfaceParams parse_surface_params(const ConfigNode& surface, const RunConfig& config);
 
 void register_surface3d_plugins();
 

@@ -11,6 +11,45 @@
 namespace plaf {
 inline namespace geometry {
 
+namespace {
+
+std::array<double, 2> get_pair(const ConfigNode& n, const std::string& key, std::array<double, 2> fallback) {
+  const std::vector<double> v = n.get_double_list(key, {fallback[0], fallback[1]});
+  if (v.size() != 2) throw ConfigError(n.where(key) + ": expected two numbers [a, b]");
+  return {v[0], v[1]};
+}
+
+}  // namespace
+
+AirfoilsParams parse_airfoils_params(const ConfigNode& g) {
+  AirfoilsParams a;
+  const std::vector<ConfigNode> bodies = g.child_list("bodies");
+  if (bodies.empty()) throw ConfigError(g.where("bodies") + ": give at least one body: [{file: contour.dat}]");
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const ConfigNode& b = bodies[i];
+    BodyParams body;
+    body.file = b.get_path("file", "");
+    if (body.file.empty()) throw ConfigError(b.where() + ": file is required");
+    body.name = b.get_string("name", i == 0 ? "wall" : "wall_" + std::to_string(i + 1));
+    // A body tagged "farfield" would merge with the farfield loop's tag (and make it a wall).
+    if (body.name.empty() || body.name == "farfield")
+      throw ConfigError(b.where("name") + ": '" + body.name +
+                        "' cannot tag a body (\"farfield\" is the farfield's tag)");
+    body.corners = b.get_point_list("corners");
+    a.bodies.push_back(body);
+  }
+  a.corner_angle_deg = g.get_in_range("corner_angle_deg", a.corner_angle_deg, 0.0, 180.0);
+  const ConfigNode f = g.child("farfield");
+  FarfieldParams& ff = a.farfield;
+  ff.shape = f.get_choice("shape", ff.shape, {"circle", "rectangle"});
+  ff.radius = f.get_positive("radius", ff.radius);
+  ff.size = get_pair(f, "size", ff.size);
+  if (!(ff.size[0] > 0 && ff.size[1] > 0)) throw ConfigError(f.where("size") + ": sizes must be positive");
+  ff.has_center = f.has("center");
+  ff.center = get_pair(f, "center", ff.center);
+  return a;
+}
+
 SplineLoop farfield_circle(const Eigen::Vector2d& center, double radius, int points) {
   std::vector<Eigen::Vector2d> p;
   for (int i = 0; i < points; ++i) {

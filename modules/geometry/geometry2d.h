@@ -10,11 +10,44 @@
 
 #include "modules/geometry/reference.h"
 #include "modules/mesh/hybrid_mesh.h"
-#include "modules/pipeline/run_config.h"
+#include "modules/pipeline/config.h"
 #include "modules/geometry/spline_loop.h"
 
 namespace plaf {
 inline namespace geometry {
+
+// The `airfoils` geometry (its plugin: modules/pipeline/stages.h):
+//   geometry:
+//     type: airfoils        bodies from coordinate files (airfoil_io.h), splines with corners
+//     bodies:               a list, one map per body:
+//       - file: <path>      Selig or Lednicer file, relative to the config file   (required)
+//         name: <word>      boundary tag of the body                  default: wall, wall_2, ...
+//         corners: [[x, y], ...]  extra corners: the nearest contour points   default: none
+//     corner_angle_deg: <0..180>  turning angle above which a point is a corner   default: 30
+//     farfield:
+//       shape: circle|rectangle                                   default: circle
+//       radius: <>0>        circle radius                         default: 20
+//       size: [w, h]        rectangle width and height            default: [40, 40]
+//       center: [x, y]      default: the centre of the bodies' bounding box
+struct BodyParams {
+  std::string file;
+  std::string name;
+  std::vector<std::array<double, 2>> corners;
+};
+
+struct FarfieldParams {
+  std::string shape = "circle";
+  double radius = 20.0;
+  std::array<double, 2> size = {40.0, 40.0};
+  bool has_center = false;
+  std::array<double, 2> center = {0.0, 0.0};
+};
+
+struct AirfoilsParams {
+  std::vector<BodyParams> bodies;
+  double corner_angle_deg = 30.0;
+  FarfieldParams farfield;
+};
 
 struct GeometryLoop {
   SplineLoop loop;
@@ -43,6 +76,10 @@ struct Geometry2D final : ReferenceGeometry<2> {
 // adds the farfield circle or rectangle. InputError for bad files, ConfigError for a farfield
 // that does not enclose the bodies.
 Geometry2D build_airfoils_geometry(const AirfoilsParams& params);
+
+// The airfoils keys of a geometry section (ConfigError naming the key); paths relative to the
+// config file's folder.
+AirfoilsParams parse_airfoils_params(const ConfigNode& geometry);
 
 // A circle (periodic spline through `points` points) or an axis-aligned rectangle (4 corners),
 // counter-clockwise, tagged "farfield".

@@ -9,6 +9,16 @@
 namespace plaf {
 inline namespace mesh {
 
+AnnulusParams parse_annulus_params(const ConfigNode& g) {
+  AnnulusParams a;
+  a.r_inner = g.get_positive("r_inner", a.r_inner);
+  a.r_outer = g.get_positive("r_outer", a.r_outer);
+  if (a.r_outer <= a.r_inner) throw ConfigError(g.where("r_outer") + ": must be larger than r_inner");
+  a.angle_deg = g.get_in_range("angle_deg", a.angle_deg, 1e-6, 360.0);
+  a.triangles = g.get_choice("cells", "quad", {"quad", "tri"}) == "tri";
+  return a;
+}
+
 HybridMesh<2> mesh_annulus(const AnnulusParams& p, int order, const MetricField<2>& metric) {
   check_order(order);
   if (!(p.r_inner > 0) || !(p.r_outer > p.r_inner)) throw InputError("annulus: need 0 < r_inner < r_outer");

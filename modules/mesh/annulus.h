@@ -6,14 +6,32 @@
 //
 // Boundary tags: "wall" (inner circle, Wall), "farfield" (outer circle, Farfield) and, for a
 // sector, "side" (the two radial lines, Symmetry). Loops run with the domain on their left.
+//
+// Its geometry section (the `annulus` geometry plugin, modules/pipeline/stages.h):
+//   geometry:
+//     type: annulus
+//     r_inner: <>0>         inner radius                          default: 1
+//     r_outer: <>r_inner>   outer radius                          default: 2
+//     angle_deg: <0..360]   sector angle (360 = full annulus)     default: 360
+//     cells: quad|tri       quads, or each quad split in two tris default: quad
 #pragma once
 
 #include "modules/mesh/hybrid_mesh.h"
 #include "modules/metric/metric.h"
-#include "modules/pipeline/run_config.h"
+#include "modules/pipeline/config.h"
 
 namespace plaf {
 inline namespace mesh {
+
+struct AnnulusParams {
+  double r_inner = 1.0;
+  double r_outer = 2.0;
+  double angle_deg = 360.0;
+  bool triangles = false;
+};
+
+// The annulus keys of a geometry section (ConfigError naming the key).
+AnnulusParams parse_annulus_params(const ConfigNode& geometry);
 
 HybridMesh<2> mesh_annulus(const AnnulusParams& params, int order, const MetricField<2>& metric);
 

@@ -21,94 +21,6 @@ bool OutputParams::wants(const std::string& f) const {
 
 namespace {
 
-std::array<double, 2> get_pair(const ConfigNode& n, const std::string& key, std::array<double, 2> fallback) {
-  const std::vector<double> v = n.get_double_list(key, {fallback[0], fallback[1]});
-  if (v.size() != 2) throw ConfigError(n.where(key) + ": expected two numbers [a, b]");
-  return {v[0], v[1]};
-}
-
-void parse_airfoils(const ConfigNode& g, AirfoilsParams& a) {
-  const std::vector<ConfigNode> bodies = g.child_list("bodies");
-  if (bodies.empty()) throw ConfigError(g.where("bodies") + ": give at least one body: [{file: contour.dat}]");
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    const ConfigNode& b = bodies[i];
-    BodyParams body;
-    body.file = b.get_path("file", "");
-    if (body.file.empty()) throw ConfigError(b.where() + ": file is required");
-    body.name = b.get_string("name", i == 0 ? "wall" : "wall_" + std::to_string(i + 1));
-    // A body tagged "farfield" would merge with the farfield loop's tag (and make it a wall).
-    if (body.name.empty() || body.name == "farfield")
-      throw ConfigError(b.where("name") + ": '" + body.name +
-                        "' cannot tag a body (\"farfield\" is the farfield's tag)");
-    body.corners = b.get_point_list("corners");
-    a.bodies.push_back(body);
-  }
-  a.corner_angle_deg = g.get_in_range("corner_angle_deg", a.corner_angle_deg, 0.0, 180.0);
-  const ConfigNode f = g.child("farfield");
-  FarfieldParams& ff = a.farfield;
-  ff.shape = f.get_choice("shape", ff.shape, {"circle", "rectangle"});
-  ff.radius = f.get_positive("radius", ff.radius);
-  ff.size = get_pair(f, "size", ff.size);
-  if (!(ff.size[0] > 0 && ff.size[1] > 0)) throw ConfigError(f.where("size") + ": sizes must be positive");
-  ff.has_center = f.has("center");
-  ff.center = get_pair(f, "center", ff.center);
-}
-
-std::array<double, 3> get_triple(const ConfigNode& n, const std::string& key, std::array<double, 3> fallback) {
-  const std::vector<double> v = n.get_double_list(key, {fallback[0], fallback[1], fallback[2]});
-  if (v.size() != 3) throw ConfigError(n.where(key) + ": expected three numbers [x, y, z]");
-  return {v[0], v[1], v[2]};
-}
-
-bool is_3d_geometry(const std::string& type) {
-  return type == "sphere" || type == "ellipsoid" || type == "box" || type == "wing" || type == "surface_file";
-}
-
-void parse_surface3(const ConfigNode& g, const std::string& type, Surface3Params& s) {
-  if (type == "sphere" || type == "ellipsoid") s.center = get_triple(g, "center", s.center);
-  if (type == "sphere") s.radius = g.get_positive("radius", s.radius);
-  if (type == "ellipsoid") {
-    s.semi_axes = get_triple(g, "semi_axes", s.semi_axes);
-    for (double a : s.semi_axes)
-      if (!(a > 0)) throw ConfigError(g.where("semi_axes") + ": semi-axes must be positive");
-  }
-  if (type == "box") {
-    s.lo = get_triple(g, "lo", s.lo);
-    s.hi = get_triple(g, "hi", s.hi);
-    for (int k = 0; k < 3; ++k)
-      if (!(s.hi[k] > s.lo[k])) throw ConfigError(g.where("hi") + ": every coordinate must exceed lo's");
-  }
-  if (type == "wing") {
-    s.file = g.get_path("file", "");
-    if (s.file.empty()) throw ConfigError(g.where() + ": file (the airfoil section) is required for a wing");
-    s.chord = g.get_positive("chord", s.chord);
-    s.span = g.get_positive("span", s.span);
-    s.root = g.get_choice("root", s.root, {"flat", "rounded", "symmetry"});
-    s.tip = g.get_choice("tip", s.tip, {"flat", "rounded", "symmetry"});
-    s.corner_angle_deg = g.get_in_range("corner_angle_deg", s.corner_angle_deg, 0.0, 180.0);
-    if (!(s.corner_angle_deg > 0 && s.corner_angle_deg < 180))
-      throw ConfigError(g.where("corner_angle_deg") + ": must lie strictly between 0 and 180");
-  }
-  if (type == "surface_file") {
-    s.file = g.get_path("file", "");
-    if (s.file.empty()) throw ConfigError(g.where() + ": file is required for a surface_file geometry");
-    s.weld_rel = g.get_in_range("weld_rel", s.weld_rel, 0.0, 0.1);
-    for (const ConfigNode& p : g.child_list("symmetry_planes")) {
-      SymmetryPlaneParams plane;
-      if (!p.has("normal")) throw ConfigError(p.where() + ": normal is required ([nx, ny, nz])");
-      plane.normal = get_triple(p, "normal", plane.normal);
-      const double len = std::sqrt(plane.normal[0] * plane.normal[0] + plane.normal[1] * plane.normal[1] +
-                                   plane.normal[2] * plane.normal[2]);
-      if (!(len > 0)) throw ConfigError(p.where("normal") + ": the plane normal must not be zero");
-      for (double& x : plane.normal) x /= len;
-      plane.offset = p.get_double("offset", plane.offset) / len;
-      s.symmetry_planes.push_back(plane);
-    }
-    s.check_self_intersections = g.get_choice("self_intersections", "check", {"check", "skip"}) == "check";
-    s.drop_inner_components = g.get_choice("inner_components", "error", {"error", "drop"}) == "drop";
-  }
-}
-
 RunConfig parse(const ConfigNode& c, const std::string& stem) {
   RunConfig r;
   r.name = c.get_string("name", stem);
@@ -116,41 +28,12 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     throw ConfigError(c.where("name") + ": must be a plain file name, got '" + r.name + "'");
   r.order = c.get_int("order", r.order, 1, max_order);
 
+  // The geometry's type decides the run's dimension; its plugin parses the section (stages.h).
   const ConfigNode g = c.child("geometry");
-  r.geometry.type = g.get_choice("type", r.geometry.type,
-                                  {"annulus", "airfoils", "sphere", "ellipsoid", "box", "wing", "surface_file"});
-  r.geometry.where = g.where("type");
-  if (is_3d_geometry(r.geometry.type)) {
-    r.dim = 3;
-    parse_surface3(g, r.geometry.type, r.geometry.surface3);
-  }
-  std::string surface_where;  // a surface section in a 2D run is an error (after the unknown keys)
-  std::string curvature_h_min_where;
-  if (c.has("surface")) {
-    const ConfigNode sf = c.child("surface");
-    SurfaceParams& sp = r.surface;
-    sp.ridge_angle_deg = sf.get_in_range("ridge_angle_deg", sp.ridge_angle_deg, 0.0, 180.0);
-    sp.corner_defect_deg = sf.get_in_range("corner_defect_deg", sp.corner_defect_deg, 0.0, 360.0);
-    sp.curve_turn_deg = sf.get_in_range("curve_turn_deg", sp.curve_turn_deg, 0.0, 180.0);
-    sp.remesh = sf.get_bool("remesh", sp.remesh);
-    sp.iterations = sf.get_int("iterations", sp.iterations, 1, 100);
-    sp.curvature_factor = sf.get_in_range("curvature_factor", sp.curvature_factor, 0.0, 100.0);
-    sp.curvature_h_min = sf.get_positive("curvature_h_min", 1.0);
-    if (!sf.has("curvature_h_min")) sp.curvature_h_min = 0;
-    sp.max_triangles = sf.get_int("max_triangles", sp.max_triangles, 1, 2000000000);
-    curvature_h_min_where = sf.where("curvature_h_min");
-    surface_where = sf.where();
-  }
-  if (r.geometry.type == "annulus") {
-    AnnulusParams& a = r.geometry.annulus;
-    a.r_inner = g.get_positive("r_inner", a.r_inner);
-    a.r_outer = g.get_positive("r_outer", a.r_outer);
-    if (a.r_outer <= a.r_inner) throw ConfigError(g.where("r_outer") + ": must be larger than r_inner");
-    a.angle_deg = g.get_in_range("angle_deg", a.angle_deg, 1e-6, 360.0);
-    a.triangles = g.get_choice("cells", "quad", {"quad", "tri"}) == "tri";
-  } else if (r.geometry.type == "airfoils") {
-    parse_airfoils(g, r.geometry.airfoils);
-  }
+  std::vector<std::string> geometry_types = stage_registry<2>(StageKind::Geometry).names();
+  for (const std::string& t : stage_registry<3>(StageKind::Geometry).names()) geometry_types.push_back(t);
+  const std::string geometry_type = g.get_choice("type", "annulus", geometry_types);
+  if (stage_registry<3>(StageKind::Geometry).contains(geometry_type)) r.dim = 3;
 
   const ConfigNode m = c.child("metric");
   r.metric.type = m.get_string("type", r.metric.type);
@@ -193,11 +76,8 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   }
 
   // Plugin sections: the chosen type's factory parses and checks its own keys (stages.h).
-  auto plan = [&](StageKind kind, const std::string& fallback_type, PlannedStage& out) {
-    const std::string key = stage_kind_name(kind);
-    if (!c.has(key)) return;
-    const ConfigNode s = c.child(key);
-    out.type = s.get_string("type", fallback_type);
+  auto plan = [&](StageKind kind, const std::string& type, const ConfigNode& s, PlannedStage& out) {
+    out.type = type;
     out.where = s.where("type");
     out.section = s.where();
     if (r.dim == 2)
@@ -205,11 +85,25 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     else
       out.run3 = stage_registry<3>(kind).create(out.type, out.where, s, r);
   };
-  r.surface_type = r.dim == 3 ? "remesh" : r.geometry.type == "annulus" ? "annulus" : "curves";
-  if (c.has("layers") && r.geometry.type != "airfoils")
+  auto plan_optional = [&](StageKind kind, const std::string& fallback_type, PlannedStage& out) {
+    const std::string key = stage_kind_name(kind);
+    if (!c.has(key)) return;
+    const ConfigNode s = c.child(key);
+    plan(kind, s.get_string("type", fallback_type), s, out);
+  };
+  plan(StageKind::Geometry, geometry_type, g, r.geometry);
+  plan(StageKind::Metric, r.metric.type, m, r.metric_stage);
+  // The surface mesh follows from the geometry: curves of the spline loops, the annulus' exact
+  // map, or the 3D remesher (whose section holds its keys; 2D runs have none).
+  const ConfigNode sf = c.child("surface");
+  if (c.has("surface") && r.dim != 3)
+    throw ConfigError(sf.where() + ": the surface section is for 3D geometries (sphere, ellipsoid, box, wing, "
+                      "surface_file)");
+  plan(StageKind::Surface, r.dim == 3 ? "remesh" : geometry_type == "annulus" ? "annulus" : "curves", sf, r.surface);
+  if (c.has("layers") && geometry_type != "airfoils")
     throw ConfigError(c.child("layers").where() + ": layers need a spline geometry (type airfoils)");
-  plan(StageKind::Layers, "extrude", r.layers);
-  plan(StageKind::Fill, "advancing_front", r.fill);
+  plan_optional(StageKind::Layers, "extrude", r.layers);
+  plan_optional(StageKind::Fill, "advancing_front", r.fill);
 
   const ConfigNode v = c.child("validity");
   r.validity.rel_tol = v.get_in_range("rel_tol", r.validity.rel_tol, 1e-6, 1.0);
@@ -239,16 +133,6 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   }
 
   c.finish();
-  if (r.dim == 3 && r.surface.curvature_h_min > 0) {
-    const UniformMetricParams& u = r.metric.uniform;
-    const double smallest = u.sizes.empty() ? u.h : *std::min_element(u.sizes.begin(), u.sizes.end());
-    if (r.surface.curvature_h_min >= smallest)
-      throw ConfigError(curvature_h_min_where + ": " + std::to_string(r.surface.curvature_h_min) +
-                        " must be smaller than the metric's smallest size " + std::to_string(smallest));
-  }
-  if (!surface_where.empty() && r.dim != 3)
-    throw ConfigError(surface_where + ": the surface section is for 3D geometries (sphere, ellipsoid, box, wing, "
-                      "surface_file)");
   if (r.fill.enabled() && r.geometry.type != "airfoils")
     throw ConfigError(r.fill.section + ": the fill needs a spline geometry (type airfoils)");
   return r;

@@ -6,51 +6,11 @@
 //
 //   name: <string>          output base name                      default: the config file's stem
 //   order: <1..4>           geometry order Q of curved cells      default: 3
-//   geometry:               what to mesh
-//     type: annulus         curved quads (or triangles) of an annulus sector, from the exact
-//                           polar map; sizes from the metric (element counts = rounded metric lengths)
-//     r_inner: <>0>         inner radius                          default: 1
-//     r_outer: <>r_inner>   outer radius                          default: 2
-//     angle_deg: <0..360]   sector angle (360 = full annulus)     default: 360
-//     cells: quad|tri       quads, or each quad split in two tris default: quad
-//   geometry:
-//     type: airfoils        bodies from coordinate files (airfoil_io.h), splines with corners
-//     bodies:               a list, one map per body:
-//       - file: <path>      Selig or Lednicer file, relative to the config file   (required)
-//         name: <word>      boundary tag of the body                  default: wall, wall_2, ...
-//         corners: [[x, y], ...]  extra corners: the nearest contour points   default: none
-//     corner_angle_deg: <0..180>  turning angle above which a point is a corner   default: 30
-//     farfield:
-//       shape: circle|rectangle                                   default: circle
-//       radius: <>0>        circle radius                         default: 20
-//       size: [w, h]        rectangle width and height            default: [40, 40]
-//       center: [x, y]      default: the centre of the bodies' bounding box
-//   geometry:               3D surfaces (surface3d/; the run is 3D): the surface mesh alone
-//     type: sphere          center: [x, y, z] (default origin), radius: <>0> (default 1)
-//     type: ellipsoid       center, semi_axes: [a, b, c] along x, y, z   default: [1.5, 1.2, 1]
-//     type: box             lo: [x, y, z], hi: [x, y, z]          default: [-1,-1,-1], [1,1,1]
-//     type: wing            a straight wing along +z from z = 0 to span (surface3d/analytic.h)
-//       file: <path>        airfoil section (Selig or Lednicer)   (required)
-//       chord: <>0>         default: 1        span: <>0>          default: 1
-//       root: flat|rounded|symmetry   the end at z = 0            default: symmetry
-//       tip: flat|rounded|symmetry    the end at z = span         default: flat
-//       corner_angle_deg: <(0, 180)>  section corners             default: 30
-//     type: surface_file    a triangulated or Plot3D surface (surface3d/read_surface.h)
-//       file: <path>        .stl .obj .off .ply .fmt .p3d         (required)
-//       weld_rel: <0..0.1>  merge points closer than this x bbox diagonal   default: 1e-9
-//       symmetry_planes:    open boundaries allowed on these planes, tagged symmetry:
-//         - normal: [nx, ny, nz]   (required)   offset: <d>   (the plane normal . x = d, default 0)
-//       self_intersections: check|skip                            default: check
-//       inner_components: error|drop  bodies nested in another    default: error
-//   surface:                3D only: features, remeshing (surface3d/features.h, remesh.h)
-//     ridge_angle_deg: <0..180>   dihedral deviation of a ridge   default: 30
-//     corner_defect_deg: <0..360> angle defect of a cone corner   default: 60
-//     curve_turn_deg: <0..180>    turn of a feature curve making a corner   default: 45
-//     remesh: <bool>        remesh to the metric                  default: true
-//     iterations: <1..100>  remeshing rounds                      default: 8
-//     curvature_factor: <0..100>  sizes at most this x radius of curvature (0: off)   default: 0
-//     curvature_h_min: <>0, < the metric's size>  the smallest size curvature asks for   default: the metric's size / 20
-//     max_triangles: <n>    give up (an error) beyond this many triangles   default: 20000000
+//   geometry:               what to mesh; `type:` chooses the plugin (modules/pipeline/stages.h),
+//     type: annulus | airfoils    whose keys are documented beside its options: AnnulusParams
+//                           (modules/mesh/annulus.h), AirfoilsParams (modules/geometry/geometry2d.h);
+//     type: sphere | ellipsoid | box | wing | surface_file   3D: BodyParams (surface3d/plugins.h)
+//   surface:                3D only: features and remeshing, SurfaceParams (surface3d/plugins.h)
 //   metric:
 //     type: uniform         one metric everywhere
 //     h: <>0>               isotropic size                        default: 0.25
@@ -102,73 +62,6 @@
 
 namespace plaf {
 inline namespace pipeline {
-
-struct AnnulusParams {
-  double r_inner = 1.0;
-  double r_outer = 2.0;
-  double angle_deg = 360.0;
-  bool triangles = false;
-};
-
-struct BodyParams {
-  std::string file;
-  std::string name;
-  std::vector<std::array<double, 2>> corners;
-};
-
-struct FarfieldParams {
-  std::string shape = "circle";
-  double radius = 20.0;
-  std::array<double, 2> size = {40.0, 40.0};
-  bool has_center = false;
-  std::array<double, 2> center = {0.0, 0.0};
-};
-
-struct AirfoilsParams {
-  std::vector<BodyParams> bodies;
-  double corner_angle_deg = 30.0;
-  FarfieldParams farfield;
-};
-
-struct SymmetryPlaneParams {
-  std::array<double, 3> normal = {0, 0, 1};
-  double offset = 0;
-};
-
-// The 3D geometries (only the chosen type's fields are read).
-struct Surface3Params {
-  std::array<double, 3> center = {0, 0, 0};
-  double radius = 1;
-  std::array<double, 3> semi_axes = {1.5, 1.2, 1.0};
-  std::array<double, 3> lo = {-1, -1, -1}, hi = {1, 1, 1};
-  std::string file;  // wing section or surface file
-  double chord = 1, span = 1;
-  std::string root = "symmetry", tip = "flat";
-  double corner_angle_deg = 30;
-  double weld_rel = 1e-9;
-  std::vector<SymmetryPlaneParams> symmetry_planes;
-  bool check_self_intersections = true;
-  bool drop_inner_components = false;
-};
-
-struct GeometryParams {
-  std::string type = "annulus";
-  std::string where;  // "file:line:col: geometry.type" for plugin errors
-  AnnulusParams annulus;
-  AirfoilsParams airfoils;
-  Surface3Params surface3;
-};
-
-struct SurfaceParams {
-  double ridge_angle_deg = 30;
-  double corner_defect_deg = 60;
-  double curve_turn_deg = 45;
-  bool remesh = true;
-  int iterations = 8;
-  double curvature_factor = 0;
-  double curvature_h_min = 0;  // 0: the metric's smallest size / 20
-  int max_triangles = 20000000;
-};
 
 struct UniformMetricParams {
   double h = 0.25;
@@ -242,10 +135,10 @@ struct RunConfig {
   std::filesystem::path file;
   int order = 3;
   int dim = 2;  // 3 for the 3D geometry types
-  GeometryParams geometry;
-  SurfaceParams surface;
-  MetricParams metric;
-  std::string surface_type;  // the surface-mesh stage: annulus | curves (2D), remesh (3D)
+  MetricParams metric;    // the metric's keys (core's metric fields, metric_fields.h)
+  PlannedStage metric_stage;
+  PlannedStage geometry;  // type: its section's `type:`
+  PlannedStage surface;   // type: annulus | curves (2D, by the geometry), remesh (3D)
   PlannedStage layers;
   PlannedStage fill;
   ValidityParams validity;

@@ -5,12 +5,14 @@
 // A stage reads the fields earlier stages filled and fills its own; stages never call each other.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 
 #include "modules/geometry/geometry2d.h"
 #include "modules/geometry/reference.h"
 #include "modules/geometry/tri_surface.h"
+#include "modules/mesh/annulus.h"
 #include "modules/mesh/curved_front.h"
 #include "modules/mesh/hybrid_mesh.h"
 #include "modules/mesh/layer_mesh.h"
@@ -29,6 +31,7 @@ struct RunState<2> {
   explicit RunState(const RunConfig& c) : config(c) {}
   const RunConfig& config;
   Geometry2D geometry;                      // geometry: the spline loops (none for the annulus)
+  std::optional<AnnulusParams> annulus;     // geometry: the annulus (its surface stage meshes it)
   std::unique_ptr<MetricField<2>> metric;   // metric
   std::optional<CurvedFront<2>> front;      // surface mesh of the loops
   std::optional<LayerResult<2>> layers;     // layers (or the front itself, without layers)
@@ -44,6 +47,10 @@ struct RunState<3> {
   const RunConfig& config;
   TriSurface surface;                               // geometry: the input; surface: remeshed and curved
   std::unique_ptr<ReferenceGeometry<3>> reference;  // geometry: what the surface lives on
+  // geometry, for an analytic body: builds its reference and its initial triangulation at size h
+  // (the surface stage calls it with the metric's size at body_center); files need none.
+  std::function<void(RunState<3>&, double h)> build_body;
+  Eigen::Vector3d body_center = Eigen::Vector3d::Zero();
   std::unique_ptr<MetricField<3>> metric;           // metric
   std::unique_ptr<MetricField<3>> surface_metric;   // surface: the metric it followed (curvature)
   std::optional<CurvedFront<3>> front;

@@ -63,11 +63,12 @@ void report_curves(const CurvedFront<2>& front, const Geometry2D& geometry, cons
 
 void register_2d() {
   StageRegistry<2>& geometry = stage_registry<2>(StageKind::Geometry);
-  geometry.add("annulus", [](const ConfigNode&, const RunConfig&) -> Stage<2> {
-    return [](RunState<2>&, StageReport& rep) { rep.line("geometry: the exact annulus map"); };
+  geometry.add("annulus", [](const ConfigNode& section, const RunConfig&) -> Stage<2> {
+    const AnnulusParams params = parse_annulus_params(section);
+    return [params](RunState<2>& s, StageReport&) { s.annulus = params; };
   });
-  geometry.add("airfoils", [](const ConfigNode&, const RunConfig& c) -> Stage<2> {
-    const AirfoilsParams params = c.geometry.airfoils;
+  geometry.add("airfoils", [](const ConfigNode& section, const RunConfig&) -> Stage<2> {
+    const AirfoilsParams params = parse_airfoils_params(section);
     return [params](RunState<2>& s, StageReport&) { s.geometry = build_airfoils_geometry(params); };
   });
   for (const std::string& name : metric_field_registry().names())
@@ -83,7 +84,8 @@ void register_2d() {
   });
   surface.add("annulus", [](const ConfigNode&, const RunConfig&) -> Stage<2> {
     return [](RunState<2>& s, StageReport&) {
-      s.mesh = mesh_annulus(s.config.geometry.annulus, s.config.order, *s.metric);
+      if (!s.annulus) throw MesherError("surface: the annulus mesh needs the annulus geometry");
+      s.mesh = mesh_annulus(*s.annulus, s.config.order, *s.metric);
       s.mesh_done = true;
     };
   });

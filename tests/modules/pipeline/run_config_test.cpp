@@ -11,7 +11,10 @@
 #include <vector>
 
 #include "modules/base/error.h"
+#include "modules/geometry/geometry2d.h"
 #include "modules/io/writers.h"
+#include "modules/pipeline/config.h"
+#include "surface3d/plugins.h"
 #include "tests/test_support.h"
 
 using namespace plaf;
@@ -46,10 +49,24 @@ std::string config_error(const std::string& text, const std::string& name = "t.y
   return "no error";
 }
 
+// A section's keys as its plugin parses them, after the whole config was checked.
+AirfoilsParams airfoils(const std::string& yaml, const std::string& name) {
+  parse_run_config(yaml, name);
+  return parse_airfoils_params(ConfigNode::load_string(yaml, name).child("geometry"));
+}
+Geometry3Params geometry3(const std::string& yaml) {
+  const RunConfig c = parse_run_config(yaml, "t.yaml");
+  return parse_geometry3_params(ConfigNode::load_string(yaml, "t.yaml").child("geometry"), c.geometry.type);
+}
+SurfaceParams surface(const std::string& yaml) {
+  const RunConfig c = parse_run_config(yaml, "t.yaml");
+  return parse_surface_params(ConfigNode::load_string(yaml, "t.yaml").child("surface"), c);
+}
+
 }  // namespace
 
 TEST_CASE("run config: airfoil bodies with names, corners and the default tags wall, wall_2, ...") {
-  const RunConfig c = parse_run_config(
+  const std::string yaml =
       "geometry:\n"
       "  type: airfoils\n"
       "  bodies:\n"
@@ -57,11 +74,11 @@ TEST_CASE("run config: airfoil bodies with names, corners and the default tags w
       "      corners: [[0.5, 0.125], [-1, 2e-3]]\n"
       "    - {file: /data/main.dat, name: main}\n"
       "    - {file: /data/flap.dat}\n"
-      "  corner_angle_deg: 45\n",
-      "cases/high_lift.yaml");
+      "  corner_angle_deg: 45\n";
+  const RunConfig c = parse_run_config(yaml, "cases/high_lift.yaml");
   CHECK(c.name == "high_lift");  // the stem of the config's name
   CHECK(c.geometry.type == "airfoils");
-  const AirfoilsParams& a = c.geometry.airfoils;
+  const AirfoilsParams a = airfoils(yaml, "cases/high_lift.yaml");
   REQUIRE(a.bodies.size() == 3);
   CHECK(a.bodies[0].file == "/data/slat.dat");
   CHECK(a.bodies[0].name == "wall");
@@ -71,12 +88,12 @@ TEST_CASE("run config: airfoil bodies with names, corners and the default tags w
   CHECK(a.bodies[2].name == "wall_3");  // the default counts the body's position, named or not
   CHECK(a.corner_angle_deg == 45);
   // A string config resolves relative paths against the folder of its name.
-  CHECK(parse_run_config(one_body, "cases/x.yaml").geometry.airfoils.bodies[0].file == "cases/a.dat");
+  CHECK(airfoils(one_body, "cases/x.yaml").bodies[0].file == "cases/a.dat");
 }
 
 TEST_CASE("run config: farfield keys and their documented defaults") {
   // Defaults from the header of run_config.h.
-  const AirfoilsParams d = parse_run_config(one_body, "t.yaml").geometry.airfoils;
+  const AirfoilsParams d = airfoils(one_body, "t.yaml");
   CHECK(d.corner_angle_deg == 30);
   CHECK(d.farfield.shape == "circle");
   CHECK(d.farfield.radius == 20);
@@ -84,13 +101,12 @@ TEST_CASE("run config: farfield keys and their documented defaults") {
   CHECK_FALSE(d.farfield.has_center);
 
   const AirfoilsParams r =
-      parse_run_config(one_body + "  farfield: {shape: rectangle, size: [30, 12.5], center: [0.5, -1]}\n", "t.yaml")
-          .geometry.airfoils;
+      airfoils(one_body + "  farfield: {shape: rectangle, size: [30, 12.5], center: [0.5, -1]}\n", "t.yaml");
   CHECK(r.farfield.shape == "rectangle");
   CHECK(r.farfield.size == std::array<double, 2>{30, 12.5});
   CHECK(r.farfield.has_center);
   CHECK(r.farfield.center == std::array<double, 2>{0.5, -1});
-  const AirfoilsParams c = parse_run_config(one_body + "  farfield: {radius: 7.5}\n", "t.yaml").geometry.airfoils;
+  const AirfoilsParams c = airfoils(one_body + "  farfield: {radius: 7.5}\n", "t.yaml");
   CHECK(c.farfield.shape == "circle");
   CHECK(c.farfield.radius == 7.5);
 }
@@ -284,8 +300,9 @@ TEST_CASE("run config: load_run_config resolves paths relative to the config fil
   const RunConfig c = load_run_config(cfg);
   CHECK(c.file == cfg);
   CHECK(c.name == "two_bodies");
-  CHECK(c.geometry.airfoils.bodies[0].file == (d.path / "data" / "main.dat").string());
-  CHECK(c.geometry.airfoils.bodies[1].file == "/abs/flap.dat");
+  const AirfoilsParams a = parse_airfoils_params(ConfigNode::load_file(cfg).child("geometry"));
+  CHECK(a.bodies[0].file == (d.path / "data" / "main.dat").string());
+  CHECK(a.bodies[1].file == "/abs/flap.dat");
   CHECK(c.metric.background.file == (d.path / "cases" / "bg" / "metric.mesh").string());
   CHECK(c.metric.background.sol == (d.path / "cases" / "bg" / "metric.sol").string());
 
@@ -297,35 +314,35 @@ TEST_CASE("run config: load_run_config resolves paths relative to the config fil
 }
 
 TEST_CASE("run config: 3D geometries make a 3D run with its surface section, a 3D uniform metric, no png") {
-  const RunConfig s = parse_run_config("geometry: {type: sphere, radius: 2, center: [1, 2, 3]}\n"
-                                       "metric: {type: uniform, h: 0.1}\n"
-                                       "surface: {ridge_angle_deg: 40, iterations: 5, curvature_factor: 0.3}\n",
-                                       "s.yaml");
+  const std::string sphere = "geometry: {type: sphere, radius: 2, center: [1, 2, 3]}\n"
+                             "metric: {type: uniform, h: 0.1}\n"
+                             "surface: {ridge_angle_deg: 40, iterations: 5, curvature_factor: 0.3}\n";
+  const RunConfig s = parse_run_config(sphere, "s.yaml");
   CHECK(s.dim == 3);
-  CHECK(s.geometry.surface3.radius == 2);
-  CHECK(s.geometry.surface3.center[2] == 3);
-  CHECK(s.surface.ridge_angle_deg == 40);
-  CHECK(s.surface.iterations == 5);
-  CHECK(s.surface.curvature_factor == doctest::Approx(0.3));
-  CHECK(s.surface.curvature_h_min == 0);
+  CHECK(geometry3(sphere).radius == 2);
+  CHECK(geometry3(sphere).center[2] == 3);
+  const SurfaceParams sp = surface(sphere);
+  CHECK(sp.ridge_angle_deg == 40);
+  CHECK(sp.iterations == 5);
+  CHECK(sp.curvature_factor == doctest::Approx(0.3));
+  CHECK(sp.curvature_h_min == 0);
   CHECK(s.output.formats == std::vector<std::string>{"msh", "vtu", "report"});
 
-  const RunConfig w = parse_run_config("geometry: {type: wing, file: e387.dat, span: 3, root: rounded, tip: symmetry}\n"
-                                       "metric: {type: uniform, sizes: [0.1, 0.2, 0.3]}\n",
-                                       "w.yaml");
-  CHECK(w.geometry.surface3.root == "rounded");
-  CHECK(w.geometry.surface3.tip == "symmetry");
-  CHECK(w.geometry.surface3.span == 3);
+  const std::string wing = "geometry: {type: wing, file: e387.dat, span: 3, root: rounded, tip: symmetry}\n"
+                           "metric: {type: uniform, sizes: [0.1, 0.2, 0.3]}\n";
+  const RunConfig w = parse_run_config(wing, "w.yaml");
+  CHECK(geometry3(wing).root == "rounded");
+  CHECK(geometry3(wing).tip == "symmetry");
+  CHECK(geometry3(wing).span == 3);
   CHECK(w.metric.uniform.sizes.size() == 3);
 
-  const RunConfig f = parse_run_config("geometry: {type: surface_file, file: m6.fmt, symmetry_planes: "
-                                       "[{normal: [0, 0, 2], offset: 1}], inner_components: drop}\n",
-                                       "f.yaml");
-  REQUIRE(f.geometry.surface3.symmetry_planes.size() == 1);
-  CHECK(f.geometry.surface3.symmetry_planes[0].normal[2] == doctest::Approx(1));
-  CHECK(f.geometry.surface3.symmetry_planes[0].offset == doctest::Approx(0.5));  // normalised with the normal
-  CHECK(f.geometry.surface3.drop_inner_components);
-  CHECK(f.geometry.surface3.check_self_intersections);
+  const Geometry3Params f = geometry3("geometry: {type: surface_file, file: m6.fmt, symmetry_planes: "
+                                      "[{normal: [0, 0, 2], offset: 1}], inner_components: drop}\n");
+  REQUIRE(f.symmetry_planes.size() == 1);
+  CHECK(f.symmetry_planes[0].normal[2] == doctest::Approx(1));
+  CHECK(f.symmetry_planes[0].offset == doctest::Approx(0.5));  // normalised with the normal
+  CHECK(f.drop_inner_components);
+  CHECK(f.check_self_intersections);
 
   // 2D runs are untouched.
   CHECK(parse_run_config(one_body, "a.yaml").dim == 2);
