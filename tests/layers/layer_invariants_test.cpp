@@ -5,13 +5,16 @@
 //     the same layer table and events, and the same nodes times s;
 //  2. tiling: the curved cells of layer k cover exactly the region between fronts k-1 and k: their
 //     areas (quadrature of det J) sum to the area between the two curved fronts (the boundary
-//     integral 1/2 of the loop integral of x dy - y dx), and every cell is certified valid.
+//     integral 1/2 of the loop integral of x dy - y dx), and every cell is certified valid;
+//  3. topology: the layers plus the advancing-front fill, assembled as apps/run.cpp does, are a
+//     disc with one hole per body, V - E + F = 1 - bodies, and conform.
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <functional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,10 +22,13 @@
 #include "layers/grow_layers_2d.h"
 #include "modules/elements/lagrange.h"
 #include "modules/elements/validity.h"
+#include "modules/io/airfoil_io.h"
 #include "modules/mesh/curve_mesh.h"
+#include "modules/mesh/hybrid2d.h"
 #include "modules/mesh/hybrid_mesh.h"
 #include "modules/metric/wall_metric.h"
 #include "tests/layers/layer_test_support.h"
+#include "volume/advancing_front_2d.h"
 
 using namespace plaf;
 using Eigen::Vector2d;
@@ -293,10 +299,64 @@ const std::vector<ScaledCase>& scaled_cases() {
   return cases;
 }
 
+// Vertices, edges and faces of the cells (linear: a quadrilateral is one face with 4 edges).
+struct EulerCount {
+  std::size_t v = 0, e = 0, f = 0;
+  long long chi() const { return static_cast<long long>(v) - static_cast<long long>(e) + static_cast<long long>(f); }
+};
+
+EulerCount euler_count(const HybridMesh<2>& m) {
+  std::set<NodeId> v;
+  std::set<std::pair<NodeId, NodeId>> e;
+  EulerCount out;
+  for (const CellBlock& b : m.cells) {
+    const CellTopology& topo = topology(b.type);
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      const NodeId* c = b.cell(i);
+      for (int k = 0; k < num_vertices(b.type); ++k) v.insert(c[k]);
+      for (const auto& ed : topo.edges) e.insert(std::minmax(c[ed[0]], c[ed[1]]));
+      ++out.f;
+    }
+  }
+  out.v = v.size();
+  out.e = e.size();
+  return out;
+}
+
+// Layers and the advancing-front fill joined as apps/run.cpp's fill_domain does at uniform order:
+// the fill's triangles at order Q sharing the layers' outer edges, and the boundary lines of the
+// loops the fill meets directly (the farfield) at order Q.
+struct Hybrid {
+  layers::LayerResult<2> layers;
+  HybridMesh<2> mesh;
+};
+
+Hybrid layers_and_fill(const CurvedFront<2>& front, const MetricField<2>& metric, const layers::LayerParams& p) {
+  Hybrid h;
+  h.layers = layers::grow_layers(front, metric, p);
+  h.mesh = h.layers.mesh;
+  volume::AdvancingFrontResult fill = volume::advancing_front_fill(h.layers.fill_front, metric);
+  h.mesh.nodes = std::move(fill.nodes);
+  for (const LinearLoop& l : h.layers.fill_front.loops) {
+    if (l.layered) continue;
+    const FrontLoop& bare = front.loops[static_cast<std::size_t>(l.source_loop)];
+    CellBlock& b = h.mesh.boundary_block(CellType::Line, front.order, h.mesh.add_tag(bare.tag, bare.kind));
+    b.connectivity.insert(b.connectivity.end(), bare.elements.begin(), bare.elements.end());
+  }
+  add_triangles_at_order(h.mesh, fill.triangles, front.order);
+  compact_nodes(h.mesh);
+  return h;
+}
+
 // Two clockwise ellipses (semi-axes 0.5 and 0.15) one above the other, `gap` apart.
 Geometry2D two_bodies(double gap) {
   Geometry2D g = body(ellipse({0, 0}, 0.5, 0.15, 120), {});
   g.loops.push_back({SplineLoop(ellipse({0, 0.3 + gap}, 0.5, 0.15, 120), {}, "upper"), "upper", BoundaryKind::Wall});
+  return g;
+}
+
+Geometry2D with_farfield(Geometry2D g, const Vector2d& center, double radius) {
+  g.loops.push_back({farfield_circle(center, radius), "farfield", BoundaryKind::Farfield});
   return g;
 }
 
@@ -394,5 +454,59 @@ TEST_CASE("layers: the cells of each layer tile the region between its two front
     const Geometry2D geo = two_bodies(0.02);
     const WallPowerLawField metric(walls_of(geo), wall_law(1.0));
     CHECK(check_tiling(mesh_curves(geo, metric, 2), metric, p).invalid == 0);
+  }
+}
+
+TEST_CASE("layers: layers plus fill have the Euler characteristic 1 - bodies and conform") {
+  struct HybridCase {
+    std::string name;
+    Geometry2D geometry;
+    WallLawParams law;
+    int q_first, q_last;
+    layers::IsotropicStop stop;  // Node: layers until the metric is isotropic, ending in transitions
+  };
+  AirfoilsParams ap;
+  for (const char* f : {"30p30n_slat.dat", "30p30n_main.dat", "30p30n_flap.dat"})
+    ap.bodies.push_back({std::string(PLAF_SHARED_DATA "/airfoils/") + f, f, {}});
+  ap.farfield.radius = 25;
+  WallLawParams law_30p30n;  // configs/30p30n.yaml
+  law_30p30n.h0 = 0.001;
+  law_30p30n.h_max = 2;
+  law_30p30n.h_wall_max = 0.03;
+  law_30p30n.curvature_factor = 0.3;
+  law_30p30n.h_corner = 0.003;
+  const std::vector<HybridCase> cases = {
+      {"NACA 2412", with_farfield(body(naca4(0.02, 0.4, 0.12, 80, 1.0), {0}), {0.5, 0}, 8), wall_law(1.0), 1, 4,
+       layers::IsotropicStop::Off},
+      {"ellipse, isotropic_stop node", with_farfield(body(ellipse({0, 0}, 1, 0.3, 200), {}), {0, 0}, 8),
+       ellipse_law(1.0), 3, 3, layers::IsotropicStop::Node},
+      {"two ellipses 0.1 apart", with_farfield(two_bodies(0.1), {0, 0.2}, 8), wall_law(1.0), 2, 2,
+       layers::IsotropicStop::Off},
+      {"30P-30N (three bodies)", build_airfoils_geometry(ap), law_30p30n, 3, 3, layers::IsotropicStop::Off},
+  };
+  for (const HybridCase& hc : cases) {
+    const WallPowerLawField metric(walls_of(hc.geometry), hc.law);
+    const long long bodies = static_cast<long long>(walls_of(hc.geometry).size());
+    for (int q = hc.q_first; q <= hc.q_last; ++q) {
+      INFO(hc.name, ", Q = ", q);
+      // As apps/run.cpp with a fill: the front closed linear; layers until linear, or with
+      // isotropic_stop node until the metric is isotropic.
+      layers::LayerParams p = layer_params(40, true, hc.stop);
+      p.stop_when_linear = hc.stop == layers::IsotropicStop::Off;
+      p.corner_angle_deg = 60;
+      const Hybrid h = layers_and_fill(mesh_curves(hc.geometry, metric, q), metric, p);
+      REQUIRE(!h.layers.layers.empty());
+      std::size_t transition = 0;
+      for (const layers::LayerStats& st : h.layers.layers) transition += st.transition_cells;
+      if (hc.stop == layers::IsotropicStop::Node) CHECK(transition > 0);  // the case covers them
+      // The layers alone are one annulus per body (chi = 0), unless stopped nodes cut them.
+      if (hc.stop == layers::IsotropicStop::Off) CHECK(euler_count(h.layers.mesh).chi() == 0);
+      const EulerCount n = euler_count(h.mesh);
+      INFO("V = ", n.v, ", E = ", n.e, ", F = ", n.f);
+      CHECK(n.chi() == 1 - bodies);
+      const ConformityReport c = check_conformity(h.mesh);
+      INFO(c.first_problem);
+      CHECK(c.ok);
+    }
   }
 }
