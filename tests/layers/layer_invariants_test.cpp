@@ -7,7 +7,9 @@
 //     areas (quadrature of det J) sum to the area between the two curved fronts (the boundary
 //     integral 1/2 of the loop integral of x dy - y dx), and every cell is certified valid;
 //  3. topology: the layers plus the advancing-front fill, assembled as apps/run.cpp does, are a
-//     disc with one hole per body, V - E + F = 1 - bodies, and conform.
+//     disc with one hole per body, V - E + F = 1 - bodies, and conform;
+//  4. heights follow the wall law of modules/metric/wall_metric.h: h0 at the wall, then a
+//     geometric series.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -507,6 +509,111 @@ TEST_CASE("layers: layers plus fill have the Euler characteristic 1 - bodies and
       const ConformityReport c = check_conformity(h.mesh);
       INFO(c.first_problem);
       CHECK(c.ok);
+    }
+  }
+}
+
+TEST_CASE("layers: on a flat wall the heights are h0 at the wall and grow geometrically as the wall law says") {
+  // The wall law h(d) = h0 + (g - 1) d (wall_metric.h), along the wall normal:
+  // - the size (integrate_height off): layer k starts at d_(k-1) and is h(d_(k-1)) high; with
+  //   d_0 = 0 that is h_k = h0 g^(k-1), d_k = h0 (g^k - 1) / (g - 1);
+  // - unit metric length (integrate_height on): the integral of ds / h(d + s) from 0 to h_k is 1,
+  //   so h_k = h(d) (r - 1) / (g - 1) with r = e^(g-1), and h(d + h_k) = r h(d): h_k = h_1 r^(k-1),
+  //   h_1 = h0 (r - 1) / (g - 1), d_k = h_1 (r^k - 1) / (r - 1).
+  // layer_height integrates with 3-point Gauss: on 1/h over one layer the rule is off by
+  // (3!)^4 / (7 (6!)^3) f^(6) with f^(6) <= 6! (r - 1)^6, a relative 5e-8 for g = 1.2, which
+  // accumulates in d over the layers: the integrated rows' tolerance is 1e-6.
+  const double h0 = 1e-3, g = 1.2, r_int = std::exp(g - 1);
+  struct Row {
+    bool integrate;
+    double first, ratio, tol_rel;
+  };
+  const Row rows[] = {{false, h0, g, 1e-12}, {true, h0 * (r_int - 1) / (g - 1), r_int, 1e-6}};
+  // A 4 x 0.5 rectangle (clockwise): its top side y = 0.5 is the flat wall.
+  const double top = 0.5, len = 4;
+  const Geometry2D geo = body({{0, 0}, {0, top}, {len, top}, {len, 0}}, {0, 1, 2, 3});
+  WallLawParams w;
+  w.h0 = h0;
+  w.growth = g;
+  w.h_max = 1;
+  w.h_wall_max = 0.05;
+  w.h_corner = 0.01;
+  const WallPowerLawField metric(walls_of(geo), w);
+  const int max_layers = 10;
+  for (const Row& row : rows)
+    for (int q = 1; q <= 4; ++q) {
+      INFO("integrate_height ", row.integrate, ", Q = ", q);
+      layers::LayerParams p = layer_params(max_layers, false, layers::IsotropicStop::Off);
+      p.integrate_height = row.integrate;
+      p.corner_angle_deg = 60;  // the corner fans' nodes (45 degrees each) do not fan again
+      const layers::LayerResult<2> r = layers::grow_layers(mesh_curves(geo, metric, q), metric, p);
+      REQUIRE(r.layers.size() == static_cast<std::size_t>(max_layers));
+      REQUIRE(r.events.empty());  // no height was halved: the law alone sets them
+      const CellBlock* quads = find_block(r.mesh, CellType::Quadrilateral);
+      REQUIRE(quads != nullptr);
+      for (std::size_t k = 0; k < r.layers.size(); ++k) {
+        INFO("layer ", k + 1);
+        const double expected_h = row.first * std::pow(row.ratio, static_cast<double>(k));
+        const double expected_d = row.first * (std::pow(row.ratio, static_cast<double>(k)) - 1) / (row.ratio - 1);
+        std::size_t columns = 0;
+        for (std::size_t c = r.layers[k].first_cell; c < r.layers[k].first_cell + r.layers[k].cells; ++c) {
+          // Quadrilateral vertices (lagrange.h): 0 and 1 on the base, 3 above 0 and 2 above 1. Only
+          // the columns on the middle half of the top side, away from the corners' fans.
+          const NodeId* n = quads->cell(c);
+          for (const auto& [base, tip] : {std::pair{n[0], n[3]}, std::pair{n[1], n[2]}}) {
+            const Vector2d x = r.mesh.nodes[static_cast<std::size_t>(base)];
+            const Vector2d y = r.mesh.nodes[static_cast<std::size_t>(tip)];
+            if (x.y() < top - 1e-9 || x.x() < len / 4 || x.x() > 3 * len / 4) continue;
+            ++columns;
+            CHECK(std::abs(x.y() - top - expected_d) < row.tol_rel * expected_h);
+            CHECK(std::abs((y - x).norm() - expected_h) < row.tol_rel * expected_h);
+            CHECK(std::abs(y.x() - x.x()) < 1e-9 * expected_h);  // along the wall normal
+          }
+        }
+        CHECK(columns > 0);
+      }
+    }
+}
+
+TEST_CASE("layers: on a circle the first layer is h0 high and the layers grow by g") {
+  // A circle of radius r0 in the wall law h(d) = h0 + (g - 1) d with a constant tangential size:
+  // a uniform surface mesh, so the fronts stay circles and every vertex normal is radial. Layer
+  // k's vertices then sit at wall distance d_(k-1), d_k = h0 (g^k - 1) / (g - 1), and are
+  // h0 g^(k-1) high (as on a flat wall), to round-off: the metric measures d from the wall, the
+  // cubic spline the vertices start on. That spline runs through 512 points of the circle and
+  // is off it by up to (5/384) (2 pi / 512)^4 r0 = 3e-10 r0 (the interpolation bound), 3e-7 h0:
+  // the vertices' radius is r0 + d_(k-1) to 1e-6 h0 only, and their normal radial to 1e-6.
+  const double r0 = 1, h0 = 1e-3, g = 1.2;
+  const Geometry2D geo = body(ellipse({0, 0}, r0, r0, 512), {});
+  WallLawParams w;
+  w.h0 = h0;
+  w.growth = g;
+  w.h_max = 10;
+  w.h_wall_max = 0.05;
+  w.curvature_factor = 0.5;
+  const WallPowerLawField metric(walls_of(geo), w);
+  const int max_layers = 10;
+  for (int q = 1; q <= 4; ++q) {
+    INFO("Q = ", q);
+    const layers::LayerParams p = layer_params(max_layers, false, layers::IsotropicStop::Off);
+    const layers::LayerResult<2> r = layers::grow_layers(mesh_curves(geo, metric, q), metric, p);
+    REQUIRE(r.layers.size() == static_cast<std::size_t>(max_layers));
+    REQUIRE(r.events.empty());  // no height was halved: the law alone sets them
+    const CellBlock* quads = find_block(r.mesh, CellType::Quadrilateral);
+    REQUIRE(quads != nullptr);
+    for (std::size_t k = 0; k < r.layers.size(); ++k) {
+      INFO("layer ", k + 1);
+      const double expected_h = h0 * std::pow(g, static_cast<double>(k));
+      const double expected_d = h0 * (std::pow(g, static_cast<double>(k)) - 1) / (g - 1);
+      for (std::size_t c = r.layers[k].first_cell; c < r.layers[k].first_cell + r.layers[k].cells; ++c) {
+        const NodeId* n = quads->cell(c);  // vertex 3 is above vertex 0
+        const Vector2d x = r.mesh.nodes[static_cast<std::size_t>(n[0])];
+        const Vector2d y = r.mesh.nodes[static_cast<std::size_t>(n[3])];
+        CHECK(std::abs((y - x).norm() - expected_h) < 1e-9 * expected_h);
+        CHECK(std::abs(x.norm() - r0 - expected_d) < 1e-6 * expected_h);
+        // Radial: the sine of the column's angle to x.
+        CHECK(std::abs(x.x() * y.y() - x.y() * y.x()) < 1e-6 * x.norm() * (y - x).norm());
+      }
     }
   }
 }
