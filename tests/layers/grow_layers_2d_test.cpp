@@ -12,17 +12,14 @@
 #include "modules/mesh/quality.h"
 #include "modules/mesh/curve_mesh.h"
 #include "modules/metric/wall_metric.h"
+#include "tests/layers/layer_test_support.h"
 
 using namespace plaf;
 using Eigen::Vector2d;
 
 namespace {
 
-Geometry2D body(std::vector<Vector2d> points, std::vector<int> corners) {
-  Geometry2D g;
-  g.loops.push_back({SplineLoop(std::move(points), std::move(corners), "body"), "wall", BoundaryKind::Wall});
-  return g;
-}
+using test::body;
 
 // Certified validity and conformity of the layer mesh (its outer front tagged, so it closes).
 QualityReport check(const LayerResult<2>& r) {
