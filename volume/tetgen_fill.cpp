@@ -9,8 +9,17 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <memory>
 #include <sstream>
 #include <unordered_map>
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "modules/base/error.h"
 #include "modules/geometry/predicates.h"
@@ -85,6 +94,151 @@ std::unordered_map<Face, std::size_t, FaceHash> check_front(const LinearFront<3>
   return faces;
 }
 
+// TetGen's output as it numbers it: 3 coordinates per point, 4 point ids per tet.
+struct TetGenOutput {
+  std::vector<double> points;
+  std::vector<int> tets;
+};
+
+static_assert(sizeof(REAL) == sizeof(double));
+
+// Exit statuses of the TetGen process besides TetGen's own codes (1..10, tetgen.h terminatetetgen).
+constexpr int exit_write_failed = 120;
+constexpr int exit_other_exception = 121;
+
+bool write_all(int fd, const void* data, std::size_t bytes) {
+  const char* p = static_cast<const char*>(data);
+  while (bytes > 0) {
+    const ssize_t n = ::write(fd, p, bytes);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    p += n;
+    bytes -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+std::vector<char> read_all(int fd) {
+  std::vector<char> bytes;
+  std::array<char, 1 << 16> chunk;
+  for (;;) {
+    const ssize_t n = ::read(fd, chunk.data(), chunk.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    bytes.insert(bytes.end(), chunk.data(), chunk.data() + n);
+  }
+  return bytes;
+}
+
+// The last lines TetGen printed (its only account of why it stopped), on one line.
+std::string log_tail(std::FILE* log) {
+  if (log == nullptr) return {};
+  std::fflush(log);
+  std::string text;
+  if (std::fseek(log, 0, SEEK_SET) == 0) {
+    std::array<char, 4096> chunk;
+    std::size_t n;
+    while ((n = std::fread(chunk.data(), 1, chunk.size(), log)) > 0) text.append(chunk.data(), n);
+  }
+  std::string line, tail;
+  std::istringstream lines(text);
+  while (std::getline(lines, line)) {
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos) continue;
+    tail += (tail.empty() ? "" : " ") + line.substr(first);
+  }
+  constexpr std::size_t max_chars = 400;
+  if (tail.size() > max_chars) tail = "..." + tail.substr(tail.size() - max_chars);
+  return tail.empty() ? "" : "; TetGen said: " + tail;
+}
+
+// Runs TetGen in a child process, which sends the mesh back through a pipe. TetGen 1.5.0 (the
+// Debian libtet1.5-dev) cannot fail inside our process: terminatetetgen() frees the mesh's memory
+// pools and throws its code, then ~tetgenmesh() frees them again while the exception unwinds
+// tetrahedralize() (freememory() leaves its pointers dangling, tetgen.h), and the double free
+// kills the process before any catch (inducer/meshpy#21 shows the same backtrace). In the child
+// that crash only ends the child: its exit code, or the signal that ended it, and the lines TetGen
+// printed (captured from its stdout) become the MesherError.
+TetGenOutput run_tetgen(tetgenio& in, const std::string& switches) {
+  const std::string failed = "tetgen fill: TetGen failed (switches -" + switches;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> log(std::tmpfile(), &std::fclose);
+  int fds[2];
+  if (::pipe(fds) != 0) throw MesherError(failed + "; no pipe to its process: " + std::strerror(errno) + ")");
+  std::fflush(stdout);  // or the child would print our pending output a second time
+  std::fflush(stderr);
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    const int err = errno;
+    ::close(fds[0]);
+    ::close(fds[1]);
+    throw MesherError(failed + "; could not start its process: " + std::strerror(err) + ")");
+  }
+  if (pid == 0) {
+    ::close(fds[0]);
+    if (log) {
+      ::dup2(::fileno(log.get()), STDOUT_FILENO);
+      ::dup2(::fileno(log.get()), STDERR_FILENO);
+    }
+    std::setvbuf(stdout, nullptr, _IONBF, 0);  // what TetGen printed survives a crash
+    for (int sig : {SIGSEGV, SIGABRT, SIGBUS, SIGFPE, SIGILL})
+      std::signal(sig, SIG_DFL);  // a crash ends the child, not a handler of the parent (a test runner's)
+    const rlimit no_core{0, 0};
+    ::setrlimit(RLIMIT_CORE, &no_core);  // the crash above is expected: no core file
+    int status = 0;
+    try {
+      tetgenio out;
+      std::string sw = switches;  // tetrahedralize takes a mutable char*
+      tetrahedralize(sw.data(), &in, &out);
+      const std::array<std::uint64_t, 2> sizes{static_cast<std::uint64_t>(out.numberofpoints),
+                                               static_cast<std::uint64_t>(out.numberoftetrahedra)};
+      const bool sent = write_all(fds[1], sizes.data(), sizeof(sizes)) &&
+                        write_all(fds[1], out.pointlist, sizeof(REAL) * 3 * sizes[0]) &&
+                        write_all(fds[1], out.tetrahedronlist, sizeof(int) * 4 * sizes[1]);
+      status = sent ? 0 : exit_write_failed;
+    } catch (int code) {
+      status = code > 0 && code < exit_write_failed ? code : exit_other_exception;
+    } catch (...) {
+      status = exit_other_exception;
+    }
+    ::_exit(status);  // no atexit handlers or stdio flushes of the parent's state
+  }
+  ::close(fds[1]);
+  const std::vector<char> bytes = read_all(fds[0]);
+  ::close(fds[0]);
+  int wstatus = 0;
+  while (::waitpid(pid, &wstatus, 0) < 0)
+    if (errno != EINTR) throw MesherError(failed + "; lost its process: " + std::strerror(errno) + ")");
+
+  if (WIFSIGNALED(wstatus))
+    throw MesherError(failed + "; its process died of signal " + std::to_string(WTERMSIG(wstatus)) + ", " +
+                      strsignal(WTERMSIG(wstatus)) + " (TetGen 1.5.0 crashes so on every error it detects, most " +
+                      "often self-intersecting or touching facets)" + log_tail(log.get()) + ")");
+  const int code = WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : exit_other_exception;
+  if (code == exit_write_failed)
+    throw MesherError(failed + "; its process could not send the mesh back" + log_tail(log.get()) + ")");
+  if (code == exit_other_exception)
+    throw MesherError(failed + "; it threw an exception other than its error code" + log_tail(log.get()) + ")");
+  if (code != 0)
+    throw MesherError("tetgen fill: TetGen failed with code " + std::to_string(code) + " (switches -" + switches +
+                      "; 1: out of memory, 2: internal error, 3: self-intersecting facets, 4: a very small input " +
+                      "feature, 5: two facets very close, 10: an input error" + log_tail(log.get()) + ")");
+
+  std::array<std::uint64_t, 2> sizes{};
+  TetGenOutput out;
+  if (bytes.size() >= sizeof(sizes)) {
+    std::memcpy(sizes.data(), bytes.data(), sizeof(sizes));
+    const std::size_t point_bytes = sizeof(double) * 3 * sizes[0], tet_bytes = sizeof(int) * 4 * sizes[1];
+    if (bytes.size() == sizeof(sizes) + point_bytes + tet_bytes) {
+      out.points.resize(3 * sizes[0]);
+      out.tets.resize(4 * sizes[1]);
+      std::memcpy(out.points.data(), bytes.data() + sizeof(sizes), point_bytes);
+      std::memcpy(out.tets.data(), bytes.data() + sizeof(sizes) + point_bytes, tet_bytes);
+      return out;
+    }
+  }
+  throw MesherError(failed + "; its process sent " + std::to_string(bytes.size()) + " bytes, not a mesh)");
+}
+
 // Smallest dihedral angle (radians) and circumradius / shortest edge of the tet p[0..3].
 std::pair<double, double> tet_shape(const std::array<Eigen::Vector3d, 4>& p) {
   // Normals of the faces opposite each vertex, all pointing at that vertex (inward): the
@@ -134,7 +288,7 @@ TetFillResult tetgen_fill(const LinearFront<3>& front, const TetFillParams& para
   const std::size_t n_tri = front.triangles.size();
 
   // tetgenio owns and delete[]s every list below, hence the bare new[] (tetgen.h deinitialize).
-  tetgenio in, out;
+  tetgenio in;
   in.firstnumber = 0;
   in.numberofpoints = n_used;
   in.pointlist = new REAL[3 * static_cast<std::size_t>(n_used)];
@@ -169,36 +323,36 @@ TetFillResult tetgen_fill(const LinearFront<3>& front, const TetFillParams& para
   if (params.max_volume > 0) sw << 'a' << params.max_volume;
   TetFillResult result;
   result.stats.switches = sw.str();
-  std::string switches = result.stats.switches;  // tetrahedralize takes a mutable char*
-  try {
-    tetrahedralize(switches.data(), &in, &out);
-  } catch (int code) {
-    throw MesherError("tetgen fill: TetGen failed with code " + std::to_string(code) + " (switches -" +
-                      result.stats.switches + "; 1: out of memory, 2: internal error, 3: self-intersecting facets, " +
-                      "4: a very small input feature, 5: two facets very close, 10: an input error)");
-  }
+  const TetGenOutput out = run_tetgen(in, result.stats.switches);
 
   // 3. Back to front ids: TetGen keeps its input points first and unchanged (checked), and the
   //    points it adds become front.nodes.size(), ... in its order.
-  if (out.numberofpoints < n_used)
-    throw MesherError("tetgen fill: TetGen returned " + std::to_string(out.numberofpoints) + " points for " +
+  const int n_out = static_cast<int>(out.points.size() / 3);
+  if (n_out < n_used)
+    throw MesherError("tetgen fill: TetGen returned " + std::to_string(n_out) + " points for " +
                       std::to_string(n_used) + " input points (switches -" + result.stats.switches + ")");
   for (int i = 0; i < n_used; ++i) {
-    const Eigen::Vector3d p(out.pointlist[3 * i], out.pointlist[3 * i + 1], out.pointlist[3 * i + 2]);
+    const Eigen::Vector3d p(out.points[3 * i], out.points[3 * i + 1], out.points[3 * i + 2]);
     if (p != front.nodes[front_id[i]])
       throw MesherError("tetgen fill: TetGen moved or renumbered front node " + std::to_string(front_id[i]) + " " +
                         point_text(front.nodes[front_id[i]]) + " (switches -" + result.stats.switches + ")");
   }
   result.nodes = front.nodes;
-  result.nodes.reserve(front.nodes.size() + static_cast<std::size_t>(out.numberofpoints - n_used));
-  for (int i = n_used; i < out.numberofpoints; ++i)
-    result.nodes.emplace_back(out.pointlist[3 * i], out.pointlist[3 * i + 1], out.pointlist[3 * i + 2]);
-  auto node_id = [&](int i) { return i < n_used ? front_id[i] : n_front + static_cast<NodeId>(i - n_used); };
+  result.nodes.reserve(front.nodes.size() + static_cast<std::size_t>(n_out - n_used));
+  for (int i = n_used; i < n_out; ++i)
+    result.nodes.emplace_back(out.points[3 * i], out.points[3 * i + 1], out.points[3 * i + 2]);
+  auto node_id = [&](int i) {
+    if (i < 0 || i >= n_out)
+      throw MesherError("tetgen fill: TetGen returned a tet on point " + std::to_string(i) + " of " +
+                        std::to_string(n_out) + " (switches -" + result.stats.switches + ")");
+    return i < n_used ? front_id[i] : n_front + static_cast<NodeId>(i - n_used);
+  };
 
-  result.tets.reserve(static_cast<std::size_t>(out.numberoftetrahedra));
+  const std::size_t n_tets = out.tets.size() / 4;
+  result.tets.reserve(n_tets);
   double min_dihedral = std::numbers::pi, max_radius_edge = 0;
-  for (int t = 0; t < out.numberoftetrahedra; ++t) {
-    const int* c = out.tetrahedronlist + 4 * t;
+  for (std::size_t t = 0; t < n_tets; ++t) {
+    const int* c = out.tets.data() + 4 * t;
     const std::array<NodeId, 4> tet{node_id(c[0]), node_id(c[1]), node_id(c[2]), node_id(c[3])};
     const std::array<Eigen::Vector3d, 4> p{result.nodes[tet[0]], result.nodes[tet[1]], result.nodes[tet[2]],
                                            result.nodes[tet[3]]};

@@ -15,6 +15,10 @@
 // MesherError); a triangle of two tets, or of one tet behind it, means the front or its holes do
 // not describe the region (an InputError: most often a body without a hole point, whose inside
 // TetGen then fills too).
+//
+// TetGen runs in a child process (fork, POSIX): TetGen 1.5.0 crashes with a double free on every
+// error it reports (tetgen_fill.cpp, run_tetgen), and in a child that crash becomes a MesherError
+// carrying the switches and TetGen's last printed lines instead of ending plaf.
 #pragma once
 
 #include <array>
@@ -53,7 +57,7 @@ struct TetFillResult {
 // the region, one hole point inside every body). Throws InputError at entry for a node id out of
 // range, a triangle repeating a node, fewer than 4 triangles, a non-finite coordinate or hole
 // point, a triangle_tag out of range of tags, or a triangle listed twice; MesherError (with
-// TetGen's code and switches) if TetGen fails or a front triangle is a face of no tet; InputError
+// TetGen's code or signal, its switches and its last printed lines) if TetGen fails or a front triangle is a face of no tet; InputError
 // if one is a face of two tets or of one tet behind it (the contract above).
 TetFillResult tetgen_fill(const LinearFront<3>& front, const TetFillParams& params = {});
 

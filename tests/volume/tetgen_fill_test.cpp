@@ -241,3 +241,18 @@ TEST_CASE("volume: bad node ids, too few triangles, bad tags and non-finite poin
   f.nodes.push_back(Vec(std::numeric_limits<double>::quiet_NaN(), 0, 0));  // used by no triangle: left alone
   CHECK_NOTHROW(volume::tetgen_fill(f, {}));
 }
+
+TEST_CASE("volume: self-intersecting facets make TetGen fail, a MesherError naming the switches") {
+  LinearFront<3> f;
+  add_cube(f, Vec::Zero(), 1.0, 2, Normals::In, "farfield");
+  add_cube(f, Vec(0.5, 0.3, 0.4), 1.0, 2, Normals::Out, "body");  // pokes through three faces of the box
+  f.holes.push_back(Vec(1.2, 1.1, 1.2));
+  volume::TetFillParams p;
+  p.max_radius_edge = 1.4;
+  CHECK_THROWS_WITH_AS(volume::tetgen_fill(f, p), doctest::Contains("switches -pYQzJq1.4"), MesherError);
+  try {
+    volume::tetgen_fill(f, p);
+  } catch (const MesherError& e) {
+    MESSAGE(std::string(e.what()));
+  }
+}
