@@ -4,83 +4,414 @@
 #include <tetgen.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <memory>
 #include <sstream>
+#include <unordered_map>
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "modules/base/error.h"
+#include "modules/geometry/predicates.h"
 
 namespace plaf::volume {
 
-HybridMesh<3> tetgen_fill(const HybridMesh<3>& boundary, const TetFillParams& params) {
-  std::size_t n_tri = 0;
-  for (const CellBlock& b : boundary.boundary) {
-    if (b.type != CellType::Triangle || b.order != 1)
-      throw InputError("tetgen fill: the boundary must be linear triangles, got " + std::string(cell_name(b.type)) +
-                       " of order " + std::to_string(b.order));
-    for (NodeId v : b.connectivity)
-      if (v < 0 || static_cast<std::size_t>(v) >= boundary.nodes.size())
-        throw InputError("tetgen fill: a boundary triangle refers to node " + std::to_string(v) + " of " +
-                         std::to_string(boundary.nodes.size()));
-    n_tri += b.size();
+namespace {
+
+using Face = std::array<NodeId, 3>;  // sorted node ids
+
+Face sorted_face(NodeId a, NodeId b, NodeId c) {
+  Face f{a, b, c};
+  std::sort(f.begin(), f.end());
+  return f;
+}
+
+struct FaceHash {
+  std::size_t operator()(const Face& f) const {
+    std::uint64_t h = 1469598103934665603ull;
+    for (NodeId v : f) h = (h ^ static_cast<std::uint32_t>(v)) * 1099511628211ull;
+    return static_cast<std::size_t>(h);
   }
-  if (n_tri < 4 || boundary.nodes.size() < 4) throw InputError("tetgen fill: the boundary has fewer than 4 triangles");
+};
 
-  // 1. The piecewise linear complex: one facet per triangle, the tag as facet marker.
-  tetgenio in, out;
-  in.firstnumber = 0;
-  in.numberofpoints = static_cast<int>(boundary.nodes.size());
-  in.pointlist = new REAL[3 * boundary.nodes.size()];  // owned and freed by tetgenio
-  for (std::size_t i = 0; i < boundary.nodes.size(); ++i)
-    for (int d = 0; d < 3; ++d) in.pointlist[3 * i + d] = boundary.nodes[i][d];
-  in.numberoffacets = static_cast<int>(n_tri);
-  in.facetlist = new tetgenio::facet[n_tri];
-  in.facetmarkerlist = new int[n_tri];
-  std::size_t f = 0;
-  for (const CellBlock& b : boundary.boundary)
-    for (std::size_t i = 0; i < b.size(); ++i, ++f) {
-      tetgenio::facet& facet = in.facetlist[f];
-      tetgenio::init(&facet);
-      facet.numberofpolygons = 1;
-      facet.polygonlist = new tetgenio::polygon[1];
-      tetgenio::init(&facet.polygonlist[0]);
-      facet.polygonlist[0].numberofvertices = 3;
-      facet.polygonlist[0].vertexlist = new int[3];
-      for (int k = 0; k < 3; ++k) facet.polygonlist[0].vertexlist[k] = b.cell(i)[k];
-      in.facetmarkerlist[f] = b.tag + 1;
+std::string ids_text(const std::array<NodeId, 3>& t) {
+  return "(" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ")";
+}
+
+std::string point_text(const Eigen::Vector3d& p) {
+  std::ostringstream s;
+  s.precision(9);
+  s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return s.str();
+}
+
+// Entry checks of linear_front.h that need no meshing; returns the front's triangles by sorted face.
+std::unordered_map<Face, std::size_t, FaceHash> check_front(const LinearFront<3>& front) {
+  const std::size_t n = front.nodes.size();
+  if (front.triangles.size() < 4)
+    throw InputError("tetgen fill: the front has " + std::to_string(front.triangles.size()) +
+                     " triangles, a closed surface needs at least 4");
+  if (front.triangle_tag.size() != front.triangles.size())
+    throw InputError("tetgen fill: the front has " + std::to_string(front.triangles.size()) + " triangles but " +
+                     std::to_string(front.triangle_tag.size()) + " triangle tags");
+  std::unordered_map<Face, std::size_t, FaceHash> faces;
+  faces.reserve(front.triangles.size());
+  for (std::size_t i = 0; i < front.triangles.size(); ++i) {
+    const std::array<NodeId, 3>& t = front.triangles[i];
+    for (NodeId v : t) {
+      if (v < 0 || static_cast<std::size_t>(v) >= n)
+        throw InputError("tetgen fill: front triangle " + std::to_string(i) + " " + ids_text(t) + " refers to node " +
+                         std::to_string(v) + " of " + std::to_string(n));
+      if (!front.nodes[v].allFinite())
+        throw InputError("tetgen fill: node " + std::to_string(v) + " of front triangle " + std::to_string(i) +
+                         " has a non-finite coordinate " + point_text(front.nodes[v]));
     }
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0])
+      throw InputError("tetgen fill: front triangle " + std::to_string(i) + " " + ids_text(t) + " repeats a node");
+    const int tag = front.triangle_tag[i];
+    if (tag < 0 || static_cast<std::size_t>(tag) >= front.tags.size())
+      throw InputError("tetgen fill: front triangle " + std::to_string(i) + " has tag " + std::to_string(tag) + " of " +
+                       std::to_string(front.tags.size()));
+    const auto [it, fresh] = faces.emplace(sorted_face(t[0], t[1], t[2]), i);
+    if (!fresh)
+      throw InputError("tetgen fill: front triangles " + std::to_string(it->second) + " and " + std::to_string(i) +
+                       " have the same nodes " + ids_text(t));
+  }
+  for (std::size_t h = 0; h < front.holes.size(); ++h)
+    if (!front.holes[h].allFinite())
+      throw InputError("tetgen fill: hole point " + std::to_string(h) + " " + point_text(front.holes[h]) +
+                       " is not finite");
+  return faces;
+}
 
-  // 2. Tetrahedralize: p (PLC), Y (no Steiner points on the boundary), Q (quiet), q/a bounds.
+// TetGen's output as it numbers it: 3 coordinates per point, 4 point ids per tet.
+struct TetGenOutput {
+  std::vector<double> points;
+  std::vector<int> tets;
+};
+
+static_assert(sizeof(REAL) == sizeof(double));
+
+// Exit statuses of the TetGen process besides TetGen's own codes (1..10, tetgen.h terminatetetgen).
+constexpr int exit_write_failed = 120;
+constexpr int exit_other_exception = 121;
+
+bool write_all(int fd, const void* data, std::size_t bytes) {
+  const char* p = static_cast<const char*>(data);
+  while (bytes > 0) {
+    const ssize_t n = ::write(fd, p, bytes);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    p += n;
+    bytes -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+std::vector<char> read_all(int fd) {
+  std::vector<char> bytes;
+  std::array<char, 1 << 16> chunk;
+  for (;;) {
+    const ssize_t n = ::read(fd, chunk.data(), chunk.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    bytes.insert(bytes.end(), chunk.data(), chunk.data() + n);
+  }
+  return bytes;
+}
+
+// The last lines TetGen printed (its only account of why it stopped), on one line.
+std::string log_tail(std::FILE* log) {
+  if (log == nullptr) return {};
+  std::fflush(log);
+  std::string text;
+  if (std::fseek(log, 0, SEEK_SET) == 0) {
+    std::array<char, 4096> chunk;
+    std::size_t n;
+    while ((n = std::fread(chunk.data(), 1, chunk.size(), log)) > 0) text.append(chunk.data(), n);
+  }
+  std::string line, tail;
+  std::istringstream lines(text);
+  while (std::getline(lines, line)) {
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos) continue;
+    tail += (tail.empty() ? "" : " ") + line.substr(first);
+  }
+  constexpr std::size_t max_chars = 400;
+  if (tail.size() > max_chars) tail = "..." + tail.substr(tail.size() - max_chars);
+  return tail.empty() ? "" : "; TetGen said: " + tail;
+}
+
+// Runs TetGen in a child process, which sends the mesh back through a pipe. TetGen 1.5.0 (the
+// Debian libtet1.5-dev) cannot fail inside our process: terminatetetgen() frees the mesh's memory
+// pools and throws its code, then ~tetgenmesh() frees them again while the exception unwinds
+// tetrahedralize() (freememory() leaves its pointers dangling, tetgen.h), and the double free
+// kills the process before any catch (inducer/meshpy#21 shows the same backtrace). In the child
+// that crash only ends the child: its exit code, or the signal that ended it, and the lines TetGen
+// printed (captured from its stdout) become the MesherError.
+TetGenOutput run_tetgen(tetgenio& in, const std::string& switches) {
+  const std::string failed = "tetgen fill: TetGen failed (switches -" + switches;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> log(std::tmpfile(), &std::fclose);
+  int fds[2];
+  if (::pipe(fds) != 0) throw MesherError(failed + "; no pipe to its process: " + std::strerror(errno) + ")");
+  std::fflush(stdout);  // or the child would print our pending output a second time
+  std::fflush(stderr);
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    const int err = errno;
+    ::close(fds[0]);
+    ::close(fds[1]);
+    throw MesherError(failed + "; could not start its process: " + std::strerror(err) + ")");
+  }
+  if (pid == 0) {
+    ::close(fds[0]);
+    if (log) {
+      ::dup2(::fileno(log.get()), STDOUT_FILENO);
+      ::dup2(::fileno(log.get()), STDERR_FILENO);
+    }
+    std::setvbuf(stdout, nullptr, _IONBF, 0);  // what TetGen printed survives a crash
+    for (int sig : {SIGSEGV, SIGABRT, SIGBUS, SIGFPE, SIGILL})
+      std::signal(sig, SIG_DFL);  // a crash ends the child, not a handler of the parent (a test runner's)
+    const rlimit no_core{0, 0};
+    ::setrlimit(RLIMIT_CORE, &no_core);  // the crash above is expected: no core file
+    int status = 0;
+    try {
+      tetgenio out;
+      std::string sw = switches;  // tetrahedralize takes a mutable char*
+      tetrahedralize(sw.data(), &in, &out);
+      const std::array<std::uint64_t, 2> sizes{static_cast<std::uint64_t>(out.numberofpoints),
+                                               static_cast<std::uint64_t>(out.numberoftetrahedra)};
+      const bool sent = write_all(fds[1], sizes.data(), sizeof(sizes)) &&
+                        write_all(fds[1], out.pointlist, sizeof(REAL) * 3 * sizes[0]) &&
+                        write_all(fds[1], out.tetrahedronlist, sizeof(int) * 4 * sizes[1]);
+      status = sent ? 0 : exit_write_failed;
+    } catch (int code) {
+      status = code > 0 && code < exit_write_failed ? code : exit_other_exception;
+    } catch (...) {
+      status = exit_other_exception;
+    }
+    ::_exit(status);  // no atexit handlers or stdio flushes of the parent's state
+  }
+  ::close(fds[1]);
+  const std::vector<char> bytes = read_all(fds[0]);
+  ::close(fds[0]);
+  int wstatus = 0;
+  while (::waitpid(pid, &wstatus, 0) < 0)
+    if (errno != EINTR) throw MesherError(failed + "; lost its process: " + std::strerror(errno) + ")");
+
+  if (WIFSIGNALED(wstatus))
+    throw MesherError(failed + "; its process died of signal " + std::to_string(WTERMSIG(wstatus)) + ", " +
+                      strsignal(WTERMSIG(wstatus)) + " (TetGen 1.5.0 crashes so on every error it detects, most " +
+                      "often self-intersecting or touching facets)" + log_tail(log.get()) + ")");
+  const int code = WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : exit_other_exception;
+  if (code == exit_write_failed)
+    throw MesherError(failed + "; its process could not send the mesh back" + log_tail(log.get()) + ")");
+  if (code == exit_other_exception)
+    throw MesherError(failed + "; it threw an exception other than its error code" + log_tail(log.get()) + ")");
+  if (code != 0)
+    throw MesherError("tetgen fill: TetGen failed with code " + std::to_string(code) + " (switches -" + switches +
+                      "; 1: out of memory, 2: internal error, 3: self-intersecting facets, 4: a very small input " +
+                      "feature, 5: two facets very close, 10: an input error" + log_tail(log.get()) + ")");
+
+  std::array<std::uint64_t, 2> sizes{};
+  TetGenOutput out;
+  if (bytes.size() >= sizeof(sizes)) {
+    std::memcpy(sizes.data(), bytes.data(), sizeof(sizes));
+    const std::size_t point_bytes = sizeof(double) * 3 * sizes[0], tet_bytes = sizeof(int) * 4 * sizes[1];
+    if (bytes.size() == sizeof(sizes) + point_bytes + tet_bytes) {
+      out.points.resize(3 * sizes[0]);
+      out.tets.resize(4 * sizes[1]);
+      std::memcpy(out.points.data(), bytes.data() + sizeof(sizes), point_bytes);
+      std::memcpy(out.tets.data(), bytes.data() + sizeof(sizes) + point_bytes, tet_bytes);
+      return out;
+    }
+  }
+  throw MesherError(failed + "; its process sent " + std::to_string(bytes.size()) + " bytes, not a mesh)");
+}
+
+// Smallest dihedral angle (radians) and circumradius / shortest edge of the tet p[0..3].
+std::pair<double, double> tet_shape(const std::array<Eigen::Vector3d, 4>& p) {
+  // Normals of the faces opposite each vertex, all pointing at that vertex (inward): the
+  // dihedral angle at the edge of faces k and l is pi minus the angle between their normals.
+  std::array<Eigen::Vector3d, 4> n;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d& a = p[(k + 1) % 4];
+    const Eigen::Vector3d& b = p[(k + 2) % 4];
+    const Eigen::Vector3d& c = p[(k + 3) % 4];
+    n[k] = (b - a).cross(c - a);
+    if (n[k].dot(p[k] - a) < 0) n[k] = -n[k];
+    n[k].normalize();
+  }
+  double min_dihedral = std::numbers::pi;
+  for (int k = 0; k < 4; ++k)
+    for (int l = k + 1; l < 4; ++l)
+      min_dihedral = std::min(min_dihedral, std::numbers::pi - std::acos(std::clamp(n[k].dot(n[l]), -1.0, 1.0)));
+  // Circumcentre relative to p[0]: (|u|^2 v x w + |v|^2 w x u + |w|^2 u x v) / (2 u . (v x w)).
+  const Eigen::Vector3d u = p[1] - p[0], v = p[2] - p[0], w = p[3] - p[0];
+  const Eigen::Vector3d centre =
+      (u.squaredNorm() * v.cross(w) + v.squaredNorm() * w.cross(u) + w.squaredNorm() * u.cross(v)) /
+      (2 * u.dot(v.cross(w)));
+  double shortest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 4; ++k)
+    for (int l = k + 1; l < 4; ++l) shortest = std::min(shortest, (p[k] - p[l]).norm());
+  return {min_dihedral, centre.norm() / shortest};
+}
+
+}  // namespace
+
+TetFillResult tetgen_fill(const LinearFront<3>& front, const TetFillParams& params) {
+  const std::unordered_map<Face, std::size_t, FaceHash> front_faces = check_front(front);
+
+  // 1. The piecewise linear complex: the nodes the triangles use (TetGen ids 0..n_used-1 in
+  //    first-use order), one facet per triangle with its tag + 1 as marker, and the hole points.
+  //    Nodes no triangle uses stay out: inside the layers, TetGen would jettison or mesh them.
+  const NodeId n_front = static_cast<NodeId>(front.nodes.size());
+  std::vector<int> tetgen_id(front.nodes.size(), -1);
+  std::vector<NodeId> front_id;  // per TetGen input point
+  for (const std::array<NodeId, 3>& t : front.triangles)
+    for (NodeId v : t)
+      if (tetgen_id[v] < 0) {
+        tetgen_id[v] = static_cast<int>(front_id.size());
+        front_id.push_back(v);
+      }
+  const int n_used = static_cast<int>(front_id.size());
+  const std::size_t n_tri = front.triangles.size();
+
+  // tetgenio owns and delete[]s every list below, hence the bare new[] (tetgen.h deinitialize).
+  tetgenio in;
+  in.firstnumber = 0;
+  in.numberofpoints = n_used;
+  in.pointlist = new REAL[3 * static_cast<std::size_t>(n_used)];
+  for (int i = 0; i < n_used; ++i)
+    for (int d = 0; d < 3; ++d) in.pointlist[3 * i + d] = front.nodes[front_id[i]][d];
+  in.facetlist = new tetgenio::facet[n_tri];
+  for (std::size_t f = 0; f < n_tri; ++f) tetgenio::init(&in.facetlist[f]);
+  in.numberoffacets = static_cast<int>(n_tri);
+  in.facetmarkerlist = new int[n_tri];
+  for (std::size_t f = 0; f < n_tri; ++f) {
+    tetgenio::facet& facet = in.facetlist[f];
+    facet.polygonlist = new tetgenio::polygon[1];
+    tetgenio::init(&facet.polygonlist[0]);
+    facet.numberofpolygons = 1;
+    facet.polygonlist[0].vertexlist = new int[3];
+    facet.polygonlist[0].numberofvertices = 3;
+    for (int k = 0; k < 3; ++k) facet.polygonlist[0].vertexlist[k] = tetgen_id[front.triangles[f][k]];
+    in.facetmarkerlist[f] = front.triangle_tag[f] + 1;
+  }
+  if (!front.holes.empty()) {
+    in.holelist = new REAL[3 * front.holes.size()];
+    in.numberofholes = static_cast<int>(front.holes.size());
+    for (std::size_t h = 0; h < front.holes.size(); ++h)
+      for (int d = 0; d < 3; ++d) in.holelist[3 * h + d] = front.holes[h][d];
+  }
+
+  // 2. Tetrahedralize: p (PLC, carving from the hole points), Y (no Steiner point on the front),
+  //    Q (quiet), z (ids from 0), J (no jettisoned points, so input ids stay), q/a bounds.
   std::ostringstream sw;
-  sw << "pYQz";
+  sw << "pYQzJ";
   if (params.max_radius_edge > 0) sw << 'q' << params.max_radius_edge;
   if (params.max_volume > 0) sw << 'a' << params.max_volume;
-  std::string switches = sw.str();
-  try {
-    tetrahedralize(switches.data(), &in, &out);
-  } catch (int code) {
-    throw MesherError("tetgen fill: TetGen failed with code " + std::to_string(code) + " (switches -" + switches +
-                      "; 2: out of memory, 3: internal error, 4: a very small input feature, 5: two facets " +
-                      "very close, 10: an input error such as self-intersecting facets)");
-  }
+  TetFillResult result;
+  result.stats.switches = sw.str();
+  const TetGenOutput out = run_tetgen(in, result.stats.switches);
 
-  // 3. Back to core types: TetGen keeps the input points first (switch Y, z numbering).
-  HybridMesh<3> mesh;
-  mesh.tags = boundary.tags;
-  mesh.boundary = boundary.boundary;
-  mesh.nodes.resize(static_cast<std::size_t>(out.numberofpoints));
-  for (int i = 0; i < out.numberofpoints; ++i)
-    mesh.nodes[i] = Eigen::Vector3d(out.pointlist[3 * i], out.pointlist[3 * i + 1], out.pointlist[3 * i + 2]);
-  for (std::size_t i = 0; i < boundary.nodes.size(); ++i)
-    if ((mesh.nodes[i] - boundary.nodes[i]).norm() != 0)
-      throw MesherError("tetgen fill: TetGen renumbered the boundary nodes");
-  CellBlock& tets = mesh.block(CellType::Tetrahedron, 1);
-  tets.connectivity.reserve(static_cast<std::size_t>(out.numberoftetrahedra) * 4);
-  for (int t = 0; t < out.numberoftetrahedra; ++t) {
-    const int* c = out.tetrahedronlist + 4 * t;
-    // TetGen 1.5's tetrahedra already have positive volume in plaf's convention (vertex 3 on the
-    // side of face 0-1-2's right-hand normal); the tests check every volume.
-    tets.connectivity.insert(tets.connectivity.end(), {c[0], c[1], c[2], c[3]});
+  // 3. Back to front ids: TetGen keeps its input points first and unchanged (checked), and the
+  //    points it adds become front.nodes.size(), ... in its order.
+  const int n_out = static_cast<int>(out.points.size() / 3);
+  if (n_out < n_used)
+    throw MesherError("tetgen fill: TetGen returned " + std::to_string(n_out) + " points for " +
+                      std::to_string(n_used) + " input points (switches -" + result.stats.switches + ")");
+  for (int i = 0; i < n_used; ++i) {
+    const Eigen::Vector3d p(out.points[3 * i], out.points[3 * i + 1], out.points[3 * i + 2]);
+    if (p != front.nodes[front_id[i]])
+      throw MesherError("tetgen fill: TetGen moved or renumbered front node " + std::to_string(front_id[i]) + " " +
+                        point_text(front.nodes[front_id[i]]) + " (switches -" + result.stats.switches + ")");
   }
-  return mesh;
+  result.nodes = front.nodes;
+  result.nodes.reserve(front.nodes.size() + static_cast<std::size_t>(n_out - n_used));
+  for (int i = n_used; i < n_out; ++i)
+    result.nodes.emplace_back(out.points[3 * i], out.points[3 * i + 1], out.points[3 * i + 2]);
+  auto node_id = [&](int i) {
+    if (i < 0 || i >= n_out)
+      throw MesherError("tetgen fill: TetGen returned a tet on point " + std::to_string(i) + " of " +
+                        std::to_string(n_out) + " (switches -" + result.stats.switches + ")");
+    return i < n_used ? front_id[i] : n_front + static_cast<NodeId>(i - n_used);
+  };
+
+  const std::size_t n_tets = out.tets.size() / 4;
+  result.tets.reserve(n_tets);
+  double min_dihedral = std::numbers::pi, max_radius_edge = 0;
+  for (std::size_t t = 0; t < n_tets; ++t) {
+    const int* c = out.tets.data() + 4 * t;
+    const std::array<NodeId, 4> tet{node_id(c[0]), node_id(c[1]), node_id(c[2]), node_id(c[3])};
+    const std::array<Eigen::Vector3d, 4> p{result.nodes[tet[0]], result.nodes[tet[1]], result.nodes[tet[2]],
+                                           result.nodes[tet[3]]};
+    // TetGen 1.5 orders a tet with vertex 3 on the side of face 0-1-2's right-hand normal, which
+    // is plaf's positive volume (predicates.h: orient3d < 0); checked exactly.
+    if (sign_orient3d(p[0], p[1], p[2], p[3]) >= 0)
+      throw MesherError("tetgen fill: TetGen returned tet " + std::to_string(t) + " with non-positive volume at " +
+                        point_text((p[0] + p[1] + p[2] + p[3]) / 4) + " (switches -" + result.stats.switches + ")");
+    const auto [dihedral, radius_edge] = tet_shape(p);
+    min_dihedral = std::min(min_dihedral, dihedral);
+    max_radius_edge = std::max(max_radius_edge, radius_edge);
+    result.tets.push_back(tet);
+  }
+  result.stats.tets = result.tets.size();
+  result.stats.new_points = result.nodes.size() - front.nodes.size();
+  result.stats.min_dihedral_deg = result.tets.empty() ? 0 : min_dihedral * 180 / std::numbers::pi;
+  result.stats.max_radius_edge = max_radius_edge;
+
+  // 4. The contract (tetgen_fill.h): every front triangle is a face of exactly one tet, on the
+  //    side of its normal.
+  std::vector<int> uses(n_tri, 0);
+  std::vector<NodeId> apex(n_tri, -1);  // the vertex of the (last) tet on the triangle opposite it
+  for (const std::array<NodeId, 4>& tet : result.tets)
+    for (int k = 0; k < 4; ++k) {
+      const auto it = front_faces.find(sorted_face(tet[(k + 1) % 4], tet[(k + 2) % 4], tet[(k + 3) % 4]));
+      if (it == front_faces.end()) continue;
+      ++uses[it->second];
+      apex[it->second] = tet[k];
+    }
+  std::size_t missing = 0, doubled = 0, behind = 0, first_missing = 0, first_doubled = 0, first_behind = 0;
+  for (std::size_t i = 0; i < n_tri; ++i) {
+    const std::array<NodeId, 3>& t = front.triangles[i];
+    if (uses[i] == 0) {
+      if (missing++ == 0) first_missing = i;
+    } else if (uses[i] > 1) {
+      if (doubled++ == 0) first_doubled = i;
+    } else if (sign_orient3d(front.nodes[t[0]], front.nodes[t[1]], front.nodes[t[2]], result.nodes[apex[i]]) >= 0) {
+      if (behind++ == 0) first_behind = i;
+    }
+  }
+  auto where = [&](std::size_t i) {
+    const std::array<NodeId, 3>& t = front.triangles[i];
+    return "triangle " + std::to_string(i) + " " + ids_text(t) + " at " +
+           point_text((front.nodes[t[0]] + front.nodes[t[1]] + front.nodes[t[2]]) / 3);
+  };
+  if (missing > 0)
+    throw MesherError("tetgen fill: the front was not preserved: " + std::to_string(missing) + " of " +
+                      std::to_string(n_tri) + " front triangles are a face of no tet, the first " +
+                      where(first_missing) + " (TetGen split it, or a hole point carved the region next to " +
+                      "it away; switches -" + result.stats.switches + ")");
+  if (doubled > 0)
+    throw InputError("tetgen fill: " + std::to_string(doubled) + " front triangles are a face of two tets, the " +
+                     "first " + where(first_doubled) + ": the region on both sides was filled (a body without a " +
+                     "hole point inside it, or a surface that bounds no body)");
+  if (behind > 0)
+    throw InputError("tetgen fill: " + std::to_string(behind) + " front triangles have their tet behind them, " +
+                     "the first " + where(first_behind) + ": a front normal must point into the region to fill " +
+                     "(linear_front.h), and a hole point must lie inside a body");
+  return result;
 }
 
 }  // namespace plaf::volume
