@@ -187,7 +187,7 @@ struct Tiling {
 // layer's).
 Tiling check_tiling(const CurvedFront<2>& front, const MetricField<2>& metric, const layers::LayerParams& p) {
   Tiling t;
-  const layers::LayerResult<2> full = layers::grow_layers(front, metric, p);
+  const LayerResult<2> full = layers::grow_layers(front, metric, p);
   REQUIRE(!full.layers.empty());
   const int q = front.order;
   const Vector2d origin = front.nodes[0];
@@ -199,7 +199,7 @@ Tiling check_tiling(const CurvedFront<2>& front, const MetricField<2>& metric, c
     layers::LayerParams pk = p;
     pk.max_layers = static_cast<int>(k);
     pk.close_linear = false;
-    const layers::LayerResult<2> prefix = layers::grow_layers(front, metric, pk);
+    const LayerResult<2> prefix = layers::grow_layers(front, metric, pk);
     REQUIRE(prefix.layers.size() == k);
     REQUIRE(prefix.mesh.nodes.size() <= full.mesh.nodes.size());
     CHECK(std::equal(prefix.mesh.nodes.begin(), prefix.mesh.nodes.end(), full.mesh.nodes.begin()));
@@ -211,7 +211,7 @@ Tiling check_tiling(const CurvedFront<2>& front, const MetricField<2>& metric, c
   std::vector<double> coords;
   std::size_t first_transition = 0;
   for (std::size_t k = 0; k < full.layers.size(); ++k) {
-    const layers::LayerStats& st = full.layers[k];
+    const LayerStats& st = full.layers[k];
     double cells_area = 0;
     auto add = [&](const CellBlock& b, std::size_t first, std::size_t count) {
       REQUIRE(first + count <= b.size());
@@ -325,28 +325,22 @@ EulerCount euler_count(const HybridMesh<2>& m) {
   return out;
 }
 
-// Layers and the advancing-front fill joined as apps/run.cpp's fill_domain does at uniform order:
-// the fill's triangles at order Q sharing the layers' outer edges, and the boundary lines of the
-// loops the fill meets directly (the farfield) at order Q.
+// Layers and the advancing-front fill joined by the driver's assembly (assemble_hybrid_2d) at
+// uniform order: the fill's triangles at order Q sharing the layers' outer edges, and the boundary
+// lines of the loops the fill meets directly (the farfield) at order Q.
 struct Hybrid {
-  layers::LayerResult<2> layers;
+  LayerResult<2> layers;
   HybridMesh<2> mesh;
 };
 
 Hybrid layers_and_fill(const CurvedFront<2>& front, const MetricField<2>& metric, const layers::LayerParams& p) {
   Hybrid h;
   h.layers = layers::grow_layers(front, metric, p);
-  h.mesh = h.layers.mesh;
   volume::AdvancingFrontResult fill = volume::advancing_front_fill(h.layers.fill_front, metric);
-  h.mesh.nodes = std::move(fill.nodes);
-  for (const LinearLoop& l : h.layers.fill_front.loops) {
-    if (l.layered) continue;
-    const FrontLoop& bare = front.loops[static_cast<std::size_t>(l.source_loop)];
-    CellBlock& b = h.mesh.boundary_block(CellType::Line, front.order, h.mesh.add_tag(bare.tag, bare.kind));
-    b.connectivity.insert(b.connectivity.end(), bare.elements.begin(), bare.elements.end());
-  }
-  add_triangles_at_order(h.mesh, fill.triangles, front.order);
-  compact_nodes(h.mesh);
+  const FillResult<2> f{std::move(fill.nodes), std::move(fill.triangles)};
+  AssemblyOptions o;
+  o.order = front.order;
+  h.mesh = assemble_hybrid_2d(front, h.layers, &f, o).mesh;
   return h;
 }
 
@@ -367,7 +361,7 @@ Geometry2D with_farfield(Geometry2D g, const Vector2d& center, double radius) {
 TEST_CASE("layers: a case scaled by 1e-8 to 1e8 gives the same layer table and events and the nodes scaled") {
   struct Run {
     CurvedFront<2> front;
-    layers::LayerResult<2> r;
+    LayerResult<2> r;
   };
   for (const ScaledCase& sc : scaled_cases())
     for (int q = sc.q_first; q <= sc.q_last; ++q) {
@@ -390,8 +384,8 @@ TEST_CASE("layers: a case scaled by 1e-8 to 1e8 gives the same layer table and e
         for (std::size_t l = 0; l < one.front.loops.size(); ++l)
           REQUIRE(scaled.front.loops[l].elements == one.front.loops[l].elements);
         // The layer table and the events.
-        const layers::LayerResult<2>& a = one.r;
-        const layers::LayerResult<2>& b = scaled.r;
+        const LayerResult<2>& a = one.r;
+        const LayerResult<2>& b = scaled.r;
         REQUIRE(b.layers.size() == a.layers.size());
         for (std::size_t k = 0; k < a.layers.size(); ++k) {
           INFO("layer ", k + 1);
@@ -499,7 +493,7 @@ TEST_CASE("layers: layers plus fill have the Euler characteristic 1 - bodies and
       const Hybrid h = layers_and_fill(mesh_curves(hc.geometry, metric, q), metric, p);
       REQUIRE(!h.layers.layers.empty());
       std::size_t transition = 0;
-      for (const layers::LayerStats& st : h.layers.layers) transition += st.transition_cells;
+      for (const LayerStats& st : h.layers.layers) transition += st.transition_cells;
       if (hc.stop == layers::IsotropicStop::Node) CHECK(transition > 0);  // the case covers them
       // The layers alone are one annulus per body (chi = 0), unless stopped nodes cut them.
       if (hc.stop == layers::IsotropicStop::Off) CHECK(euler_count(h.layers.mesh).chi() == 0);
@@ -546,7 +540,7 @@ TEST_CASE("layers: on a flat wall the heights are h0 at the wall and grow geomet
       layers::LayerParams p = layer_params(max_layers, false, layers::IsotropicStop::Off);
       p.integrate_height = row.integrate;
       p.corner_angle_deg = 60;  // the corner fans' nodes (45 degrees each) do not fan again
-      const layers::LayerResult<2> r = layers::grow_layers(mesh_curves(geo, metric, q), metric, p);
+      const LayerResult<2> r = layers::grow_layers(mesh_curves(geo, metric, q), metric, p);
       REQUIRE(r.layers.size() == static_cast<std::size_t>(max_layers));
       REQUIRE(r.events.empty());  // no height was halved: the law alone sets them
       const CellBlock* quads = find_block(r.mesh, CellType::Quadrilateral);
@@ -596,7 +590,7 @@ TEST_CASE("layers: on a circle the first layer is h0 high and the layers grow by
   for (int q = 1; q <= 4; ++q) {
     INFO("Q = ", q);
     const layers::LayerParams p = layer_params(max_layers, false, layers::IsotropicStop::Off);
-    const layers::LayerResult<2> r = layers::grow_layers(mesh_curves(geo, metric, q), metric, p);
+    const LayerResult<2> r = layers::grow_layers(mesh_curves(geo, metric, q), metric, p);
     REQUIRE(r.layers.size() == static_cast<std::size_t>(max_layers));
     REQUIRE(r.events.empty());  // no height was halved: the law alone sets them
     const CellBlock* quads = find_block(r.mesh, CellType::Quadrilateral);
