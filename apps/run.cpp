@@ -35,7 +35,7 @@ template <int Dim>
 const Stage<Dim>& chosen(const RunConfig& c, StageKind kind) {
   static const Stage<Dim> nothing = [](RunState<Dim>&, StageReport&) {};
   const PlannedStage& p = kind == StageKind::Geometry ? c.geometry
-                          : kind == StageKind::Metric ? c.metric_stage
+                          : kind == StageKind::Metric ? c.metric
                           : kind == StageKind::Surface ? c.surface
                           : kind == StageKind::Layers ? c.layers
                                                       : c.fill;

@@ -77,7 +77,7 @@ Geometry3Params parse_geometry3_params(const ConfigNode& g, const std::string& t
   return s;
 }
 
-SurfaceParams parse_surface_params(const ConfigNode& sf, const RunConfig& config) {
+SurfaceParams parse_surface_params(const ConfigNode& sf) {
   SurfaceParams sp;
   sp.ridge_angle_deg = sf.get_in_range("ridge_angle_deg", sp.ridge_angle_deg, 0.0, 180.0);
   sp.corner_defect_deg = sf.get_in_range("corner_defect_deg", sp.corner_defect_deg, 0.0, 360.0);
@@ -87,13 +87,7 @@ SurfaceParams parse_surface_params(const ConfigNode& sf, const RunConfig& config
   sp.curvature_factor = sf.get_in_range("curvature_factor", sp.curvature_factor, 0.0, 100.0);
   sp.curvature_h_min = sf.has("curvature_h_min") ? sf.get_positive("curvature_h_min", 1.0) : 0;
   sp.max_triangles = sf.get_int("max_triangles", sp.max_triangles, 1, 2000000000);
-  if (sp.curvature_h_min > 0) {
-    const UniformMetricParams& u = config.metric.uniform;
-    const double smallest = u.sizes.empty() ? u.h : *std::min_element(u.sizes.begin(), u.sizes.end());
-    if (sp.curvature_h_min >= smallest)
-      throw ConfigError(sf.where("curvature_h_min") + ": " + std::to_string(sp.curvature_h_min) +
-                        " must be smaller than the metric's smallest size " + std::to_string(smallest));
-  }
+  sp.curvature_h_min_where = sf.where("curvature_h_min");
   return sp;
 }
 
@@ -199,6 +193,9 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   if (sp.curvature_factor > 0) {
     if (surface.mesh.n_vertices() == 0) throw MesherError("surface: no vertices to mesh");
     const double base_min = s.metric->evaluate(surface.mesh.point(*surface.mesh.vertices().begin())).min_size();
+    if (sp.curvature_h_min >= base_min)
+      throw ConfigError(sp.curvature_h_min_where + ": " + std::to_string(sp.curvature_h_min) +
+                        " must be smaller than the metric's smallest size " + std::to_string(base_min));
     const double h_min = sp.curvature_h_min > 0 ? sp.curvature_h_min : base_min / 20;
     s.surface_metric =
         std::make_unique<CurvatureMetricField>(*s.metric, *s.reference, sp.curvature_factor, h_min);
@@ -285,8 +282,8 @@ void register_surface3d_plugins() {
       const Geometry3Params g = parse_geometry3_params(section, "surface_file");
       return [g](RunState<3>& s, StageReport& rep) { surface_file(g, s, rep); };
     });
-    stage_registry<3>(StageKind::Surface).add("remesh", [](const ConfigNode& section, const RunConfig& c) -> Stage<3> {
-      const SurfaceParams sp = parse_surface_params(section, c);
+    stage_registry<3>(StageKind::Surface).add("remesh", [](const ConfigNode& section, const RunConfig&) -> Stage<3> {
+      const SurfaceParams sp = parse_surface_params(section);
       return [sp](RunState<3>& s, StageReport& rep) { remesh_and_curve(sp, s, rep); };
     });
     return true;

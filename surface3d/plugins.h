@@ -72,13 +72,15 @@ struct SurfaceParams {
   int iterations = 8;
   double curvature_factor = 0;
   double curvature_h_min = 0;  // 0: the metric's smallest size / 20
+  std::string curvature_h_min_where;  // "file:line:col: surface.curvature_h_min", for the check
   int max_triangles = 20000000;
 };
 
 // The keys of a 3D geometry section of type `type` (ConfigError naming the key).
 Geometry3Params parse_geometry3_params(const ConfigNode& geometry, const std::string& type);
-// The keys of the surface section; the curvature size is checked against the run's metric.
-SurfaceParams parse_surface_params(const ConfigNode& surface, const RunConfig& config);
+// The keys of the surface section (the curvature size is checked against the metric when the
+// stage runs, before anything is written).
+SurfaceParams parse_surface_params(const ConfigNode& surface);
 
 void register_surface3d_plugins();
 

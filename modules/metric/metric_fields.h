@@ -1,27 +1,57 @@
 // SPDX-License-Identifier: MIT
-// The registry of 2D metric-field plugins, selected by `metric: {type: ...}`: uniform,
-// wall_power_law (wall_metric.h) and background (background_metric.h). A plugin is built from
-// the run configuration and the run's geometry (the walls, for wall-distance metrics).
+// The metric plugins' options, each parsed from its own `metric:` section (the plugins are
+// registered in modules/pipeline/stages.cpp), and the fields they make:
+//   metric:
+//     type: uniform         one metric everywhere
+//     h: <>0>               isotropic size                        default: 0.25
+//     sizes: [h1, h2]       anisotropic sizes (instead of h); 3D: [hx, hy, hz]   default: none
+//     angle_deg: <deg>      direction of h1 from the x axis (2D)  default: 0
+//   metric:
+//     type: background      metric at the nodes of a background mesh (background_metric.h)
+//     file: <path>          Gmsh .msh with a tensor $NodeData view, or a libMeshb .mesh  (required)
+//     sol: <path>           the .sol of a .mesh file              default: none
+//     mean: log_euclidean|affine_invariant                        default: log_euclidean
+// The wall_power_law options live beside its field in wall_metric.h.
 #pragma once
 
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "modules/geometry/geometry2d.h"
 #include "modules/metric/metric.h"
-#include "modules/pipeline/registry.h"
-#include "modules/pipeline/run_config.h"
+#include "modules/metric/wall_metric.h"
+#include "modules/pipeline/config.h"
 
 namespace plaf {
 inline namespace metric {
 
-using MetricField2Registry = Registry<std::unique_ptr<MetricField<2>>(const RunConfig&, const Geometry2D&)>;
-MetricField2Registry& metric_field_registry();
+struct UniformMetricParams {
+  double h = 0.25;
+  std::vector<double> sizes;  // empty: isotropic h
+  double angle_deg = 0.0;
+};
 
-// The configured field (ConfigError naming the file, line and type if unknown).
-std::unique_ptr<MetricField<2>> make_metric_field(const RunConfig& config, const Geometry2D& geometry);
-
-// The 3D uniform metric of `metric: {type: uniform}`: isotropic h, or sizes along x, y, z.
+// The uniform keys of a metric section of a dim-dimensional run (ConfigError naming the key).
+UniformMetricParams parse_uniform_metric(const ConfigNode& metric, int dim);
+// The uniform metrics: isotropic h, or sizes along the directions (2D: h1 at angle_deg from x;
+// 3D: along x, y, z).
+Metric<2> uniform_metric_2d(const UniformMetricParams& params);
 Metric<3> uniform_metric_3d(const UniformMetricParams& params);
+
+struct BackgroundParams {
+  std::string file;
+  std::string sol;
+  std::string mean = "log_euclidean";
+};
+
+BackgroundParams parse_background_params(const ConfigNode& metric);
+// The background field (background_metric.h); `where` names the config key in errors.
+std::unique_ptr<MetricField<2>> make_background_field(const BackgroundParams& params, const std::string& where);
+
+// The wall power law over the geometry's wall loops (ConfigError naming `where` without walls).
+std::unique_ptr<MetricField<2>> make_wall_law_field(const WallLawParams& params, const Geometry2D& geometry,
+                                                    const std::string& where);
 
 }  // namespace metric
 }  // namespace plaf

@@ -10,6 +10,21 @@
 namespace plaf {
 inline namespace metric {
 
+WallLawParams parse_wall_law_params(const ConfigNode& m) {
+  WallLawParams w;
+  w.h0 = m.get_positive("h0", w.h0);
+  w.growth = m.get_in_range("growth", w.growth, 1.0, 10.0);
+  if (!(w.growth > 1)) throw ConfigError(m.where("growth") + ": must be larger than 1 (layers grow)");
+  w.exponential = m.get_choice("law", "linear", {"linear", "exponential"}) == "exponential";
+  w.delta = m.get_positive("delta", w.h0);
+  w.h_max = m.get_positive("h_max", w.h_max);
+  w.h_wall_max = m.get_positive("h_wall_max", w.h_wall_max);
+  w.curvature_factor = m.get_positive("curvature_factor", w.curvature_factor);
+  w.h_corner = m.get_positive("h_corner", w.h_corner);
+  if (w.h0 > w.h_max) throw ConfigError(m.where("h0") + ": must not exceed h_max");
+  return w;
+}
+
 WallPowerLawField::WallPowerLawField(std::vector<SplineLoop> walls, const WallLawParams& params)
     : walls_(std::move(walls)), p_(params) {
   if (walls_.empty()) throw InputError("wall_power_law metric: the geometry has no wall");

@@ -22,11 +22,36 @@
 #include <vector>
 
 #include "modules/metric/metric.h"
-#include "modules/pipeline/run_config.h"
+#include "modules/pipeline/config.h"
 #include "modules/geometry/spline_loop.h"
 
 namespace plaf {
 inline namespace metric {
+
+// Its section (the `wall_power_law` metric plugin, modules/pipeline/stages.h):
+//   metric:
+//     type: wall_power_law  boundary-layer metric of the paper's eq. (6) (wall_metric.h)
+//     h0: <>0>              first layer height                    default: 0.005
+//     growth: <>1>          layer growth factor g                 default: 1.2
+//     law: linear|exponential   h_perp = h0 + (g-1) d, or h0 g^(d/delta)   default: linear
+//     delta: <>0>           growth distance of the exponential law    default: h0
+//     h_max: <>0>           isotropic size far from the walls     default: 1
+//     h_wall_max: <>0>      largest size along a wall             default: 0.05
+//     curvature_factor: <>0>  size along a wall = factor x radius of curvature   default: 0.25
+//     h_corner: <>0>        size along a wall at a corner (grows by g away)   default: 0.01
+struct WallLawParams {
+  double h0 = 0.005;
+  double growth = 1.2;
+  bool exponential = false;
+  double delta = 0.0;  // 0: h0
+  double h_max = 1.0;
+  double h_wall_max = 0.05;
+  double curvature_factor = 0.25;
+  double h_corner = 0.01;
+};
+
+// The wall_power_law keys of a metric section (ConfigError naming the key).
+WallLawParams parse_wall_law_params(const ConfigNode& metric);
 
 class WallPowerLawField final : public MetricField<2> {
  public:

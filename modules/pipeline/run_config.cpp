@@ -35,45 +35,13 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   const std::string geometry_type = g.get_choice("type", "annulus", geometry_types);
   if (stage_registry<3>(StageKind::Geometry).contains(geometry_type)) r.dim = 3;
 
+  // The metric's type; its plugin parses the section (stages.h). 3D surfaces take a uniform one.
   const ConfigNode m = c.child("metric");
-  r.metric.type = m.get_string("type", r.metric.type);
-  r.metric.where = m.where("type");
-  metric_field_registry().require(r.metric.type, r.metric.where);
-  if (r.dim == 3 && r.metric.type != "uniform")
-    throw ConfigError(r.metric.where + ": metric type '" + r.metric.type +
+  const std::string metric_type = m.get_string("type", "uniform");
+  if (r.dim == 3 && !stage_registry<3>(StageKind::Metric).contains(metric_type) &&
+      stage_registry<2>(StageKind::Metric).contains(metric_type))
+    throw ConfigError(m.where("type") + ": metric type '" + metric_type +
                       "' is 2D only; 3D surfaces take a uniform metric (h or sizes [hx, hy, hz])");
-  if (r.metric.type == "uniform") {
-    UniformMetricParams& u = r.metric.uniform;
-    u.h = m.get_positive("h", u.h);
-    u.sizes = m.get_double_list("sizes", {});
-    if (!u.sizes.empty()) {
-      if (m.has("h")) throw ConfigError(m.where("sizes") + ": give either h or sizes, not both");
-      if (static_cast<int>(u.sizes.size()) != r.dim)
-        throw ConfigError(m.where("sizes") + (r.dim == 2 ? ": expected two sizes [h1, h2]"
-                                                         : ": expected three sizes [hx, hy, hz]"));
-      for (double s : u.sizes)
-        if (!(s > 0)) throw ConfigError(m.where("sizes") + ": sizes must be positive");
-    }
-    if (r.dim == 2) u.angle_deg = m.get_double("angle_deg", u.angle_deg);  // 3D: sizes along x, y, z
-  } else if (r.metric.type == "wall_power_law") {
-    WallLawParams& w = r.metric.wall_law;
-    w.h0 = m.get_positive("h0", w.h0);
-    w.growth = m.get_in_range("growth", w.growth, 1.0, 10.0);
-    if (!(w.growth > 1)) throw ConfigError(m.where("growth") + ": must be larger than 1 (layers grow)");
-    w.exponential = m.get_choice("law", "linear", {"linear", "exponential"}) == "exponential";
-    w.delta = m.get_positive("delta", w.h0);
-    w.h_max = m.get_positive("h_max", w.h_max);
-    w.h_wall_max = m.get_positive("h_wall_max", w.h_wall_max);
-    w.curvature_factor = m.get_positive("curvature_factor", w.curvature_factor);
-    w.h_corner = m.get_positive("h_corner", w.h_corner);
-    if (w.h0 > w.h_max) throw ConfigError(m.where("h0") + ": must not exceed h_max");
-  } else if (r.metric.type == "background") {
-    BackgroundParams& b = r.metric.background;
-    b.file = m.get_path("file", "");
-    if (b.file.empty()) throw ConfigError(m.where() + ": file is required for a background metric");
-    b.sol = m.get_path("sol", "");
-    b.mean = m.get_choice("mean", b.mean, {"log_euclidean", "affine_invariant"});
-  }
 
   // Plugin sections: the chosen type's factory parses and checks its own keys (stages.h).
   auto plan = [&](StageKind kind, const std::string& type, const ConfigNode& s, PlannedStage& out) {
@@ -92,7 +60,7 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     plan(kind, s.get_string("type", fallback_type), s, out);
   };
   plan(StageKind::Geometry, geometry_type, g, r.geometry);
-  plan(StageKind::Metric, r.metric.type, m, r.metric_stage);
+  plan(StageKind::Metric, metric_type, m, r.metric);
   // The surface mesh follows from the geometry: curves of the spline loops, the annulus' exact
   // map, or the 3D remesher (whose section holds its keys; 2D runs have none).
   const ConfigNode sf = c.child("surface");

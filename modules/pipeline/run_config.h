@@ -11,26 +11,10 @@
 //                           (modules/mesh/annulus.h), AirfoilsParams (modules/geometry/geometry2d.h);
 //     type: sphere | ellipsoid | box | wing | surface_file   3D: BodyParams (surface3d/plugins.h)
 //   surface:                3D only: features and remeshing, SurfaceParams (surface3d/plugins.h)
-//   metric:
-//     type: uniform         one metric everywhere
-//     h: <>0>               isotropic size                        default: 0.25
-//     sizes: [h1, h2]       anisotropic sizes (instead of h); 3D: [hx, hy, hz]   default: none
-//     angle_deg: <deg>      direction of h1 from the x axis (2D)  default: 0
-//   metric:
-//     type: wall_power_law  boundary-layer metric of the paper's eq. (6) (wall_metric.h)
-//     h0: <>0>              first layer height                    default: 0.005
-//     growth: <>1>          layer growth factor g                 default: 1.2
-//     law: linear|exponential   h_perp = h0 + (g-1) d, or h0 g^(d/delta)   default: linear
-//     delta: <>0>           growth distance of the exponential law    default: h0
-//     h_max: <>0>           isotropic size far from the walls     default: 1
-//     h_wall_max: <>0>      largest size along a wall             default: 0.05
-//     curvature_factor: <>0>  size along a wall = factor x radius of curvature   default: 0.25
-//     h_corner: <>0>        size along a wall at a corner (grows by g away)   default: 0.01
-//   metric:
-//     type: background      metric at the nodes of a background mesh (background_metric.h)
-//     file: <path>          Gmsh .msh with a tensor $NodeData view, or a libMeshb .mesh  (required)
-//     sol: <path>           the .sol of a .mesh file              default: none
-//     mean: log_euclidean|affine_invariant                        default: log_euclidean
+//   metric:                 the metric field; `type:` chooses the plugin, its keys beside its options:
+//     type: uniform         UniformMetricParams (modules/metric/metric_fields.h), 2D and 3D
+//     type: wall_power_law  WallLawParams (modules/metric/wall_metric.h), 2D
+//     type: background      BackgroundParams (modules/metric/background_metric.h), 2D
 //   layers:                 prismatic layers grown from the walls; absent: none. Keys of the
 //     type: extrude         chosen type, parsed by its plugin: layers/plugins.h
 //   fill:                   the fill of the domain between the layers' outer front (or the surface
@@ -62,37 +46,6 @@
 
 namespace plaf {
 inline namespace pipeline {
-
-struct UniformMetricParams {
-  double h = 0.25;
-  std::vector<double> sizes;  // empty: isotropic h
-  double angle_deg = 0.0;
-};
-
-struct WallLawParams {
-  double h0 = 0.005;
-  double growth = 1.2;
-  bool exponential = false;
-  double delta = 0.0;  // 0: h0
-  double h_max = 1.0;
-  double h_wall_max = 0.05;
-  double curvature_factor = 0.25;
-  double h_corner = 0.01;
-};
-
-struct BackgroundParams {
-  std::string file;
-  std::string sol;
-  std::string mean = "log_euclidean";
-};
-
-struct MetricParams {
-  std::string type = "uniform";
-  std::string where;
-  UniformMetricParams uniform;
-  WallLawParams wall_law;
-  BackgroundParams background;
-};
 
 template <int Dim>
 struct RunState;
@@ -135,9 +88,8 @@ struct RunConfig {
   std::filesystem::path file;
   int order = 3;
   int dim = 2;  // 3 for the 3D geometry types
-  MetricParams metric;    // the metric's keys (core's metric fields, metric_fields.h)
-  PlannedStage metric_stage;
   PlannedStage geometry;  // type: its section's `type:`
+  PlannedStage metric;    // type: its section's `type:` (default uniform)  // type: its section's `type:`
   PlannedStage surface;   // type: annulus | curves (2D, by the geometry), remesh (3D)
   PlannedStage layers;
   PlannedStage fill;

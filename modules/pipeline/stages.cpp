@@ -71,10 +71,21 @@ void register_2d() {
     const AirfoilsParams params = parse_airfoils_params(section);
     return [params](RunState<2>& s, StageReport&) { s.geometry = build_airfoils_geometry(params); };
   });
-  for (const std::string& name : metric_field_registry().names())
-    stage_registry<2>(StageKind::Metric).add(name, [](const ConfigNode&, const RunConfig&) -> Stage<2> {
-      return [](RunState<2>& s, StageReport&) { s.metric = make_metric_field(s.config, s.geometry); };
-    });
+  StageRegistry<2>& metric = stage_registry<2>(StageKind::Metric);
+  metric.add("uniform", [](const ConfigNode& section, const RunConfig&) -> Stage<2> {
+    const Metric<2> m = uniform_metric_2d(parse_uniform_metric(section, 2));
+    return [m](RunState<2>& s, StageReport&) { s.metric = std::make_unique<UniformMetricField<2>>(m); };
+  });
+  metric.add("wall_power_law", [](const ConfigNode& section, const RunConfig&) -> Stage<2> {
+    const WallLawParams p = parse_wall_law_params(section);
+    const std::string where = section.where("type");
+    return [p, where](RunState<2>& s, StageReport&) { s.metric = make_wall_law_field(p, s.geometry, where); };
+  });
+  metric.add("background", [](const ConfigNode& section, const RunConfig&) -> Stage<2> {
+    const BackgroundParams p = parse_background_params(section);
+    const std::string where = section.where("type");
+    return [p, where](RunState<2>& s, StageReport&) { s.metric = make_background_field(p, where); };
+  });
   StageRegistry<2>& surface = stage_registry<2>(StageKind::Surface);
   surface.add("curves", [](const ConfigNode&, const RunConfig&) -> Stage<2> {
     return [](RunState<2>& s, StageReport& rep) {
@@ -92,10 +103,9 @@ void register_2d() {
 }
 
 void register_3d() {
-  stage_registry<3>(StageKind::Metric).add("uniform", [](const ConfigNode&, const RunConfig&) -> Stage<3> {
-    return [](RunState<3>& s, StageReport&) {
-      s.metric = std::make_unique<UniformMetricField<3>>(uniform_metric_3d(s.config.metric.uniform));
-    };
+  stage_registry<3>(StageKind::Metric).add("uniform", [](const ConfigNode& section, const RunConfig&) -> Stage<3> {
+    const Metric<3> m = uniform_metric_3d(parse_uniform_metric(section, 3));
+    return [m](RunState<3>& s, StageReport&) { s.metric = std::make_unique<UniformMetricField<3>>(m); };
   });
 }
 

@@ -100,7 +100,7 @@ TEST_CASE("cli: bad inputs give one clear error line, exit code 1 and no output 
       {"order 7", "order: 7\n", "order: 7 is outside 1..4"},
       {"negative size", "metric: {type: uniform, h: -0.1}\n", "metric.h: must be positive, got -0.1"},
       {"unknown metric", "metric: {type: magic}\n",
-       "unknown metric field 'magic' (known: background, uniform, wall_power_law)"},
+       "unknown 2D metric type 'magic' (known: background, uniform, wall_power_law)"},
       {"wrong type", "order: three\n", "order: expected an integer, got 'three'"},
       {"yaml syntax", "order: [3\n", "YAML syntax error"},
       {"radii", "geometry: {type: annulus, r_inner: 2, r_outer: 1}\n", "geometry.r_outer: must be larger than r_inner"},

@@ -116,3 +116,13 @@ TEST_CASE("surface cli: an inward surface is repaired and meshed, an open half w
     CHECK(report.find("\"euler_characteristic\": 1") != std::string::npos);  // a disc: the root is open
   }
 }
+
+TEST_CASE("surface cli: a curvature size not below the metric's stops the run before anything is written") {
+  const TempDir d("surface_cli_hmin");
+  const Result r = run_config(d, "geometry: {type: sphere}\nmetric: {type: uniform, h: 0.1}\n"
+                                 "surface: {curvature_factor: 0.3, curvature_h_min: 0.2}\n");
+  CHECK(r.code == 1);
+  CHECK(last_line(r.err).find("surface.curvature_h_min: 0.2") != std::string::npos);
+  CHECK(last_line(r.err).find("must be smaller than the metric's smallest size 0.1") != std::string::npos);
+  CHECK(count_outputs(d / "out") == 0);
+}

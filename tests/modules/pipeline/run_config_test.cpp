@@ -13,6 +13,8 @@
 #include "modules/base/error.h"
 #include "modules/geometry/geometry2d.h"
 #include "modules/io/writers.h"
+#include "modules/metric/metric_fields.h"
+#include "modules/metric/wall_metric.h"
 #include "modules/pipeline/config.h"
 #include "surface3d/plugins.h"
 #include "tests/test_support.h"
@@ -59,8 +61,16 @@ Geometry3Params geometry3(const std::string& yaml) {
   return parse_geometry3_params(ConfigNode::load_string(yaml, "t.yaml").child("geometry"), c.geometry.type);
 }
 SurfaceParams surface(const std::string& yaml) {
-  const RunConfig c = parse_run_config(yaml, "t.yaml");
-  return parse_surface_params(ConfigNode::load_string(yaml, "t.yaml").child("surface"), c);
+  parse_run_config(yaml, "t.yaml");
+  return parse_surface_params(ConfigNode::load_string(yaml, "t.yaml").child("surface"));
+}
+WallLawParams wall_law(const std::string& yaml) {
+  parse_run_config(yaml, "t.yaml");
+  return parse_wall_law_params(ConfigNode::load_string(yaml, "t.yaml").child("metric"));
+}
+BackgroundParams background(const std::string& yaml) {
+  parse_run_config(yaml, "t.yaml");
+  return parse_background_params(ConfigNode::load_string(yaml, "t.yaml").child("metric"));
 }
 
 }  // namespace
@@ -92,7 +102,7 @@ TEST_CASE("run config: airfoil bodies with names, corners and the default tags w
 }
 
 TEST_CASE("run config: farfield keys and their documented defaults") {
-  // Defaults from the header of run_config.h.
+  // Defaults from the header of the plugin's options.
   const AirfoilsParams d = airfoils(one_body, "t.yaml");
   CHECK(d.corner_angle_deg == 30);
   CHECK(d.farfield.shape == "circle");
@@ -112,8 +122,8 @@ TEST_CASE("run config: farfield keys and their documented defaults") {
 }
 
 TEST_CASE("run config: wall_power_law keys, the exponential law's delta defaulting to h0") {
-  // Defaults from the header of run_config.h.
-  const WallLawParams d = parse_run_config(one_body + "metric: {type: wall_power_law}\n", "t.yaml").metric.wall_law;
+  // Defaults from the header of the plugin's options.
+  const WallLawParams d = wall_law(one_body + "metric: {type: wall_power_law}\n");
   CHECK(d.h0 == 0.005);
   CHECK(d.growth == 1.2);
   CHECK_FALSE(d.exponential);
@@ -123,12 +133,10 @@ TEST_CASE("run config: wall_power_law keys, the exponential law's delta defaulti
   CHECK(d.curvature_factor == 0.25);
   CHECK(d.h_corner == 0.01);
 
-  const WallLawParams e = parse_run_config(one_body +
-                                               "metric:\n  type: wall_power_law\n  h0: 2e-4\n  growth: 1.15\n"
-                                               "  law: exponential\n  h_max: 3\n  h_wall_max: 0.02\n"
-                                               "  curvature_factor: 0.4\n  h_corner: 0.002\n",
-                                           "t.yaml")
-                              .metric.wall_law;
+  const WallLawParams e = wall_law(one_body +
+                                   "metric:\n  type: wall_power_law\n  h0: 2e-4\n  growth: 1.15\n"
+                                   "  law: exponential\n  h_max: 3\n  h_wall_max: 0.02\n"
+                                   "  curvature_factor: 0.4\n  h_corner: 0.002\n");
   CHECK(e.h0 == 2e-4);
   CHECK(e.growth == 1.15);
   CHECK(e.exponential);
@@ -137,22 +145,18 @@ TEST_CASE("run config: wall_power_law keys, the exponential law's delta defaulti
   CHECK(e.h_wall_max == 0.02);
   CHECK(e.curvature_factor == 0.4);
   CHECK(e.h_corner == 0.002);
-  CHECK(parse_run_config(one_body + "metric: {type: wall_power_law, law: exponential, delta: 0.03}\n", "t.yaml")
-            .metric.wall_law.delta == 0.03);
+  CHECK(wall_law(one_body + "metric: {type: wall_power_law, law: exponential, delta: 0.03}\n").delta == 0.03);
   // h0 = h_max is allowed (a uniform normal size), h0 > h_max is not.
   CHECK(config_error(one_body + "metric: {type: wall_power_law, h0: 0.5, h_max: 0.5}\n") == "no error");
 }
 
 TEST_CASE("run config: background keys: the file is required and the mean is a choice") {
   const BackgroundParams b =
-      parse_run_config("metric: {type: background, file: /m/bg.mesh, sol: /m/bg.sol, mean: affine_invariant}\n",
-                       "t.yaml")
-          .metric.background;
+      background("metric: {type: background, file: /m/bg.mesh, sol: /m/bg.sol, mean: affine_invariant}\n");
   CHECK(b.file == "/m/bg.mesh");
   CHECK(b.sol == "/m/bg.sol");
   CHECK(b.mean == "affine_invariant");
-  const BackgroundParams d =
-      parse_run_config("metric: {type: background, file: /m/bg.msh}\n", "t.yaml").metric.background;
+  const BackgroundParams d = background("metric: {type: background, file: /m/bg.msh}\n");
   CHECK(d.sol.empty());
   CHECK(d.mean == "log_euclidean");
 }
@@ -220,7 +224,7 @@ TEST_CASE("run config: one bad value per key is a ConfigError naming file:line:c
       {"geometry.farfield.size", g + "farfield: {size: ^[1]}}\n", "two numbers"},
       {"geometry.farfield.size", g + "farfield: {size: ^[30, -1]}}\n", "positive"},
       {"geometry.farfield.center", g + "farfield: {center: ^[1, 2, 3]}}\n", "two numbers"},
-      {"metric.type", "metric: {type: ^magic}\n", "unknown metric field 'magic'"},
+      {"metric.type", "metric: {type: ^magic}\n", "unknown 2D metric type 'magic'"},
       {"metric.h", "metric: {type: uniform, h: ^0}\n", "must be positive"},
       {"metric.sizes", "metric: {type: uniform, sizes: ^[0.1, 0.2, 0.3]}\n", "two sizes"},
       {"metric.sizes", "metric: {type: uniform, h: 1, sizes: ^[0.1, 0.2]}\n", "either h or sizes"},
@@ -303,8 +307,9 @@ TEST_CASE("run config: load_run_config resolves paths relative to the config fil
   const AirfoilsParams a = parse_airfoils_params(ConfigNode::load_file(cfg).child("geometry"));
   CHECK(a.bodies[0].file == (d.path / "data" / "main.dat").string());
   CHECK(a.bodies[1].file == "/abs/flap.dat");
-  CHECK(c.metric.background.file == (d.path / "cases" / "bg" / "metric.mesh").string());
-  CHECK(c.metric.background.sol == (d.path / "cases" / "bg" / "metric.sol").string());
+  const BackgroundParams b = parse_background_params(ConfigNode::load_file(cfg).child("metric"));
+  CHECK(b.file == (d.path / "cases" / "bg" / "metric.mesh").string());
+  CHECK(b.sol == (d.path / "cases" / "bg" / "metric.sol").string());
 
   // Errors name the file as given.
   std::ofstream(d.path / "bad.yaml") << "order: 9\n";
@@ -334,7 +339,7 @@ TEST_CASE("run config: 3D geometries make a 3D run with its surface section, a 3
   CHECK(geometry3(wing).root == "rounded");
   CHECK(geometry3(wing).tip == "symmetry");
   CHECK(geometry3(wing).span == 3);
-  CHECK(w.metric.uniform.sizes.size() == 3);
+  CHECK(parse_uniform_metric(ConfigNode::load_string(wing, "w.yaml").child("metric"), 3).sizes.size() == 3);
 
   const Geometry3Params f = geometry3("geometry: {type: surface_file, file: m6.fmt, symmetry_planes: "
                                       "[{normal: [0, 0, 2], offset: 1}], inner_components: drop}\n");
@@ -370,8 +375,6 @@ TEST_CASE("run config: 3D keys are checked like the 2D ones") {
   CHECK(err("geometry: {type: sphere}\nsurface: {ridge_angle: 3}\n") == doctest::Contains("ridge_angle"));
   CHECK(err(one_body + "surface: {iterations: 3}\n") == doctest::Contains("for 3D geometries"));
   CHECK(err("geometry: {type: sphere}\nlayers: {max: 3}\n") == doctest::Contains("layers"));
-  CHECK(err("geometry: {type: sphere}\nmetric: {type: uniform, h: 0.1}\nsurface: {curvature_h_min: 0.2}\n") ==
-        doctest::Contains("surface.curvature_h_min: 0.2"));
   CHECK(err("geometry: {type: surface_file, file: a.stl, symmetry_planes: [{offset: 1}]}\n") ==
         doctest::Contains("normal is required"));
   CHECK(err("geometry: {type: wing, file: a.dat, corner_angle_deg: 180}\n") ==
