@@ -1,15 +1,16 @@
 // SPDX-License-Identifier: MIT
-// The typed run configuration: every YAML key plaf understands, with its default, in one place.
-// Parsed strictly (config.h): an unknown key, a wrong type or an out-of-range value is an error
-// naming the file, line and key. Plugin sections carry `type:`; only the chosen type's keys are
-// accepted in that section.
+// The typed run configuration: the core keys, with their defaults, and one planned stage per
+// stage kind. Parsed strictly (config.h): an unknown key, a wrong type or an out-of-range value is
+// an error naming the file, line and key. Stage sections carry `type:`; the chosen type's plugin
+// parses the section (its keys are documented beside its options, named below), so only its keys
+// are accepted there.
 //
 //   name: <string>          output base name                      default: the config file's stem
 //   order: <1..4>           geometry order Q of curved cells      default: 3
 //   geometry:               what to mesh; `type:` chooses the plugin (modules/pipeline/stages.h),
 //     type: annulus | airfoils    whose keys are documented beside its options: AnnulusParams
 //                           (modules/mesh/annulus.h), AirfoilsParams (modules/geometry/geometry2d.h);
-//     type: sphere | ellipsoid | box | wing | surface_file   3D: BodyParams (surface3d/plugins.h)
+//     type: sphere | ellipsoid | box | wing | surface_file   3D: Geometry3Params (surface3d/plugins.h)
 //   surface:                3D only: features and remeshing, SurfaceParams (surface3d/plugins.h)
 //   metric:                 the metric field; `type:` chooses the plugin, its keys beside its options:
 //     type: uniform         UniformMetricParams (modules/metric/metric_fields.h), 2D and 3D
