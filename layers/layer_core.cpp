@@ -125,124 +125,154 @@ void append(std::array<CellBlock, 2>& blocks, const BuiltLayer& built) {
     blocks[b].connectivity.insert(blocks[b].connectivity.end(), built.cells[b].begin(), built.cells[b].end());
 }
 
-}  // namespace
-
+// The growth state of every part across layers: the blocks of new cells, which parts still grow,
+// and each part's last attenuation need and linearity (what the closing layer needs).
 template <int Dim>
-void grow_fronts(FrontGrower<Dim>& g, const MetricField<Dim>& metric, const LayerParams& p, int q,
-                 LayerResult<Dim>& r) {
-  const std::array<CellType, 2> types = g.cell_types();
-  std::array<CellBlock, 2> blocks{CellBlock{types[0], q, -1, {}}, CellBlock{types[1], q, -1, {}}};
-  const std::size_t parts = g.num_parts();
-  std::vector<bool> growing(parts, true);
-  std::vector<double> part_clip(parts, 0.0);
-  std::vector<bool> part_linear(parts, false);
-  LayerAttempts<Dim> attempts(g, p, q, r);
-  for (int layer = 1; layer <= p.max_layers; ++layer) {
-    LayerStats st;
-    st.layer = layer;
-    st.first_cell = blocks[0].size();
-    bool any = false, all_linear = true;
-    for (std::size_t part = 0; part < parts; ++part) {
-      if (!growing[part]) continue;
-      // 1. Isotropic stop: where the metric is isotropic at a front node, a layer would be as
-      // tall as the metric's size in every direction: no more anisotropic layer is wanted there.
-      const std::vector<typename FrontGrower<Dim>::Vec> points = g.stop_points(part);
-      std::vector<std::uint8_t> stopped(points.size(), 0);
-      if (p.isotropic_stop != IsotropicStop::Off) {
-        std::size_t iso = 0;
-        for (std::size_t e = 0; e < points.size(); ++e)
-          if (is_isotropic<Dim>(metric.evaluate(points[e]))) {
-            ++iso;
-            stopped[e] = p.isotropic_stop == IsotropicStop::Node ? 1 : 0;
-          }
-        const std::size_t total = points.size();
-        if (p.isotropic_stop == IsotropicStop::Node && iso == total) {
-          growing[part] = false;
-          r.events.push_back("layer " + std::to_string(layer) + ", " + attempts.part_name(part) +
-                             ": stopped, the metric is isotropic at every node");
+class Growth {
+ public:
+  Growth(FrontGrower<Dim>& g, const MetricField<Dim>& metric, const LayerParams& p, int q, LayerResult<Dim>& r)
+      : g_(g), metric_(metric), p_(p), q_(q), r_(r), types_(g.cell_types()),
+        blocks_{CellBlock{types_[0], q, -1, {}}, CellBlock{types_[1], q, -1, {}}}, parts_(g.num_parts()),
+        growing_(parts_, true), clip_(parts_, 0.0), linear_(parts_, false), attempts_(g, p, q, r) {}
+
+  // Steps 1-4 of layer_core.h for every layer, up to max_layers.
+  void layers() {
+    for (int layer = 1; layer <= p_.max_layers; ++layer) {
+      LayerStats st;
+      st.layer = layer;
+      st.first_cell = blocks_[0].size();
+      bool any = false, all_linear = true;
+      for (std::size_t part = 0; part < parts_; ++part) {
+        if (!growing_[part]) continue;
+        std::vector<std::uint8_t> stopped;
+        if (stops_isotropic(part, layer, stopped)) continue;
+        std::vector<double> scale(g_.num_sites(part), 1.0);
+        BuiltLayer built;
+        if (!attempts_.run(part, layer, scale, stopped, p_.f_atten, st, built)) {
+          growing_[part] = false;
+          r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
+                              ": stopped, cells still invalid or colliding after " +
+                              std::to_string(p_.shrink_attempts) + " shrinks");
           continue;
         }
-        if ((p.isotropic_stop == IsotropicStop::All && iso == total) ||
-            (p.isotropic_stop == IsotropicStop::Any && iso > 0)) {
-          growing[part] = false;
-          r.events.push_back("layer " + std::to_string(layer) + ", " + attempts.part_name(part) +
-                             ": stopped, the metric is isotropic at " + std::to_string(iso) + " of " +
-                             std::to_string(total) + " nodes");
-          continue;
-        }
+        clip_[part] = built.max_clipped_rel;
+        linear_[part] = built.linear;
+        any = true;
+        append(blocks_, built);
+        st.transition_cells += built.cells[1].size() / static_cast<std::size_t>(num_nodes(types_[1], q_));
+        st.max_clipped_rel = std::max(st.max_clipped_rel, built.max_clipped_rel);
+        all_linear = all_linear && built.linear;
+        g_.accept(part);
       }
-      // 2-3. Build, certify, shrink.
-      std::vector<double> scale(g.num_sites(part), 1.0);
-      BuiltLayer built;
-      if (!attempts.run(part, layer, scale, stopped, p.f_atten, st, built)) {
-        growing[part] = false;
-        r.events.push_back("layer " + std::to_string(layer) + ", " + attempts.part_name(part) +
-                           ": stopped, cells still invalid or colliding after " + std::to_string(p.shrink_attempts) +
-                           " shrinks");
-        continue;
-      }
-      part_clip[part] = built.max_clipped_rel;
-      part_linear[part] = built.linear;
-      any = true;
-      append(blocks, built);
-      st.transition_cells += built.cells[1].size() / static_cast<std::size_t>(num_nodes(types[1], q));
-      st.max_clipped_rel = std::max(st.max_clipped_rel, built.max_clipped_rel);
-      all_linear = all_linear && built.linear;
-      g.accept(part);
+      if (!any) break;
+      // 4. The layer's row of the table.
+      st.cells = blocks_[0].size() - st.first_cell;
+      st.linear = all_linear;
+      r_.layers.push_back(st);
+      if (st.linear && r_.linear_after < 0) r_.linear_after = layer;
+      if (st.linear && p_.stop_when_linear) break;
     }
-    if (!any) break;
-    // 4. The layer's row of the table.
-    st.cells = blocks[0].size() - st.first_cell;
-    st.linear = all_linear;
-    r.layers.push_back(st);
-    if (st.linear && r.linear_after < 0) r.linear_after = layer;
-    if (st.linear && p.stop_when_linear) break;
   }
+
   // The fill (Sec. II.C) starts from a linear front. A part that stopped, or ran out of layers,
   // while its front is still curved gets one closing layer with straight tops (unlimited
   // attenuation), tall enough to clear its curved front: heights of 1.5, 3, then 6 times the
   // attenuation move still needed (at least the metric height). The paper stops the layers once
   // the front is linear and does not meet this case; a taller last cell is the robust choice (a
   // valid mesh over metric conformity there).
-  if (p.close_linear) {
+  void close() {
     LayerStats st;
-    st.layer = static_cast<int>(r.layers.size()) + 1;
-    st.first_cell = blocks[0].size();
+    st.layer = static_cast<int>(r_.layers.size()) + 1;
+    st.first_cell = blocks_[0].size();
     bool any = false;
-    for (std::size_t part = 0; part < parts; ++part) {
-      if (part_linear[part]) continue;
-      const std::vector<std::uint8_t> stopped(g.stop_points(part).size(), 0);
+    for (std::size_t part = 0; part < parts_; ++part) {
+      if (linear_[part]) continue;
+      const std::vector<std::uint8_t> stopped(g_.stop_points(part).size(), 0);
       bool closed = false;
       for (double factor : {1.5, 3.0, 6.0}) {
-        std::vector<double> scale(g.num_sites(part), std::max(1.0, factor * part_clip[part]));
+        std::vector<double> scale(g_.num_sites(part), std::max(1.0, factor * clip_[part]));
         BuiltLayer built;
-        const std::size_t nodes_before = r.mesh.nodes.size();
-        if (!attempts.run(part, st.layer, scale, stopped, std::numeric_limits<double>::infinity(), st, built))
+        const std::size_t nodes_before = r_.mesh.nodes.size();
+        if (!attempts_.run(part, st.layer, scale, stopped, std::numeric_limits<double>::infinity(), st, built))
           continue;
         if (!built.linear) {
-          r.mesh.nodes.resize(nodes_before);
+          r_.mesh.nodes.resize(nodes_before);
           continue;
         }
-        append(blocks, built);
-        r.events.push_back("layer " + std::to_string(st.layer) + ", " + attempts.part_name(part) +
-                           ": a closing layer with straight tops (heights x" + std::to_string(scale[0]) + ")");
-        g.accept(part);
-        part_linear[part] = closed = any = true;
+        append(blocks_, built);
+        r_.events.push_back("layer " + std::to_string(st.layer) + ", " + attempts_.part_name(part) +
+                            ": a closing layer with straight tops (heights x" + std::to_string(scale[0]) + ")");
+        g_.accept(part);
+        linear_[part] = closed = any = true;
         break;
       }
       if (!closed)
-        r.events.push_back("layer " + std::to_string(st.layer) + ", " + attempts.part_name(part) +
-                           ": no valid closing layer; the front stays curved");
+        r_.events.push_back("layer " + std::to_string(st.layer) + ", " + attempts_.part_name(part) +
+                            ": no valid closing layer; the front stays curved");
     }
-    if (any) {
-      st.cells = blocks[0].size() - st.first_cell;
-      st.linear = std::all_of(part_linear.begin(), part_linear.end(), [](bool b) { return b; });
-      r.layers.push_back(st);
-      if (st.linear && r.linear_after < 0) r.linear_after = st.layer;
-    }
+    if (!any) return;
+    st.cells = blocks_[0].size() - st.first_cell;
+    st.linear = std::all_of(linear_.begin(), linear_.end(), [](bool b) { return b; });
+    r_.layers.push_back(st);
+    if (st.linear && r_.linear_after < 0) r_.linear_after = st.layer;
   }
-  for (CellBlock& b : blocks)
-    if (!b.connectivity.empty()) r.mesh.cells.push_back(std::move(b));
+
+  // The new cells into the mesh, main block first.
+  void finish() {
+    for (CellBlock& b : blocks_)
+      if (!b.connectivity.empty()) r_.mesh.cells.push_back(std::move(b));
+  }
+
+ private:
+  // 1. Isotropic stop: where the metric is isotropic at a front node, a layer would be as tall as
+  // the metric's size in every direction: no more anisotropic layer is wanted there. Fills
+  // `stopped` (per stop point); true when the whole part stops (an event).
+  bool stops_isotropic(std::size_t part, int layer, std::vector<std::uint8_t>& stopped) {
+    const std::vector<typename FrontGrower<Dim>::Vec> points = g_.stop_points(part);
+    stopped.assign(points.size(), 0);
+    if (p_.isotropic_stop == IsotropicStop::Off) return false;
+    std::size_t iso = 0;
+    for (std::size_t e = 0; e < points.size(); ++e)
+      if (is_isotropic<Dim>(metric_.evaluate(points[e]))) {
+        ++iso;
+        stopped[e] = p_.isotropic_stop == IsotropicStop::Node ? 1 : 0;
+      }
+    const std::size_t total = points.size();
+    std::string why;
+    if (p_.isotropic_stop == IsotropicStop::Node && iso == total)
+      why = "the metric is isotropic at every node";
+    else if ((p_.isotropic_stop == IsotropicStop::All && iso == total) ||
+             (p_.isotropic_stop == IsotropicStop::Any && iso > 0))
+      why = "the metric is isotropic at " + std::to_string(iso) + " of " + std::to_string(total) + " nodes";
+    if (why.empty()) return false;
+    growing_[part] = false;
+    r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) + ": stopped, " + why);
+    return true;
+  }
+
+  FrontGrower<Dim>& g_;
+  const MetricField<Dim>& metric_;
+  const LayerParams& p_;
+  const int q_;
+  LayerResult<Dim>& r_;
+  const std::array<CellType, 2> types_;
+  std::array<CellBlock, 2> blocks_;
+  const std::size_t parts_;
+  std::vector<bool> growing_;
+  std::vector<double> clip_;
+  std::vector<bool> linear_;
+  LayerAttempts<Dim> attempts_;
+};
+
+}  // namespace
+
+template <int Dim>
+void grow_fronts(FrontGrower<Dim>& g, const MetricField<Dim>& metric, const LayerParams& p, int q,
+                 LayerResult<Dim>& r) {
+  Growth<Dim> growth(g, metric, p, q, r);
+  growth.layers();
+  if (p.close_linear) growth.close();
+  growth.finish();
 }
 
 template double layer_height<2>(const MetricField<2>&, const Eigen::Vector2d&, const Eigen::Vector2d&, bool);
