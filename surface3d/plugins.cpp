@@ -167,6 +167,33 @@ void surface_file(const Geometry3Params& g, RunState<3>& s, StageReport& rep) {
            std::to_string(k.components) + " components, chi = " + std::to_string(k.euler_characteristic));
 }
 
+// The surface section of the report: the final surface, its features, the remeshing and curving.
+void report_surface(const TriSurface& surface, int order, const FeatureReport& kept, const FeatureReport& detected,
+                    const RemeshReport& rr, const CurvingReport& cr, StageReport& rep) {
+  const double area = surface_area(surface);
+  rep.add("order", order);
+  rep.add("triangles", surface.mesh.n_faces());
+  rep.add("vertices", surface.mesh.n_vertices());
+  rep.add("euler_characteristic", surface.euler_characteristic());
+  rep.add("area", area);
+  rep.add_json("features.final", feature_json(kept));
+  rep.add_json("features.detected", feature_json(detected));
+  rep.add("remesh.rounds", rr.rounds);
+  rep.add("remesh.splits", rr.splits);
+  rep.add("remesh.collapses", rr.collapses);
+  rep.add("remesh.flips", rr.flips);
+  rep.add("remesh.unit_fraction", rr.unit_fraction);
+  rep.add("remesh.folded_faces", rr.folded_faces);
+  rep.add("remesh.refused_splits", rr.refused_splits);
+  rep.add("remesh.slivers_removed", rr.slivers_removed);
+  rep.add("curving.straightened", cr.straightened);
+  rep.add("curving.invalid", cr.invalid);
+  rep.add("curving.min_scaled_jacobian", cr.min_scaled_jacobian);
+  rep.line("surface: " + std::to_string(surface.mesh.n_faces()) + " triangles, " +
+           std::to_string(surface.mesh.n_vertices()) + " vertices, chi " +
+           std::to_string(surface.euler_characteristic()) + ", area " + std::to_string(area));
+}
+
 // The surface mesh: curvature-driven sizes (optional), remeshing with features kept, the features
 // detected again on the final mesh as a check, order-Q nodes on the reference, every triangle
 // certified.
@@ -226,28 +253,7 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   s.mesh_done = true;
   rep.line("high order: " + std::to_string(cr.triangles) + " triangles of order " + std::to_string(c.order) + ", " +
            std::to_string(cr.straightened) + " straightened, " + std::to_string(cr.invalid) + " invalid");
-  const double area = surface_area(surface);
-  rep.add("order", c.order);
-  rep.add("triangles", surface.mesh.n_faces());
-  rep.add("vertices", surface.mesh.n_vertices());
-  rep.add("euler_characteristic", surface.euler_characteristic());
-  rep.add("area", area);
-  rep.add_json("features.final", feature_json(kept));
-  rep.add_json("features.detected", feature_json(detected));
-  rep.add("remesh.rounds", rr.rounds);
-  rep.add("remesh.splits", rr.splits);
-  rep.add("remesh.collapses", rr.collapses);
-  rep.add("remesh.flips", rr.flips);
-  rep.add("remesh.unit_fraction", rr.unit_fraction);
-  rep.add("remesh.folded_faces", rr.folded_faces);
-  rep.add("remesh.refused_splits", rr.refused_splits);
-  rep.add("remesh.slivers_removed", rr.slivers_removed);
-  rep.add("curving.straightened", cr.straightened);
-  rep.add("curving.invalid", cr.invalid);
-  rep.add("curving.min_scaled_jacobian", cr.min_scaled_jacobian);
-  rep.line("surface: " + std::to_string(surface.mesh.n_faces()) + " triangles, " +
-           std::to_string(surface.mesh.n_vertices()) + " vertices, chi " +
-           std::to_string(surface.euler_characteristic()) + ", area " + std::to_string(area));
+  report_surface(surface, c.order, kept, detected, rr, cr, rep);
   // A face turned against the surface is the surface's inverted element: the layers would grow
   // from it into the body. The mesh is written for inspection; the run fails.
   if (rr.folded_faces > 0)

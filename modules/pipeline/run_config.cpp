@@ -21,6 +21,32 @@ bool OutputParams::wants(const std::string& f) const {
 
 namespace {
 
+// The output section (formats, pictures, histogram bins, and the 2D mesh options).
+void parse_output(const ConfigNode& o, RunConfig& r) {
+  r.output.dir = o.get_string("dir", r.output.dir.string());
+  if (r.dim == 3) r.output.formats = {"msh", "vtu", "report"};
+  r.output.formats = o.get_string_list("formats", r.output.formats, writer_registry<2>().names());
+  if (r.dim == 3 && r.output.wants("png"))
+    throw ConfigError(o.where("formats") + ": png pictures are 2D only (3D runs write msh, vtu, report)");
+  r.output.histogram_bins = o.get_int("histogram_bins", r.output.histogram_bins, 2, 1000);
+  if (r.dim == 2) {  // pictures and the 2D mesh options (3D runs: unknown keys)
+    r.output.picture_width = o.get_int("picture_width", r.output.picture_width, 64, 16384);
+    r.output.picture_height = o.get_int("picture_height", r.output.picture_height, 64, 16384);
+    r.output.uniform_order = o.get_bool("uniform_order", r.output.uniform_order);
+    r.output.split_quads = o.get_bool("split_quads", r.output.split_quads);
+    for (const ConfigNode& z : o.child_list("zooms")) {
+      OutputParams::Zoom zoom;
+      zoom.label = z.get_string("label", "");
+      const std::vector<double> box = z.get_double_list("box", {});
+      if (box.size() != 4 || !(box[1] > box[0]) || !(box[3] > box[2]))
+        throw ConfigError(z.where("box") + ": expected [x_min, x_max, y_min, y_max] with min < max");
+      zoom.box = {box[0], box[1], box[2], box[3]};
+      r.output.zooms.push_back(zoom);
+    }
+  }
+
+}
+
 RunConfig parse(const ConfigNode& c, const std::string& stem) {
   RunConfig r;
   r.name = c.get_string("name", stem);
@@ -77,28 +103,7 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   r.validity.rel_tol = v.get_in_range("rel_tol", r.validity.rel_tol, 1e-6, 1.0);
   r.validity.max_depth = v.get_int("max_depth", r.validity.max_depth, 1, 20);
 
-  const ConfigNode o = c.child("output");
-  r.output.dir = o.get_string("dir", r.output.dir.string());
-  if (r.dim == 3) r.output.formats = {"msh", "vtu", "report"};
-  r.output.formats = o.get_string_list("formats", r.output.formats, writer_registry<2>().names());
-  if (r.dim == 3 && r.output.wants("png"))
-    throw ConfigError(o.where("formats") + ": png pictures are 2D only (3D runs write msh, vtu, report)");
-  r.output.histogram_bins = o.get_int("histogram_bins", r.output.histogram_bins, 2, 1000);
-  if (r.dim == 2) {  // pictures and the 2D mesh options (3D runs: unknown keys)
-    r.output.picture_width = o.get_int("picture_width", r.output.picture_width, 64, 16384);
-    r.output.picture_height = o.get_int("picture_height", r.output.picture_height, 64, 16384);
-    r.output.uniform_order = o.get_bool("uniform_order", r.output.uniform_order);
-    r.output.split_quads = o.get_bool("split_quads", r.output.split_quads);
-    for (const ConfigNode& z : o.child_list("zooms")) {
-      OutputParams::Zoom zoom;
-      zoom.label = z.get_string("label", "");
-      const std::vector<double> box = z.get_double_list("box", {});
-      if (box.size() != 4 || !(box[1] > box[0]) || !(box[3] > box[2]))
-        throw ConfigError(z.where("box") + ": expected [x_min, x_max, y_min, y_max] with min < max");
-      zoom.box = {box[0], box[1], box[2], box[3]};
-      r.output.zooms.push_back(zoom);
-    }
-  }
+  parse_output(c.child("output"), r);
 
   c.finish();
   if (r.fill.enabled() && r.geometry.type != "airfoils")
