@@ -10,11 +10,13 @@
 #include <vector>
 
 #include "modules/base/error.h"
+#include "tests/surface3d/feature_checks.h"
 #include "tests/surface3d/test_surfaces.h"
 
 namespace plaf {
 namespace {
 
+using test::check_box_features;
 using test::voxel_soup;
 
 constexpr double kPi = 3.14159265358979323846;
@@ -155,30 +157,27 @@ CurveShapes check_consistent(const TriSurface& s, const FeatureReport& report) {
   return shapes;
 }
 
-TEST_CASE("features: a cube with 2x2 squares per face has 12 convex ridge curves and 8 convex corners") {
-  for (const double scale : {1e-8, 1.0, 1e8}) {
+TEST_CASE("features: a cube with k x k squares per face has 12 convex ridge curves and 8 convex corners") {
+  // k = 91 is a 100k-face cube (6 * 2 * 91^2 = 99,372 faces); bench_features times it.
+  for (const auto& [k, scale] : {std::pair{2, 1e-8}, {2, 1.0}, {2, 1e8}, {91, 1.0}}) {
+    CAPTURE(k);
     CAPTURE(scale);
-    TriSurface s = surface_from_soup(voxel_soup({{0, 0, 0}}, 2, scale));
+    TriSurface s = surface_from_soup(voxel_soup({{0, 0, 0}}, k, scale));
+    REQUIRE(s.mesh.n_faces() == static_cast<std::size_t>(12 * k * k));
     const FeatureReport r = detect_features(s, {});
-    CHECK(r.ridges_convex == 24);
-    CHECK(r.ridges_concave == 0);
-    CHECK(r.boundary_edges == 0);
-    CHECK(r.corners_convex == 8);
-    CHECK(r.corners_concave + r.corners_saddle + r.corners_boundary == 0);
-    CHECK(r.curves == 12);
-    const CurveShapes shapes = check_consistent(s, r);
-    CHECK(shapes.open == 12);
-    CHECK(shapes.closed == 0);
-    for (const auto& path : feature_curves(s)) CHECK(path.size() == 3);  // two edges per cube edge
-    // Face centres and edge midpoints: the latter are Curve vertices, the former smooth.
+    CHECK(r.ridges_convex == static_cast<std::size_t>(12 * k));
+    check_box_features(s);
+    check_consistent(s, r);
+    for (const auto& path : feature_curves(s)) CHECK(path.size() == static_cast<std::size_t>(k + 1));
+    // Edge points are Curve vertices, face points smooth.
     int curve_vertices = 0, smooth_vertices = 0;
     for (const auto v : s.mesh.vertices()) {
       const VertexFeature vf = s.mesh.property(s.vertex_feature, v);
       curve_vertices += vf == VertexFeature::Curve;
       smooth_vertices += vf == VertexFeature::Smooth;
     }
-    CHECK(curve_vertices == 12);
-    CHECK(smooth_vertices == 6);
+    CHECK(curve_vertices == 12 * (k - 1));
+    CHECK(smooth_vertices == 6 * (k - 1) * (k - 1));
   }
 }
 
@@ -368,8 +367,7 @@ TEST_CASE("features: keep_existing keeps marked edges and their curve ids") {
       }
     }
     const FeatureReport r = detect_features(s, {.keep_existing = true});
-    CHECK(r.curves == 12);
-    CHECK(r.corners_convex == 8);
+    check_box_features(s);
     CHECK(feature_curves(s)[0].size() == 3);
     check_consistent(s, r);
   }
@@ -389,19 +387,6 @@ TEST_CASE("features: bad options are rejected and an empty surface has no featur
   TriMesh& m = s.mesh;
   for (const auto e : m.edges()) m.property(s.edge_curve, e) = 0;
   CHECK_THROWS_AS(feature_curves(s), MesherError);
-}
-
-TEST_CASE("features: a 100k-face cube is detected and its curves walked") {
-  const int k = 91;  // 6 * 2 * 91^2 = 99,372 faces; bench_features times it
-  TriSurface s = surface_from_soup(voxel_soup({{0, 0, 0}}, k));
-  REQUIRE(s.mesh.n_faces() == 99372);
-  const FeatureReport r = detect_features(s, {});
-  const auto curves = feature_curves(s);
-  CHECK(r.ridges_convex == 12u * k);
-  CHECK(r.corners_convex == 8);
-  CHECK(r.curves == 12);
-  REQUIRE(curves.size() == 12);
-  for (const auto& path : curves) CHECK(path.size() == static_cast<std::size_t>(k + 1));
 }
 
 }  // namespace
