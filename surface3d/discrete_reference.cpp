@@ -11,8 +11,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "modules/geometry/aabb_tree.h"
 #include "modules/base/error.h"
+#include "modules/geometry/aabb_tree.h"
 
 namespace plaf {
 
@@ -28,6 +28,79 @@ std::size_t idx(int i) {
 double corner_angle(const Vector3d& a, const Vector3d& b, const Vector3d& c) {
   const Vector3d u = b - a, v = c - a;
   return std::atan2(u.cross(v).norm(), u.dot(v));
+}
+
+// The edges (a, b) of one curve chained into polylines: start at an end (a vertex with an odd
+// number of the curve's edges, one for a simple open curve) while there is one, else anywhere (a
+// closed loop), and walk to unused edges. Each candidate start is tried once, so the walk is
+// linear in the curve's edges.
+std::vector<std::vector<Vector3d>> chain_polylines(const std::vector<std::pair<int, int>>& edges,
+                                                   const std::vector<Vector3d>& points) {
+  std::vector<std::vector<Vector3d>> polylines;
+  std::vector<std::pair<int, int>> ends;  // (vertex, edge) incidences, sorted by vertex
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    ends.emplace_back(edges[i].first, static_cast<int>(i));
+    ends.emplace_back(edges[i].second, static_cast<int>(i));
+  }
+  std::sort(ends.begin(), ends.end());
+  auto incident = [&](int v) {
+    const auto lo = std::lower_bound(ends.begin(), ends.end(), std::make_pair(v, -1));
+    auto hi = lo;
+    while (hi != ends.end() && hi->first == v) ++hi;
+    return std::make_pair(lo, hi);
+  };
+  std::vector<int> odd;
+  for (std::size_t i = 0; i < ends.size();) {
+    std::size_t j = i;
+    while (j < ends.size() && ends[j].first == ends[i].first) ++j;
+    if ((j - i) % 2 == 1) odd.push_back(ends[i].first);
+    i = j;
+  }
+  std::vector<char> used(edges.size(), 0);
+  std::size_t n_used = 0, next_odd = 0, next_edge = 0;
+  auto has_free_edge = [&](int v) {
+    const auto [lo, hi] = incident(v);
+    return std::any_of(lo, hi, [&](const std::pair<int, int>& x) { return !used[idx(x.second)]; });
+  };
+  while (n_used < edges.size()) {
+    int start = -1;
+    while (start < 0 && next_odd < odd.size()) {
+      if (has_free_edge(odd[next_odd])) start = odd[next_odd];
+      ++next_odd;
+    }
+    while (start < 0) {
+      if (!used[next_edge]) start = edges[next_edge].first;
+      ++next_edge;
+    }
+    std::vector<Vector3d> line = {points[idx(start)]};
+    for (int v = start;;) {
+      const auto [lo, hi] = incident(v);
+      auto it = lo;
+      while (it != hi && used[idx(it->second)]) ++it;
+      if (it == hi) break;
+      const auto& e = edges[idx(it->second)];
+      used[idx(it->second)] = 1;
+      ++n_used;
+      v = e.first == v ? e.second : e.first;
+      line.push_back(points[idx(v)]);
+    }
+    polylines.push_back(std::move(line));
+  }
+  return polylines;
+}
+
+// The polylines' segments as degenerate triangles (a, b, b) in a tree, for O(log n) closest
+// points.
+TriangleTree segment_tree(const std::vector<std::vector<Vector3d>>& polylines) {
+  std::vector<Vector3d> seg_points;
+  std::vector<std::array<int, 3>> segs;
+  for (const auto& line : polylines) {
+    const int first = static_cast<int>(seg_points.size());
+    seg_points.insert(seg_points.end(), line.begin(), line.end());
+    for (int i = 0; i + 1 < static_cast<int>(line.size()); ++i)
+      segs.push_back({first + i, first + i + 1, first + i + 1});
+  }
+  return TriangleTree(seg_points, segs);
 }
 
 class DiscreteReference final : public ReferenceGeometry<3> {
@@ -46,6 +119,8 @@ class DiscreteReference final : public ReferenceGeometry<3> {
   double scale() const override { return scale_; }
 
  private:
+  // tris_, their unit normals, and the angle-weighted unit vertex normals.
+  void add_normals(const TriSurface& s);
   // The closest face's normal blended with its vertices' (feature vertices take the face's).
   Vector3d blended_normal(const TriangleTree::Closest& c) const;
   std::vector<Vector3d> points_;
@@ -70,9 +145,28 @@ DiscreteReference::DiscreteReference(const TriSurface& s) {
   }
   scale_ = box.isEmpty() ? 0.0 : box.diagonal().norm();
   if (m.n_faces() == 0) throw MesherError("discrete reference: the surface has no faces");
+  add_normals(s);
+  tree_ = TriangleTree(points_, tris_);
 
-  vertex_normal_.assign(points_.size(), Vector3d::Zero());
+  // Feature edges by curve; a boundary or ridge edge without a curve id is still a feature for
+  // the normals.
   on_feature_.assign(points_.size(), 0);
+  const int n_curves = s.num_curves();
+  std::vector<std::vector<std::pair<int, int>>> curve_edges(idx(n_curves));
+  for (const auto e : m.edges()) {
+    const int c = m.property(s.edge_curve, e);
+    const bool feature = c >= 0 || m.property(s.edge_feature, e) != EdgeFeature::Smooth || m.is_boundary(e);
+    const auto h = m.halfedge_handle(e, 0);
+    const int a = m.from_vertex_handle(h).idx(), b = m.to_vertex_handle(h).idx();
+    if (feature) on_feature_[idx(a)] = on_feature_[idx(b)] = 1;
+    if (c >= 0) curve_edges[idx(c)].emplace_back(a, b);
+  }
+  for (int c = 0; c < n_curves; ++c) curves_.push_back(segment_tree(chain_polylines(curve_edges[idx(c)], points_)));
+}
+
+void DiscreteReference::add_normals(const TriSurface& s) {
+  const TriMesh& m = s.mesh;
+  vertex_normal_.assign(points_.size(), Vector3d::Zero());
   for (const auto f : m.faces()) {
     const auto fv = s.face_vertices(f);
     const std::array<int, 3> t = {fv[0].idx(), fv[1].idx(), fv[2].idx()};
@@ -89,87 +183,6 @@ DiscreteReference::DiscreteReference(const TriSurface& s) {
   for (Vector3d& n : vertex_normal_) {
     const double len = n.norm();
     if (len > 0) n /= len;
-  }
-  tree_ = TriangleTree(points_, tris_);
-
-  // Feature edges by curve; a boundary or ridge edge without a curve id is still a feature for
-  // the normals.
-  const int n_curves = s.num_curves();
-  std::vector<std::vector<std::pair<int, int>>> curve_edges(idx(n_curves));
-  for (const auto e : m.edges()) {
-    const int c = m.property(s.edge_curve, e);
-    const bool feature = c >= 0 || m.property(s.edge_feature, e) != EdgeFeature::Smooth || m.is_boundary(e);
-    const auto h = m.halfedge_handle(e, 0);
-    const int a = m.from_vertex_handle(h).idx(), b = m.to_vertex_handle(h).idx();
-    if (feature) on_feature_[idx(a)] = on_feature_[idx(b)] = 1;
-    if (c >= 0) curve_edges[idx(c)].emplace_back(a, b);
-  }
-
-  // Each curve's edges chained into polylines: start at an end (a vertex with one edge of the
-  // curve) while there is one, else anywhere (a closed loop), and walk to unused edges.
-  for (int c = 0; c < n_curves; ++c) {
-    const auto& edges = curve_edges[idx(c)];
-    std::vector<std::vector<Vector3d>> polylines;
-    std::vector<std::pair<int, int>> ends;  // (vertex, edge) incidences, sorted by vertex
-    for (std::size_t i = 0; i < edges.size(); ++i) {
-      ends.emplace_back(edges[i].first, static_cast<int>(i));
-      ends.emplace_back(edges[i].second, static_cast<int>(i));
-    }
-    std::sort(ends.begin(), ends.end());
-    auto incident = [&](int v) {
-      const auto lo = std::lower_bound(ends.begin(), ends.end(), std::make_pair(v, -1));
-      auto hi = lo;
-      while (hi != ends.end() && hi->first == v) ++hi;
-      return std::make_pair(lo, hi);
-    };
-    // Chain ends first: vertices with an odd number of the curve's edges (one, for a simple
-    // open curve). Each candidate is tried once, so the walk is linear in the curve's edges.
-    std::vector<int> odd;
-    for (std::size_t i = 0; i < ends.size();) {
-      std::size_t j = i;
-      while (j < ends.size() && ends[j].first == ends[i].first) ++j;
-      if ((j - i) % 2 == 1) odd.push_back(ends[i].first);
-      i = j;
-    }
-    std::vector<char> used(edges.size(), 0);
-    std::size_t n_used = 0, next_odd = 0, next_edge = 0;
-    auto has_free_edge = [&](int v) {
-      const auto [lo, hi] = incident(v);
-      return std::any_of(lo, hi, [&](const std::pair<int, int>& x) { return !used[idx(x.second)]; });
-    };
-    while (n_used < edges.size()) {
-      int start = -1;
-      while (start < 0 && next_odd < odd.size()) {
-        if (has_free_edge(odd[next_odd])) start = odd[next_odd];
-        ++next_odd;
-      }
-      while (start < 0) {
-        if (!used[next_edge]) start = edges[next_edge].first;
-        ++next_edge;
-      }
-      std::vector<Vector3d> line = {points_[idx(start)]};
-      for (int v = start;;) {
-        const auto [lo, hi] = incident(v);
-        auto it = lo;
-        while (it != hi && used[idx(it->second)]) ++it;
-        if (it == hi) break;
-        const auto& e = edges[idx(it->second)];
-        used[idx(it->second)] = 1;
-        ++n_used;
-        v = e.first == v ? e.second : e.first;
-        line.push_back(points_[idx(v)]);
-      }
-      polylines.push_back(std::move(line));
-    }
-    std::vector<Vector3d> seg_points;
-    std::vector<std::array<int, 3>> segs;
-    for (const auto& line : polylines) {
-      const int first = static_cast<int>(seg_points.size());
-      seg_points.insert(seg_points.end(), line.begin(), line.end());
-      for (int i = 0; i + 1 < static_cast<int>(line.size()); ++i)
-        segs.push_back({first + i, first + i + 1, first + i + 1});
-    }
-    curves_.emplace_back(seg_points, segs);
   }
 }
 

@@ -112,18 +112,13 @@ VertexFeature corner_kind(const TriMesh& m, VertexHandle v, const VertexEdges& v
   return cone_point_kind(m, v, defect);
 }
 
-}  // namespace
-
-FeatureReport detect_features(TriSurface& s, const FeatureOptions& options) {
-  check_options(options);
+// Pass 1: each edge Boundary, a convex or concave ridge, or Smooth. Kept edges (keep_existing)
+// keep their kind and curve id; a kept interior edge marked only by its curve id (or wrongly as
+// Boundary) gets its ridge kind from the geometry whatever its angle, and an open edge is always
+// Boundary. Returns the first curve id not taken by a kept edge.
+int classify_edges(TriSurface& s, const FeatureOptions& options) {
   TriMesh& m = s.mesh;
   const double ridge_rad = radians(options.ridge_angle_deg);
-  const double turn_rad = radians(options.curve_turn_deg);
-  const double defect_rad = radians(options.corner_defect_deg);
-
-  // 1. Edges. Kept edges (keep_existing) keep their kind and curve id; a kept interior edge marked
-  // only by its curve id (or wrongly as Boundary) gets its ridge kind from the geometry whatever its
-  // angle, and an open edge is always Boundary.
   int next_curve = 0;
   for (const EdgeHandle e : m.edges()) {
     EdgeFeature& f = m.property(s.edge_feature, e);
@@ -144,8 +139,12 @@ FeatureReport detect_features(TriSurface& s, const FeatureOptions& options) {
     else
       f = EdgeFeature::Smooth;
   }
+  return next_curve;
+}
 
-  // 2. Vertices: their feature edges, then the angle sums for the defects.
+// The feature edges around each vertex.
+std::vector<VertexEdges> feature_edges_around(const TriSurface& s) {
+  const TriMesh& m = s.mesh;
   std::vector<VertexEdges> around(m.n_vertices());
   for (const EdgeHandle e : m.edges()) {
     const EdgeFeature f = m.property(s.edge_feature, e);
@@ -160,6 +159,12 @@ FeatureReport detect_features(TriSurface& s, const FeatureOptions& options) {
       ve.boundary += f == EdgeFeature::Boundary;
     }
   }
+  return around;
+}
+
+// The sum of the corner angles of each vertex's faces.
+std::vector<double> angle_sums(const TriSurface& s) {
+  const TriMesh& m = s.mesh;
   std::vector<double> angle_sum(m.n_vertices(), 0.0);
   for (const FaceHandle f : m.faces()) {
     const auto fv = s.face_vertices(f);
@@ -169,7 +174,17 @@ FeatureReport detect_features(TriSurface& s, const FeatureOptions& options) {
           angle_between(m.point(fv[idx((k + 1) % 3)]) - p, m.point(fv[idx((k + 2) % 3)]) - p);
     }
   }
+  return angle_sum;
+}
 
+// Pass 2: each vertex a corner of its kind, Curve or Smooth, from its feature edges and angle
+// defect. Returns which vertices are corners.
+std::vector<char> classify_vertices(TriSurface& s, const FeatureOptions& options,
+                                    const std::vector<VertexEdges>& around) {
+  TriMesh& m = s.mesh;
+  const double turn_rad = radians(options.curve_turn_deg);
+  const double defect_rad = radians(options.corner_defect_deg);
+  const std::vector<double> angle_sum = angle_sums(s);
   std::vector<char> corner(m.n_vertices(), 0);
   for (const VertexHandle v : m.vertices()) {
     VertexFeature& vf = m.property(s.vertex_feature, v);
@@ -197,9 +212,15 @@ FeatureReport detect_features(TriSurface& s, const FeatureOptions& options) {
       vf = ve.count == 2 ? VertexFeature::Curve : VertexFeature::Smooth;
     }
   }
+  return corner;
+}
 
-  // 3. Curves. From a corner the chain continues through Curve vertices (exactly two feature
-  // edges each, so the next edge is the stored one that is not the current one) to a corner.
+// Pass 3: curve ids from next_curve on. From a corner the chain continues through Curve vertices
+// (exactly two feature edges each, so the next edge is the stored one that is not the current
+// one) to a corner; what is left are closed loops.
+void number_curves(TriSurface& s, const std::vector<VertexEdges>& around, const std::vector<char>& corner,
+                   int next_curve) {
+  TriMesh& m = s.mesh;
   const auto walk = [&](HalfedgeHandle h, int id) {
     for (;;) {
       const EdgeHandle e = m.edge_handle(h);
@@ -221,7 +242,19 @@ FeatureReport detect_features(TriSurface& s, const FeatureOptions& options) {
   }
   for (const EdgeHandle e : m.edges())
     if (unassigned_feature(e)) walk(m.halfedge_handle(e, 0), next_curve++);
+}
 
+}  // namespace
+
+FeatureReport detect_features(TriSurface& s, const FeatureOptions& options) {
+  check_options(options);
+  // 1. Edges.
+  const int next_curve = classify_edges(s, options);
+  // 2. Vertices: their feature edges, then the angle sums for the defects.
+  const std::vector<VertexEdges> around = feature_edges_around(s);
+  const std::vector<char> corner = classify_vertices(s, options, around);
+  // 3. Curves.
+  number_curves(s, around, corner, next_curve);
   return count_features(s);
 }
 

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
+// Metric-conforming surface remeshing (see remesh.h): the Remesher's operations (split,
+// collapse, flip, tangential relaxation, sliver removal) and its rounds. What they measure
+// (lengths, alignment, quality, face checks) is in remesher_measures.cpp.
 #include "surface3d/remesh.h"
 
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -10,298 +12,11 @@
 #include <vector>
 
 #include "modules/base/error.h"
+#include "surface3d/remesher.h"
 
 namespace plaf {
 
-namespace {
-
-using Mesh = TriMesh;
-using VH = Mesh::VertexHandle;
-using EH = Mesh::EdgeHandle;
-using HH = Mesh::HalfedgeHandle;
-using FH = Mesh::FaceHandle;
-using Vec = Eigen::Vector3d;
-
-// Botsch & Kobbelt's thresholds, in metric length: split above 4/3, collapse below 4/5.
-constexpr double kSplitAbove = 4.0 / 3.0;
-constexpr double kCollapseBelow = 4.0 / 5.0;
-// A face whose normal turns by more than this (cosine) in one operation is a fold: refuse.
-constexpr double kMinNormalCos = 0.1;
-// A face whose normal is within 60 degrees of the reference's normal (at its centroid's
-// projection) lies on the surface's side it should; operations never make a face worse than that.
-constexpr double kGoodAlignment = 0.5;
-
-class Remesher {
- public:
-  Remesher(TriSurface& s, const ReferenceGeometry<3>& ref, const MetricField<3>& metric, const RemeshOptions& o)
-      : s_(s), m_(s.mesh), ref_(ref), metric_(metric), opt_(o) {}
-
-  RemeshReport run();
-
- private:
-  // --- lengths -------------------------------------------------------------------------------
-  // sqrt of a quadratic form that rounding may push just below zero for extreme anisotropy.
-  static double root(double q) { return std::sqrt(std::max(q, 0.0)); }
-  // The metric is evaluated once per vertex position and cached (vertices are created by splits
-  // and moved by relaxation, and re-evaluated then); an edge's length is the mean of its length in
-  // its two end metrics, exact for a uniform metric and second order for a smooth one.
-  // (Returned by value: a cache may grow while a caller still holds an earlier entry.)
-  Eigen::Matrix3d vertex_metric(VH v) {
-    const std::size_t i = static_cast<std::size_t>(v.idx());
-    if (i >= have_.size()) grow_caches();
-    if (!have_[i]) {
-      vm_[i] = metric_.evaluate(m_.point(v)).matrix();
-      have_[i] = 1;
-    }
-    return vm_[i];
-  }
-  // Sizes the caches to the mesh's vertices: called after every split (the only operation adding
-  // vertices), so that the normal cache never reallocates while its entries are pointed to.
-  void grow_caches() {
-    const std::size_t n = m_.n_vertices();
-    vm_.resize(n, Eigen::Matrix3d::Zero());
-    have_.resize(n, 0);
-    vn_.resize(n, Vec::Zero());
-    have_n_.resize(n, 0);
-  }
-  // A vertex was created or moved: its cached metric and normal are stale.
-  void forget_metric(VH v) {
-    const std::size_t i = static_cast<std::size_t>(v.idx());
-    if (i < have_.size()) have_[i] = 0;
-    if (i < have_n_.size()) have_n_[i] = 0;
-  }
-  double length(VH a, VH b) {
-    const Vec d = m_.point(b) - m_.point(a);
-    return 0.5 * (root(d.dot(vertex_metric(a) * d)) + root(d.dot(vertex_metric(b) * d)));
-  }
-  // The length of a -> b if a stood at p (its metric taken as b's: a is being merged into b).
-  double length_from(const Vec& p, VH b) {
-    const Vec d = m_.point(b) - p;
-    return root(d.dot(vertex_metric(b) * d));
-  }
-  // A feature edge becomes a piece of its curve (the high-order nodes follow the curve): where
-  // the curve bends away from the chord (a symmetry loop around a leading edge), its length is
-  // that of the polyline through the curve point nearest the chord's midpoint.
-  double curve_length(const Vec& a, const Eigen::Matrix3d& ma, const Vec& b, const Eigen::Matrix3d& mb, int c) const {
-    const Vec m = ref_.project_to_curve(0.5 * (a + b), c);
-    const Vec d1 = m - a, d2 = b - m;
-    return root(d1.dot(ma * d1)) + root(d2.dot(mb * d2));
-  }
-  // An edge between vertices whose surface normals differ by more than 60 degrees spans a tight
-  // turn of the surface (wraps a thin trailing edge): the metrics at its ends do not see the
-  // turn, so it is measured along the polyline through its projected midpoint, in the metric
-  // there too.
-  double wrapped_length(const Vec& a, const Eigen::Matrix3d& ma, const Vec& b, const Eigen::Matrix3d& mb) const {
-    const Vec m = ref_.project(0.5 * (a + b));
-    const Eigen::Matrix3d mm = metric_.evaluate(m).matrix();
-    const Vec d1 = m - a, d2 = b - m;
-    return 0.5 * (root(d1.dot(ma * d1)) + root(d1.dot(mm * d1))) +
-           0.5 * (root(d2.dot(mm * d2)) + root(d2.dot(mb * d2)));
-  }
-  // Whether the edge a - b (a at pa, with normal na) wraps a tight turn: its ends' normals differ
-  // by more than 60 degrees, or, where one end is on a feature (no normal), the surface lies
-  // farther than a quarter of the edge from its midpoint.
-  bool wraps(const Vec& pa, const Vec* na, VH b) {
-    const Vec* nb = vertex_normal(b);
-    if (na && nb) return na->dot(*nb) < 0.5;
-    const Vec mid = 0.5 * (pa + m_.point(b));
-    return (ref_.project(mid) - mid).norm() > 0.25 * (m_.point(b) - pa).norm();
-  }
-  double length(EH e) {
-    const HH h = m_.halfedge_handle(e, 0);
-    const VH a = m_.from_vertex_handle(h), b = m_.to_vertex_handle(h);
-    const double chord = length(a, b);
-    const int c = curve(e);
-    if (c < 0) {
-      if (!wraps(m_.point(a), vertex_normal(a), b)) return chord;
-      return std::max(chord, wrapped_length(m_.point(a), vertex_metric(a), m_.point(b), vertex_metric(b)));
-    }
-    return std::max(chord, curve_length(m_.point(a), vertex_metric(a), m_.point(b), vertex_metric(b), c));
-  }
-
-  // --- feature bookkeeping -----------------------------------------------------------------------
-  int curve(EH e) const { return m_.property(s_.edge_curve, e); }
-  bool is_feature(EH e) const { return curve(e) >= 0 || m_.is_boundary(e); }
-  VertexFeature feature(VH v) const { return m_.property(s_.vertex_feature, v); }
-  // The curve a (non-corner) feature vertex lies on, -1 for a smooth vertex.
-  int vertex_curve(VH v) const {
-    for (const HH h : m_.voh_range(v)) {
-      const int c = curve(m_.edge_handle(h));
-      if (c >= 0) return c;
-    }
-    return -1;
-  }
-  // A vertex that must stay where it is: a corner, or on a feature edge without a curve id.
-  bool is_fixed(VH v) const {
-    if (is_corner(feature(v))) return true;
-    if (feature(v) == VertexFeature::Curve) return vertex_curve(v) < 0;
-    for (const HH h : m_.voh_range(v))
-      if (is_feature(m_.edge_handle(h))) return vertex_curve(v) < 0;
-    return false;
-  }
-  Vec project_vertex(VH v, const Vec& p) const {
-    const int c = vertex_curve(v);
-    return c >= 0 ? ref_.project_to_curve(p, c) : ref_.project(p);
-  }
-
-  // A needle or a cap: twice the area over the longest edge squared below 1e-4 (about a 0.006
-  // degree angle). No operation may create one (it could not be certified valid).
-  static bool degenerate(const Vec& a, const Vec& b, const Vec& c) {
-    const double l2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-    return !((b - a).cross(c - a).norm() > 1e-4 * l2);
-  }
-  static bool degenerate(const std::array<Vec, 3>& x) { return degenerate(x[0], x[1], x[2]); }
-  // The face's corners with vertex v moved to p.
-  std::array<Vec, 3> corners_with(FH f, VH v, const Vec& p) const {
-    std::array<Vec, 3> x;
-    int k = 0;
-    for (const VH w : m_.fv_range(f)) x[static_cast<std::size_t>(k++)] = w == v ? p : m_.point(w);
-    return x;
-  }
-
-  // Unnormalised normal of face f with vertex v moved to p.
-  Vec face_normal_with(FH f, VH v, const Vec& p) const {
-    std::array<Vec, 3> x;
-    int k = 0;
-    for (const VH w : m_.fv_range(f)) x[static_cast<std::size_t>(k++)] = w == v ? p : m_.point(w);
-    return (x[1] - x[0]).cross(x[2] - x[0]);
-  }
-  // The reference's normal at a smooth vertex (cached like the metric), null at feature
-  // vertices, where it is ambiguous (either side of a ridge).
-  const Vec* vertex_normal(VH v) {
-    if (feature(v) != VertexFeature::Smooth || m_.is_boundary(v)) return nullptr;
-    const std::size_t i = static_cast<std::size_t>(v.idx());
-    if (i >= have_n_.size()) grow_caches();  // (not reached: splits grow the caches)
-    if (!have_n_[i]) {
-      vn_[i] = ref_.normal(m_.point(v));
-      have_n_[i] = 1;
-    }
-    return &vn_[i];
-  }
-  // Cosine between triangle (a, b, c)'s normal and the reference's: the mean of its smooth
-  // vertices' normals (given, null at feature vertices), or at the centroid's projection when all
-  // three are on features; -2 for a degenerate triangle.
-  double alignment(const Vec& a, const Vec& b, const Vec& c, const Vec* na, const Vec* nb, const Vec* nc) const {
-    const Vec n = (b - a).cross(c - a);
-    const double nn = n.norm();
-    if (!(nn > 0)) return -2;
-    // The vertices' normals stand for the face's where all three are smooth and agree (within ~25
-    // degrees); beside a feature or where the surface turns fast across the face (a leading
-    // edge) the centroid is projected.
-    Vec r = Vec::Zero();
-    bool agree = true;
-    int given = 0;
-    for (const Vec* x : {na, nb, nc}) {
-      if (!x || precise_) continue;
-      if (given > 0 && x->dot(r / given) < 0.9) agree = false;
-      r += *x;
-      ++given;
-    }
-    if (given < 3 || !agree) {
-      r = ref_.normal(ref_.project((a + b + c) / 3));
-    } else {
-      r.normalize();
-    }
-    return n.dot(r) / nn;
-  }
-  // The alignment of face f with vertex v moved to p (whose normal is np, null if v is on a
-  // feature).
-  double alignment_with(FH f, VH v, const Vec& p, const Vec* np) {
-    std::array<Vec, 3> x;
-    std::array<const Vec*, 3> nx;
-    int k = 0;
-    for (const VH w : m_.fv_range(f)) {
-      const std::size_t i = static_cast<std::size_t>(k++);
-      x[i] = w == v ? p : m_.point(w);
-      nx[i] = w == v ? np : vertex_normal(w);
-    }
-    return alignment(x[0], x[1], x[2], nx[0], nx[1], nx[2]);
-  }
-  // A new face is acceptable when it lies on the surface's side (alignment 60 degrees), or is no
-  // worse than the face it replaces (the initial mesh may start worse).
-  static bool acceptable(double before, double after) { return after >= std::min(kGoodAlignment, before); }
-
-  // Moving v to p keeps every face around v (except those in `skip`) turned by less than 84
-  // degrees, non-degenerate and acceptably aligned with the reference.
-  // (known_normal: the reference's normal at p when the caller has it.)
-  bool move_keeps_faces(VH v, const Vec& p, FH skip0 = FH(), FH skip1 = FH(), const Vec* known_normal = nullptr) {
-    const Vec* old_normal = vertex_normal(v);
-    Vec new_normal;
-    if (old_normal) new_normal = known_normal ? *known_normal : ref_.normal(p);
-    const Vec* np = old_normal ? &new_normal : nullptr;
-    for (const FH f : m_.vf_range(v)) {
-      if (f == skip0 || f == skip1) continue;
-      const Vec before = face_normal_with(f, v, m_.point(v));
-      const Vec after = face_normal_with(f, v, p);
-      const double nb = before.norm(), na = after.norm();
-      if (na <= 1e-4 * nb || after.dot(before) < kMinNormalCos * na * nb) return false;
-      if (degenerate(corners_with(f, v, p))) return false;
-      if (!acceptable(alignment_with(f, v, m_.point(v), old_normal), alignment_with(f, v, p, np))) return false;
-    }
-    return true;
-  }
-
-  // Shape quality of triangle (a, b, c) in the mean of its vertices' metrics:
-  // 4 sqrt(3) A / sum l^2 (1 equilateral in the metric, 0 degenerate).
-  double quality(VH a, VH b, VH c) {
-    const Eigen::Matrix3d mm = (vertex_metric(a) + vertex_metric(b) + vertex_metric(c)) / 3;
-    const Eigen::LLT<Eigen::Matrix3d> llt(mm);
-    if (llt.info() != Eigen::Success) return 0;
-    const Eigen::Matrix3d lt = llt.matrixU();  // M = U^T U: |U v| is the metric length of v
-    const Vec pa = m_.point(a), pb = m_.point(b), pc = m_.point(c);
-    const Vec u = lt * (pb - pa), w = lt * (pc - pa), z = lt * (pc - pb);
-    const double area = 0.5 * u.cross(w).norm();
-    const double sum = u.squaredNorm() + w.squaredNorm() + z.squaredNorm();
-    return sum > 0 ? 4 * std::sqrt(3.0) * area / sum : 0;
-  }
-
-  // Splitting h's edge at p keeps each of its faces' two halves turned by less than 84 degrees
-  // from the face (a projected midpoint on a tight leading edge can land behind a neighbour).
-  bool split_keeps_faces(HH h, const Vec& p) {
-    // The new vertex is smooth unless the edge is a feature.
-    const bool smooth = !is_feature(m_.edge_handle(h));
-    const Vec np = smooth ? ref_.normal(p) : Vec::Zero();
-    for (const HH hh : {h, m_.opposite_halfedge_handle(h)}) {
-      if (m_.is_boundary(hh)) continue;
-      const VH va = m_.from_vertex_handle(hh), vb = m_.to_vertex_handle(hh);
-      const VH vc = m_.to_vertex_handle(m_.next_halfedge_handle(hh));
-      const Vec a = m_.point(va), b = m_.point(vb), c = m_.point(vc);
-      const Vec *na = vertex_normal(va), *nb = vertex_normal(vb), *nc = vertex_normal(vc);
-      const Vec n = (b - a).cross(c - a);
-      for (const Vec& half : {Vec((p - a).cross(c - a)), Vec((b - p).cross(c - p))}) {
-        const double nh = half.norm();
-        if (nh <= 1e-12 * n.norm() || half.dot(n) < kMinNormalCos * nh * n.norm()) return false;
-      }
-      if (degenerate(a, p, c) || degenerate(p, b, c)) return false;
-      const double before = alignment(a, b, c, na, nb, nc);
-      const Vec* pn = smooth ? &np : nullptr;
-      if (!acceptable(before, alignment(a, p, c, na, pn, nc)) || !acceptable(before, alignment(p, b, c, pn, nb, nc)))
-        return false;
-    }
-    return true;
-  }
-
-  void split_long_edges();
-  void collapse_short_edges();
-  void flip_edges();
-  void relax();
-  bool try_collapse(HH h, double max_length = kSplitAbove);
-  bool try_flip(EH e, double min_gain);
-  bool try_split(EH e);
-  void remove_slivers();
-
-  TriSurface& s_;
-  Mesh& m_;
-  const ReferenceGeometry<3>& ref_;
-  const MetricField<3>& metric_;
-  RemeshOptions opt_;
-  RemeshReport rep_;
-  std::vector<Eigen::Matrix3d> vm_;  // cached metric per vertex index
-  std::vector<char> have_;
-  bool precise_ = false;  // alignment always at the centroid's projection (the final passes)
-  std::vector<Vec> vn_;   // cached reference normal per (smooth) vertex index
-  std::vector<char> have_n_;
-};
+namespace remesh_detail {
 
 void Remesher::split_long_edges() {
   // Repeated until no edge is long: a coarse start (an icosahedron for a fine metric) needs
@@ -369,9 +84,7 @@ bool Remesher::try_split(EH e) {
   return true;
 }
 
-// Collapses h's from-vertex into its to-vertex if that keeps topology, features, lengths and
-// orientation.
-bool Remesher::try_collapse(HH h, double max_length) {
+bool Remesher::collapse_keeps_features(HH h) {
   const VH v0 = m_.from_vertex_handle(h), v1 = m_.to_vertex_handle(h);
   const EH e = m_.edge_handle(h);
   if (is_fixed(v0)) return false;
@@ -395,14 +108,13 @@ bool Remesher::try_collapse(HH h, double max_length) {
       if (std::sqrt(off.dot(vertex_metric(v0) * off)) > 0.25) return false;
     }
   }
-  // The two faces of e disappear; their other edges merge pairwise. Features survive on the
-  // merged edge (repaired below), but two features merging would lose one: refuse.
-  struct Wing {
-    VH far;
-    int curve, tag;
-    EdgeFeature feature;
-  };
-  std::vector<Wing> wings;
+  return true;
+}
+
+// The two faces of the collapsed edge disappear; their other edges merge pairwise. Features
+// survive on the merged edge (repaired after the collapse), but two features merging would lose
+// one.
+bool Remesher::merged_edges(HH h, std::vector<MergedEdge>& merged) const {
   for (const HH hh : {h, m_.opposite_halfedge_handle(h)}) {
     if (m_.is_boundary(hh)) continue;
     const HH n = m_.next_halfedge_handle(hh), p = m_.prev_halfedge_handle(hh);
@@ -410,13 +122,16 @@ bool Remesher::try_collapse(HH h, double max_length) {
     const bool f1 = is_feature(e1), f2 = is_feature(e2);
     if (f1 && f2) return false;
     const EH keep = f1 ? e1 : e2;
-    wings.push_back(
+    merged.push_back(
         {m_.to_vertex_handle(n), curve(keep), m_.property(s_.edge_tag, keep), m_.property(s_.edge_feature, keep)});
   }
+  return true;
+}
+
+// (An edge already longer than the limit may stay as long: merging two nearly coincident
+// vertices must not be refused for an edge it does not lengthen.)
+bool Remesher::collapse_keeps_lengths(VH v0, VH v1, double max_length) {
   const Vec target = m_.point(v1);
-  // New edges v1 - (neighbours of v0) must not be long.
-  // (An edge already longer than the limit may stay as long: merging two nearly coincident
-  // vertices must not be refused for an edge it does not lengthen.)
   for (const VH w : m_.vv_range(v0)) {
     if (w == v1) continue;
     double l = length_from(m_.point(w), v1);
@@ -427,18 +142,30 @@ bool Remesher::try_collapse(HH h, double max_length) {
       l = std::max(l, wrapped_length(target, vertex_metric(v1), m_.point(w), vertex_metric(w)));
     if (l > std::max(max_length, 1.1 * length(m_.edge_handle(vw)))) return false;
   }
+  return true;
+}
+
+// Collapses h's from-vertex into its to-vertex if that keeps topology, features, lengths and
+// orientation.
+bool Remesher::try_collapse(HH h, double max_length) {
+  const VH v0 = m_.from_vertex_handle(h), v1 = m_.to_vertex_handle(h);
+  if (!collapse_keeps_features(h)) return false;
+  std::vector<MergedEdge> merged;
+  if (!merged_edges(h, merged)) return false;
+  // New edges v1 - (neighbours of v0) must not be long.
+  if (!collapse_keeps_lengths(v0, v1, max_length)) return false;
   const FH fl = m_.is_boundary(h) ? FH() : m_.face_handle(h);
   const HH o = m_.opposite_halfedge_handle(h);
   const FH fr = m_.is_boundary(o) ? FH() : m_.face_handle(o);
-  if (!move_keeps_faces(v0, target, fl, fr)) return false;
+  if (!move_keeps_faces(v0, m_.point(v1), fl, fr)) return false;
   m_.collapse(h);
-  for (const Wing& w : wings) {
-    const HH nh = m_.find_halfedge(v1, w.far);
+  for (const MergedEdge& kept : merged) {
+    const HH nh = m_.find_halfedge(v1, kept.far);
     if (!nh.is_valid()) continue;
     const EH ne = m_.edge_handle(nh);
-    m_.property(s_.edge_curve, ne) = w.curve;
-    m_.property(s_.edge_tag, ne) = w.tag;
-    m_.property(s_.edge_feature, ne) = w.feature;
+    m_.property(s_.edge_curve, ne) = kept.curve;
+    m_.property(s_.edge_tag, ne) = kept.tag;
+    m_.property(s_.edge_feature, ne) = kept.feature;
   }
   ++rep_.collapses;
   return true;
@@ -598,32 +325,7 @@ void Remesher::relax() {
   }
 }
 
-RemeshReport Remesher::run() {
-  const auto t0 = std::chrono::steady_clock::now();
-  rep_.faces_before = m_.n_faces();
-  grow_caches();
-  for (int round = 0; round < opt_.iterations; ++round) {
-    const std::size_t changes = rep_.splits + rep_.collapses, flips = rep_.flips;
-    split_long_edges();
-    collapse_short_edges();
-    flip_edges();
-    for (int k = 0; k < 2; ++k) relax();
-    ++rep_.rounds;
-    // Converged: a round that split and collapsed nothing and flipped under 0.5 % of the edges
-    // only relaxes further; the rounds stop (the final passes still run).
-    if (rep_.splits + rep_.collapses == changes && rep_.flips - flips < m_.n_edges() / 200) break;
-  }
-  // The final passes judge every face by its centroid's projection, as the fold count does.
-  precise_ = true;
-  remove_slivers();
-  relax();
-  remove_slivers();
-  m_.garbage_collection();
-  vm_.clear();  // the collection renumbered the vertices
-  have_.clear();
-  vn_.clear();
-  have_n_.clear();
-  rep_.faces_after = m_.n_faces();
+void Remesher::measure_result() {
   std::size_t unit = 0, total = 0;
   for (const EH e : m_.edges()) {
     const double l = length(e);
@@ -650,15 +352,44 @@ RemeshReport Remesher::run() {
       ++rep_.folded_faces;
     }
   }
+}
+
+RemeshReport Remesher::run() {
+  const auto t0 = std::chrono::steady_clock::now();
+  rep_.faces_before = m_.n_faces();
+  grow_caches();
+  for (int round = 0; round < opt_.iterations; ++round) {
+    const std::size_t changes = rep_.splits + rep_.collapses, flips = rep_.flips;
+    split_long_edges();
+    collapse_short_edges();
+    flip_edges();
+    for (int k = 0; k < 2; ++k) relax();
+    ++rep_.rounds;
+    // Converged: a round that split and collapsed nothing and flipped under 0.5 % of the edges
+    // only relaxes further; the rounds stop (the final passes still run).
+    if (rep_.splits + rep_.collapses == changes && rep_.flips - flips < m_.n_edges() / 200) break;
+  }
+  // The final passes judge every face by its centroid's projection, as the fold count does.
+  precise_ = true;
+  remove_slivers();
+  relax();
+  remove_slivers();
+  m_.garbage_collection();
+  vm_.clear();  // the collection renumbered the vertices
+  have_.clear();
+  vn_.clear();
+  have_n_.clear();
+  rep_.faces_after = m_.n_faces();
+  measure_result();
   rep_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep_;
 }
 
-}  // namespace
+}  // namespace remesh_detail
 
 RemeshReport remesh_surface(TriSurface& s, const ReferenceGeometry<3>& reference, const MetricField<3>& metric,
                             const RemeshOptions& options) {
-  return Remesher(s, reference, metric, options).run();
+  return remesh_detail::Remesher(s, reference, metric, options).run();
 }
 
 }  // namespace plaf

@@ -4,69 +4,22 @@
 #include <doctest/doctest.h>
 
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <map>
 #include <set>
 #include <vector>
 
 #include "modules/base/error.h"
+#include "tests/surface3d/feature_checks.h"
+#include "tests/surface3d/test_surfaces.h"
 
 namespace plaf {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using test::check_box_features;
+using test::voxel_soup;
 
-// A body made of unit voxels: the faces between a voxel and empty space (except the open ones,
-// given as {voxel, axis, sign}), each
-// split into k x k squares of two triangles. Points live on the integer lattice of spacing 1 / k,
-// so the faces of neighbouring voxels share their points exactly.
-TriangleSoup voxel_soup(const std::vector<std::array<int, 3>>& voxels, int k, double scale = 1.0,
-                        const std::set<std::array<int, 3>>& open_faces = {}) {
-  TriangleSoup soup;
-  soup.source = "voxels";
-  std::map<std::array<int, 3>, int> index;
-  const auto point = [&](const std::array<int, 3>& q) {
-    const auto [it, inserted] = index.emplace(q, static_cast<int>(soup.points.size()));
-    if (inserted) soup.points.emplace_back(Eigen::Vector3i(q[0], q[1], q[2]).cast<double>() * (scale / k));
-    return it->second;
-  };
-  const std::set<std::array<int, 3>> filled(voxels.begin(), voxels.end());
-  for (std::size_t n = 0; n < voxels.size(); ++n) {
-    for (int axis = 0; axis < 3; ++axis) {
-      for (int sign = -1; sign <= 1; sign += 2) {
-        std::array<int, 3> neighbour = voxels[n];
-        neighbour[static_cast<std::size_t>(axis)] += sign;
-        if (filled.count(neighbour) || open_faces.count({static_cast<int>(n), axis, sign})) continue;
-        // Outward normal sign * e_axis: with b, c the next axes (e_b x e_c = e_axis) the square
-        // (p0, p0 + u, p0 + u + v, p0 + v) is counter-clockwise from outside for u x v = normal.
-        const std::size_t a = static_cast<std::size_t>(axis), b = (a + 1) % 3, c = (a + 2) % 3;
-        std::array<int, 3> p0 = {voxels[n][0], voxels[n][1], voxels[n][2]}, u = {0, 0, 0}, v = {0, 0, 0};
-        for (auto& x : p0) x *= k;
-        if (sign > 0) {
-          p0[a] += k;
-          u[b] = 1;
-          v[c] = 1;
-        } else {
-          u[c] = 1;
-          v[b] = 1;
-        }
-        const auto at = [&](int i, int j) {
-          std::array<int, 3> q = p0;
-          for (std::size_t d = 0; d < 3; ++d) q[d] += i * u[d] + j * v[d];
-          return point(q);
-        };
-        for (int i = 0; i < k; ++i)
-          for (int j = 0; j < k; ++j) {
-            const int pa = at(i, j), pb = at(i + 1, j), pc = at(i + 1, j + 1), pd = at(i, j + 1);
-            soup.triangles.push_back({pa, pb, pc});
-            soup.triangles.push_back({pa, pc, pd});
-          }
-      }
-    }
-  }
-  return soup;
-}
+constexpr double kPi = 3.14159265358979323846;
 
 // A body of revolution about z: profile (r, z) from the bottom pole (r = 0) to the top pole
 // (r = 0), `around` segments. Quads between rings are split into two triangles, the poles are
@@ -204,30 +157,27 @@ CurveShapes check_consistent(const TriSurface& s, const FeatureReport& report) {
   return shapes;
 }
 
-TEST_CASE("features: a cube with 2x2 squares per face has 12 convex ridge curves and 8 convex corners") {
-  for (const double scale : {1e-8, 1.0, 1e8}) {
+TEST_CASE("features: a cube with k x k squares per face has 12 convex ridge curves and 8 convex corners") {
+  // k = 91 is a 100k-face cube (6 * 2 * 91^2 = 99,372 faces); bench_features times it.
+  for (const auto& [k, scale] : {std::pair{2, 1e-8}, {2, 1.0}, {2, 1e8}, {91, 1.0}}) {
+    CAPTURE(k);
     CAPTURE(scale);
-    TriSurface s = surface_from_soup(voxel_soup({{0, 0, 0}}, 2, scale));
+    TriSurface s = surface_from_soup(voxel_soup({{0, 0, 0}}, k, scale));
+    REQUIRE(s.mesh.n_faces() == static_cast<std::size_t>(12 * k * k));
     const FeatureReport r = detect_features(s, {});
-    CHECK(r.ridges_convex == 24);
-    CHECK(r.ridges_concave == 0);
-    CHECK(r.boundary_edges == 0);
-    CHECK(r.corners_convex == 8);
-    CHECK(r.corners_concave + r.corners_saddle + r.corners_boundary == 0);
-    CHECK(r.curves == 12);
-    const CurveShapes shapes = check_consistent(s, r);
-    CHECK(shapes.open == 12);
-    CHECK(shapes.closed == 0);
-    for (const auto& path : feature_curves(s)) CHECK(path.size() == 3);  // two edges per cube edge
-    // Face centres and edge midpoints: the latter are Curve vertices, the former smooth.
+    CHECK(r.ridges_convex == static_cast<std::size_t>(12 * k));
+    check_box_features(s);
+    check_consistent(s, r);
+    for (const auto& path : feature_curves(s)) CHECK(path.size() == static_cast<std::size_t>(k + 1));
+    // Edge points are Curve vertices, face points smooth.
     int curve_vertices = 0, smooth_vertices = 0;
     for (const auto v : s.mesh.vertices()) {
       const VertexFeature vf = s.mesh.property(s.vertex_feature, v);
       curve_vertices += vf == VertexFeature::Curve;
       smooth_vertices += vf == VertexFeature::Smooth;
     }
-    CHECK(curve_vertices == 12);
-    CHECK(smooth_vertices == 6);
+    CHECK(curve_vertices == 12 * (k - 1));
+    CHECK(smooth_vertices == 6 * (k - 1) * (k - 1));
   }
 }
 
@@ -417,8 +367,7 @@ TEST_CASE("features: keep_existing keeps marked edges and their curve ids") {
       }
     }
     const FeatureReport r = detect_features(s, {.keep_existing = true});
-    CHECK(r.curves == 12);
-    CHECK(r.corners_convex == 8);
+    check_box_features(s);
     CHECK(feature_curves(s)[0].size() == 3);
     check_consistent(s, r);
   }
@@ -438,28 +387,6 @@ TEST_CASE("features: bad options are rejected and an empty surface has no featur
   TriMesh& m = s.mesh;
   for (const auto e : m.edges()) m.property(s.edge_curve, e) = 0;
   CHECK_THROWS_AS(feature_curves(s), MesherError);
-}
-
-TEST_CASE("features: a 100k-face cube is detected and its curves walked quickly") {
-  const int k = 91;  // 6 * 2 * 91^2 = 99,372 faces
-  TriSurface s = surface_from_soup(voxel_soup({{0, 0, 0}}, k));
-  REQUIRE(s.mesh.n_faces() == 99372);
-  const auto t0 = std::chrono::steady_clock::now();
-  const FeatureReport r = detect_features(s, {});
-  const auto t1 = std::chrono::steady_clock::now();
-  const auto curves = feature_curves(s);
-  const auto t2 = std::chrono::steady_clock::now();
-  const double detect_s = std::chrono::duration<double>(t1 - t0).count();
-  const double curves_s = std::chrono::duration<double>(t2 - t1).count();
-  MESSAGE("detect_features " << detect_s << " s, feature_curves " << curves_s << " s on " << s.mesh.n_faces()
-                             << " faces");
-  CHECK(r.ridges_convex == 12u * k);
-  CHECK(r.corners_convex == 8);
-  CHECK(r.curves == 12);
-  REQUIRE(curves.size() == 12);
-  for (const auto& path : curves) CHECK(path.size() == static_cast<std::size_t>(k + 1));
-  CHECK(detect_s < 1.0);
-  CHECK(curves_s < 1.0);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "surface3d/curvature_metric.h"
 #include "surface3d/features.h"
 #include "surface3d/validate.h"
+#include "tests/surface3d/feature_checks.h"
 #include "tests/surface3d/test_surfaces.h"
 
 namespace plaf {
@@ -111,16 +112,12 @@ TEST_CASE("remesh: a box keeps its 12 ridges and 8 corners, ridge vertices stay 
   const RemeshReport r = remesh_surface(s, *box.reference, metric, RemeshOptions{});
   CHECK(r.unit_fraction >= 0.9);
   CHECK(s.euler_characteristic() == 2);
-  const FeatureReport kept = count_features(s);
-  CHECK(kept.curves == 12);
-  CHECK(kept.corners_convex == 8);
-  CHECK(kept.ridges_concave == 0);
+  test::check_box_features(s);
   // The detector finds the same on the remeshed surface.
   TriSurface probe = s;
   const FeatureReport found = detect_features(probe, FeatureOptions{});
-  CHECK(found.curves == 12);
-  CHECK(found.corners_convex == 8);
-  CHECK(found.ridges_convex == kept.ridges_convex);
+  test::check_box_features(probe);
+  CHECK(found.ridges_convex == count_features(s).ridges_convex);
   // Every vertex on the box, every curve vertex on two faces of it (an edge of the box).
   for (const auto v : s.mesh.vertices()) {
     const Eigen::Vector3d p = s.mesh.point(v);

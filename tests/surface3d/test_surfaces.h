@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Test surfaces shared by the surface3d suites: the icosahedron and icospheres on the unit
-// sphere. Header-only; include it as "tests/surface3d/test_surfaces.h".
+// Test surfaces shared by the surface3d suites (and bench/bench_features): the icosahedron and
+// icospheres on the unit sphere, and bodies made of voxels. Header-only and free of doctest;
+// include it as "tests/surface3d/test_surfaces.h".
 #pragma once
 
 #include <Eigen/Core>
@@ -8,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -58,6 +60,57 @@ inline TriangleSoup icosphere_soup(int m) {
         if (i + j + 2 <= m) s.triangles.push_back({point(f, i + 1, j), point(f, i + 1, j + 1), point(f, i, j + 1)});
       }
   return s;
+}
+
+// A body made of unit voxels, scaled by `scale`: the faces between a voxel and empty space (except
+// the open ones, given as {voxel, axis, sign}), each split into k x k squares of two triangles.
+// Points live on the integer lattice of spacing 1 / k, so the faces of neighbouring voxels share
+// their points exactly.
+inline TriangleSoup voxel_soup(const std::vector<std::array<int, 3>>& voxels, int k, double scale = 1.0,
+                               const std::set<std::array<int, 3>>& open_faces = {}) {
+  TriangleSoup soup;
+  soup.source = "voxels";
+  std::map<std::array<int, 3>, int> index;
+  const auto point = [&](const std::array<int, 3>& q) {
+    const auto [it, inserted] = index.emplace(q, static_cast<int>(soup.points.size()));
+    if (inserted) soup.points.emplace_back(Eigen::Vector3i(q[0], q[1], q[2]).cast<double>() * (scale / k));
+    return it->second;
+  };
+  const std::set<std::array<int, 3>> filled(voxels.begin(), voxels.end());
+  for (std::size_t n = 0; n < voxels.size(); ++n) {
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int sign = -1; sign <= 1; sign += 2) {
+        std::array<int, 3> neighbour = voxels[n];
+        neighbour[static_cast<std::size_t>(axis)] += sign;
+        if (filled.count(neighbour) || open_faces.count({static_cast<int>(n), axis, sign})) continue;
+        // Outward normal sign * e_axis: with b, c the next axes (e_b x e_c = e_axis) the square
+        // (p0, p0 + u, p0 + u + v, p0 + v) is counter-clockwise from outside for u x v = normal.
+        const std::size_t a = static_cast<std::size_t>(axis), b = (a + 1) % 3, c = (a + 2) % 3;
+        std::array<int, 3> p0 = {voxels[n][0], voxels[n][1], voxels[n][2]}, u = {0, 0, 0}, v = {0, 0, 0};
+        for (auto& x : p0) x *= k;
+        if (sign > 0) {
+          p0[a] += k;
+          u[b] = 1;
+          v[c] = 1;
+        } else {
+          u[c] = 1;
+          v[b] = 1;
+        }
+        const auto at = [&](int i, int j) {
+          std::array<int, 3> q = p0;
+          for (std::size_t d = 0; d < 3; ++d) q[d] += i * u[d] + j * v[d];
+          return point(q);
+        };
+        for (int i = 0; i < k; ++i)
+          for (int j = 0; j < k; ++j) {
+            const int pa = at(i, j), pb = at(i + 1, j), pc = at(i + 1, j + 1), pd = at(i, j + 1);
+            soup.triangles.push_back({pa, pb, pc});
+            soup.triangles.push_back({pa, pc, pd});
+          }
+      }
+    }
+  }
+  return soup;
 }
 
 }  // namespace plaf::test

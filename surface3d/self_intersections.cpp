@@ -1,0 +1,188 @@
+// SPDX-License-Identifier: MIT
+// Step 7 of validate_surface, and count_self_intersections (validate.h): triangle pairs from the
+// bounding-box tree's overlapping boxes tested exactly (predicates.h); pairs sharing a vertex or
+// an edge count only where they overlap beyond what they share.
+#include <algorithm>
+#include <utility>
+
+#include "modules/base/error.h"
+#include "modules/geometry/predicates.h"
+#include "surface3d/validate_steps.h"
+
+namespace plaf {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+using validate_detail::fmt_point;
+using validate_detail::idx;
+using validate_detail::plural;
+using validate_detail::Tri;
+
+namespace {
+
+// A coordinate plane on which triangle abc projects without degenerating (exactly), as the two
+// kept axes; {-1, -1} for a degenerate triangle.
+std::pair<int, int> projection_axes(const Vector3d& a, const Vector3d& b, const Vector3d& c) {
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3;
+    if (sign_orient2d({a[i], a[j]}, {b[i], b[j]}, {c[i], c[j]}) != 0) return {i, j};
+  }
+  return {-1, -1};
+}
+
+int side_2d(const std::pair<int, int>& ax, const Vector3d& a, const Vector3d& b, const Vector3d& c) {
+  return sign_orient2d({a[ax.first], a[ax.second]}, {b[ax.first], b[ax.second]}, {c[ax.first], c[ax.second]});
+}
+
+// The closed segment pq meets the closed non-degenerate triangle abc (exact). Written out instead
+// of triangles_intersect on the degenerate triangle (p, q, q), whose exactly zero projections
+// always fall through to the slow exact stage; this test is the bulk of step 7.
+bool segment_meets_triangle(const Vector3d& p, const Vector3d& q, const Vector3d& a, const Vector3d& b,
+                            const Vector3d& c) {
+  const int sp = sign_orient3d(a, b, c, p), sq = sign_orient3d(a, b, c, q);
+  if (sp == sq && sp != 0) return false;
+  if (sp != 0 || sq != 0) {
+    // pq meets the plane at one point, inside the closed triangle iff the line pq passes on no
+    // two different sides of the triangle's edges.
+    const int s0 = sign_orient3d(p, q, a, b), s1 = sign_orient3d(p, q, b, c), s2 = sign_orient3d(p, q, c, a);
+    return !((s0 > 0 || s1 > 0 || s2 > 0) && (s0 < 0 || s1 < 0 || s2 < 0));
+  }
+  // Coplanar: in a projection where the triangle keeps its area, an endpoint inside or an edge
+  // crossed.
+  const auto ax = projection_axes(a, b, c);
+  if (ax.first < 0) return false;
+  auto pr = [&](const Vector3d& x) { return Vector2d(x[ax.first], x[ax.second]); };
+  const Vector2d p2 = pr(p), q2 = pr(q), a2 = pr(a), b2 = pr(b), c2 = pr(c);
+  const int o = sign_orient2d(a2, b2, c2);
+  auto inside = [&](const Vector2d& x) {
+    return sign_orient2d(a2, b2, x) * o >= 0 && sign_orient2d(b2, c2, x) * o >= 0 && sign_orient2d(c2, a2, x) * o >= 0;
+  };
+  return inside(p2) || inside(q2) || segments_intersect(p2, q2, a2, b2) || segments_intersect(p2, q2, b2, c2) ||
+         segments_intersect(p2, q2, c2, a2);
+}
+
+// A point where the closed triangles s and t meet (approximate, for the message): where an edge of
+// one crosses the other, else the first's centroid.
+Vector3d meeting_point(const std::array<Vector3d, 3>& s, const std::array<Vector3d, 3>& t) {
+  for (int side = 0; side < 2; ++side) {
+    const auto& e = side == 0 ? s : t;
+    const auto& f = side == 0 ? t : s;
+    const Vector3d n = (f[1] - f[0]).cross(f[2] - f[0]);
+    for (int k = 0; k < 3; ++k) {
+      const Vector3d& a = e[idx(k)];
+      const Vector3d& b = e[idx((k + 1) % 3)];
+      if (!segment_meets_triangle(a, b, f[0], f[1], f[2])) continue;
+      const double da = n.dot(a - f[0]), db = n.dot(b - f[0]);
+      if (da != db) return a + std::clamp(da / (da - db), 0.0, 1.0) * (b - a);
+      return closest_point_on_triangle((a + b) / 2, f[0], f[1], f[2]);
+    }
+  }
+  return (s[0] + s[1] + s[2]) / 3;
+}
+
+// Whether two triangles of a surface intersect beyond what they share (validate.h, step 7).
+bool pair_intersects(const std::vector<Vector3d>& pts, const Tri& x, const Tri& y) {
+  const std::array<Vector3d, 3> s = {pts[idx(x[0])], pts[idx(x[1])], pts[idx(x[2])]};
+  const std::array<Vector3d, 3> t = {pts[idx(y[0])], pts[idx(y[1])], pts[idx(y[2])]};
+  int shared = 0;
+  std::array<int, 3> in_y{};  // for each corner of x, its corner in y or -1
+  for (int i = 0; i < 3; ++i) {
+    in_y[idx(i)] = -1;
+    for (int j = 0; j < 3; ++j)
+      if (x[idx(i)] == y[idx(j)]) in_y[idx(i)] = j;
+    if (in_y[idx(i)] >= 0) ++shared;
+  }
+  if (shared == 0) return triangles_intersect(s.data(), t.data());
+  if (shared >= 2) {
+    // Sharing an edge (u, v): apart from it they meet only when folded flat onto each other, i.e.
+    // coplanar with the far vertices on the same side of the edge.
+    int far_x = 0;
+    while (in_y[idx(far_x)] >= 0) ++far_x;
+    int far_y = 0;
+    while (far_y < 3 && (y[idx(far_y)] == x[0] || y[idx(far_y)] == x[1] || y[idx(far_y)] == x[2])) ++far_y;
+    if (shared == 3 || far_y == 3) return true;  // the same triangle twice
+    const Vector3d& u = s[idx((far_x + 1) % 3)];
+    const Vector3d& v = s[idx((far_x + 2) % 3)];
+    const Vector3d& w1 = s[idx(far_x)];
+    const Vector3d& w2 = t[idx(far_y)];
+    if (sign_orient3d(u, v, w1, w2) != 0) return false;
+    const auto ax = projection_axes(u, v, w1);
+    if (ax.first < 0) return true;  // degenerate triangles are refused before; be safe
+    return side_2d(ax, u, v, w1) == side_2d(ax, u, v, w2);
+  }
+  // Sharing one vertex: beyond it they meet iff the edge opposite the shared vertex in one meets
+  // the other (their intersection is convex, contains the shared vertex, and any segment from it
+  // inside both leaves the smaller of the two through its opposite edge).
+  int cx = 0;
+  while (in_y[idx(cx)] < 0) ++cx;
+  const int cy = in_y[idx(cx)];
+  return segment_meets_triangle(s[idx((cx + 1) % 3)], s[idx((cx + 2) % 3)], t[0], t[1], t[2]) ||
+         segment_meets_triangle(t[idx((cy + 1) % 3)], t[idx((cy + 2) % 3)], s[0], s[1], s[2]);
+}
+
+struct IntersectionCount {
+  std::size_t count = 0;
+  std::size_t tested = 0;
+  int first_a = -1, first_b = -1;  // positions in the triangle list, first_a < first_b
+  Vector3d point = Vector3d::Zero();
+};
+
+// Counts the intersecting pairs among tris (alive[t] != 0, or all when alive is empty); the first
+// reported is the pair smallest by (key[a], key[b]).
+IntersectionCount self_intersections(const std::vector<Vector3d>& pts, const std::vector<Tri>& tris,
+                                     const TriangleTree& tree, const std::vector<char>& alive,
+                                     const std::vector<int>& key) {
+  IntersectionCount r;
+  const std::vector<std::pair<int, int>> pairs = tree.overlapping_pairs();
+  std::pair<int, int> best_key(-1, -1);
+  for (const auto& [a, b] : pairs) {
+    if (!alive.empty() && (!alive[idx(a)] || !alive[idx(b)])) continue;
+    ++r.tested;
+    if (!pair_intersects(pts, tris[idx(a)], tris[idx(b)])) continue;
+    ++r.count;
+    std::pair<int, int> k(key[idx(a)], key[idx(b)]);
+    if (k.first > k.second) std::swap(k.first, k.second);
+    if (best_key.first < 0 || k < best_key) {
+      best_key = k;
+      r.first_a = key[idx(a)] <= key[idx(b)] ? a : b;
+      r.first_b = key[idx(a)] <= key[idx(b)] ? b : a;
+    }
+  }
+  if (r.count > 0) r.point = meeting_point(tree.triangle(r.first_a), tree.triangle(r.first_b));
+  return r;
+}
+
+}  // namespace
+
+void validate_detail::check_self_intersections(const Work& w, const TriangleTree& tree, const std::vector<char>& alive,
+                                               SurfaceCheckReport& rep) {
+  const IntersectionCount si = self_intersections(w.points(), w.tris, tree, alive, w.input_index);
+  rep.self_intersection_pairs_tested = si.tested;
+  if (si.count > 0)
+    throw InputError(w.source() + ": " + plural(si.count, "self-intersecting triangle pair") + "; first: triangles " +
+                     std::to_string(w.input_index[idx(si.first_a)]) + " and " +
+                     std::to_string(w.input_index[idx(si.first_b)]) + " near " + fmt_point(si.point));
+}
+
+std::size_t count_self_intersections(const TriSurface& s, std::string* first) {
+  std::vector<Vector3d> pts(s.mesh.n_vertices());
+  for (const auto v : s.mesh.vertices()) pts[idx(v.idx())] = s.mesh.point(v);
+  std::vector<Tri> tris;
+  std::vector<int> face_id;
+  for (const auto f : s.mesh.faces()) {
+    const auto fv = s.face_vertices(f);
+    tris.push_back({fv[0].idx(), fv[1].idx(), fv[2].idx()});
+    face_id.push_back(f.idx());
+  }
+  const TriangleTree tree(pts, tris);
+  const IntersectionCount si = self_intersections(pts, tris, tree, {}, face_id);
+  if (first) {
+    first->clear();
+    if (si.count > 0)
+      *first = "faces " + std::to_string(face_id[idx(si.first_a)]) + " and " +
+               std::to_string(face_id[idx(si.first_b)]) + " near " + fmt_point(si.point);
+  }
+  return si.count;
+}
+
+}  // namespace plaf
