@@ -56,62 +56,76 @@ void check_block(const HybridMesh<Dim>& mesh, const CellBlock& b, int dim, const
     if (v < 0 || v >= n) fail("refers to node " + std::to_string(v) + " of " + std::to_string(n));
 }
 
-}  // namespace
+// What the file's headers need, measured before the file system is touched: which tags get a
+// facet group and entity and which a curve group and entity (3D), their bounding boxes, and the
+// element and block counts.
+struct MshLayout {
+  std::vector<Box> tag_box, curve_box;  // per tag: of its boundary facets, of its curves
+  std::vector<char> on_facets, on_curves;
+  int num_facet_groups = 0, num_curve_groups = 0;
+  Box domain_box;
+  std::int64_t num_elements = 0, num_blocks = 0;
 
+  // A tag used by curves alone has no facet group or entity.
+  bool facet_group(int t) const {
+    return on_facets[static_cast<std::size_t>(t)] || !on_curves[static_cast<std::size_t>(t)];
+  }
+};
+
+// Validates the mesh (Error naming the path) and measures it.
 template <int Dim>
-void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path) {
-  // 1. Validate and measure before touching the file system.
+MshLayout measure_msh(const HybridMesh<Dim>& mesh, const std::filesystem::path& path) {
+  MshLayout l;
   const int num_tags = static_cast<int>(mesh.tags.size());
   for (const BoundaryTag& t : mesh.tags)
     if (t.name.find_first_of("\"\n\r") != std::string::npos)
       throw Error("cannot write " + path.string() + ": boundary tag name " + TextCursor::quote(t.name) +
                   " contains a quote or a line break");
   for (const CellBlock& b : mesh.cells) check_block(mesh, b, Dim, path);
-  std::vector<Box> tag_box(static_cast<std::size_t>(num_tags));
+  l.tag_box.resize(static_cast<std::size_t>(num_tags));
   for (const CellBlock& b : mesh.boundary) {
     check_block(mesh, b, Dim - 1, path);
     if (b.tag < 0 || b.tag >= num_tags)
       throw Error("cannot write " + path.string() + ": boundary block has tag index " + std::to_string(b.tag) +
                   " but the mesh has " + std::to_string(num_tags) + " tags");
-    for (NodeId v : b.connectivity) tag_box[static_cast<std::size_t>(b.tag)].add(mesh.nodes[v]);
+    for (NodeId v : b.connectivity) l.tag_box[static_cast<std::size_t>(b.tag)].add(mesh.nodes[v]);
   }
-  // Curves (3D): which tags they use; a tag used by curves alone has no facet group or entity.
+  // Curves (3D): which tags they use.
   if (Dim != 3 && !mesh.curves.empty())
     throw Error("cannot write " + path.string() + ": a 2D mesh has curves blocks (curves are 3D only)");
-  std::vector<Box> curve_box(static_cast<std::size_t>(num_tags));
-  std::vector<char> on_facets(static_cast<std::size_t>(num_tags), 0), on_curves(on_facets);
-  for (const CellBlock& b : mesh.boundary) on_facets[static_cast<std::size_t>(b.tag)] = 1;
+  l.curve_box.resize(static_cast<std::size_t>(num_tags));
+  l.on_facets.assign(static_cast<std::size_t>(num_tags), 0);
+  l.on_curves = l.on_facets;
+  for (const CellBlock& b : mesh.boundary) l.on_facets[static_cast<std::size_t>(b.tag)] = 1;
   for (const CellBlock& b : mesh.curves) {
     check_block(mesh, b, 1, path);
     if (b.tag < 0 || b.tag >= num_tags)
       throw Error("cannot write " + path.string() + ": curves block has tag index " + std::to_string(b.tag) +
                   " but the mesh has " + std::to_string(num_tags) + " tags");
-    on_curves[static_cast<std::size_t>(b.tag)] = 1;
-    for (NodeId v : b.connectivity) curve_box[static_cast<std::size_t>(b.tag)].add(mesh.nodes[v]);
+    l.on_curves[static_cast<std::size_t>(b.tag)] = 1;
+    for (NodeId v : b.connectivity) l.curve_box[static_cast<std::size_t>(b.tag)].add(mesh.nodes[v]);
   }
-  auto facet_group = [&](int t) {
-    return on_facets[static_cast<std::size_t>(t)] || !on_curves[static_cast<std::size_t>(t)];
-  };
-  int num_facet_groups = 0, num_curve_groups = 0;
   for (int t = 0; t < num_tags; ++t) {
-    num_facet_groups += facet_group(t) ? 1 : 0;
-    num_curve_groups += on_curves[static_cast<std::size_t>(t)] ? 1 : 0;
+    l.num_facet_groups += l.facet_group(t) ? 1 : 0;
+    l.num_curve_groups += l.on_curves[static_cast<std::size_t>(t)] ? 1 : 0;
   }
-  Box domain_box;
-  for (const auto& x : mesh.nodes) domain_box.add(x);
-  const std::int64_t num_nodes = static_cast<std::int64_t>(mesh.nodes.size());
-  std::int64_t num_elements = 0, num_blocks = 0;
+  for (const auto& x : mesh.nodes) l.domain_box.add(x);
   for (const auto* blocks : {&mesh.cells, &mesh.boundary, &mesh.curves})
     for (const CellBlock& b : *blocks)
       if (b.size() > 0) {
-        num_elements += static_cast<std::int64_t>(b.size());
-        ++num_blocks;
+        l.num_elements += static_cast<std::int64_t>(b.size());
+        ++l.num_blocks;
       }
+  return l;
+}
 
-  AtomicFile f(path);
-  // 2. Header, physical groups (boundary tags at dimension Dim-1, then the domain).
+// The header and the physical groups: curve tags at dimension 1, boundary tags at dimension
+// Dim-1, then the domain.
+template <int Dim>
+void write_physical_names(AtomicFile& f, const HybridMesh<Dim>& mesh, const MshLayout& l) {
+  const int num_tags = static_cast<int>(mesh.tags.size());
   f.write("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n");
-  f.write_int(num_facet_groups + num_curve_groups + 1);
+  f.write_int(l.num_facet_groups + l.num_curve_groups + 1);
   f.put('\n');
   auto write_group = [&](int dim, int t) {
     f.write_int(dim);
@@ -122,16 +136,20 @@ void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path)
     f.write("\"\n");
   };
   for (int t = 0; t < num_tags; ++t)
-    if (on_curves[static_cast<std::size_t>(t)]) write_group(1, t);
+    if (l.on_curves[static_cast<std::size_t>(t)]) write_group(1, t);
   for (int t = 0; t < num_tags; ++t)
-    if (facet_group(t)) write_group(Dim - 1, t);
+    if (l.facet_group(t)) write_group(Dim - 1, t);
   f.write_int(Dim);
   f.put(' ');
   f.write_int(num_tags + 1);
   f.write(" \"domain\"\n$EndPhysicalNames\n");
+}
 
-  // 3. Entities: no points; one curve entity per curve tag (3D), one facet entity per other tag,
-  // and the domain entity.
+// Entities: no points; one curve entity per curve tag (3D), one facet entity per other tag, and
+// the domain entity.
+template <int Dim>
+void write_entities(AtomicFile& f, const HybridMesh<Dim>& mesh, const MshLayout& l) {
+  const int num_tags = static_cast<int>(mesh.tags.size());
   f.write("$Entities\n");
   if (Dim == 2) {
     f.write("0 ");
@@ -139,9 +157,9 @@ void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path)
     f.write(" 1 0\n");
   } else {
     f.write("0 ");
-    f.write_int(num_curve_groups);
+    f.write_int(l.num_curve_groups);
     f.put(' ');
-    f.write_int(num_facet_groups);
+    f.write_int(l.num_facet_groups);
     f.write(" 1\n");
   }
   // An entity line of tag t: its bounding box, its one physical group (tag t + 1), no bounding
@@ -156,16 +174,20 @@ void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path)
   };
   if (Dim == 3)
     for (int t = 0; t < num_tags; ++t)
-      if (on_curves[static_cast<std::size_t>(t)]) write_entity(t, curve_box[static_cast<std::size_t>(t)]);
+      if (l.on_curves[static_cast<std::size_t>(t)]) write_entity(t, l.curve_box[static_cast<std::size_t>(t)]);
   for (int t = 0; t < num_tags; ++t)
-    if (facet_group(t)) write_entity(t, tag_box[static_cast<std::size_t>(t)]);
+    if (l.facet_group(t)) write_entity(t, l.tag_box[static_cast<std::size_t>(t)]);
   f.write("1 ");
-  write_box(f, domain_box);
+  write_box(f, l.domain_box);
   f.write("1 ");
   f.write_int(num_tags + 1);
   f.write(" 0\n$EndEntities\n");
+}
 
-  // 4. Nodes, all in the domain entity's block.
+// Nodes, all in the domain entity's block, tags 1..N.
+template <int Dim>
+void write_nodes(AtomicFile& f, const HybridMesh<Dim>& mesh) {
+  const std::int64_t num_nodes = static_cast<std::int64_t>(mesh.nodes.size());
   f.write("$Nodes\n");
   if (num_nodes == 0) {
     f.write("0 0 0 0\n");
@@ -186,14 +208,17 @@ void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path)
     for (const auto& x : mesh.nodes) f.write_point_line(x);
   }
   f.write("$EndNodes\n");
+}
 
-  // 5. Elements: volume blocks, boundary blocks, then curves, tags 1..M in that order.
+// Elements: volume blocks, boundary blocks, then curves, tags 1..M in that order.
+template <int Dim>
+void write_elements(AtomicFile& f, const HybridMesh<Dim>& mesh, const MshLayout& l) {
   f.write("$Elements\n");
-  f.write_int(num_blocks);
+  f.write_int(l.num_blocks);
   f.put(' ');
-  f.write_int(num_elements);
-  f.write(num_elements > 0 ? " 1 " : " 0 ");
-  f.write_int(num_elements);
+  f.write_int(l.num_elements);
+  f.write(l.num_elements > 0 ? " 1 " : " 0 ");
+  f.write_int(l.num_elements);
   f.put('\n');
   std::int64_t element_tag = 0;
   auto write_block = [&](const CellBlock& b, int entity_dim, int entity_tag) {
@@ -221,6 +246,20 @@ void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path)
   for (const CellBlock& b : mesh.boundary) write_block(b, Dim - 1, b.tag + 1);
   for (const CellBlock& b : mesh.curves) write_block(b, 1, b.tag + 1);
   f.write("$EndElements\n");
+}
+
+}  // namespace
+
+template <int Dim>
+void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path) {
+  // 1. Validate and measure before touching the file system.
+  const MshLayout layout = measure_msh(mesh, path);
+  AtomicFile f(path);
+  // 2. The sections in the order of the format.
+  write_physical_names(f, mesh, layout);
+  write_entities(f, mesh, layout);
+  write_nodes(f, mesh);
+  write_elements(f, mesh, layout);
   f.commit();
 }
 
