@@ -109,14 +109,8 @@ void parse_surface3(const ConfigNode& g, const std::string& type, Surface3Params
   }
 }
 
-RunConfig parse(const ConfigNode& c, const std::string& stem) {
-  RunConfig r;
-  r.name = c.get_string("name", stem);
-  if (r.name.empty() || r.name.find('/') != std::string::npos)
-    throw ConfigError(c.where("name") + ": must be a plain file name, got '" + r.name + "'");
-  r.order = c.get_int("order", r.order, 1, max_order);
-
-  const ConfigNode g = c.child("geometry");
+// The geometry type; a 3D type reads its surface keys here.
+void parse_geometry_type(const ConfigNode& g, RunConfig& r) {
   r.geometry.type = g.get_choice("type", r.geometry.type,
                                   {"annulus", "airfoils", "sphere", "ellipsoid", "box", "wing", "surface_file"});
   r.geometry.where = g.where("type");
@@ -124,35 +118,48 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     r.dim = 3;
     parse_surface3(g, r.geometry.type, r.geometry.surface3);
   }
-  std::string surface_where;  // a surface section in a 2D run is an error (after the unknown keys)
-  std::string curvature_h_min_where;
-  if (c.has("surface")) {
-    const ConfigNode sf = c.child("surface");
-    SurfaceParams& sp = r.surface;
-    sp.ridge_angle_deg = sf.get_in_range("ridge_angle_deg", sp.ridge_angle_deg, 0.0, 180.0);
-    sp.corner_defect_deg = sf.get_in_range("corner_defect_deg", sp.corner_defect_deg, 0.0, 360.0);
-    sp.curve_turn_deg = sf.get_in_range("curve_turn_deg", sp.curve_turn_deg, 0.0, 180.0);
-    sp.remesh = sf.get_bool("remesh", sp.remesh);
-    sp.iterations = sf.get_int("iterations", sp.iterations, 1, 100);
-    sp.curvature_factor = sf.get_in_range("curvature_factor", sp.curvature_factor, 0.0, 100.0);
-    sp.curvature_h_min = sf.get_positive("curvature_h_min", 1.0);
-    if (!sf.has("curvature_h_min")) sp.curvature_h_min = 0;
-    sp.max_triangles = sf.get_int("max_triangles", sp.max_triangles, 1, 2000000000);
-    curvature_h_min_where = sf.where("curvature_h_min");
-    surface_where = sf.where();
-  }
-  if (r.geometry.type == "annulus") {
-    AnnulusParams& a = r.geometry.annulus;
+}
+
+// Where the surface section and its curvature_h_min are: checked against the rest of the run
+// once every key is read (check_across_sections).
+struct SurfaceWhere {
+  std::string section;  // empty: no surface section
+  std::string curvature_h_min;
+};
+
+SurfaceWhere parse_surface(const ConfigNode& c, SurfaceParams& sp) {
+  SurfaceWhere where;
+  if (!c.has("surface")) return where;
+  const ConfigNode sf = c.child("surface");
+  sp.ridge_angle_deg = sf.get_in_range("ridge_angle_deg", sp.ridge_angle_deg, 0.0, 180.0);
+  sp.corner_defect_deg = sf.get_in_range("corner_defect_deg", sp.corner_defect_deg, 0.0, 360.0);
+  sp.curve_turn_deg = sf.get_in_range("curve_turn_deg", sp.curve_turn_deg, 0.0, 180.0);
+  sp.remesh = sf.get_bool("remesh", sp.remesh);
+  sp.iterations = sf.get_int("iterations", sp.iterations, 1, 100);
+  sp.curvature_factor = sf.get_in_range("curvature_factor", sp.curvature_factor, 0.0, 100.0);
+  sp.curvature_h_min = sf.get_positive("curvature_h_min", 1.0);
+  if (!sf.has("curvature_h_min")) sp.curvature_h_min = 0;
+  sp.max_triangles = sf.get_int("max_triangles", sp.max_triangles, 1, 2000000000);
+  where.curvature_h_min = sf.where("curvature_h_min");
+  where.section = sf.where();
+  return where;
+}
+
+// The keys of the 2D geometry types.
+void parse_geometry_2d(const ConfigNode& g, GeometryParams& geometry) {
+  if (geometry.type == "annulus") {
+    AnnulusParams& a = geometry.annulus;
     a.r_inner = g.get_positive("r_inner", a.r_inner);
     a.r_outer = g.get_positive("r_outer", a.r_outer);
     if (a.r_outer <= a.r_inner) throw ConfigError(g.where("r_outer") + ": must be larger than r_inner");
     a.angle_deg = g.get_in_range("angle_deg", a.angle_deg, 1e-6, 360.0);
     a.triangles = g.get_choice("cells", "quad", {"quad", "tri"}) == "tri";
-  } else if (r.geometry.type == "airfoils") {
-    parse_airfoils(g, r.geometry.airfoils);
+  } else if (geometry.type == "airfoils") {
+    parse_airfoils(g, geometry.airfoils);
   }
+}
 
-  const ConfigNode m = c.child("metric");
+void parse_metric(const ConfigNode& m, RunConfig& r) {
   r.metric.type = m.get_string("type", r.metric.type);
   r.metric.where = m.where("type");
   metric_field_registry().require(r.metric.type, r.metric.where);
@@ -191,8 +198,10 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     b.sol = m.get_path("sol", "");
     b.mean = m.get_choice("mean", b.mean, {"log_euclidean", "affine_invariant"});
   }
+}
 
-  // Plugin sections: the chosen type's factory parses and checks its own keys (stages.h).
+// Plugin sections: the chosen type's factory parses and checks its own keys (stages.h).
+void plan_stages(const ConfigNode& c, RunConfig& r) {
   auto plan = [&](StageKind kind, const std::string& fallback_type, PlannedStage& out) {
     const std::string key = stage_kind_name(kind);
     if (!c.has(key)) return;
@@ -210,23 +219,20 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     throw ConfigError(c.child("layers").where() + ": layers need a spline geometry (type airfoils)");
   plan(StageKind::Layers, "extrude", r.layers);
   plan(StageKind::Fill, "advancing_front", r.fill);
+}
 
-  const ConfigNode v = c.child("validity");
-  r.validity.rel_tol = v.get_in_range("rel_tol", r.validity.rel_tol, 1e-6, 1.0);
-  r.validity.max_depth = v.get_int("max_depth", r.validity.max_depth, 1, 20);
-
-  const ConfigNode o = c.child("output");
-  r.output.dir = o.get_string("dir", r.output.dir.string());
-  if (r.dim == 3) r.output.formats = {"msh", "vtu", "report"};
-  r.output.formats = o.get_string_list("formats", r.output.formats, writer_registry<2>().names());
-  if (r.dim == 3 && r.output.wants("png"))
+void parse_output(const ConfigNode& o, int dim, OutputParams& out) {
+  out.dir = o.get_string("dir", out.dir.string());
+  if (dim == 3) out.formats = {"msh", "vtu", "report"};
+  out.formats = o.get_string_list("formats", out.formats, writer_registry<2>().names());
+  if (dim == 3 && out.wants("png"))
     throw ConfigError(o.where("formats") + ": png pictures are 2D only (3D runs write msh, vtu, report)");
-  r.output.histogram_bins = o.get_int("histogram_bins", r.output.histogram_bins, 2, 1000);
-  if (r.dim == 2) {  // pictures and the 2D mesh options (3D runs: unknown keys)
-    r.output.picture_width = o.get_int("picture_width", r.output.picture_width, 64, 16384);
-    r.output.picture_height = o.get_int("picture_height", r.output.picture_height, 64, 16384);
-    r.output.uniform_order = o.get_bool("uniform_order", r.output.uniform_order);
-    r.output.split_quads = o.get_bool("split_quads", r.output.split_quads);
+  out.histogram_bins = o.get_int("histogram_bins", out.histogram_bins, 2, 1000);
+  if (dim == 2) {  // pictures and the 2D mesh options (3D runs: unknown keys)
+    out.picture_width = o.get_int("picture_width", out.picture_width, 64, 16384);
+    out.picture_height = o.get_int("picture_height", out.picture_height, 64, 16384);
+    out.uniform_order = o.get_bool("uniform_order", out.uniform_order);
+    out.split_quads = o.get_bool("split_quads", out.split_quads);
     for (const ConfigNode& z : o.child_list("zooms")) {
       OutputParams::Zoom zoom;
       zoom.label = z.get_string("label", "");
@@ -234,23 +240,51 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
       if (box.size() != 4 || !(box[1] > box[0]) || !(box[3] > box[2]))
         throw ConfigError(z.where("box") + ": expected [x_min, x_max, y_min, y_max] with min < max");
       zoom.box = {box[0], box[1], box[2], box[3]};
-      r.output.zooms.push_back(zoom);
+      out.zooms.push_back(zoom);
     }
   }
+}
 
-  c.finish();
+// What one section cannot check alone, once every key has been read.
+void check_across_sections(const RunConfig& r, const SurfaceWhere& surface_where) {
   if (r.dim == 3 && r.surface.curvature_h_min > 0) {
     const UniformMetricParams& u = r.metric.uniform;
     const double smallest = u.sizes.empty() ? u.h : *std::min_element(u.sizes.begin(), u.sizes.end());
     if (r.surface.curvature_h_min >= smallest)
-      throw ConfigError(curvature_h_min_where + ": " + std::to_string(r.surface.curvature_h_min) +
+      throw ConfigError(surface_where.curvature_h_min + ": " + std::to_string(r.surface.curvature_h_min) +
                         " must be smaller than the metric's smallest size " + std::to_string(smallest));
   }
-  if (!surface_where.empty() && r.dim != 3)
-    throw ConfigError(surface_where + ": the surface section is for 3D geometries (sphere, ellipsoid, box, wing, "
+  if (!surface_where.section.empty() && r.dim != 3)
+    throw ConfigError(surface_where.section +
+                      ": the surface section is for 3D geometries (sphere, ellipsoid, box, wing, "
                       "surface_file)");
   if (r.fill.enabled() && r.geometry.type != "airfoils")
     throw ConfigError(r.fill.section + ": the fill needs a spline geometry (type airfoils)");
+}
+
+RunConfig parse(const ConfigNode& c, const std::string& stem) {
+  RunConfig r;
+  // 1. Name and order.
+  r.name = c.get_string("name", stem);
+  if (r.name.empty() || r.name.find('/') != std::string::npos)
+    throw ConfigError(c.where("name") + ": must be a plain file name, got '" + r.name + "'");
+  r.order = c.get_int("order", r.order, 1, max_order);
+  // 2. The geometry and the surface section (read between the geometry type and the 2D keys,
+  //    which keeps the order in which errors are found).
+  const ConfigNode g = c.child("geometry");
+  parse_geometry_type(g, r);
+  const SurfaceWhere surface_where = parse_surface(c, r.surface);
+  parse_geometry_2d(g, r.geometry);
+  // 3. The metric, 4. the plugin stages, 5. validity, 6. output.
+  parse_metric(c.child("metric"), r);
+  plan_stages(c, r);
+  const ConfigNode v = c.child("validity");
+  r.validity.rel_tol = v.get_in_range("rel_tol", r.validity.rel_tol, 1e-6, 1.0);
+  r.validity.max_depth = v.get_int("max_depth", r.validity.max_depth, 1, 20);
+  parse_output(c.child("output"), r.dim, r.output);
+  // 7. No unknown key, then the checks across sections.
+  c.finish();
+  check_across_sections(r, surface_where);
   return r;
 }
 
