@@ -187,6 +187,87 @@ std::pair<Quintic, Quintic> split_half(const Quintic& b) {
   return {left, right};
 }
 
+// Power to Bernstein basis of degree 5: b_k = sum_{j<=k} C(k,j)/C(5,j) a_j.
+Quintic bernstein_from_power(const Quintic& power) {
+  static constexpr std::array<std::array<double, 6>, 6> binom = {{{1, 0, 0, 0, 0, 0},
+                                                                  {1, 1, 0, 0, 0, 0},
+                                                                  {1, 2, 1, 0, 0, 0},
+                                                                  {1, 3, 3, 1, 0, 0},
+                                                                  {1, 4, 6, 4, 1, 0},
+                                                                  {1, 5, 10, 10, 5, 1}}};
+  Quintic bern{};
+  for (int k = 0; k < 6; ++k)
+    for (int j = 0; j <= k; ++j) bern[k] += binom[k][j] / binom[5][j] * power[j];
+  return bern;
+}
+
+// The root of f in [lo, hi], where f changes sign once and has the sign f_lo_sign at lo:
+// safeguarded Newton (a bisection step whenever Newton leaves the bracket).
+template <class F, class DF>
+double bracketed_root(double lo, double hi, double f_lo_sign, const F& f, const DF& df) {
+  double u = 0.5 * (lo + hi);
+  for (int iter = 0; iter < 100; ++iter) {
+    const double fu = f(u);
+    if (fu == 0.0) break;
+    if ((fu > 0) == (f_lo_sign > 0))
+      lo = u;
+    else
+      hi = u;
+    const double d = df(u);
+    // Converged: Newton approaches the root from one side, so the bracket need not shrink;
+    // without this stop, rounding noise in f later sends the step out of the bracket and
+    // the bisection fallback restarts from the bracket's far end.
+    if (d != 0.0 && std::abs(fu / d) <= newton_step_tol) break;
+    double next = d != 0.0 ? u - fu / d : 0.5 * (lo + hi);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (next == u || hi - lo <= 2.0 * std::numeric_limits<double>::epsilon()) break;
+    u = next;
+  }
+  return u;
+}
+
+// The roots in [0, 1] of the quintic f with Bernstein coefficients bern (df its derivative):
+// root isolation by Bernstein subdivision (Descartes' rule of signs on the coefficients), then
+// bracketed_root on each isolated root. Split points (a root may lie exactly on one) and
+// intervals too small to split are returned as candidates too.
+template <class F, class DF>
+std::vector<double> quintic_roots_01(const Quintic& bern, const F& f, const DF& df) {
+  std::vector<double> roots;
+  struct Interval {
+    double lo, hi;
+    Quintic b;
+    int depth;
+  };
+  std::vector<Interval> stack = {{0.0, 1.0, bern, 0}};
+  while (!stack.empty()) {
+    const Interval iv = stack.back();
+    stack.pop_back();
+    int changes = 0;
+    double last_sign = 0.0;
+    for (double b : iv.b) {
+      if (b == 0.0) continue;
+      const double sign = b > 0 ? 1.0 : -1.0;
+      if (last_sign != 0.0 && sign != last_sign) ++changes;
+      last_sign = sign;
+    }
+    if (changes == 0) continue;
+    if (changes == 1 && iv.b[0] * iv.b[5] < 0.0) {
+      roots.push_back(bracketed_root(iv.lo, iv.hi, iv.b[0] > 0 ? 1.0 : -1.0, f, df));
+      continue;
+    }
+    if (iv.depth >= 50 || iv.hi - iv.lo <= 1e-14) {
+      roots.push_back(0.5 * (iv.lo + iv.hi));
+      continue;
+    }
+    const auto [left, right] = split_half(iv.b);
+    const double mid = 0.5 * (iv.lo + iv.hi);
+    roots.push_back(mid);  // a root exactly at the split point
+    stack.push_back({iv.lo, mid, left, iv.depth + 1});
+    stack.push_back({mid, iv.hi, right, iv.depth + 1});
+  }
+  return roots;
+}
+
 }  // namespace
 
 // Bounding-volume hierarchy over runs of consecutive pieces. Each node bounds the Bezier control
@@ -423,72 +504,10 @@ SplineLoop::Closest SplineLoop::closest_point_on_piece(int piece, const Eigen::V
                          4.0 * c[1].dot(c[3]) + 2.0 * c[2].squaredNorm(),
                          5.0 * c[2].dot(c[3]),
                          3.0 * c[3].squaredNorm()};
-  // Power to Bernstein basis of degree 5: b_k = sum_{j<=k} C(k,j)/C(5,j) a_j.
-  static constexpr std::array<std::array<double, 6>, 6> binom = {{{1, 0, 0, 0, 0, 0},
-                                                                  {1, 1, 0, 0, 0, 0},
-                                                                  {1, 2, 1, 0, 0, 0},
-                                                                  {1, 3, 3, 1, 0, 0},
-                                                                  {1, 4, 6, 4, 1, 0},
-                                                                  {1, 5, 10, 10, 5, 1}}};
-  Quintic bern{};
-  for (int k = 0; k < 6; ++k)
-    for (int j = 0; j <= k; ++j) bern[k] += binom[k][j] / binom[5][j] * power[j];
-
+  // The squared distance is critical at the ends and at the roots of f.
   std::vector<double> candidates = {0.0, 1.0};
-  // Root isolation by Bernstein subdivision (Descartes' rule of signs on the coefficients),
-  // then safeguarded Newton on each isolated root.
-  struct Interval {
-    double lo, hi;
-    Quintic b;
-    int depth;
-  };
-  std::vector<Interval> stack = {{0.0, 1.0, bern, 0}};
-  while (!stack.empty()) {
-    const Interval iv = stack.back();
-    stack.pop_back();
-    int changes = 0;
-    double last_sign = 0.0;
-    for (double b : iv.b) {
-      if (b == 0.0) continue;
-      const double sign = b > 0 ? 1.0 : -1.0;
-      if (last_sign != 0.0 && sign != last_sign) ++changes;
-      last_sign = sign;
-    }
-    if (changes == 0) continue;
-    if (changes == 1 && iv.b[0] * iv.b[5] < 0.0) {
-      double lo = iv.lo, hi = iv.hi;
-      const double f_lo_sign = iv.b[0] > 0 ? 1.0 : -1.0;
-      double u = 0.5 * (lo + hi);
-      for (int iter = 0; iter < 100; ++iter) {
-        const double fu = f(u);
-        if (fu == 0.0) break;
-        if ((fu > 0) == (f_lo_sign > 0))
-          lo = u;
-        else
-          hi = u;
-        const double d = df(u);
-        // Converged: Newton approaches the root from one side, so the bracket need not shrink;
-        // without this stop, rounding noise in f later sends the step out of the bracket and
-        // the bisection fallback restarts from the bracket's far end.
-        if (d != 0.0 && std::abs(fu / d) <= newton_step_tol) break;
-        double next = d != 0.0 ? u - fu / d : 0.5 * (lo + hi);
-        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-        if (next == u || hi - lo <= 2.0 * std::numeric_limits<double>::epsilon()) break;
-        u = next;
-      }
-      candidates.push_back(u);
-      continue;
-    }
-    if (iv.depth >= 50 || iv.hi - iv.lo <= 1e-14) {
-      candidates.push_back(0.5 * (iv.lo + iv.hi));
-      continue;
-    }
-    const auto [left, right] = split_half(iv.b);
-    const double mid = 0.5 * (iv.lo + iv.hi);
-    candidates.push_back(mid);  // a root exactly at the split point
-    stack.push_back({iv.lo, mid, left, iv.depth + 1});
-    stack.push_back({mid, iv.hi, right, iv.depth + 1});
-  }
+  const std::vector<double> roots = quintic_roots_01(bernstein_from_power(power), f, df);
+  candidates.insert(candidates.end(), roots.begin(), roots.end());
 
   Closest best{0.0, c[0], std::numeric_limits<double>::infinity()};
   for (double u : candidates) {

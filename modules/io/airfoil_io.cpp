@@ -195,24 +195,24 @@ bool inside_polygon(const Vector2d& x, const std::vector<Vector2d>& polygon) {
   return inside;
 }
 
-}  // namespace
-
-BodyContour read_body_contour(const std::filesystem::path& path) {
-  BodyContour body;
-  body.file = path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(body.file + ": cannot open the contour file");
-
-  // 1. Lines: an optional title, then two numbers per line; blank lines separate blocks.
+// The data lines of a contour file: an optional title, then two numbers per line; blank lines
+// separate blocks.
+struct ContourLines {
+  std::string title;
   std::vector<DataPoint> data;
+  int last_line = 0;  // the last line that is not blank
+};
+
+ContourLines read_contour_lines(std::istream& in, const std::string& file) {
+  ContourLines out;
   std::string text;
-  int line = 0, last_line = 0;
+  int line = 0;
   bool seen_content = false;
   while (std::getline(in, text)) {
     ++line;
     const std::vector<std::string_view> tokens = split_blanks(text);
     if (tokens.empty()) continue;
-    last_line = line;
+    out.last_line = line;
     std::vector<double> values;
     std::string_view bad;
     for (std::string_view tok : tokens) {
@@ -225,24 +225,26 @@ BodyContour read_body_contour(const std::filesystem::path& path) {
     if (!bad.empty() && !seen_content) {
       const size_t first = text.find_first_not_of(" \t");
       const size_t last = text.find_last_not_of(" \t\r");
-      body.title = text.substr(first, last - first + 1);
+      out.title = text.substr(first, last - first + 1);
       seen_content = true;
       continue;
     }
     seen_content = true;
     if (!bad.empty())
-      throw InputError(location(body.file, line) + "'" + std::string(bad) +
-                       "' is not a number (expected two numbers x y)");
+      throw InputError(location(file, line) + "'" + std::string(bad) + "' is not a number (expected two numbers x y)");
     if (values.size() != 2)
-      throw InputError(location(body.file, line) + "expected two numbers x y, found " + std::to_string(values.size()));
+      throw InputError(location(file, line) + "expected two numbers x y, found " + std::to_string(values.size()));
     if (!std::isfinite(values[0]) || !std::isfinite(values[1]))
-      throw InputError(location(body.file, line) + "coordinate is not finite");
-    data.push_back({Vector2d(values[0], values[1]), line});
+      throw InputError(location(file, line) + "coordinate is not finite");
+    out.data.push_back({Vector2d(values[0], values[1]), line});
   }
-  if (!seen_content) throw InputError(location(body.file, 1) + "empty file (no coordinates)");
+  if (!seen_content) throw InputError(location(file, 1) + "empty file (no coordinates)");
+  return out;
+}
 
-  // 2. Lednicer: point counts first, then upper LE -> TE and lower LE -> TE; joined into
-  // TE -> upper -> LE -> lower -> TE (Selig order), the LE given twice is kept once.
+// The points in Selig order, TE -> upper -> LE -> lower -> TE. Lednicer gives the point counts
+// first, then upper LE -> TE and lower LE -> TE; joined, the LE given twice is kept once.
+std::vector<DataPoint> selig_order(const std::vector<DataPoint>& data) {
   std::vector<DataPoint> loop;
   if (!data.empty() && integral_count(data[0].p.x()) && integral_count(data[0].p.y()) &&
       static_cast<size_t>(std::round(data[0].p.x()) + std::round(data[0].p.y())) + 1 == data.size()) {
@@ -256,12 +258,13 @@ BodyContour read_body_contour(const std::filesystem::path& path) {
   } else {
     loop = data;
   }
-  if (loop.size() < 4)
-    throw InputError(location(body.file, loop.empty() ? last_line : loop.back().line) + "only " +
-                     std::to_string(loop.size()) + " points, a contour needs at least 4");
+  return loop;
+}
 
-  // 3. Closing point: a repeated first point means a sharp TE (one corner), otherwise the
-  // contour is closed by a straight segment between its end points (two corners).
+// The points of loop (no two consecutive ones may coincide) as the body's contour and its
+// corners: a repeated first point means a sharp TE (one corner), otherwise the contour is closed
+// by a straight segment between its end points (two corners).
+void close_contour(std::vector<DataPoint> loop, BodyContour& body) {
   Eigen::AlignedBox2d box;
   for (const DataPoint& d : loop) box.extend(d.p);
   const double coincident_abs = coincident_rel * box.sizes().maxCoeff();
@@ -282,17 +285,16 @@ BodyContour read_body_contour(const std::filesystem::path& path) {
     body.blunt = true;
     body.corners = {0, static_cast<int>(loop.size()) - 1};
   }
-  const int n = static_cast<int>(loop.size());
   for (const DataPoint& d : loop) {
     body.points.push_back(d.p);
     body.lines.push_back(d.line);
   }
+}
 
-  // 4. The contour must be simple.
-  check_simple(body);
-
-  // 5. Clockwise orientation (the body convention of spline_loop.h). A sharp contour keeps its
-  // TE at index 0; a blunt one keeps its closing segment from the last point to the first.
+// Clockwise orientation (the body convention of spline_loop.h). A sharp contour keeps its TE at
+// index 0; a blunt one keeps its closing segment from the last point to the first.
+void orient_clockwise(BodyContour& body) {
+  const int n = static_cast<int>(body.points.size());
   double twice_area = 0.0;
   for (int i = 0; i < n; ++i) twice_area += cross(body.points[i], body.points[(i + 1) % n]);
   if (twice_area > 0.0) {
@@ -308,6 +310,29 @@ BodyContour read_body_contour(const std::filesystem::path& path) {
     for (int& c : body.corners) c = old_index(c);  // the map is an involution
     std::sort(body.corners.begin(), body.corners.end());
   }
+}
+
+}  // namespace
+
+BodyContour read_body_contour(const std::filesystem::path& path) {
+  BodyContour body;
+  body.file = path.string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(body.file + ": cannot open the contour file");
+  // 1. The data lines and the title.
+  ContourLines lines = read_contour_lines(in, body.file);
+  body.title = std::move(lines.title);
+  // 2. The points in Selig order.
+  const std::vector<DataPoint> loop = selig_order(lines.data);
+  if (loop.size() < 4)
+    throw InputError(location(body.file, loop.empty() ? lines.last_line : loop.back().line) + "only " +
+                     std::to_string(loop.size()) + " points, a contour needs at least 4");
+  // 3. The closing point and the corners.
+  close_contour(loop, body);
+  // 4. The contour must be simple.
+  check_simple(body);
+  // 5. Clockwise orientation.
+  orient_clockwise(body);
   return body;
 }
 

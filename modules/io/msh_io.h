@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Gmsh MSH 4.1 ASCII reader and writer for HybridMesh (format: Gmsh reference manual,
-// "MSH file format", version 4.1).
+// "MSH file format", version 4.1). Implemented in msh_read.cpp, msh_write.cpp and, for the
+// element type codes, gmsh_types.cpp.
 //
 // Writing: one physical group of dimension Dim-1 per boundary tag, named by the tag's name, with
 // physical tag = tag index + 1; one physical group "domain" of dimension Dim with physical tag

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
-// TextCursor: the tokenizer of plaf's ASCII mesh readers (Gmsh MSH 4.1 in msh_io.cpp; the
-// $NodeData scan and the libMeshb .mesh/.sol reader in background_metric.cpp). It walks a whole
-// file held in memory as white-space separated tokens and counts lines from 1. Every failure
-// throws InputError "path:line: reason"; line 0 stands for the file as a whole.
+// TextCursor: the tokenizer of plaf's ASCII mesh readers (Gmsh MSH 4.1 in msh_read.cpp; the
+// $NodeData scan in background_read_msh.cpp and the libMeshb .mesh/.sol reader in
+// background_read_meshb.cpp). It walks a whole file held in memory as white-space separated
+// tokens and counts lines from 1. Every failure throws InputError "path:line: reason"; line 0
+// stands for the file as a whole.
 #pragma once
 
 #include <cstdint>

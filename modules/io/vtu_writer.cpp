@@ -92,23 +92,32 @@ std::vector<int> vtk_node_permutation(CellType type, int order) {
   return perm;
 }
 
-template <int Dim>
-void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, const std::vector<CellField>& fields) {
-  // 1. Validate before touching the file system.
-  auto fail = [&](const std::string& why) { throw Error("cannot write " + path.string() + ": " + why); };
-  // A mesh without cells (a surface mesh alone) is written as its boundary facets, and in 3D its
-  // curves after them (the fields cover the facets; curve cells get NaN).
-  const bool surface = mesh.cells.empty();
+namespace {
+
+// The blocks written, in order: the cells, or for a mesh without cells (a surface mesh alone) its
+// boundary facets and, in 3D, its curves after them.
+struct VtuBlocks {
   std::vector<const CellBlock*> blocks;  // pointers: the connectivity is not copied
-  for (const CellBlock& b : surface ? mesh.boundary : mesh.cells) blocks.push_back(&b);
+  std::vector<std::vector<int>> perms;   // per block: the VTK node order (vtk_node_permutation)
   std::size_t num_cells = 0;
-  for (const CellBlock* b : blocks) num_cells += b->size();
-  const std::size_t field_cells = num_cells;
-  const std::size_t num_facet_blocks = blocks.size();
+  std::size_t field_cells = 0;  // the cells the fields cover (not the curves, which get NaN)
+};
+
+// Collects the blocks and checks them and the fields, before the file system is touched.
+template <int Dim>
+VtuBlocks vtu_blocks(const HybridMesh<Dim>& mesh, const std::filesystem::path& path,
+                     const std::vector<CellField>& fields) {
+  auto fail = [&](const std::string& why) { throw Error("cannot write " + path.string() + ": " + why); };
+  VtuBlocks v;
+  const bool surface = mesh.cells.empty();
+  for (const CellBlock& b : surface ? mesh.boundary : mesh.cells) v.blocks.push_back(&b);
+  for (const CellBlock* b : v.blocks) v.num_cells += b->size();
+  v.field_cells = v.num_cells;
+  const std::size_t num_facet_blocks = v.blocks.size();
   if (surface && Dim == 3) {
     for (const CellBlock& b : mesh.curves) {
-      blocks.push_back(&b);
-      num_cells += b.size();
+      v.blocks.push_back(&b);
+      v.num_cells += b.size();
     }
   }
   const int block_dim = surface ? Dim - 1 : Dim;
@@ -119,45 +128,49 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
       fail("cell field name '" + fi.name + "' is empty or reserved");
     for (std::size_t j = 0; j < i; ++j)
       if (fields[j].name == fi.name) fail("two cell fields are named '" + fi.name + "'");
-    if (fi.values.size() != field_cells)
+    if (fi.values.size() != v.field_cells)
       fail("cell field '" + fi.name + "' has " + std::to_string(fi.values.size()) + " values for " +
-           std::to_string(field_cells) + " cells");
+           std::to_string(v.field_cells) + " cells");
   }
-  std::vector<std::vector<int>> perms;
-  for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
-    const CellBlock& b = *blocks[bi];
+  for (std::size_t bi = 0; bi < v.blocks.size(); ++bi) {
+    const CellBlock& b = *v.blocks[bi];
     if (ref_dim(b.type) != (bi < num_facet_blocks ? block_dim : 1) || b.order < 1 || b.order > max_order)
       fail(std::string("a ") + cell_name(b.type) + " block of order " + std::to_string(b.order) +
            " is not a volume block of this mesh");
     if (b.connectivity.size() % static_cast<std::size_t>(b.nodes_per_cell()) != 0)
       fail(std::string("the connectivity of a ") + cell_name(b.type) + " block has a partial cell");
-    for (NodeId v : b.connectivity)
-      if (v < 0 || v >= num_nodes)
-        fail(std::string("a ") + cell_name(b.type) + " block refers to node " + std::to_string(v) + " of " +
+    for (NodeId n : b.connectivity)
+      if (n < 0 || n >= num_nodes)
+        fail(std::string("a ") + cell_name(b.type) + " block refers to node " + std::to_string(n) + " of " +
              std::to_string(num_nodes));
-    perms.push_back(vtk_node_permutation(b.type, b.order));
+    v.perms.push_back(vtk_node_permutation(b.type, b.order));
   }
+  return v;
+}
 
-  AtomicFile f(path);
-  // 2. Header and points.
+template <int Dim>
+void write_points(AtomicFile& f, const HybridMesh<Dim>& mesh, std::size_t num_cells) {
   f.write(
       "<?xml version=\"1.0\"?>\n"
       "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
       "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"");
-  f.write_int(num_nodes);
+  f.write_int(static_cast<NodeId>(mesh.nodes.size()));
   f.write("\" NumberOfCells=\"");
   f.write_int(static_cast<std::int64_t>(num_cells));
   f.write("\">\n      <Points>\n");
   data_array(f, "Float64", "Points", 3);
   for (const auto& x : mesh.nodes) f.write_point_line(x);
   f.write(end_data_array);
-  f.write("      </Points>\n      <Cells>\n");
+  f.write("      </Points>\n");
+}
 
-  // 3. Connectivity in VTK order, offsets, types.
+// Connectivity in VTK order, offsets, types.
+void write_cells(AtomicFile& f, const VtuBlocks& v) {
+  f.write("      <Cells>\n");
   data_array(f, "Int64", "connectivity", 1);
-  for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
-    const CellBlock& b = *blocks[bi];
-    const std::vector<int>& perm = perms[bi];
+  for (std::size_t bi = 0; bi < v.blocks.size(); ++bi) {
+    const CellBlock& b = *v.blocks[bi];
+    const std::vector<int>& perm = v.perms[bi];
     for (std::size_t i = 0; i < b.size(); ++i) {
       const NodeId* c = b.cell(i);
       for (std::size_t k = 0; k < perm.size(); ++k) {
@@ -170,15 +183,15 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
   f.write(end_data_array);
   data_array(f, "Int64", "offsets", 1);
   std::int64_t offset = 0;
-  for (std::size_t bi = 0; bi < blocks.size(); ++bi)
-    for (std::size_t i = 0; i < blocks[bi]->size(); ++i) {
-      offset += static_cast<std::int64_t>(perms[bi].size());
+  for (std::size_t bi = 0; bi < v.blocks.size(); ++bi)
+    for (std::size_t i = 0; i < v.blocks[bi]->size(); ++i) {
+      offset += static_cast<std::int64_t>(v.perms[bi].size());
       f.write_int(offset);
       f.put('\n');
     }
   f.write(end_data_array);
   data_array(f, "UInt8", "types", 1);
-  for (const CellBlock* bp : blocks) {
+  for (const CellBlock* bp : v.blocks) {
     const CellBlock& b = *bp;
     const int type = vtk_cell_type(b.type, b.order);
     for (std::size_t i = 0; i < b.size(); ++i) {
@@ -188,27 +201,29 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
   }
   f.write(end_data_array);
   f.write("      </Cells>\n");
+}
 
-  // 4. Cell data: block index, the caller's fields, the Lagrange degrees.
+// Cell data: block index, the caller's fields, the Lagrange degrees.
+void write_cell_data(AtomicFile& f, const VtuBlocks& v, const std::vector<CellField>& fields) {
   f.write("      <CellData Scalars=\"block\" HigherOrderDegrees=\"HigherOrderDegrees\">\n");
   data_array(f, "Int32", "block", 1);
-  for (std::size_t bi = 0; bi < blocks.size(); ++bi)
-    for (std::size_t i = 0; i < blocks[bi]->size(); ++i) {
+  for (std::size_t bi = 0; bi < v.blocks.size(); ++bi)
+    for (std::size_t i = 0; i < v.blocks[bi]->size(); ++i) {
       f.write_int(static_cast<std::int64_t>(bi));
       f.put('\n');
     }
   f.write(end_data_array);
   for (const CellField& field : fields) {
     data_array(f, "Float64", field.name, 1);
-    for (double v : field.values) {
-      f.write_double(v);
+    for (double x : field.values) {
+      f.write_double(x);
       f.put('\n');
     }
-    for (std::size_t i = field_cells; i < num_cells; ++i) f.write("nan\n");
+    for (std::size_t i = v.field_cells; i < v.num_cells; ++i) f.write("nan\n");
     f.write(end_data_array);
   }
   data_array(f, "Int32", "HigherOrderDegrees", 3);
-  for (const CellBlock* bp : blocks) {
+  for (const CellBlock* bp : v.blocks) {
     const CellBlock& b = *bp;
     const int dim = ref_dim(b.type);
     for (std::size_t i = 0; i < b.size(); ++i)
@@ -218,7 +233,21 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
       }
   }
   f.write(end_data_array);
-  f.write("      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
+  f.write("      </CellData>\n");
+}
+
+}  // namespace
+
+template <int Dim>
+void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, const std::vector<CellField>& fields) {
+  // 1. Validate before touching the file system.
+  const VtuBlocks blocks = vtu_blocks(mesh, path, fields);
+  AtomicFile f(path);
+  // 2. Header and points, 3. cells, 4. cell data.
+  write_points(f, mesh, blocks.num_cells);
+  write_cells(f, blocks);
+  write_cell_data(f, blocks, fields);
+  f.write("    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
   f.commit();
 }
 

@@ -136,34 +136,40 @@ int facet_vertices(CellType cell, int facet) {
   return static_cast<int>(topology(cell).faces[facet].size());
 }
 
-}  // namespace
+using FacetMap = std::unordered_map<FacetKey, FacetUse, FacetKeyHash>;
 
+// The report's first problem is the first one found; every problem makes it not ok.
+void note_problem(ConformityReport& r, const std::string& what) {
+  r.ok = false;
+  if (r.first_problem.empty()) r.first_problem = what;
+}
+
+std::string describe(const FacetKey& k) {
+  std::ostringstream s;
+  s << "facet with vertices";
+  for (NodeId v : k)
+    if (v >= 0) s << ' ' << v;
+  return s.str();
+}
+
+enum class FacetNodes { Same, OrderTransition, Mismatch };
+
+// Two uses of one facet with the sorted high-order nodes a and b: the same nodes, a straight 2D
+// edge at two orders, or a mismatch.
 template <int Dim>
-ConformityReport check_conformity(const HybridMesh<Dim>& mesh) {
-  // A mesh of boundary facets alone (a surface mesh) is checked as a mesh of those facets: closed
-  // loops (2D) or closed surfaces (3D) with consistently oriented, shared high-order nodes; the
-  // curves of a 3D surface are its boundary (its edges allowed to stay open).
-  if (mesh.cells.empty() && !mesh.boundary.empty()) {
-    HybridMesh<Dim> surface;
-    surface.cells = mesh.boundary;
-    for (CellBlock& b : surface.cells) b.tag = -1;
-    if constexpr (Dim == 3) surface.boundary = mesh.curves;
-    return check_conformity(surface);
-  }
-  ConformityReport r;
-  std::unordered_map<FacetKey, FacetUse, FacetKeyHash> facets;
+FacetNodes compare_facet_nodes(const HybridMesh<Dim>& mesh, const FacetKey& key, const std::vector<NodeId>& a,
+                               const std::vector<NodeId>& b) {
+  if (a == b) return FacetNodes::Same;
+  if (a.size() != b.size() && straight_edge(mesh, key, a.size() > b.size() ? a : b)) return FacetNodes::OrderTransition;
+  return FacetNodes::Mismatch;
+}
+
+// Every facet of every cell, with its number of uses; the nodes and orientation of a second use
+// are checked against the first.
+template <int Dim>
+FacetMap cell_facets(const HybridMesh<Dim>& mesh, ConformityReport& r) {
+  FacetMap facets;
   facets.reserve(mesh.num_cells() * 3);
-  auto problem = [&](const std::string& what) {
-    r.ok = false;
-    if (r.first_problem.empty()) r.first_problem = what;
-  };
-  auto describe = [](const FacetKey& k) {
-    std::ostringstream s;
-    s << "facet with vertices";
-    for (NodeId v : k)
-      if (v >= 0) s << ' ' << v;
-    return s.str();
-  };
   std::vector<NodeId> sorted;
   for (const CellBlock& b : mesh.cells) {
     const LagrangeElement& e = lagrange_element(b.type, b.order);
@@ -181,23 +187,30 @@ ConformityReport check_conformity(const HybridMesh<Dim>& mesh) {
           use.nodes = sorted;
           use.around = around;
         } else {
-          if (use.nodes != sorted && use.nodes.size() != sorted.size() &&
-              straight_edge(mesh, key, use.nodes.size() > sorted.size() ? use.nodes : sorted)) {
+          const FacetNodes nodes = compare_facet_nodes(mesh, key, use.nodes, sorted);
+          if (nodes == FacetNodes::OrderTransition) {
             ++r.order_transitions;
-          } else if (use.nodes != sorted) {
+          } else if (nodes == FacetNodes::Mismatch) {
             ++r.node_mismatches;
-            problem("cells sharing the " + describe(key) + " have different high-order nodes on it");
+            note_problem(r, "cells sharing the " + describe(key) + " have different high-order nodes on it");
           }
           if (use.count == 1 && !(around[0] == use.around[1] && around[1] == use.around[0])) {
             ++r.orientation_mismatches;
-            problem("the two cells sharing the " + describe(key) +
-                    " lie on the same side of it (a duplicated, folded or mis-oriented cell)");
+            note_problem(r, "the two cells sharing the " + describe(key) +
+                                " lie on the same side of it (a duplicated, folded or mis-oriented cell)");
           }
         }
         ++use.count;
       }
     }
   }
+  return facets;
+}
+
+// Every boundary facet must be a facet of a cell, with the same high-order nodes; marks them.
+template <int Dim>
+void match_boundary(const HybridMesh<Dim>& mesh, FacetMap& facets, ConformityReport& r) {
+  std::vector<NodeId> sorted;
   for (const CellBlock& b : mesh.boundary) {
     const int nv = num_vertices(b.type);
     std::vector<int> local(nv);
@@ -207,21 +220,25 @@ ConformityReport check_conformity(const HybridMesh<Dim>& mesh) {
       auto it = facets.find(key);
       if (it == facets.end()) {
         ++r.stray_boundary;
-        problem("boundary " + describe(key) + " is not a facet of any cell");
+        note_problem(r, "boundary " + describe(key) + " is not a facet of any cell");
       } else {
         it->second.boundary = true;
         sorted.assign(b.cell(i), b.cell(i) + b.nodes_per_cell());
         std::sort(sorted.begin(), sorted.end());
-        if (sorted != it->second.nodes && sorted.size() != it->second.nodes.size() &&
-            straight_edge(mesh, key, sorted.size() > it->second.nodes.size() ? sorted : it->second.nodes)) {
+        const FacetNodes nodes = compare_facet_nodes(mesh, key, sorted, it->second.nodes);
+        if (nodes == FacetNodes::OrderTransition) {
           ++r.order_transitions;
-        } else if (sorted != it->second.nodes) {
+        } else if (nodes == FacetNodes::Mismatch) {
           ++r.node_mismatches;
-          problem("boundary " + describe(key) + " has other high-order nodes than the cell it bounds");
+          note_problem(r, "boundary " + describe(key) + " has other high-order nodes than the cell it bounds");
         }
       }
     }
   }
+}
+
+// Each facet by its uses: interior, boundary, open (a hole) or overshared.
+void classify_facets(const FacetMap& facets, ConformityReport& r) {
   for (const auto& [key, use] : facets) {
     if (use.count == 2 && !use.boundary) {
       ++r.interior_facets;
@@ -229,14 +246,35 @@ ConformityReport check_conformity(const HybridMesh<Dim>& mesh) {
       ++r.boundary_facets;
     } else if (use.count == 1) {
       ++r.open_facets;
-      problem(describe(key) + " belongs to one cell and to no boundary (a hole in the mesh)");
+      note_problem(r, describe(key) + " belongs to one cell and to no boundary (a hole in the mesh)");
     } else if (use.count >= 3) {
       ++r.overshared_facets;
-      problem(describe(key) + " is shared by " + std::to_string(use.count) + " cells");
+      note_problem(r, describe(key) + " is shared by " + std::to_string(use.count) + " cells");
     } else {
       ++r.interior_facets;  // count == 2 and tagged: an interior (embedded) boundary
     }
   }
+}
+
+}  // namespace
+
+template <int Dim>
+ConformityReport check_conformity(const HybridMesh<Dim>& mesh) {
+  // A mesh of boundary facets alone (a surface mesh) is checked as a mesh of those facets: closed
+  // loops (2D) or closed surfaces (3D) with consistently oriented, shared high-order nodes; the
+  // curves of a 3D surface are its boundary (its edges allowed to stay open).
+  if (mesh.cells.empty() && !mesh.boundary.empty()) {
+    HybridMesh<Dim> surface;
+    surface.cells = mesh.boundary;
+    for (CellBlock& b : surface.cells) b.tag = -1;
+    if constexpr (Dim == 3) surface.boundary = mesh.curves;
+    return check_conformity(surface);
+  }
+  // 1. The cells' facets, 2. the boundary facets against them, 3. every facet by its uses.
+  ConformityReport r;
+  FacetMap facets = cell_facets(mesh, r);
+  match_boundary(mesh, facets, r);
+  classify_facets(facets, r);
   return r;
 }
 
