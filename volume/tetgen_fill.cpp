@@ -44,6 +44,8 @@ struct FaceHash {
   }
 };
 
+using FaceIndex = std::unordered_map<Face, std::size_t, FaceHash>;  // front triangle per sorted face
+
 std::string ids_text(const std::array<NodeId, 3>& t) {
   return "(" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ")";
 }
@@ -56,7 +58,7 @@ std::string point_text(const Eigen::Vector3d& p) {
 }
 
 // Entry checks of linear_front.h that need no meshing; returns the front's triangles by sorted face.
-std::unordered_map<Face, std::size_t, FaceHash> check_front(const LinearFront<3>& front) {
+FaceIndex check_front(const LinearFront<3>& front) {
   const std::size_t n = front.nodes.size();
   if (front.triangles.size() < 4)
     throw InputError("tetgen fill: the front has " + std::to_string(front.triangles.size()) +
@@ -64,7 +66,7 @@ std::unordered_map<Face, std::size_t, FaceHash> check_front(const LinearFront<3>
   if (front.triangle_tag.size() != front.triangles.size())
     throw InputError("tetgen fill: the front has " + std::to_string(front.triangles.size()) + " triangles but " +
                      std::to_string(front.triangle_tag.size()) + " triangle tags");
-  std::unordered_map<Face, std::size_t, FaceHash> faces;
+  FaceIndex faces;
   faces.reserve(front.triangles.size());
   for (std::size_t i = 0; i < front.triangles.size(); ++i) {
     const std::array<NodeId, 3>& t = front.triangles[i];
@@ -152,6 +154,78 @@ std::string log_tail(std::FILE* log) {
   return tail.empty() ? "" : "; TetGen said: " + tail;
 }
 
+std::string tetgen_failed(const std::string& switches) {
+  return "tetgen fill: TetGen failed (switches -" + switches;
+}
+
+// The child's side of run_tetgen: TetGen's printing goes to `log`, the mesh to `fd`, and the
+// outcome to the exit status (0, TetGen's code, or one of the exit_* above).
+[[noreturn]] void tetgen_child(tetgenio& in, const std::string& switches, int fd, std::FILE* log) {
+  if (log != nullptr) {
+    ::dup2(::fileno(log), STDOUT_FILENO);
+    ::dup2(::fileno(log), STDERR_FILENO);
+  }
+  std::setvbuf(stdout, nullptr, _IONBF, 0);  // what TetGen printed survives a crash
+  for (int sig : {SIGSEGV, SIGABRT, SIGBUS, SIGFPE, SIGILL})
+    std::signal(sig, SIG_DFL);  // a crash ends the child, not a handler of the parent (a test runner's)
+  const rlimit no_core{0, 0};
+  ::setrlimit(RLIMIT_CORE, &no_core);  // the crash run_tetgen explains is expected: no core file
+  int status = 0;
+  try {
+    tetgenio out;
+    std::string sw = switches;  // tetrahedralize takes a mutable char*
+    tetrahedralize(sw.data(), &in, &out);
+    const std::array<std::uint64_t, 2> sizes{static_cast<std::uint64_t>(out.numberofpoints),
+                                             static_cast<std::uint64_t>(out.numberoftetrahedra)};
+    const bool sent = write_all(fd, sizes.data(), sizeof(sizes)) &&
+                      write_all(fd, out.pointlist, sizeof(REAL) * 3 * sizes[0]) &&
+                      write_all(fd, out.tetrahedronlist, sizeof(int) * 4 * sizes[1]);
+    status = sent ? 0 : exit_write_failed;
+  } catch (int code) {
+    status = code > 0 && code < exit_write_failed ? code : exit_other_exception;
+  } catch (...) {
+    status = exit_other_exception;
+  }
+  ::_exit(status);  // no atexit handlers or stdio flushes of the parent's state
+}
+
+// The child's end (waitpid's status) as a MesherError, unless it exited with 0.
+void check_child_status(int wstatus, const std::string& switches, std::FILE* log) {
+  const std::string failed = tetgen_failed(switches);
+  if (WIFSIGNALED(wstatus))
+    throw MesherError(failed + "; its process died of signal " + std::to_string(WTERMSIG(wstatus)) + ", " +
+                      strsignal(WTERMSIG(wstatus)) + " (TetGen 1.5.0 crashes so on every error it detects, most " +
+                      "often self-intersecting or touching facets)" + log_tail(log) + ")");
+  const int code = WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : exit_other_exception;
+  if (code == exit_write_failed)
+    throw MesherError(failed + "; its process could not send the mesh back" + log_tail(log) + ")");
+  if (code == exit_other_exception)
+    throw MesherError(failed + "; it threw an exception other than its error code" + log_tail(log) + ")");
+  if (code != 0)
+    throw MesherError("tetgen fill: TetGen failed with code " + std::to_string(code) + " (switches -" + switches +
+                      "; 1: out of memory, 2: internal error, 3: self-intersecting facets, 4: a very small input " +
+                      "feature, 5: two facets very close, 10: an input error" + log_tail(log) + ")");
+}
+
+// The bytes tetgen_child sent: the two sizes, then the points and the tets.
+TetGenOutput decode_mesh(const std::vector<char>& bytes, const std::string& switches) {
+  std::array<std::uint64_t, 2> sizes{};
+  TetGenOutput out;
+  if (bytes.size() >= sizeof(sizes)) {
+    std::memcpy(sizes.data(), bytes.data(), sizeof(sizes));
+    const std::size_t point_bytes = sizeof(double) * 3 * sizes[0], tet_bytes = sizeof(int) * 4 * sizes[1];
+    if (bytes.size() == sizeof(sizes) + point_bytes + tet_bytes) {
+      out.points.resize(3 * sizes[0]);
+      out.tets.resize(4 * sizes[1]);
+      std::memcpy(out.points.data(), bytes.data() + sizeof(sizes), point_bytes);
+      std::memcpy(out.tets.data(), bytes.data() + sizeof(sizes) + point_bytes, tet_bytes);
+      return out;
+    }
+  }
+  throw MesherError(tetgen_failed(switches) + "; its process sent " + std::to_string(bytes.size()) +
+                    " bytes, not a mesh)");
+}
+
 // Runs TetGen in a child process, which sends the mesh back through a pipe. TetGen 1.5.0 (the
 // Debian libtet1.5-dev) cannot fail inside our process: terminatetetgen() frees the mesh's memory
 // pools and throws its code, then ~tetgenmesh() frees them again while the exception unwinds
@@ -160,7 +234,7 @@ std::string log_tail(std::FILE* log) {
 // that crash only ends the child: its exit code, or the signal that ended it, and the lines TetGen
 // printed (captured from its stdout) become the MesherError.
 TetGenOutput run_tetgen(tetgenio& in, const std::string& switches) {
-  const std::string failed = "tetgen fill: TetGen failed (switches -" + switches;
+  const std::string failed = tetgen_failed(switches);
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> log(std::tmpfile(), &std::fclose);
   int fds[2];
   if (::pipe(fds) != 0) throw MesherError(failed + "; no pipe to its process: " + std::strerror(errno) + ")");
@@ -175,32 +249,7 @@ TetGenOutput run_tetgen(tetgenio& in, const std::string& switches) {
   }
   if (pid == 0) {
     ::close(fds[0]);
-    if (log) {
-      ::dup2(::fileno(log.get()), STDOUT_FILENO);
-      ::dup2(::fileno(log.get()), STDERR_FILENO);
-    }
-    std::setvbuf(stdout, nullptr, _IONBF, 0);  // what TetGen printed survives a crash
-    for (int sig : {SIGSEGV, SIGABRT, SIGBUS, SIGFPE, SIGILL})
-      std::signal(sig, SIG_DFL);  // a crash ends the child, not a handler of the parent (a test runner's)
-    const rlimit no_core{0, 0};
-    ::setrlimit(RLIMIT_CORE, &no_core);  // the crash above is expected: no core file
-    int status = 0;
-    try {
-      tetgenio out;
-      std::string sw = switches;  // tetrahedralize takes a mutable char*
-      tetrahedralize(sw.data(), &in, &out);
-      const std::array<std::uint64_t, 2> sizes{static_cast<std::uint64_t>(out.numberofpoints),
-                                               static_cast<std::uint64_t>(out.numberoftetrahedra)};
-      const bool sent = write_all(fds[1], sizes.data(), sizeof(sizes)) &&
-                        write_all(fds[1], out.pointlist, sizeof(REAL) * 3 * sizes[0]) &&
-                        write_all(fds[1], out.tetrahedronlist, sizeof(int) * 4 * sizes[1]);
-      status = sent ? 0 : exit_write_failed;
-    } catch (int code) {
-      status = code > 0 && code < exit_write_failed ? code : exit_other_exception;
-    } catch (...) {
-      status = exit_other_exception;
-    }
-    ::_exit(status);  // no atexit handlers or stdio flushes of the parent's state
+    tetgen_child(in, switches, fds[1], log.get());
   }
   ::close(fds[1]);
   const std::vector<char> bytes = read_all(fds[0]);
@@ -208,35 +257,168 @@ TetGenOutput run_tetgen(tetgenio& in, const std::string& switches) {
   int wstatus = 0;
   while (::waitpid(pid, &wstatus, 0) < 0)
     if (errno != EINTR) throw MesherError(failed + "; lost its process: " + std::strerror(errno) + ")");
+  check_child_status(wstatus, switches, log.get());
+  return decode_mesh(bytes, switches);
+}
 
-  if (WIFSIGNALED(wstatus))
-    throw MesherError(failed + "; its process died of signal " + std::to_string(WTERMSIG(wstatus)) + ", " +
-                      strsignal(WTERMSIG(wstatus)) + " (TetGen 1.5.0 crashes so on every error it detects, most " +
-                      "often self-intersecting or touching facets)" + log_tail(log.get()) + ")");
-  const int code = WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : exit_other_exception;
-  if (code == exit_write_failed)
-    throw MesherError(failed + "; its process could not send the mesh back" + log_tail(log.get()) + ")");
-  if (code == exit_other_exception)
-    throw MesherError(failed + "; it threw an exception other than its error code" + log_tail(log.get()) + ")");
-  if (code != 0)
-    throw MesherError("tetgen fill: TetGen failed with code " + std::to_string(code) + " (switches -" + switches +
-                      "; 1: out of memory, 2: internal error, 3: self-intersecting facets, 4: a very small input " +
-                      "feature, 5: two facets very close, 10: an input error" + log_tail(log.get()) + ")");
+// The front's nodes as TetGen numbers them: the nodes the triangles use, 0..n_used-1 in
+// first-use order. Nodes no triangle uses stay out: inside the layers, TetGen would jettison or
+// mesh them.
+struct PlcNumbering {
+  std::vector<int> tetgen_id;    // per front node; -1: no triangle uses it
+  std::vector<NodeId> front_id;  // per TetGen input point
+};
 
-  std::array<std::uint64_t, 2> sizes{};
-  TetGenOutput out;
-  if (bytes.size() >= sizeof(sizes)) {
-    std::memcpy(sizes.data(), bytes.data(), sizeof(sizes));
-    const std::size_t point_bytes = sizeof(double) * 3 * sizes[0], tet_bytes = sizeof(int) * 4 * sizes[1];
-    if (bytes.size() == sizeof(sizes) + point_bytes + tet_bytes) {
-      out.points.resize(3 * sizes[0]);
-      out.tets.resize(4 * sizes[1]);
-      std::memcpy(out.points.data(), bytes.data() + sizeof(sizes), point_bytes);
-      std::memcpy(out.tets.data(), bytes.data() + sizeof(sizes) + point_bytes, tet_bytes);
-      return out;
+PlcNumbering number_used_nodes(const LinearFront<3>& front) {
+  PlcNumbering ids;
+  ids.tetgen_id.assign(front.nodes.size(), -1);
+  for (const std::array<NodeId, 3>& t : front.triangles)
+    for (NodeId v : t)
+      if (ids.tetgen_id[v] < 0) {
+        ids.tetgen_id[v] = static_cast<int>(ids.front_id.size());
+        ids.front_id.push_back(v);
+      }
+  return ids;
+}
+
+// The piecewise linear complex: the used nodes, one facet per triangle with its tag + 1 as marker,
+// and the hole points. tetgenio owns and delete[]s every list below, hence the bare new[] (tetgen.h
+// deinitialize); it comes back behind a pointer because its implicit copy is shallow.
+std::unique_ptr<tetgenio> build_plc(const LinearFront<3>& front, const PlcNumbering& ids) {
+  const int n_used = static_cast<int>(ids.front_id.size());
+  const std::size_t n_tri = front.triangles.size();
+  auto in = std::make_unique<tetgenio>();
+  in->firstnumber = 0;
+  in->numberofpoints = n_used;
+  in->pointlist = new REAL[3 * static_cast<std::size_t>(n_used)];
+  for (int i = 0; i < n_used; ++i)
+    for (int d = 0; d < 3; ++d) in->pointlist[3 * i + d] = front.nodes[ids.front_id[i]][d];
+  in->facetlist = new tetgenio::facet[n_tri];
+  for (std::size_t f = 0; f < n_tri; ++f) tetgenio::init(&in->facetlist[f]);
+  in->numberoffacets = static_cast<int>(n_tri);
+  in->facetmarkerlist = new int[n_tri];
+  for (std::size_t f = 0; f < n_tri; ++f) {
+    tetgenio::facet& facet = in->facetlist[f];
+    facet.polygonlist = new tetgenio::polygon[1];
+    tetgenio::init(&facet.polygonlist[0]);
+    facet.numberofpolygons = 1;
+    facet.polygonlist[0].vertexlist = new int[3];
+    facet.polygonlist[0].numberofvertices = 3;
+    for (int k = 0; k < 3; ++k) facet.polygonlist[0].vertexlist[k] = ids.tetgen_id[front.triangles[f][k]];
+    in->facetmarkerlist[f] = front.triangle_tag[f] + 1;
+  }
+  if (!front.holes.empty()) {
+    in->holelist = new REAL[3 * front.holes.size()];
+    in->numberofholes = static_cast<int>(front.holes.size());
+    for (std::size_t h = 0; h < front.holes.size(); ++h)
+      for (int d = 0; d < 3; ++d) in->holelist[3 * h + d] = front.holes[h][d];
+  }
+  return in;
+}
+
+// p (PLC, carving from the hole points), Y (no Steiner point on the front), Q (quiet), z (ids from
+// 0), J (no jettisoned points, so input ids stay), q/a bounds.
+std::string tetgen_switches(const TetFillParams& params) {
+  std::ostringstream sw;
+  sw << "pYQzJ";
+  if (params.max_radius_edge > 0) sw << 'q' << params.max_radius_edge;
+  if (params.max_volume > 0) sw << 'a' << params.max_volume;
+  return sw.str();
+}
+
+// Back to front ids: TetGen keeps its input points first and unchanged (checked), and the points
+// it adds become front.nodes.size(), ... in its order.
+std::vector<Eigen::Vector3d> output_nodes(const LinearFront<3>& front, const PlcNumbering& ids, const TetGenOutput& out,
+                                          const std::string& switches) {
+  const int n_used = static_cast<int>(ids.front_id.size());
+  const int n_out = static_cast<int>(out.points.size() / 3);
+  if (n_out < n_used)
+    throw MesherError("tetgen fill: TetGen returned " + std::to_string(n_out) + " points for " +
+                      std::to_string(n_used) + " input points (switches -" + switches + ")");
+  for (int i = 0; i < n_used; ++i) {
+    const Eigen::Vector3d p(out.points[3 * i], out.points[3 * i + 1], out.points[3 * i + 2]);
+    if (p != front.nodes[ids.front_id[i]])
+      throw MesherError("tetgen fill: TetGen moved or renumbered front node " + std::to_string(ids.front_id[i]) + " " +
+                        point_text(front.nodes[ids.front_id[i]]) + " (switches -" + switches + ")");
+  }
+  std::vector<Eigen::Vector3d> nodes = front.nodes;
+  nodes.reserve(front.nodes.size() + static_cast<std::size_t>(n_out - n_used));
+  for (int i = n_used; i < n_out; ++i)
+    nodes.emplace_back(out.points[3 * i], out.points[3 * i + 1], out.points[3 * i + 2]);
+  return nodes;
+}
+
+// TetGen's tets on `nodes` (from output_nodes), each checked for positive volume.
+std::vector<std::array<NodeId, 4>> output_tets(const std::vector<Eigen::Vector3d>& nodes, std::size_t n_front,
+                                               const PlcNumbering& ids, const TetGenOutput& out,
+                                               const std::string& switches) {
+  const int n_used = static_cast<int>(ids.front_id.size());
+  const int n_out = static_cast<int>(out.points.size() / 3);
+  auto node_id = [&](int i) {
+    if (i < 0 || i >= n_out)
+      throw MesherError("tetgen fill: TetGen returned a tet on point " + std::to_string(i) + " of " +
+                        std::to_string(n_out) + " (switches -" + switches + ")");
+    return i < n_used ? ids.front_id[i] : static_cast<NodeId>(n_front) + static_cast<NodeId>(i - n_used);
+  };
+  const std::size_t n_tets = out.tets.size() / 4;
+  std::vector<std::array<NodeId, 4>> tets;
+  tets.reserve(n_tets);
+  for (std::size_t t = 0; t < n_tets; ++t) {
+    const int* c = out.tets.data() + 4 * t;
+    const std::array<NodeId, 4> tet{node_id(c[0]), node_id(c[1]), node_id(c[2]), node_id(c[3])};
+    const std::array<Eigen::Vector3d, 4> p{nodes[tet[0]], nodes[tet[1]], nodes[tet[2]], nodes[tet[3]]};
+    // TetGen 1.5 orders a tet with vertex 3 on the side of face 0-1-2's right-hand normal, which
+    // is plaf's positive volume (predicates.h: orient3d < 0); checked exactly.
+    if (sign_orient3d(p[0], p[1], p[2], p[3]) >= 0)
+      throw MesherError("tetgen fill: TetGen returned tet " + std::to_string(t) + " with non-positive volume at " +
+                        point_text((p[0] + p[1] + p[2] + p[3]) / 4) + " (switches -" + switches + ")");
+    tets.push_back(tet);
+  }
+  return tets;
+}
+
+// The contract (tetgen_fill.h): every front triangle is a face of exactly one tet, on the side of
+// its normal.
+void check_front_preserved(const LinearFront<3>& front, const FaceIndex& front_faces, const TetFillResult& fill) {
+  const std::size_t n_tri = front.triangles.size();
+  std::vector<int> uses(n_tri, 0);
+  std::vector<NodeId> apex(n_tri, -1);  // the vertex of the (last) tet on the triangle opposite it
+  for (const std::array<NodeId, 4>& tet : fill.tets)
+    for (int k = 0; k < 4; ++k) {
+      const auto it = front_faces.find(sorted_face(tet[(k + 1) % 4], tet[(k + 2) % 4], tet[(k + 3) % 4]));
+      if (it == front_faces.end()) continue;
+      ++uses[it->second];
+      apex[it->second] = tet[k];
+    }
+  std::size_t missing = 0, doubled = 0, behind = 0, first_missing = 0, first_doubled = 0, first_behind = 0;
+  for (std::size_t i = 0; i < n_tri; ++i) {
+    const std::array<NodeId, 3>& t = front.triangles[i];
+    if (uses[i] == 0) {
+      if (missing++ == 0) first_missing = i;
+    } else if (uses[i] > 1) {
+      if (doubled++ == 0) first_doubled = i;
+    } else if (sign_orient3d(front.nodes[t[0]], front.nodes[t[1]], front.nodes[t[2]], fill.nodes[apex[i]]) >= 0) {
+      if (behind++ == 0) first_behind = i;
     }
   }
-  throw MesherError(failed + "; its process sent " + std::to_string(bytes.size()) + " bytes, not a mesh)");
+  auto where = [&](std::size_t i) {
+    const std::array<NodeId, 3>& t = front.triangles[i];
+    return "triangle " + std::to_string(i) + " " + ids_text(t) + " at " +
+           point_text((front.nodes[t[0]] + front.nodes[t[1]] + front.nodes[t[2]]) / 3);
+  };
+  if (missing > 0)
+    throw MesherError("tetgen fill: the front was not preserved: " + std::to_string(missing) + " of " +
+                      std::to_string(n_tri) + " front triangles are a face of no tet, the first " +
+                      where(first_missing) + " (TetGen split it, or a hole point carved the region next to " +
+                      "it away; switches -" + fill.stats.switches + ")");
+  if (doubled > 0)
+    throw InputError("tetgen fill: " + std::to_string(doubled) + " front triangles are a face of two tets, the " +
+                     "first " + where(first_doubled) + ": the region on both sides was filled (a body without a " +
+                     "hole point inside it, or a surface that bounds no body)");
+  if (behind > 0)
+    throw InputError("tetgen fill: " + std::to_string(behind) + " front triangles have their tet behind them, " +
+                     "the first " + where(first_behind) + ": a front normal must point into the region to fill " +
+                     "(linear_front.h), and a hole point must lie inside a body");
 }
 
 // Smallest dihedral angle (radians) and circumradius / shortest edge of the tet p[0..3].
@@ -267,150 +449,49 @@ std::pair<double, double> tet_shape(const std::array<Eigen::Vector3d, 4>& p) {
   return {min_dihedral, centre.norm() / shortest};
 }
 
+// The stats of tetgen_fill.h, measured on the tets; `n_front` nodes came from the front.
+TetFillStats measure_fill(const TetFillResult& fill, std::size_t n_front) {
+  double min_dihedral = std::numbers::pi, max_radius_edge = 0;
+  for (const std::array<NodeId, 4>& tet : fill.tets) {
+    const auto [dihedral, radius_edge] =
+        tet_shape({fill.nodes[tet[0]], fill.nodes[tet[1]], fill.nodes[tet[2]], fill.nodes[tet[3]]});
+    min_dihedral = std::min(min_dihedral, dihedral);
+    max_radius_edge = std::max(max_radius_edge, radius_edge);
+  }
+  TetFillStats stats;
+  stats.tets = fill.tets.size();
+  stats.new_points = fill.nodes.size() - n_front;
+  stats.min_dihedral_deg = fill.tets.empty() ? 0 : min_dihedral * 180 / std::numbers::pi;
+  stats.max_radius_edge = max_radius_edge;
+  stats.switches = fill.stats.switches;
+  return stats;
+}
+
 }  // namespace
 
 TetFillResult tetgen_fill(const LinearFront<3>& front, const TetFillParams& params) {
-  const std::unordered_map<Face, std::size_t, FaceHash> front_faces = check_front(front);
+  // 1. The front, checked at entry; its triangles by sorted face, for step 5.
+  const FaceIndex front_faces = check_front(front);
 
-  // 1. The piecewise linear complex: the nodes the triangles use (TetGen ids 0..n_used-1 in
-  //    first-use order), one facet per triangle with its tag + 1 as marker, and the hole points.
-  //    Nodes no triangle uses stay out: inside the layers, TetGen would jettison or mesh them.
-  const NodeId n_front = static_cast<NodeId>(front.nodes.size());
-  std::vector<int> tetgen_id(front.nodes.size(), -1);
-  std::vector<NodeId> front_id;  // per TetGen input point
-  for (const std::array<NodeId, 3>& t : front.triangles)
-    for (NodeId v : t)
-      if (tetgen_id[v] < 0) {
-        tetgen_id[v] = static_cast<int>(front_id.size());
-        front_id.push_back(v);
-      }
-  const int n_used = static_cast<int>(front_id.size());
-  const std::size_t n_tri = front.triangles.size();
+  // 2. The piecewise linear complex: the points the triangles use, one facet per triangle with its
+  //    tag + 1 as marker, and the hole points.
+  const PlcNumbering ids = number_used_nodes(front);
+  const std::unique_ptr<tetgenio> plc = build_plc(front, ids);
 
-  // tetgenio owns and delete[]s every list below, hence the bare new[] (tetgen.h deinitialize).
-  tetgenio in;
-  in.firstnumber = 0;
-  in.numberofpoints = n_used;
-  in.pointlist = new REAL[3 * static_cast<std::size_t>(n_used)];
-  for (int i = 0; i < n_used; ++i)
-    for (int d = 0; d < 3; ++d) in.pointlist[3 * i + d] = front.nodes[front_id[i]][d];
-  in.facetlist = new tetgenio::facet[n_tri];
-  for (std::size_t f = 0; f < n_tri; ++f) tetgenio::init(&in.facetlist[f]);
-  in.numberoffacets = static_cast<int>(n_tri);
-  in.facetmarkerlist = new int[n_tri];
-  for (std::size_t f = 0; f < n_tri; ++f) {
-    tetgenio::facet& facet = in.facetlist[f];
-    facet.polygonlist = new tetgenio::polygon[1];
-    tetgenio::init(&facet.polygonlist[0]);
-    facet.numberofpolygons = 1;
-    facet.polygonlist[0].vertexlist = new int[3];
-    facet.polygonlist[0].numberofvertices = 3;
-    for (int k = 0; k < 3; ++k) facet.polygonlist[0].vertexlist[k] = tetgen_id[front.triangles[f][k]];
-    in.facetmarkerlist[f] = front.triangle_tag[f] + 1;
-  }
-  if (!front.holes.empty()) {
-    in.holelist = new REAL[3 * front.holes.size()];
-    in.numberofholes = static_cast<int>(front.holes.size());
-    for (std::size_t h = 0; h < front.holes.size(); ++h)
-      for (int d = 0; d < 3; ++d) in.holelist[3 * h + d] = front.holes[h][d];
-  }
-
-  // 2. Tetrahedralize: p (PLC, carving from the hole points), Y (no Steiner point on the front),
-  //    Q (quiet), z (ids from 0), J (no jettisoned points, so input ids stay), q/a bounds.
-  std::ostringstream sw;
-  sw << "pYQzJ";
-  if (params.max_radius_edge > 0) sw << 'q' << params.max_radius_edge;
-  if (params.max_volume > 0) sw << 'a' << params.max_volume;
+  // 3. Tetrahedralize, in a child process.
   TetFillResult result;
-  result.stats.switches = sw.str();
-  const TetGenOutput out = run_tetgen(in, result.stats.switches);
+  result.stats.switches = tetgen_switches(params);
+  const TetGenOutput out = run_tetgen(*plc, result.stats.switches);
 
-  // 3. Back to front ids: TetGen keeps its input points first and unchanged (checked), and the
-  //    points it adds become front.nodes.size(), ... in its order.
-  const int n_out = static_cast<int>(out.points.size() / 3);
-  if (n_out < n_used)
-    throw MesherError("tetgen fill: TetGen returned " + std::to_string(n_out) + " points for " +
-                      std::to_string(n_used) + " input points (switches -" + result.stats.switches + ")");
-  for (int i = 0; i < n_used; ++i) {
-    const Eigen::Vector3d p(out.points[3 * i], out.points[3 * i + 1], out.points[3 * i + 2]);
-    if (p != front.nodes[front_id[i]])
-      throw MesherError("tetgen fill: TetGen moved or renumbered front node " + std::to_string(front_id[i]) + " " +
-                        point_text(front.nodes[front_id[i]]) + " (switches -" + result.stats.switches + ")");
-  }
-  result.nodes = front.nodes;
-  result.nodes.reserve(front.nodes.size() + static_cast<std::size_t>(n_out - n_used));
-  for (int i = n_used; i < n_out; ++i)
-    result.nodes.emplace_back(out.points[3 * i], out.points[3 * i + 1], out.points[3 * i + 2]);
-  auto node_id = [&](int i) {
-    if (i < 0 || i >= n_out)
-      throw MesherError("tetgen fill: TetGen returned a tet on point " + std::to_string(i) + " of " +
-                        std::to_string(n_out) + " (switches -" + result.stats.switches + ")");
-    return i < n_used ? front_id[i] : n_front + static_cast<NodeId>(i - n_used);
-  };
+  // 4. Back to plaf's nodes and tets, with the node-numbering contract and positive volumes checked.
+  result.nodes = output_nodes(front, ids, out, result.stats.switches);
+  result.tets = output_tets(result.nodes, front.nodes.size(), ids, out, result.stats.switches);
 
-  const std::size_t n_tets = out.tets.size() / 4;
-  result.tets.reserve(n_tets);
-  double min_dihedral = std::numbers::pi, max_radius_edge = 0;
-  for (std::size_t t = 0; t < n_tets; ++t) {
-    const int* c = out.tets.data() + 4 * t;
-    const std::array<NodeId, 4> tet{node_id(c[0]), node_id(c[1]), node_id(c[2]), node_id(c[3])};
-    const std::array<Eigen::Vector3d, 4> p{result.nodes[tet[0]], result.nodes[tet[1]], result.nodes[tet[2]],
-                                           result.nodes[tet[3]]};
-    // TetGen 1.5 orders a tet with vertex 3 on the side of face 0-1-2's right-hand normal, which
-    // is plaf's positive volume (predicates.h: orient3d < 0); checked exactly.
-    if (sign_orient3d(p[0], p[1], p[2], p[3]) >= 0)
-      throw MesherError("tetgen fill: TetGen returned tet " + std::to_string(t) + " with non-positive volume at " +
-                        point_text((p[0] + p[1] + p[2] + p[3]) / 4) + " (switches -" + result.stats.switches + ")");
-    const auto [dihedral, radius_edge] = tet_shape(p);
-    min_dihedral = std::min(min_dihedral, dihedral);
-    max_radius_edge = std::max(max_radius_edge, radius_edge);
-    result.tets.push_back(tet);
-  }
-  result.stats.tets = result.tets.size();
-  result.stats.new_points = result.nodes.size() - front.nodes.size();
-  result.stats.min_dihedral_deg = result.tets.empty() ? 0 : min_dihedral * 180 / std::numbers::pi;
-  result.stats.max_radius_edge = max_radius_edge;
+  // 5. The front was preserved: each front triangle a face of exactly one tet, on its normal's side.
+  check_front_preserved(front, front_faces, result);
 
-  // 4. The contract (tetgen_fill.h): every front triangle is a face of exactly one tet, on the
-  //    side of its normal.
-  std::vector<int> uses(n_tri, 0);
-  std::vector<NodeId> apex(n_tri, -1);  // the vertex of the (last) tet on the triangle opposite it
-  for (const std::array<NodeId, 4>& tet : result.tets)
-    for (int k = 0; k < 4; ++k) {
-      const auto it = front_faces.find(sorted_face(tet[(k + 1) % 4], tet[(k + 2) % 4], tet[(k + 3) % 4]));
-      if (it == front_faces.end()) continue;
-      ++uses[it->second];
-      apex[it->second] = tet[k];
-    }
-  std::size_t missing = 0, doubled = 0, behind = 0, first_missing = 0, first_doubled = 0, first_behind = 0;
-  for (std::size_t i = 0; i < n_tri; ++i) {
-    const std::array<NodeId, 3>& t = front.triangles[i];
-    if (uses[i] == 0) {
-      if (missing++ == 0) first_missing = i;
-    } else if (uses[i] > 1) {
-      if (doubled++ == 0) first_doubled = i;
-    } else if (sign_orient3d(front.nodes[t[0]], front.nodes[t[1]], front.nodes[t[2]], result.nodes[apex[i]]) >= 0) {
-      if (behind++ == 0) first_behind = i;
-    }
-  }
-  auto where = [&](std::size_t i) {
-    const std::array<NodeId, 3>& t = front.triangles[i];
-    return "triangle " + std::to_string(i) + " " + ids_text(t) + " at " +
-           point_text((front.nodes[t[0]] + front.nodes[t[1]] + front.nodes[t[2]]) / 3);
-  };
-  if (missing > 0)
-    throw MesherError("tetgen fill: the front was not preserved: " + std::to_string(missing) + " of " +
-                      std::to_string(n_tri) + " front triangles are a face of no tet, the first " +
-                      where(first_missing) + " (TetGen split it, or a hole point carved the region next to " +
-                      "it away; switches -" + result.stats.switches + ")");
-  if (doubled > 0)
-    throw InputError("tetgen fill: " + std::to_string(doubled) + " front triangles are a face of two tets, the " +
-                     "first " + where(first_doubled) + ": the region on both sides was filled (a body without a " +
-                     "hole point inside it, or a surface that bounds no body)");
-  if (behind > 0)
-    throw InputError("tetgen fill: " + std::to_string(behind) + " front triangles have their tet behind them, " +
-                     "the first " + where(first_behind) + ": a front normal must point into the region to fill " +
-                     "(linear_front.h), and a hole point must lie inside a body");
+  // 6. The stats, measured on the tets.
+  result.stats = measure_fill(result, front.nodes.size());
   return result;
 }
 
