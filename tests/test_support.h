@@ -4,7 +4,10 @@
 // "tests/test_support.h".
 #pragma once
 
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <cstdlib>
 
 #include <filesystem>
 #include <fstream>
@@ -67,6 +70,32 @@ inline std::filesystem::path write_text(const std::filesystem::path& p, const st
   std::filesystem::remove(p);
   std::ofstream(p, std::ios::binary) << text;
   return p;
+}
+
+// What a run of the plaf binary gave: its exit code (-1 if it did not exit) and its stderr.
+struct PlafResult {
+  int code = -1;
+  std::string err;
+};
+
+// Runs `plaf args` (the built binary, PLAF_EXE) with stderr captured in dir/stderr.txt and stdout
+// discarded.
+inline PlafResult run_plaf(const std::string& args, const std::filesystem::path& dir) {
+  const std::filesystem::path err = dir / "stderr.txt";
+  const std::string cmd = std::string(PLAF_EXE) + " " + args + " > /dev/null 2> " + err.string();
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(err)};
+}
+
+inline PlafResult run_plaf(const std::string& args, const TempDir& dir) { return run_plaf(args, dir.path); }
+
+// The regular files below dir (0 if it does not exist).
+inline int count_files(const std::filesystem::path& dir) {
+  if (!std::filesystem::exists(dir)) return 0;
+  int n = 0;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) ++n;
+  return n;
 }
 
 }  // namespace plaf::test

@@ -11,33 +11,14 @@
 #include "tests/test_support.h"
 
 namespace fs = std::filesystem;
+using plaf::test::count_files;
+using plaf::test::PlafResult;
 using plaf::test::read_text;
+using plaf::test::run_plaf;
 using plaf::test::TempDir;
 using plaf::test::write_text;
 
 namespace {
-
-struct Result {
-  int code;
-  std::string err;
-};
-
-// Runs `plaf args` with stderr captured; stdout discarded.
-Result run_plaf(const std::string& args, const TempDir& dir) {
-  const fs::path err = dir / "stderr.txt";
-  const std::string cmd = std::string(PLAF_EXE) + " " + args + " > /dev/null 2> " + err.string();
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(err)};
-}
-
-// The files of dir except the captured stderr and the configs written by the test.
-int count_outputs(const fs::path& dir) {
-  if (!fs::exists(dir)) return 0;
-  int n = 0;
-  for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file()) ++n;
-  return n;
-}
 
 const std::string good = "order: 2\ngeometry: {type: annulus, angle_deg: 90}\nmetric: {type: uniform, h: 0.4}\n";
 
@@ -46,11 +27,11 @@ const std::string good = "order: 2\ngeometry: {type: annulus, angle_deg: 90}\nme
 TEST_CASE("cli: run writes msh, vtu, report and png, check re-reads the msh and certifies it") {
   const TempDir d("cli_run");
   const fs::path cfg = write_text(d / "case.yaml", good);
-  const Result r = run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
+  const PlafResult r = run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
   CHECK(r.code == 0);
   for (const char* ext : {".msh", ".vtu", ".report.json", ".png"})
     CHECK(fs::file_size(d / "out" / (std::string("case") + ext)) > 0);
-  CHECK(count_outputs(d / "out") == 4);  // no temporaries left behind
+  CHECK(count_files(d / "out") == 4);  // no temporaries left behind
   CHECK(read_text(d / "out" / "case.report.json").find("\"invalid\": 0") != std::string::npos);
   CHECK(run_plaf("check " + (d / "out" / "case.msh").string(), d).code == 0);
 }
@@ -80,7 +61,7 @@ TEST_CASE("cli: check measures another mesh in a config's metric and writes its 
   CHECK(unit_fraction(same) == doctest::Approx(unit_fraction(run_report)));
   CHECK(unit_fraction(same) > 0.5);
   CHECK(unit_fraction(read_text(d / "coarse.json")) == 0.0);
-  const Result bad = run_plaf("check " + (d / "out" / "case.msh").string() + " --metric " + (d / "no.yaml").string(), d);
+  const PlafResult bad = run_plaf("check " + (d / "out" / "case.msh").string() + " --metric " + (d / "no.yaml").string(), d);
   CHECK(bad.code == 1);
   CHECK(bad.err.find("no.yaml") != std::string::npos);
   CHECK(run_plaf("check " + (d / "out" / "case.msh").string() + " --metric", d).code == 1);
@@ -112,12 +93,12 @@ TEST_CASE("cli: bad inputs give one clear error line, exit code 1 and no output 
     INFO(std::string(c.name));
     const TempDir d("cli_bad");
     const fs::path cfg = c.config.empty() ? d / "nope.yaml" : write_text(d / "case.yaml", c.config);
-    const Result r = run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
+    const PlafResult r = run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
     CHECK(r.code == 1);
     CHECK(r.err.find(c.message) != std::string::npos);
     CHECK(r.err.find(cfg.string()) != std::string::npos);      // names the file
     CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);  // one line
-    CHECK(count_outputs(d / "out") == 0);
+    CHECK(count_files(d / "out") == 0);
   }
 }
 
@@ -128,7 +109,7 @@ TEST_CASE("cli: usage errors, --help and --version") {
   CHECK(run_plaf("", d).code == 1);
   CHECK(run_plaf("frobnicate", d).code == 1);
   CHECK(run_plaf("run", d).code == 1);
-  const Result bad_mesh =
+  const PlafResult bad_mesh =
       run_plaf("check " + write_text(d / "bad.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n").string(), d);
   CHECK(bad_mesh.code == 1);
   CHECK(bad_mesh.err.find("bad.msh") != std::string::npos);

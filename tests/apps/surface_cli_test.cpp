@@ -11,26 +11,16 @@
 #include "tests/test_support.h"
 
 namespace fs = std::filesystem;
+using plaf::test::PlafResult;
 using plaf::test::read_text;
 using plaf::test::TempDir;
 using plaf::test::write_text;
 
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string err;
-};
-
-Result run_config(const TempDir& d, const std::string& yaml) {
+PlafResult run_config(const TempDir& d, const std::string& yaml) {
   const fs::path cfg = write_text(d / "case.yaml", yaml);
-  const std::string cmd = std::string(PLAF_EXE) + " run " + cfg.string() + " --out " + (d / "out").string() +
-                          " > /dev/null 2> " + (d / "err.txt").string();
-  const int status = std::system(cmd.c_str());
-  Result r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.err = read_text(d / "err.txt");
-  return r;
+  return plaf::test::run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
 }
 
 std::string last_line(const std::string& text) {
@@ -40,12 +30,6 @@ std::string last_line(const std::string& text) {
   return text.substr(begin == std::string::npos ? 0 : begin + 1, end - (begin == std::string::npos ? 0 : begin + 1) + 1);
 }
 
-int count_outputs(const fs::path& dir) {
-  if (!fs::exists(dir)) return 0;
-  int n = 0;
-  for (const auto& e : fs::directory_iterator(dir)) (void)e, ++n;
-  return n;
-}
 
 const std::string data = std::string(PLAF_SHARED_DATA) + "/surfaces/";
 
@@ -76,27 +60,27 @@ TEST_CASE("surface cli: each bad surface gives its own one-line error, exit code
   for (const Case& c : cases) {
     INFO(std::string(c.name));
     const TempDir d("surface_cli");
-    const Result r = run_config(d, c.yaml);
+    const PlafResult r = run_config(d, c.yaml);
     INFO(r.err);
     CHECK(r.code == 1);
     const std::string line = last_line(r.err);
     CHECK(line.rfind("plaf: error: ", 0) == 0);
     CHECK(line.find(c.message) != std::string::npos);
-    CHECK(count_outputs(d / "out") == 0);
+    CHECK(plaf::test::count_files(d / "out") == 0);
   }
   // A malformed STL names the file and the line.
   const TempDir d("surface_cli_stl");
   write_text(d / "bad.stl", bad_stl);
-  const Result r = run_config(d, "geometry: {type: surface_file, file: bad.stl}\nmetric: {type: uniform, h: 0.2}\n");
+  const PlafResult r = run_config(d, "geometry: {type: surface_file, file: bad.stl}\nmetric: {type: uniform, h: 0.2}\n");
   CHECK(r.code == 1);
   CHECK(last_line(r.err).find("bad.stl") != std::string::npos);
-  CHECK(count_outputs(d / "out") == 0);
+  CHECK(plaf::test::count_files(d / "out") == 0);
 }
 
 TEST_CASE("surface cli: an inward surface is repaired and meshed, an open half wing on its plane is tagged symmetry") {
   {
     const TempDir d("surface_cli_ellipsoid");
-    const Result r = run_config(d, surface("ellipsoid_binary.stl"));
+    const PlafResult r = run_config(d, surface("ellipsoid_binary.stl"));
     INFO(r.err);
     CHECK(r.code == 0);
     CHECK(r.err.find("repaired: ") != std::string::npos);
@@ -107,7 +91,7 @@ TEST_CASE("surface cli: an inward surface is repaired and meshed, an open half w
   }
   {
     const TempDir d("surface_cli_m6");
-    const Result r = run_config(d, surface("onera_m6_small.fmt", "  symmetry_planes: [{normal: [0, 0, 1]}]\n"));
+    const PlafResult r = run_config(d, surface("onera_m6_small.fmt", "  symmetry_planes: [{normal: [0, 0, 1]}]\n"));
     INFO(r.err);
     CHECK(r.code == 0);
     const std::string msh = read_text(d / "out" / "case.msh");
@@ -119,10 +103,10 @@ TEST_CASE("surface cli: an inward surface is repaired and meshed, an open half w
 
 TEST_CASE("surface cli: a curvature size not below the metric's stops the run before anything is written") {
   const TempDir d("surface_cli_hmin");
-  const Result r = run_config(d, "geometry: {type: sphere}\nmetric: {type: uniform, h: 0.1}\n"
+  const PlafResult r = run_config(d, "geometry: {type: sphere}\nmetric: {type: uniform, h: 0.1}\n"
                                  "surface: {curvature_factor: 0.3, curvature_h_min: 0.2}\n");
   CHECK(r.code == 1);
   CHECK(last_line(r.err).find("surface.curvature_h_min: 0.2") != std::string::npos);
   CHECK(last_line(r.err).find("must be smaller than the metric's smallest size 0.1") != std::string::npos);
-  CHECK(count_outputs(d / "out") == 0);
+  CHECK(plaf::test::count_files(d / "out") == 0);
 }
