@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "modules/base/error.h"
@@ -141,8 +142,8 @@ AnalyticBody make_body(const std::string& type, const Geometry3Params& g, double
   return make_wing(w, std::min(h, std::min(g.chord, g.span) / 4));
 }
 
-// A surface file: read and validated (repairs reported); the surface stage detects its features
-// and makes it the reference.
+// A surface file: read and validated (repairs reported), its features detected; it is its own
+// reference.
 void surface_file(const Geometry3Params& g, RunState<3>& s, StageReport& rep) {
   const TriangleSoup soup = read_surface_file(g.file, ReadSurfaceOptions{g.weld_rel});
   SurfaceCheckOptions so;
@@ -152,6 +153,10 @@ void surface_file(const Geometry3Params& g, RunState<3>& s, StageReport& rep) {
   SurfaceCheckReport k;
   s.surface = validate_surface(soup, so, &k);
   for (const std::string& r : k.repairs) std::cerr << "[plaf] repaired: " << r << '\n';
+  // Its own reference, with the features of the default options (the surface stage detects them
+  // again when its section asks for other angles).
+  const FeatureReport features = detect_features(s.surface, feature_options(SurfaceParams{}));
+  s.reference = make_discrete_reference(s.surface);
   std::vector<std::string> repairs;
   for (const std::string& r : k.repairs) repairs.push_back(json_string(r));
   rep.set_section("surface");
@@ -165,6 +170,7 @@ void surface_file(const Geometry3Params& g, RunState<3>& s, StageReport& rep) {
   rep.add_json("input.repairs", json_array(repairs));
   rep.line("geometry: " + g.file + ": " + std::to_string(k.input_triangles) + " triangles, " +
            std::to_string(k.components) + " components, chi = " + std::to_string(k.euler_characteristic));
+  rep.line("features (input): " + feature_line(features));
 }
 
 // The surface section of the report: the final surface, its features, the remeshing and curving.
@@ -204,18 +210,18 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   // size splits the lattice's diagonals to 1/sqrt 2, on the band's edge).
   if (s.build_body) {
     s.build_body(s, 1.5 * s.metric->evaluate(s.body_center).max_size());
-    const FeatureReport features = count_features(s.surface);
     rep.add("input_triangles", s.surface.mesh.n_faces());
-    rep.add_json("features.input", feature_json(features));
     rep.line("initial triangulation: " + std::to_string(s.surface.mesh.n_faces()) + " triangles");
-    rep.line("features (input): " + feature_line(features));
-  } else if (!s.reference) {
-    // A surface file is its own reference, with the features the surface section asks for.
+    rep.line("features (input): " + feature_line(count_features(s.surface)));
+  } else if (sp.ridge_angle_deg != SurfaceParams{}.ridge_angle_deg ||
+             sp.corner_defect_deg != SurfaceParams{}.corner_defect_deg ||
+             sp.curve_turn_deg != SurfaceParams{}.curve_turn_deg) {
+    // A surface file with the feature angles the surface section asks for, and its reference again.
     const FeatureReport features = detect_features(s.surface, feature_options(sp));
     s.reference = make_discrete_reference(s.surface);
-    rep.add_json("features.input", feature_json(features));
-    rep.line("features (input): " + feature_line(features));
+    rep.line("features (input, the section's angles): " + feature_line(features));
   }
+  rep.add_json("features.input", feature_json(count_features(s.surface)));
   TriSurface& surface = s.surface;
   if (sp.curvature_factor > 0) {
     if (surface.mesh.n_vertices() == 0) throw MesherError("surface: no vertices to mesh");
@@ -273,6 +279,9 @@ void register_surface3d_plugins() {
         const std::string type = section.get_string("type", "");
         const Geometry3Params g = parse_geometry3_params(section, type);
         return [type, g](RunState<3>& s, StageReport& rep) {
+          // The exact reference now (the metric may measure distances to it); the triangulation the
+          // remesher starts from is made again at the metric's size by the surface stage.
+          s.reference = make_body(type, g, std::numeric_limits<double>::infinity()).reference;
           s.body_center = vec(g.center);
           s.build_body = [type, g](RunState<3>& state, double h) {
             AnalyticBody body = make_body(type, g, h);
@@ -281,7 +290,7 @@ void register_surface3d_plugins() {
           };
           rep.set_section("surface");
           rep.add("geometry", type);
-          rep.line("geometry: " + type + " (exact reference, triangulated at the surface stage)");
+          rep.line("geometry: " + type + " (exact reference; triangulated at the metric's size by the surface stage)");
         };
       });
     geometry.add("surface_file", [](const ConfigNode& section, const RunConfig&) -> Stage<3> {

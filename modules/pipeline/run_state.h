@@ -47,8 +47,8 @@ struct RunState<3> {
   const RunConfig& config;
   TriSurface surface;                               // geometry: the input; surface: remeshed and curved
   std::unique_ptr<ReferenceGeometry<3>> reference;  // geometry: what the surface lives on
-  // geometry, for an analytic body: builds its reference and its initial triangulation at size h
-  // (the surface stage calls it with the metric's size at body_center); files need none.
+  // geometry, for an analytic body: builds its initial triangulation (and the same reference) at
+  // size h; the surface stage calls it with the metric's size at body_center. Files need none.
   std::function<void(RunState<3>&, double h)> build_body;
   Eigen::Vector3d body_center = Eigen::Vector3d::Zero();
   std::unique_ptr<MetricField<3>> metric;           // metric
