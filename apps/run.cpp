@@ -12,7 +12,7 @@
 #include "modules/base/error.h"
 #include "modules/io/atomic_file.h"
 #include "modules/io/msh_io.h"
-#include "modules/io/writers.h"
+#include "modules/pipeline/writers.h"
 #include "modules/mesh/hybrid2d.h"
 #include "modules/mesh/quality.h"
 #include "modules/metric/metric_fields.h"

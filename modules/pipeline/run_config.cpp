@@ -10,7 +10,7 @@
 #include "modules/elements/lagrange.h"
 #include "modules/metric/metric_fields.h"
 #include "modules/pipeline/stages.h"
-#include "modules/io/writers.h"
+#include "modules/pipeline/writers.h"
 
 namespace plaf {
 inline namespace pipeline {

@@ -5,7 +5,7 @@
 #include <iostream>
 
 #include "modules/base/error.h"
-#include "modules/io/writers.h"
+#include "modules/pipeline/writers.h"
 #include "modules/mesh/annulus.h"
 #include "modules/mesh/curve_mesh.h"
 #include "modules/metric/metric_fields.h"

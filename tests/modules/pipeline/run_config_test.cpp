@@ -12,7 +12,7 @@
 
 #include "modules/base/error.h"
 #include "modules/geometry/geometry2d.h"
-#include "modules/io/writers.h"
+#include "modules/pipeline/writers.h"
 #include "modules/metric/metric_fields.h"
 #include "modules/metric/wall_metric.h"
 #include "modules/pipeline/config.h"

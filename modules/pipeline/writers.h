@@ -12,7 +12,7 @@
 #include "modules/pipeline/run_config.h"
 
 namespace plaf {
-inline namespace io {
+inline namespace pipeline {
 
 template <int Dim>
 struct WriteJob {
@@ -29,5 +29,5 @@ using WriterRegistry = Registry<void(const WriteJob<Dim>&)>;
 template <int Dim>
 WriterRegistry<Dim>& writer_registry();
 
-}  // namespace io
+}  // namespace pipeline
 }  // namespace plaf

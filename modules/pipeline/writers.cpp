@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "modules/io/writers.h"
+#include "modules/pipeline/writers.h"
 
 #include <algorithm>
 #include <limits>
@@ -10,7 +10,7 @@
 #include "modules/io/vtu_writer.h"
 
 namespace plaf {
-inline namespace io {
+inline namespace pipeline {
 
 namespace {
 
@@ -81,5 +81,5 @@ WriterRegistry<3>& writer_registry<3>() {
   return registry;
 }
 
-}  // namespace io
+}  // namespace pipeline
 }  // namespace plaf
