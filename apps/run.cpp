@@ -15,7 +15,6 @@
 #include "modules/pipeline/writers.h"
 #include "modules/mesh/hybrid2d.h"
 #include "modules/mesh/quality.h"
-#include "modules/metric/metric_fields.h"
 #include "modules/pipeline/layer_table.h"
 #include "modules/pipeline/run_config.h"
 #include "modules/pipeline/run_state.h"
@@ -33,13 +32,11 @@ namespace {
 // The stage the config chose for `kind`, configured by its plugin when the config was read.
 template <int Dim>
 const Stage<Dim>& chosen(const RunConfig& c, StageKind kind) {
-  static const Stage<Dim> nothing = [](RunState<Dim>&, StageReport&) {};
   const PlannedStage& p = kind == StageKind::Geometry ? c.geometry
                           : kind == StageKind::Metric ? c.metric
                           : kind == StageKind::Surface ? c.surface
                           : kind == StageKind::Layers ? c.layers
                                                       : c.fill;
-  if (!p.enabled()) return nothing;
   if constexpr (Dim == 2)
     return p.run2;
   else
@@ -48,9 +45,12 @@ const Stage<Dim>& chosen(const RunConfig& c, StageKind kind) {
 
 // Step 5 of the pipeline: the mesh of the run from the stages' products.
 void assemble(RunState<2>& s, StageReport& rep) {
-  if (s.mesh_done) return;
-  const LayerResult<2> none = s.layers ? LayerResult<2>{} : unlayered(*s.front);
-  const LayerResult<2>& layers = s.layers ? *s.layers : none;
+  if (s.mesh_done) {  // the annulus: nothing to split (the key as for every 2D run)
+    if (s.config.output.split_quads) rep.add("split_quads", 0);
+    return;
+  }
+  if (!s.layers) throw MesherError("assembly: the layer stage gave no result");
+  const LayerResult<2>& layers = *s.layers;
   AssemblyOptions o;
   o.order = s.config.order;
   o.uniform_order = s.config.output.uniform_order;
@@ -100,15 +100,22 @@ int run_pipeline(const RunConfig& c, const std::filesystem::path& config_path) {
   QualityReport report = assess_quality<Dim>(mesh, s.measure(), qo, &per_cell);
   report.name = c.name;
   if (s.layers && !s.layers->layers.empty()) {
-    reports.emplace_back("layers");
-    report_layer_table<Dim>(*s.layers, mesh, per_cell, reports.back());
-    reports.back().print(std::cout);
+    // The table's section goes right after the layer stage's (the report's key order).
+    StageReport table("layers");
+    report_layer_table<Dim>(*s.layers, mesh, per_cell, table);
+    table.print(std::cout);
+    reports.insert(reports.begin() + static_cast<std::ptrdiff_t>(StageKind::Layers) + 1, std::move(table));
   }
   for (const StageReport& r : reports) r.append_to(report);
   clock.done("quality", std::to_string(report.cells_invalid) + " invalid cells");
 
   // 8. Outputs, each written atomically; the report last, with every stage's time.
-  std::filesystem::create_directories(c.output.dir);
+  try {
+    std::filesystem::create_directories(c.output.dir);
+  } catch (const std::filesystem::filesystem_error& e) {
+    throw InputError("output.dir '" + c.output.dir.string() + "': cannot create the folder (" +
+                     e.code().message() + ")");
+  }
   const std::filesystem::path base = c.output.dir / c.name;
   for (const std::string& format : c.output.formats)
     if (format != "report")
@@ -119,7 +126,8 @@ int run_pipeline(const RunConfig& c, const std::filesystem::path& config_path) {
   if (c.output.wants("report"))
     writer_registry<Dim>().create("report", "", WriteJob<Dim>{mesh, per_cell, report, c, base});
 
-  // 9. The verdict: a stage's failure or an invalid, non-conforming mesh exits 2.
+  // 9. The verdict: a stage's failure (one line each) or else an invalid, non-conforming mesh
+  //    exits 2; the files are written for inspection.
   std::cout << report_summary(report);
   int code = 0;
   for (const StageReport& r : reports)
@@ -127,7 +135,7 @@ int run_pipeline(const RunConfig& c, const std::filesystem::path& config_path) {
       std::cerr << "plaf: error: " << config_path.string() << ": " << r.failure() << '\n';
       code = 2;
     }
-  if (!report.ok()) {
+  if (code == 0 && !report.ok()) {
     std::cerr << "plaf: error: the " << (report.surface ? "surface" : "mesh") << " of " << config_path.string()
               << " is NOT valid: " << report.cells_invalid << " invalid " << (report.surface ? "triangles" : "cells")
               << (report.first_invalid.empty() ? "" : " (first: " + report.first_invalid + ")")

@@ -8,8 +8,8 @@
 namespace plaf {
 
 // Runs a configuration; returns the process exit code (0: a valid, conforming mesh was written;
-// 2: the mesh was written but has invalid cells or is not conforming). Throws plaf::Error on
-// bad input before any output is written.
+// 2: the mesh was written but a stage failed, e.g. a folded surface, or it has invalid cells or
+// is not conforming). Throws plaf::Error on bad input before any output is written.
 int run_command(const std::filesystem::path& config, const std::optional<std::filesystem::path>& out_dir);
 
 // Registers every library's stage plugins (idempotent).

@@ -27,7 +27,7 @@ LayerParams parse_layer_params(const ConfigNode& l) {
 
 void register_plugins() {
   static const bool once = [] {
-    stage_registry<2>(StageKind::Layers).add("extrude", [](const ConfigNode& section, const RunConfig&) -> Stage<2> {
+    stage_registry<2>(StageKind::Layers).add("extrude", [](const ConfigNode& section) -> Stage<2> {
       LayerParams p = parse_layer_params(section);
       return [p](RunState<2>& s, StageReport&) mutable {
         if (!s.front) throw MesherError("layers: the geometry gave no surface front to grow from");

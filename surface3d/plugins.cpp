@@ -127,6 +127,13 @@ FeatureOptions feature_options(const SurfaceParams& sp) {
   return fo;
 }
 
+// The centre of an analytic body, where the surface stage reads the metric's size.
+Eigen::Vector3d body_center(const std::string& type, const Geometry3Params& g) {
+  if (type == "box") return 0.5 * (vec(g.lo) + vec(g.hi));
+  if (type == "wing") return {0.5 * g.chord, 0, 0.5 * g.span};
+  return vec(g.center);
+}
+
 // An analytic body (analytic.h) at size h: its exact reference and initial triangulation.
 AnalyticBody make_body(const std::string& type, const Geometry3Params& g, double h) {
   if (type == "sphere") return make_sphere(vec(g.center), g.radius, std::min(h, g.radius));
@@ -223,12 +230,12 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   }
   rep.add_json("features.input", feature_json(count_features(s.surface)));
   TriSurface& surface = s.surface;
+  if (surface.mesh.n_vertices() == 0) throw MesherError("surface: no vertices to mesh");
+  const double base_min = s.metric->evaluate(surface.mesh.point(*surface.mesh.vertices().begin())).min_size();
+  if (sp.curvature_h_min > 0 && sp.curvature_h_min >= base_min)
+    throw ConfigError(sp.curvature_h_min_where + ": " + std::to_string(sp.curvature_h_min) +
+                      " must be smaller than the metric's smallest size " + std::to_string(base_min));
   if (sp.curvature_factor > 0) {
-    if (surface.mesh.n_vertices() == 0) throw MesherError("surface: no vertices to mesh");
-    const double base_min = s.metric->evaluate(surface.mesh.point(*surface.mesh.vertices().begin())).min_size();
-    if (sp.curvature_h_min >= base_min)
-      throw ConfigError(sp.curvature_h_min_where + ": " + std::to_string(sp.curvature_h_min) +
-                        " must be smaller than the metric's smallest size " + std::to_string(base_min));
     const double h_min = sp.curvature_h_min > 0 ? sp.curvature_h_min : base_min / 20;
     s.surface_metric =
         std::make_unique<CurvatureMetricField>(*s.metric, *s.reference, sp.curvature_factor, h_min);
@@ -275,14 +282,14 @@ void register_surface3d_plugins() {
   static const bool once = [] {
     StageRegistry<3>& geometry = stage_registry<3>(StageKind::Geometry);
     for (const char* name : {"sphere", "ellipsoid", "box", "wing"})
-      geometry.add(name, [](const ConfigNode& section, const RunConfig&) -> Stage<3> {
+      geometry.add(name, [](const ConfigNode& section) -> Stage<3> {
         const std::string type = section.get_string("type", "");
         const Geometry3Params g = parse_geometry3_params(section, type);
         return [type, g](RunState<3>& s, StageReport& rep) {
           // The exact reference now (the metric may measure distances to it); the triangulation the
           // remesher starts from is made again at the metric's size by the surface stage.
           s.reference = make_body(type, g, std::numeric_limits<double>::infinity()).reference;
-          s.body_center = vec(g.center);
+          s.body_center = body_center(type, g);
           s.build_body = [type, g](RunState<3>& state, double h) {
             AnalyticBody body = make_body(type, g, h);
             state.surface = std::move(body.initial);
@@ -293,11 +300,11 @@ void register_surface3d_plugins() {
           rep.line("geometry: " + type + " (exact reference; triangulated at the metric's size by the surface stage)");
         };
       });
-    geometry.add("surface_file", [](const ConfigNode& section, const RunConfig&) -> Stage<3> {
+    geometry.add("surface_file", [](const ConfigNode& section) -> Stage<3> {
       const Geometry3Params g = parse_geometry3_params(section, "surface_file");
       return [g](RunState<3>& s, StageReport& rep) { surface_file(g, s, rep); };
     });
-    stage_registry<3>(StageKind::Surface).add("remesh", [](const ConfigNode& section, const RunConfig&) -> Stage<3> {
+    stage_registry<3>(StageKind::Surface).add("remesh", [](const ConfigNode& section) -> Stage<3> {
       const SurfaceParams sp = parse_surface_params(section);
       return [sp](RunState<3>& s, StageReport& rep) { remesh_and_curve(sp, s, rep); };
     });

@@ -11,7 +11,7 @@ namespace plaf::volume {
 void register_plugins() {
   static const bool once = [] {
     stage_registry<2>(StageKind::Fill)
-        .add("advancing_front", [](const ConfigNode& section, const RunConfig&) -> Stage<2> {
+        .add("advancing_front", [](const ConfigNode& section) -> Stage<2> {
           AdvancingFrontParams p;
           p.max_triangles = static_cast<std::size_t>(section.get_int("max_triangles", 20000000, 1, 2000000000));
           return [p](RunState<2>& s, StageReport& rep) {

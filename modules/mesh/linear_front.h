@@ -13,8 +13,8 @@
 // counter-clockwise); 3D triangles have their right-hand normal pointing into the region to fill.
 // Loops (2D) must be simple and must not touch; the 3D triangles must form closed, non-crossing
 // surfaces.
-// Holes: a point strictly inside every body (a region not to fill), for fills that need them
-// (TetGen); the 2D advancing front tells the sides by orientation and ignores them.
+// Holes: for fills that need them (TetGen, 3D), a point strictly inside every body (a region not
+// to fill). The 2D layers leave them empty: the advancing front tells the sides by orientation.
 #pragma once
 
 #include <array>

@@ -3,12 +3,10 @@
 #include "modules/pipeline/run_config.h"
 
 #include <algorithm>
-#include <cmath>
 
 #include "modules/pipeline/config.h"
 #include "modules/base/error.h"
 #include "modules/elements/lagrange.h"
-#include "modules/metric/metric_fields.h"
 #include "modules/pipeline/stages.h"
 #include "modules/pipeline/writers.h"
 
@@ -69,35 +67,41 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     throw ConfigError(m.where("type") + ": metric type '" + metric_type +
                       "' is 2D only; 3D surfaces take a uniform metric (h or sizes [hx, hy, hz])");
 
-  // Plugin sections: the chosen type's factory parses and checks its own keys (stages.h).
+  // Stage sections: the chosen type's factory parses and checks its own keys (stages.h).
   auto plan = [&](StageKind kind, const std::string& type, const ConfigNode& s, PlannedStage& out) {
     out.type = type;
     out.where = s.where("type");
     out.section = s.where();
     if (r.dim == 2)
-      out.run2 = stage_registry<2>(kind).create(out.type, out.where, s, r);
+      out.run2 = stage_registry<2>(kind).create(out.type, out.where, s);
     else
-      out.run3 = stage_registry<3>(kind).create(out.type, out.where, s, r);
-  };
-  auto plan_optional = [&](StageKind kind, const std::string& fallback_type, PlannedStage& out) {
-    const std::string key = stage_kind_name(kind);
-    if (!c.has(key)) return;
-    const ConfigNode s = c.child(key);
-    plan(kind, s.get_string("type", fallback_type), s, out);
+      out.run3 = stage_registry<3>(kind).create(out.type, out.where, s);
   };
   plan(StageKind::Geometry, geometry_type, g, r.geometry);
   plan(StageKind::Metric, metric_type, m, r.metric);
-  // The surface mesh follows from the geometry: curves of the spline loops, the annulus' exact
-  // map, or the 3D remesher (whose section holds its keys; 2D runs have none).
+  // The surface mesh follows from the geometry: curves of the spline loops or the annulus' exact
+  // map in 2D (no section), the remesher in 3D (whose section holds its keys and may name it).
   const ConfigNode sf = c.child("surface");
   if (c.has("surface") && r.dim != 3)
     throw ConfigError(sf.where() + ": the surface section is for 3D geometries (sphere, ellipsoid, box, wing, "
                       "surface_file)");
-  plan(StageKind::Surface, r.dim == 3 ? "remesh" : geometry_type == "annulus" ? "annulus" : "curves", sf, r.surface);
-  if (c.has("layers") && geometry_type != "airfoils")
-    throw ConfigError(c.child("layers").where() + ": layers need a spline geometry (type airfoils)");
-  plan_optional(StageKind::Layers, "extrude", r.layers);
-  plan_optional(StageKind::Fill, "advancing_front", r.fill);
+  plan(StageKind::Surface,
+       r.dim == 3 ? sf.get_string("type", "remesh") : geometry_type == "annulus" ? "annulus" : "curves", sf, r.surface);
+  // Layers and fill: type `none` when the section is absent. A type of the other dimension only
+  // (the 2D layers and fill on a 3D geometry) says what is missing.
+  auto plan_section = [&](StageKind kind, const std::string& default_type, const std::string& needs,
+                          PlannedStage& out) {
+    const std::string key = stage_kind_name(kind);
+    const ConfigNode s = c.child(key);
+    const std::string type = c.has(key) ? s.get_string("type", default_type) : "none";
+    const int other = r.dim == 2 ? 3 : 2;
+    const bool here = r.dim == 2 ? stage_registry<2>(kind).contains(type) : stage_registry<3>(kind).contains(type);
+    const bool there = other == 2 ? stage_registry<2>(kind).contains(type) : stage_registry<3>(kind).contains(type);
+    if (!here && there) throw ConfigError(s.where() + ": " + needs);
+    plan(kind, type, s, out);
+  };
+  plan_section(StageKind::Layers, "extrude", "layers need a spline geometry (type airfoils)", r.layers);
+  plan_section(StageKind::Fill, "advancing_front", "the fill needs a spline geometry (type airfoils)", r.fill);
 
   const ConfigNode v = c.child("validity");
   r.validity.rel_tol = v.get_in_range("rel_tol", r.validity.rel_tol, 1e-6, 1.0);
@@ -106,6 +110,9 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   parse_output(c.child("output"), r);
 
   c.finish();
+  // Checked after the keys, so an unknown key is reported first.
+  if (r.layers.enabled() && r.geometry.type != "airfoils")
+    throw ConfigError(r.layers.section + ": layers need a spline geometry (type airfoils)");
   if (r.fill.enabled() && r.geometry.type != "airfoils")
     throw ConfigError(r.fill.section + ": the fill needs a spline geometry (type airfoils)");
   return r;

@@ -15,7 +15,7 @@
 //   metric:                 the metric field; `type:` chooses the plugin, its keys beside its options:
 //     type: uniform         UniformMetricParams (modules/metric/metric_fields.h), 2D and 3D
 //     type: wall_power_law  WallLawParams (modules/metric/wall_metric.h), 2D
-//     type: background      BackgroundParams (modules/metric/background_metric.h), 2D
+//     type: background      BackgroundParams (modules/metric/metric_fields.h), 2D
 //   layers:                 prismatic layers grown from the walls; absent: none. Keys of the
 //     type: extrude         chosen type, parsed by its plugin: layers/plugins.h
 //   fill:                   the fill of the domain between the layers' outer front (or the surface
@@ -90,7 +90,7 @@ struct RunConfig {
   int order = 3;
   int dim = 2;  // 3 for the 3D geometry types
   PlannedStage geometry;  // type: its section's `type:`
-  PlannedStage metric;    // type: its section's `type:` (default uniform)  // type: its section's `type:`
+  PlannedStage metric;    // type: its section's `type:` (default uniform)
   PlannedStage surface;   // type: annulus | curves (2D, by the geometry), remesh (3D)
   PlannedStage layers;
   PlannedStage fill;

@@ -2,7 +2,7 @@
 // Stage registries and core's own plugins (stages.h).
 #include "modules/pipeline/stages.h"
 
-#include <iostream>
+#include <sstream>
 
 #include "modules/base/error.h"
 #include "modules/pipeline/writers.h"
@@ -49,9 +49,10 @@ void report_curves(const CurvedFront<2>& front, const Geometry2D& geometry, cons
                     ", \"nodes\": " + std::to_string(l.nodes) +
                     ", \"metric_length_min\": " + json_number(l.metric_length_min) +
                     ", \"metric_length_max\": " + json_number(l.metric_length_max) + "}");
-    rep.line("surface loop " + l.tag + ": " + std::to_string(l.elements) + " elements, " + std::to_string(l.nodes) +
-             " nodes, metric length " + std::to_string(l.metric_length_min) + " .. " +
-             std::to_string(l.metric_length_max));
+    std::ostringstream line;
+    line << "surface loop " << l.tag << ": " << l.elements << " elements, " << l.nodes << " nodes, metric length "
+         << l.metric_length_min << " .. " << l.metric_length_max;
+    rep.line(line.str());
   }
   rep.add("order", front.order);
   rep.add_json("loops", json_array(loops));
@@ -63,37 +64,37 @@ void report_curves(const CurvedFront<2>& front, const Geometry2D& geometry, cons
 
 void register_2d() {
   StageRegistry<2>& geometry = stage_registry<2>(StageKind::Geometry);
-  geometry.add("annulus", [](const ConfigNode& section, const RunConfig&) -> Stage<2> {
+  geometry.add("annulus", [](const ConfigNode& section) -> Stage<2> {
     const AnnulusParams params = parse_annulus_params(section);
     return [params](RunState<2>& s, StageReport&) { s.annulus = params; };
   });
-  geometry.add("airfoils", [](const ConfigNode& section, const RunConfig&) -> Stage<2> {
+  geometry.add("airfoils", [](const ConfigNode& section) -> Stage<2> {
     const AirfoilsParams params = parse_airfoils_params(section);
     return [params](RunState<2>& s, StageReport&) { s.geometry = build_airfoils_geometry(params); };
   });
   StageRegistry<2>& metric = stage_registry<2>(StageKind::Metric);
-  metric.add("uniform", [](const ConfigNode& section, const RunConfig&) -> Stage<2> {
+  metric.add("uniform", [](const ConfigNode& section) -> Stage<2> {
     const Metric<2> m = uniform_metric_2d(parse_uniform_metric(section, 2));
     return [m](RunState<2>& s, StageReport&) { s.metric = std::make_unique<UniformMetricField<2>>(m); };
   });
-  metric.add("wall_power_law", [](const ConfigNode& section, const RunConfig&) -> Stage<2> {
+  metric.add("wall_power_law", [](const ConfigNode& section) -> Stage<2> {
     const WallLawParams p = parse_wall_law_params(section);
     const std::string where = section.where("type");
     return [p, where](RunState<2>& s, StageReport&) { s.metric = make_wall_law_field(p, s.geometry, where); };
   });
-  metric.add("background", [](const ConfigNode& section, const RunConfig&) -> Stage<2> {
+  metric.add("background", [](const ConfigNode& section) -> Stage<2> {
     const BackgroundParams p = parse_background_params(section);
     const std::string where = section.where("type");
     return [p, where](RunState<2>& s, StageReport&) { s.metric = make_background_field(p, where); };
   });
   StageRegistry<2>& surface = stage_registry<2>(StageKind::Surface);
-  surface.add("curves", [](const ConfigNode&, const RunConfig&) -> Stage<2> {
+  surface.add("curves", [](const ConfigNode&) -> Stage<2> {
     return [](RunState<2>& s, StageReport& rep) {
       s.front = mesh_curves(s.geometry, *s.metric, s.config.order);
       report_curves(*s.front, s.geometry, *s.metric, rep);
     };
   });
-  surface.add("annulus", [](const ConfigNode&, const RunConfig&) -> Stage<2> {
+  surface.add("annulus", [](const ConfigNode&) -> Stage<2> {
     return [](RunState<2>& s, StageReport&) {
       if (!s.annulus) throw MesherError("surface: the annulus mesh needs the annulus geometry");
       s.mesh = mesh_annulus(*s.annulus, s.config.order, *s.metric);
@@ -103,7 +104,7 @@ void register_2d() {
 }
 
 void register_3d() {
-  stage_registry<3>(StageKind::Metric).add("uniform", [](const ConfigNode& section, const RunConfig&) -> Stage<3> {
+  stage_registry<3>(StageKind::Metric).add("uniform", [](const ConfigNode& section) -> Stage<3> {
     const Metric<3> m = uniform_metric_3d(parse_uniform_metric(section, 3));
     return [m](RunState<3>& s, StageReport&) { s.metric = std::make_unique<UniformMetricField<3>>(m); };
   });
@@ -111,10 +112,16 @@ void register_3d() {
 
 template <int Dim>
 void register_none() {
-  for (StageKind k : {StageKind::Layers, StageKind::Fill})
-    stage_registry<Dim>(k).add("none", [](const ConfigNode&, const RunConfig&) -> Stage<Dim> {
-      return [](RunState<Dim>&, StageReport&) {};
-    });
+  stage_registry<Dim>(StageKind::Fill).add("none", [](const ConfigNode&) -> Stage<Dim> {
+    return [](RunState<Dim>&, StageReport&) {};
+  });
+  stage_registry<Dim>(StageKind::Layers).add("none", [](const ConfigNode&) -> Stage<Dim> {
+    return [](RunState<Dim>& s, StageReport&) {
+      // No layers: the fill starts from the surface front itself.
+      if constexpr (Dim == 2)
+        if (s.front) s.layers = unlayered(*s.front);
+    };
+  });
 }
 
 }  // namespace

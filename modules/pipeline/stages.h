@@ -1,15 +1,16 @@
 // SPDX-License-Identifier: MIT
 // Stage plugins: every stage of the pipeline is chosen by name from a registry, one registry per
-// stage kind and dimension. A factory receives its configuration section (and the whole run
-// configuration), parses and checks its own keys there, before anything runs, and returns the
-// configured stage: a function of the run state that fills its part and its StageReport.
+// stage kind and dimension. A factory receives its configuration section, parses and checks its
+// own keys there, before anything runs, and returns the configured stage: a function of the run
+// state that fills its part and its StageReport (the run's core keys reach it through
+// RunState::config when it runs).
 //
 // Registration: each library registers its own plugins in one function the driver calls at start
 // (core: register_core_plugins below; surface3d/plugins.h, layers/plugins.h, volume/plugins.h).
 // Types (kind: 2D | 3D):
 //   geometry: annulus, airfoils | sphere, ellipsoid, box, wing, surface_file
 //   metric:   uniform, wall_power_law, background | uniform
-//   surface:  annulus, curves | remesh
+//   surface:  annulus, curves (by the geometry) | remesh (surface.type)
 //   layers:   none, extrude | none
 //   fill:     none, advancing_front | none
 #pragma once
@@ -37,9 +38,9 @@ constexpr StageKind all_stage_kinds[] = {StageKind::Geometry, StageKind::Metric,
                                          StageKind::Layers, StageKind::Fill};
 const char* stage_kind_name(StageKind kind);  // "geometry", ... (also the config section and report key)
 
-// section: the stage's config section (empty when absent); config: the run configuration.
+// section: the stage's config section (empty when absent).
 template <int Dim>
-using StageRegistry = Registry<Stage<Dim>(const ConfigNode& section, const RunConfig& config)>;
+using StageRegistry = Registry<Stage<Dim>(const ConfigNode& section)>;
 
 template <int Dim>
 StageRegistry<Dim>& stage_registry(StageKind kind);

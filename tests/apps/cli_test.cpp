@@ -114,3 +114,34 @@ TEST_CASE("cli: usage errors, --help and --version") {
   CHECK(bad_mesh.code == 1);
   CHECK(bad_mesh.err.find("bad.msh") != std::string::npos);
 }
+
+TEST_CASE("cli: a fill without layers meshes from the surface front; layers and fill of type none are accepted") {
+  const TempDir d("cli_fill_only");
+  const std::string airfoil = "order: 1\ngeometry:\n  type: airfoils\n  bodies: [{file: " +
+                              std::string(PLAF_SHARED_DATA) + "/airfoils/naca0012.dat}]\n" +
+                              "  farfield: {radius: 3}\nmetric: {type: uniform, h: 0.3}\n";
+  for (const std::string& extra : {std::string("fill: {}\n"), std::string("layers: {type: none}\nfill: {}\n")}) {
+    INFO(extra);
+    const fs::path cfg = write_text(d / "fill.yaml", airfoil + extra);
+    const PlafResult r = run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
+    CHECK(r.code == 0);
+    const std::string report = read_text(d / "out" / "fill.report.json");
+    CHECK(report.find("\"triangle_Q1\"") != std::string::npos);
+    CHECK(report.find("\"steps\"") != std::string::npos);  // the fill's section
+  }
+  const fs::path none = write_text(d / "none.yaml", good + "layers: {type: none}\nfill: {type: none}\n");
+  CHECK(run_plaf("run " + none.string() + " --out " + (d / "out2").string(), d).code == 0);
+  const fs::path sphere = write_text(d / "sphere.yaml", "geometry: {type: sphere}\nmetric: {type: uniform, h: 0.5}\n"
+                                                        "layers: {type: none}\nfill: {type: none}\n");
+  CHECK(run_plaf("run " + sphere.string() + " --out " + (d / "out3").string(), d).code == 0);
+}
+
+TEST_CASE("cli: an output folder that cannot be made is exit code 1 with one line naming it") {
+  const TempDir d("cli_out_dir");
+  const fs::path cfg = write_text(d / "case.yaml", good);
+  write_text(d / "afile", "x");
+  const PlafResult r = run_plaf("run " + cfg.string() + " --out " + (d / "afile" / "sub").string(), d);
+  CHECK(r.code == 1);
+  CHECK(r.err.find("output.dir '" + (d / "afile" / "sub").string() + "': cannot create the folder") !=
+        std::string::npos);
+}

@@ -148,7 +148,7 @@ TEST_CASE("read_surface: the shared STL files read with their documented counts,
   CHECK(airfoil.patch.empty());
 }
 
-TEST_CASE("read_surface: the Orion capsule binary STL reads fast with its documented counts") {
+TEST_CASE("read_surface: the Orion capsule binary STL reads with its documented counts") {
   const auto t0 = std::chrono::steady_clock::now();
   const TriangleSoup s = read_surface_file(kSurfaces + "orion_capsule_binary.stl");
   MESSAGE("orion_capsule_binary.stl read in " << seconds_since(t0) << " s");
