@@ -58,9 +58,9 @@ struct AdvancingFrontStats {
   std::size_t max_front = 0;        // largest number of front edges at once
 };
 
-struct AdvancingFrontResult {
-  std::vector<Eigen::Vector2d> nodes;            // the input nodes (same ids), then the new ones
-  std::vector<std::array<NodeId, 3>> triangles;  // counter-clockwise
+// The fill (linear_front.h's FillResult: the input nodes, same ids, then the new ones; the
+// triangles counter-clockwise) and what it did.
+struct AdvancingFrontResult : FillResult<2> {
   AdvancingFrontStats stats;
 };
 

@@ -291,7 +291,7 @@ void OccurrenceFront::remove_spikes(int x) {
 AdvancingFrontResult OccurrenceFront::take_result() {
   AdvancingFrontResult r;
   r.nodes = std::move(nodes_);
-  r.triangles = std::move(triangles_);
+  r.simplices = std::move(triangles_);
   r.stats.new_points = new_points_;
   r.stats.max_front = max_front_;
   return r;

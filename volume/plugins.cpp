@@ -26,7 +26,7 @@ void register_plugins() {
             rep.line("fill: " + std::to_string(f.steps) + " steps, " + std::to_string(f.new_points) + " new points, " +
                      std::to_string(f.merges) + " merges, " + std::to_string(f.delaunay_apexes) +
                      " Delaunay fallbacks, largest front " + std::to_string(f.max_front) + " edges");
-            s.fill = FillResult<2>{std::move(fill.nodes), std::move(fill.triangles)};
+            s.fill = static_cast<FillResult<2>&&>(std::move(fill));
           };
         });
     return true;

@@ -383,7 +383,7 @@ void check_front_preserved(const LinearFront<3>& front, const FaceIndex& front_f
   const std::size_t n_tri = front.triangles.size();
   std::vector<int> uses(n_tri, 0);
   std::vector<NodeId> apex(n_tri, -1);  // the vertex of the (last) tet on the triangle opposite it
-  for (const std::array<NodeId, 4>& tet : fill.tets)
+  for (const std::array<NodeId, 4>& tet : fill.simplices)
     for (int k = 0; k < 4; ++k) {
       const auto it = front_faces.find(sorted_face(tet[(k + 1) % 4], tet[(k + 2) % 4], tet[(k + 3) % 4]));
       if (it == front_faces.end()) continue;
@@ -452,16 +452,16 @@ std::pair<double, double> tet_shape(const std::array<Eigen::Vector3d, 4>& p) {
 // The stats of tetgen_fill.h, measured on the tets; `n_front` nodes came from the front.
 TetFillStats measure_fill(const TetFillResult& fill, std::size_t n_front) {
   double min_dihedral = std::numbers::pi, max_radius_edge = 0;
-  for (const std::array<NodeId, 4>& tet : fill.tets) {
+  for (const std::array<NodeId, 4>& tet : fill.simplices) {
     const auto [dihedral, radius_edge] =
         tet_shape({fill.nodes[tet[0]], fill.nodes[tet[1]], fill.nodes[tet[2]], fill.nodes[tet[3]]});
     min_dihedral = std::min(min_dihedral, dihedral);
     max_radius_edge = std::max(max_radius_edge, radius_edge);
   }
   TetFillStats stats;
-  stats.tets = fill.tets.size();
+  stats.tets = fill.simplices.size();
   stats.new_points = fill.nodes.size() - n_front;
-  stats.min_dihedral_deg = fill.tets.empty() ? 0 : min_dihedral * 180 / std::numbers::pi;
+  stats.min_dihedral_deg = fill.simplices.empty() ? 0 : min_dihedral * 180 / std::numbers::pi;
   stats.max_radius_edge = max_radius_edge;
   stats.switches = fill.stats.switches;
   return stats;
@@ -485,7 +485,7 @@ TetFillResult tetgen_fill(const LinearFront<3>& front, const TetFillParams& para
 
   // 4. Back to plaf's nodes and tets, with the node-numbering contract and positive volumes checked.
   result.nodes = output_nodes(front, ids, out, result.stats.switches);
-  result.tets = output_tets(result.nodes, front.nodes.size(), ids, out, result.stats.switches);
+  result.simplices = output_tets(result.nodes, front.nodes.size(), ids, out, result.stats.switches);
 
   // 5. The front was preserved: each front triangle a face of exactly one tet, on its normal's side.
   check_front_preserved(front, front_faces, result);

@@ -47,9 +47,9 @@ struct TetFillStats {
   std::string switches;                // the TetGen switches used, e.g. "pYQzJq1.5"
 };
 
-struct TetFillResult {
-  std::vector<Eigen::Vector3d> nodes;             // front.nodes (same ids), then the new ones
-  std::vector<std::array<NodeId, 4>> tets;        // order 1, positive volume
+// The fill (linear_front.h's FillResult: front.nodes, same ids, then the new ones; order-1
+// tetrahedra of positive volume) and what it did.
+struct TetFillResult : FillResult<3> {
   TetFillStats stats;
 };
 

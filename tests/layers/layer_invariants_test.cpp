@@ -337,7 +337,7 @@ Hybrid layers_and_fill(const CurvedFront<2>& front, const MetricField<2>& metric
   Hybrid h;
   h.layers = layers::grow_layers(front, metric, p);
   volume::AdvancingFrontResult fill = volume::advancing_front_fill(h.layers.fill_front, metric);
-  const FillResult<2> f{std::move(fill.nodes), std::move(fill.triangles)};
+  const FillResult<2>& f = fill;
   AssemblyOptions o;
   o.order = front.order;
   h.mesh = assemble_hybrid_2d(front, h.layers, &f, o).mesh;

@@ -39,7 +39,7 @@ void check_triangulation(const LinearFront2& f, const AdvancingFrontResult& r) {
   std::map<std::pair<NodeId, NodeId>, int> directed;
   double area = 0, region = 0;
   std::size_t inverted = 0;
-  for (const auto& t : r.triangles) {
+  for (const auto& t : r.simplices) {
     const Vec &a = r.nodes[t[0]], &b = r.nodes[t[1]], &c = r.nodes[t[2]];
     if (!(orient2d(a, b, c) > 0)) ++inverted;
     area += 0.5 * ((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
@@ -72,7 +72,7 @@ void check_triangulation(const LinearFront2& f, const AdvancingFrontResult& r) {
 // Fraction of the triangles' distinct edges with metric length in [1/sqrt 2, sqrt 2].
 double unit_fraction(const AdvancingFrontResult& r, const MetricField<2>& m) {
   std::map<std::pair<NodeId, NodeId>, double> len;
-  for (const auto& t : r.triangles)
+  for (const auto& t : r.simplices)
     for (int k = 0; k < 3; ++k) {
       const NodeId a = std::min(t[k], t[(k + 1) % 3]), b = std::max(t[k], t[(k + 1) % 3]);
       len[{a, b}] = metric_length(m, r.nodes[a], r.nodes[b]);
@@ -134,8 +134,8 @@ TEST_CASE("advancing front: a square in a uniform metric is a metric-unit triang
   const AdvancingFrontResult r = volume::advancing_front_fill(f, metric);
   check_triangulation(f, r);
   // Equilateral triangles of side 0.1 cover the unit square with 1 / (sqrt(3)/4 0.01) = 231.
-  CHECK(r.triangles.size() > 0.8 * 231);
-  CHECK(r.triangles.size() < 1.3 * 231);
+  CHECK(r.simplices.size() > 0.8 * 231);
+  CHECK(r.simplices.size() < 1.3 * 231);
   CHECK(unit_fraction(r, metric) > 0.9);
   CHECK(r.stats.new_points > 50);
 }
@@ -143,7 +143,7 @@ TEST_CASE("advancing front: a square in a uniform metric is a metric-unit triang
 TEST_CASE("advancing front: the same triangulation at every scale and offset (exact predicates)") {
   const LinearFront2 ref = square(1, {0, 0}, 8);
   const UniformMetricField<2> m1(Metric<2>::isotropic(0.13));
-  const std::size_t n = volume::advancing_front_fill(ref, m1).triangles.size();
+  const std::size_t n = volume::advancing_front_fill(ref, m1).simplices.size();
   for (const auto& [scale, offset] : {std::pair{1e-6, Vec(0, 0)}, std::pair{1e6, Vec(0, 0)},
                                       std::pair{1e-3, Vec(1e3, -1e3)}, std::pair{1.0, Vec(1e7, 1e7)}}) {
     INFO("scale " << scale << " offset " << offset.transpose());
@@ -151,7 +151,7 @@ TEST_CASE("advancing front: the same triangulation at every scale and offset (ex
     const UniformMetricField<2> m(Metric<2>::isotropic(0.13 * scale));
     const AdvancingFrontResult r = volume::advancing_front_fill(f, m);
     check_triangulation(f, r);
-    CHECK(r.triangles.size() == doctest::Approx(static_cast<double>(n)).epsilon(0.05));
+    CHECK(r.simplices.size() == doctest::Approx(static_cast<double>(n)).epsilon(0.05));
   }
 }
 
@@ -164,8 +164,8 @@ TEST_CASE("advancing front: anisotropic metric, holes, and fronts merging in nar
     const AdvancingFrontResult r = volume::advancing_front_fill(f, metric);
     check_triangulation(f, r);
     // 1.88 / (0.2 x 0.01) metric units of area: about 2170 unit equilateral triangles.
-    CHECK(r.triangles.size() > 0.6 * 2170);
-    CHECK(r.triangles.size() < 1.4 * 2170);
+    CHECK(r.simplices.size() > 0.6 * 2170);
+    CHECK(r.simplices.size() < 1.4 * 2170);
     CHECK(unit_fraction(r, metric) > 0.9);
   }
   SUBCASE("two holes in a disk, a gap of a tenth of the size between them") {

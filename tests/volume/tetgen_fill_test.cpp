@@ -97,7 +97,7 @@ double check_fill(const LinearFront<3>& f, const TetFillResult& r) {
   std::size_t moved = 0;
   for (std::size_t i = 0; i < f.nodes.size(); ++i) moved += r.nodes[i] != f.nodes[i];
   CHECK(moved == 0);
-  CHECK(r.stats.tets == r.tets.size());
+  CHECK(r.stats.tets == r.simplices.size());
   CHECK(r.stats.new_points == r.nodes.size() - f.nodes.size());
   std::vector<bool> on_front(f.nodes.size(), false);
   for (const auto& t : f.triangles)
@@ -106,7 +106,7 @@ double check_fill(const LinearFront<3>& f, const TetFillResult& r) {
   std::map<std::array<NodeId, 3>, std::vector<NodeId>> apexes;  // sorted face -> opposite vertices
   std::size_t non_positive = 0, on_unused = 0;
   double volume = 0;
-  for (const auto& t : r.tets) {
+  for (const auto& t : r.simplices) {
     if (!(orient3d(r.nodes[t[0]], r.nodes[t[1]], r.nodes[t[2]], r.nodes[t[3]]) < 0)) ++non_positive;
     volume += tet_volume(r, t);
     for (int k = 0; k < 4; ++k) {
@@ -148,7 +148,7 @@ TEST_CASE("volume: TetGen fills a box with positive tets whose volumes sum to th
     volume::TetFillParams p;
     p.max_volume = a * a * a / 2000;
     const TetFillResult r = volume::tetgen_fill(f, p);
-    CHECK(r.tets.size() >= 2000);
+    CHECK(r.simplices.size() >= 2000);
     CHECK(r.stats.switches.find("pYQzJ") == 0);
     const double volume = check_fill(f, r);
     CHECK(std::abs(volume - a * a * a) <= 1e-12 * a * a * a);
@@ -205,7 +205,7 @@ TEST_CASE("volume: with a hole point TetGen fills a box around a body and leaves
     const double volume = check_fill(b.front, r);
     CHECK(std::abs(volume - b.region_volume) <= 1e-12 * b.region_volume);
     std::size_t inside_body = 0;
-    for (const auto& t : r.tets) {
+    for (const auto& t : r.simplices) {
       const Vec c = (r.nodes[t[0]] + r.nodes[t[1]] + r.nodes[t[2]] + r.nodes[t[3]]) / 4;
       if ((c.array() > b.body_lo.array()).all() && (c.array() < b.body_hi.array()).all()) ++inside_body;
     }
