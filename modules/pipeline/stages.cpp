@@ -77,7 +77,7 @@ void register_2d() {
     return [m](RunState<2>& s, StageReport&) { s.metric = std::make_unique<UniformMetricField<2>>(m); };
   });
   metric.add("wall_power_law", [](const ConfigNode& section, const RunConfig&) -> Stage<2> {
-    const WallLawParams p = parse_wall_law_params(section);
+    const WallLawParams p = parse_wall_law_params(section, 2);
     const std::string where = section.where("type");
     return [p, where](RunState<2>& s, StageReport&) { s.metric = make_wall_law_field(p, s.geometry, where); };
   });

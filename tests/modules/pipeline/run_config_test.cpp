@@ -66,7 +66,7 @@ SurfaceParams surface(const std::string& yaml) {
 }
 WallLawParams wall_law(const std::string& yaml) {
   parse_run_config(yaml, "t.yaml");
-  return parse_wall_law_params(ConfigNode::load_string(yaml, "t.yaml").child("metric"));
+  return parse_wall_law_params(ConfigNode::load_string(yaml, "t.yaml").child("metric"), 2);
 }
 BackgroundParams background(const std::string& yaml) {
   parse_run_config(yaml, "t.yaml");
