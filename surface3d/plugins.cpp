@@ -216,7 +216,7 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   // centre: one split brings its edges to 0.75, inside the unit band (a start at exactly twice the
   // size splits the lattice's diagonals to 1/sqrt 2, on the band's edge).
   if (s.build_body) {
-    s.build_body(s, 1.5 * s.metric->evaluate(s.body_center).max_size());
+    s.build_body(s, 1.5 * s.surface_base().evaluate(s.body_center).max_size());
     rep.add("input_triangles", s.surface.mesh.n_faces());
     rep.line("initial triangulation: " + std::to_string(s.surface.mesh.n_faces()) + " triangles");
     rep.line("features (input): " + feature_line(count_features(s.surface)));
@@ -231,14 +231,14 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   rep.add_json("features.input", feature_json(count_features(s.surface)));
   TriSurface& surface = s.surface;
   if (surface.mesh.n_vertices() == 0) throw MesherError("surface: no vertices to mesh");
-  const double base_min = s.metric->evaluate(surface.mesh.point(*surface.mesh.vertices().begin())).min_size();
+  const double base_min = s.surface_base().evaluate(surface.mesh.point(*surface.mesh.vertices().begin())).min_size();
   if (sp.curvature_h_min > 0 && sp.curvature_h_min >= base_min)
     throw ConfigError(sp.curvature_h_min_where + ": " + std::to_string(sp.curvature_h_min) +
                       " must be smaller than the metric's smallest size " + std::to_string(base_min));
   if (sp.curvature_factor > 0) {
     const double h_min = sp.curvature_h_min > 0 ? sp.curvature_h_min : base_min / 20;
     s.surface_metric =
-        std::make_unique<CurvatureMetricField>(*s.metric, *s.reference, sp.curvature_factor, h_min);
+        std::make_unique<CurvatureMetricField>(s.surface_base(), *s.reference, sp.curvature_factor, h_min);
   }
   const MetricField<3>& field = *s.measure();
   RemeshReport rr;

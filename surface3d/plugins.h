@@ -30,7 +30,9 @@
 //     curvature_h_min: <>0, < the metric's size>  the smallest size curvature asks for   default: the metric's size / 20
 //     max_triangles: <n>    give up (an error) beyond this many triangles   default: 20000000
 // An analytic body gives its exact reference at the geometry stage and its initial
-// triangulation at the surface stage, at 1.5 times the metric's largest size there.
+// triangulation at the surface stage, at 1.5 times the metric's largest size there. The surface
+// follows the metric's sizes; a wall_power_law metric's sizes along the wall, its size normal to
+// the wall being the layers' (RunState<3>::surface_sizes, modules/metric/wall_metric_3d.h).
 // A folded or invalid surface fails the run (exit 2, the mesh written for inspection).
 #pragma once
 

@@ -11,7 +11,7 @@
 //     file: <path>          Gmsh .msh with a tensor $NodeData view, or a libMeshb .mesh  (required)
 //     sol: <path>           the .sol of a .mesh file              default: none
 //     mean: log_euclidean|affine_invariant                        default: log_euclidean
-// The wall_power_law options live beside its field in wall_metric.h.
+// The wall_power_law options live beside its field in wall_metric.h (3D: wall_metric_3d.h).
 #pragma once
 
 #include <memory>

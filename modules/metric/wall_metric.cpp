@@ -10,7 +10,17 @@
 namespace plaf {
 inline namespace metric {
 
-WallLawParams parse_wall_law_params(const ConfigNode& m) {
+WallLawParams parse_wall_law_params(const ConfigNode& m, int dim) {
+  if (dim == 3) {
+    if (m.has("curvature_factor"))
+      throw ConfigError(m.where("curvature_factor") +
+                        ": not a 3D wall_power_law key: sizes along curved walls come from the surface section's "
+                        "curvature_factor (surface: {curvature_factor: ...})");
+    if (m.has("h_corner"))
+      throw ConfigError(m.where("h_corner") +
+                        ": not a 3D wall_power_law key: the sizes along a 3D wall are h_wall_max, and the surface "
+                        "stage keeps its ridges and corners");
+  }
   WallLawParams w;
   w.h0 = m.get_positive("h0", w.h0);
   w.growth = m.get_in_range("growth", w.growth, 1.0, 10.0);
@@ -25,6 +35,16 @@ WallLawParams parse_wall_law_params(const ConfigNode& m) {
   return w;
 }
 
+double wall_normal_size(const WallLawParams& p, double d) {
+  const double delta = p.delta > 0 ? p.delta : p.h0;
+  const double h = p.exponential ? p.h0 * std::pow(p.growth, d / delta) : p.h0 + (p.growth - 1) * d;
+  return std::min(h, p.h_max);
+}
+
+double wall_tangential_size(const WallLawParams& p, double h_wall, double h_perp) {
+  return std::min(p.h_max, std::max(h_wall, h_perp));
+}
+
 WallPowerLawField::WallPowerLawField(std::vector<SplineLoop> walls, const WallLawParams& params)
     : walls_(std::move(walls)), p_(params) {
   if (walls_.empty()) throw InputError("wall_power_law metric: the geometry has no wall");
@@ -35,10 +55,7 @@ WallPowerLawField::WallPowerLawField(std::vector<SplineLoop> walls, const WallLa
   if (p_.delta <= 0) p_.delta = p_.h0;
 }
 
-double WallPowerLawField::normal_size(double d) const {
-  const double h = p_.exponential ? p_.h0 * std::pow(p_.growth, d / p_.delta) : p_.h0 + (p_.growth - 1) * d;
-  return std::min(h, p_.h_max);
-}
+double WallPowerLawField::normal_size(double d) const { return wall_normal_size(p_, d); }
 
 WallPowerLawField::Sizes WallPowerLawField::sizes(const Eigen::Vector2d& x) const {
   if (!x.allFinite()) throw MesherError("wall_power_law metric: evaluated at a non-finite point");
@@ -79,7 +96,7 @@ WallPowerLawField::Sizes WallPowerLawField::sizes(const Eigen::Vector2d& x) cons
   double h_par = kappa > 0 ? std::min(p_.h_wall_max, p_.curvature_factor / kappa) : p_.h_wall_max;
   for (const Eigen::Vector2d& c : corners_)
     h_par = std::min(h_par, p_.h_corner + (p_.growth - 1) * (best.point - c).norm());
-  s.tangential = std::min(p_.h_max, std::max(h_par, s.normal));
+  s.tangential = wall_tangential_size(p_, h_par, s.normal);
   return s;
 }
 

@@ -17,6 +17,8 @@
 // Directions: the normal is the wall normal at the closest wall point (found with each loop's
 // spatial index, spline_loop.h), pointing towards x; near a corner, the direction from the
 // corner to x.
+// The 3D field (wall_metric_3d.h) takes the same keys and shares the law: wall_normal_size and
+// wall_tangential_size below.
 #pragma once
 
 #include <vector>
@@ -39,6 +41,8 @@ inline namespace metric {
 //     h_wall_max: <>0>      largest size along a wall             default: 0.05
 //     curvature_factor: <>0>  size along a wall = factor x radius of curvature   default: 0.25
 //     h_corner: <>0>        size along a wall at a corner (grows by g away)   default: 0.01
+//     (3D: the same keys but curvature_factor and h_corner, an error there: curvature sizes come
+//     from the surface section's curvature_factor, see wall_metric_3d.h)
 struct WallLawParams {
   double h0 = 0.005;
   double growth = 1.2;
@@ -50,8 +54,17 @@ struct WallLawParams {
   double h_corner = 0.01;
 };
 
-// The wall_power_law keys of a metric section (ConfigError naming the key).
-WallLawParams parse_wall_law_params(const ConfigNode& metric);
+// The wall_power_law keys of a metric section of a dim-dimensional run (ConfigError naming the
+// key).
+WallLawParams parse_wall_law_params(const ConfigNode& metric, int dim);
+
+// The law, shared by both dimensions. h_perp at wall distance d: h0 + (g - 1) d, or h0 g^(d/delta)
+// (delta 0: h0), capped at h_max.
+double wall_normal_size(const WallLawParams& params, double d);
+// The size along the wall where the wall asks for h_wall (2D: from h_wall_max, the curvature and
+// the corners; 3D: h_wall_max) and the normal size is h_perp: never below h_perp, so that far from
+// the walls the metric becomes isotropic, and capped at h_max.
+double wall_tangential_size(const WallLawParams& params, double h_wall, double h_perp);
 
 class WallPowerLawField final : public MetricField<2> {
  public:

@@ -59,13 +59,16 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   const std::string geometry_type = g.get_choice("type", "annulus", geometry_types);
   if (stage_registry<3>(StageKind::Geometry).contains(geometry_type)) r.dim = 3;
 
-  // The metric's type; its plugin parses the section (stages.h). 3D surfaces take a uniform one.
+  // The metric's type; its plugin parses the section (stages.h). A 2D type missing from the 3D
+  // registry (background) is named as such.
   const ConfigNode m = c.child("metric");
   const std::string metric_type = m.get_string("type", "uniform");
   if (r.dim == 3 && !stage_registry<3>(StageKind::Metric).contains(metric_type) &&
-      stage_registry<2>(StageKind::Metric).contains(metric_type))
-    throw ConfigError(m.where("type") + ": metric type '" + metric_type +
-                      "' is 2D only; 3D surfaces take a uniform metric (h or sizes [hx, hy, hz])");
+      stage_registry<2>(StageKind::Metric).contains(metric_type)) {
+    std::string types;
+    for (const std::string& t : stage_registry<3>(StageKind::Metric).names()) types += (types.empty() ? "" : ", ") + t;
+    throw ConfigError(m.where("type") + ": metric type '" + metric_type + "' is 2D only; 3D runs take: " + types);
+  }
 
   // Stage sections: the chosen type's factory parses and checks its own keys (stages.h).
   auto plan = [&](StageKind kind, const std::string& type, const ConfigNode& s, PlannedStage& out) {

@@ -14,7 +14,8 @@
 //   surface:                3D only: features and remeshing, SurfaceParams (surface3d/plugins.h)
 //   metric:                 the metric field; `type:` chooses the plugin, its keys beside its options:
 //     type: uniform         UniformMetricParams (modules/metric/metric_fields.h), 2D and 3D
-//     type: wall_power_law  WallLawParams (modules/metric/wall_metric.h), 2D
+//     type: wall_power_law  WallLawParams (modules/metric/wall_metric.h), 2D and 3D (3D:
+//                           modules/metric/wall_metric_3d.h, without curvature_factor and h_corner)
 //     type: background      BackgroundParams (modules/metric/metric_fields.h), 2D
 //   layers:                 prismatic layers grown from the walls; absent: none. Keys of the
 //     type: extrude         chosen type, parsed by its plugin: layers/plugins.h

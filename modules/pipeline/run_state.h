@@ -46,19 +46,30 @@ struct RunState<3> {
   explicit RunState(const RunConfig& c) : config(c) {}
   const RunConfig& config;
   TriSurface surface;                               // geometry: the input; surface: remeshed and curved
-  std::unique_ptr<ReferenceGeometry<3>> reference;  // geometry: what the surface lives on
+  // geometry: what the surface lives on (shared: a metric may keep it to measure distances to the
+  // body, wall_metric_3d.h, while the surface stage replaces it with an equal one built with the
+  // triangulation)
+  std::shared_ptr<ReferenceGeometry<3>> reference;
   // geometry, for an analytic body: builds its initial triangulation (and the same reference) at
-  // size h; the surface stage calls it with the metric's size at body_center. Files need none.
+  // size h; the surface stage calls it with surface_base()'s size at body_center. Files need none.
   std::function<void(RunState<3>&, double h)> build_body;
   Eigen::Vector3d body_center = Eigen::Vector3d::Zero();
   std::unique_ptr<MetricField<3>> metric;           // metric
+  // metric, where the surface mesh follows other sizes than `metric` (null: metric itself): a
+  // boundary-layer metric's sizes along the wall, its normal size being the layers' (wall_metric_3d.h)
+  std::unique_ptr<MetricField<3>> surface_sizes;
   std::unique_ptr<MetricField<3>> surface_metric;   // surface: the metric it followed (curvature)
   std::optional<CurvedFront<3>> front;
   std::optional<LayerResult<3>> layers;
   std::optional<FillResult<3>> fill;
   HybridMesh<3> mesh;
   bool mesh_done = false;
-  const MetricField<3>* measure() const { return surface_metric ? surface_metric.get() : metric.get(); }
+  // The sizes the surface stage meshes to (before its curvature metric).
+  const MetricField<3>& surface_base() const { return surface_sizes ? *surface_sizes : *metric; }
+  // What the quality stage measures the mesh in: the metric the surface followed.
+  const MetricField<3>* measure() const {
+    return surface_metric ? surface_metric.get() : surface_sizes ? surface_sizes.get() : metric.get();
+  }
 };
 
 }  // namespace pipeline

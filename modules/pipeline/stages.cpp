@@ -9,6 +9,7 @@
 #include "modules/mesh/annulus.h"
 #include "modules/mesh/curve_mesh.h"
 #include "modules/metric/metric_fields.h"
+#include "modules/metric/wall_metric_3d.h"
 #include "modules/pipeline/run_state.h"
 
 namespace plaf {
@@ -78,7 +79,7 @@ void register_2d() {
     return [m](RunState<2>& s, StageReport&) { s.metric = std::make_unique<UniformMetricField<2>>(m); };
   });
   metric.add("wall_power_law", [](const ConfigNode& section) -> Stage<2> {
-    const WallLawParams p = parse_wall_law_params(section);
+    const WallLawParams p = parse_wall_law_params(section, 2);
     const std::string where = section.where("type");
     return [p, where](RunState<2>& s, StageReport&) { s.metric = make_wall_law_field(p, s.geometry, where); };
   });
@@ -104,9 +105,24 @@ void register_2d() {
 }
 
 void register_3d() {
-  stage_registry<3>(StageKind::Metric).add("uniform", [](const ConfigNode& section) -> Stage<3> {
+  StageRegistry<3>& metric = stage_registry<3>(StageKind::Metric);
+  metric.add("uniform", [](const ConfigNode& section) -> Stage<3> {
     const Metric<3> m = uniform_metric_3d(parse_uniform_metric(section, 3));
     return [m](RunState<3>& s, StageReport&) { s.metric = std::make_unique<UniformMetricField<3>>(m); };
+  });
+  // The wall law from the geometry stage's reference; the surface follows its sizes along the wall.
+  metric.add("wall_power_law", [](const ConfigNode& section) -> Stage<3> {
+    const WallLawParams p = parse_wall_law_params(section, 3);
+    const std::string where = section.where("type");
+    return [p, where](RunState<3>& s, StageReport&) {
+      if (!s.reference)
+        throw MesherError(where +
+                          ": the wall_power_law metric measures distances to the body, but the geometry stage gave "
+                          "no reference geometry");
+      WallPowerLawField3 field(s.reference, p);
+      s.surface_sizes = std::make_unique<WallSizesAlongWall3>(field);
+      s.metric = std::make_unique<WallPowerLawField3>(std::move(field));
+    };
   });
 }
 

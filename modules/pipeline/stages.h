@@ -9,7 +9,7 @@
 // (core: register_core_plugins below; surface3d/plugins.h, layers/plugins.h, volume/plugins.h).
 // Types (kind: 2D | 3D):
 //   geometry: annulus, airfoils | sphere, ellipsoid, box, wing, surface_file
-//   metric:   uniform, wall_power_law, background | uniform
+//   metric:   uniform, wall_power_law, background | uniform, wall_power_law
 //   surface:  annulus, curves (by the geometry) | remesh (surface.type)
 //   layers:   none, extrude | none
 //   fill:     none, advancing_front | none

@@ -115,7 +115,7 @@ TEST_CASE("cli: usage errors, --help and --version") {
   CHECK(bad_mesh.err.find("bad.msh") != std::string::npos);
 }
 
-TEST_CASE("cli: a fill without layers meshes from the surface front; layers and fill of type none are accepted") {
+TEST_CASE("cli: a fill without layers meshes from the surface front, and layers and fill of type none are accepted") {
   const TempDir d("cli_fill_only");
   const std::string airfoil = "order: 1\ngeometry:\n  type: airfoils\n  bodies: [{file: " +
                               std::string(PLAF_SHARED_DATA) + "/airfoils/naca0012.dat}]\n" +

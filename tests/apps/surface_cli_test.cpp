@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 // End-to-end runs of 3D surface configurations on the shared data's bad and repaired inputs:
 // each bad input stops the run with its own one-line error (the last stderr line), exit code 1
-// and no output file; a repair is reported and the run goes on.
+// and no output file; a repair is reported and the run goes on. And the 3D wall_power_law metric
+// through the whole run: the surface meshed at its sizes along the wall.
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -109,4 +111,57 @@ TEST_CASE("surface cli: a curvature size not below the metric's stops the run be
   CHECK(last_line(r.err).find("surface.curvature_h_min: 0.2") != std::string::npos);
   CHECK(last_line(r.err).find("must be smaller than the metric's smallest size 0.1") != std::string::npos);
   CHECK(plaf::test::count_files(d / "out") == 0);
+}
+
+TEST_CASE("surface cli: a wall_power_law metric meshes the surface at its sizes along the wall") {
+  // The number after "key": at or after `from` in the report.
+  const auto number = [](const std::string& json, const std::string& key, std::size_t from) {
+    const std::size_t at = json.find("\"" + key + "\": ", from);
+    return at == std::string::npos ? -1.0 : std::strtod(json.c_str() + at + key.size() + 4, nullptr);
+  };
+  // The unit sphere at h_wall_max = 0.2: its area 4 pi over an equilateral triangle's
+  // sqrt(3)/4 h^2 is 726 triangles. In the full metric, the normal size h0 = 1e-3 would ask for
+  // chords of sqrt(2 R h0) = 0.045, some 14000 triangles (wall_metric_3d.h).
+  const TempDir d("surface_cli_wall");
+  const PlafResult r =
+      run_config(d, "geometry: {type: sphere}\nmetric: {type: wall_power_law, h0: 1e-3, h_wall_max: 0.2, h_max: 1}\n");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const std::string report = read_text(d / "out" / "case.report.json");
+  const std::size_t surface = report.find("\"surface\": {");
+  const double triangles = number(report, "triangles", surface);
+  CHECK(triangles >= 726 / 2);
+  CHECK(triangles <= 726 * 2);
+  CHECK(number(report, "area", surface) == doctest::Approx(4 * M_PI).epsilon(1e-4));
+  CHECK(number(report, "unit_fraction", report.find("\"metric\": {")) >= 0.9);  // in the sizes along the wall
+  // With the surface stage's curvature sizes (intersected with the sizes along the wall), and on a
+  // body with ridges and corners.
+  for (const char* yaml : {"geometry: {type: ellipsoid, semi_axes: [1.5, 1, 0.4]}\n"
+                           "metric: {type: wall_power_law, h0: 1e-5, h_wall_max: 0.2}\n"
+                           "surface: {curvature_factor: 0.5}\n",
+                           "geometry: {type: box}\nmetric: {type: wall_power_law, h0: 1e-4, h_wall_max: 0.25}\n"}) {
+    const TempDir e("surface_cli_wall_more");
+    const PlafResult s = run_config(e, yaml);
+    INFO(yaml << s.err);
+    CHECK(s.code == 0);
+  }
+  // On the wall the sizes along it are h_wall_max: the shipped wing (uniform h = 0.08, whose
+  // initial triangulation is sized at its root's leading edge, on the wall) meshed with
+  // wall_power_law and h_wall_max = 0.08 writes the same file.
+  std::string wing = read_text(std::string(PLAF_CONFIGS) + "/wing_symmetry_surface.yaml");
+  const std::string section_file = "file: ../../shared/data/", uniform = "metric:\n  type: uniform\n  h: 0.08\n";
+  REQUIRE(wing.find(section_file) != std::string::npos);
+  REQUIRE(wing.find(uniform) != std::string::npos);
+  wing.replace(wing.find(section_file), section_file.size(), "file: " + std::string(PLAF_SHARED_DATA) + "/");
+  std::string walled = wing;
+  walled.replace(wing.find(uniform), uniform.size(),
+                 "metric:\n  type: wall_power_law\n  h0: 1e-5\n  h_wall_max: 0.08\n");
+  const TempDir e("surface_cli_wall_wing");
+  for (const auto& [name, yaml] : {std::pair{"uniform", wing}, std::pair{"wall", walled}}) {
+    const fs::path cfg = write_text(e / (std::string(name) + ".yaml"), yaml);
+    const PlafResult s = plaf::test::run_plaf("run " + cfg.string() + " --out " + (e / name).string(), e);
+    INFO(s.err);
+    REQUIRE(s.code == 0);
+  }
+  CHECK(read_text(e / "uniform" / "wing_symmetry_surface.msh") == read_text(e / "wall" / "wing_symmetry_surface.msh"));
 }

@@ -66,7 +66,7 @@ SurfaceParams surface(const std::string& yaml) {
 }
 WallLawParams wall_law(const std::string& yaml) {
   parse_run_config(yaml, "t.yaml");
-  return parse_wall_law_params(ConfigNode::load_string(yaml, "t.yaml").child("metric"));
+  return parse_wall_law_params(ConfigNode::load_string(yaml, "t.yaml").child("metric"), 2);
 }
 BackgroundParams background(const std::string& yaml) {
   parse_run_config(yaml, "t.yaml");
@@ -365,8 +365,15 @@ TEST_CASE("run config: 3D keys are checked like the 2D ones") {
   CHECK(err("geometry: {type: surface_file}\n") == doctest::Contains("file is required"));
   CHECK(err("geometry: {type: surface_file, file: a.stl, symmetry_planes: [{normal: [0, 0, 0]}]}\n") ==
         doctest::Contains("must not be zero"));
-  CHECK(err("geometry: {type: sphere}\nmetric: {type: wall_power_law}\n") ==
-        doctest::Contains("2D only"));
+  CHECK(err("geometry: {type: sphere}\nmetric: {type: background, file: a.msh}\n") ==
+        doctest::Contains("2D only; 3D runs take: uniform, wall_power_law"));
+  CHECK(err("geometry: {type: sphere}\nmetric: {type: wall_power_law, h0: 1e-5, h_wall_max: 0.1}\n") == "no error");
+  CHECK(err("geometry: {type: sphere}\nmetric: {type: wall_power_law, curvature_factor: 0.3}\n") ==
+        doctest::Contains("metric.curvature_factor: not a 3D wall_power_law key"));
+  CHECK(err("geometry: {type: box}\nmetric: {type: wall_power_law, h_corner: 0.01}\n") ==
+        doctest::Contains("metric.h_corner: not a 3D wall_power_law key"));
+  CHECK(err("geometry: {type: sphere}\nmetric: {type: wall_power_law, growth: 1}\n") ==
+        doctest::Contains("growth: must be larger than 1"));
   CHECK(err("geometry: {type: sphere}\nmetric: {type: uniform, sizes: [1, 2]}\n") ==
         doctest::Contains("three sizes"));
   CHECK(err("geometry: {type: sphere}\nmetric: {type: uniform, angle_deg: 3}\n") ==
