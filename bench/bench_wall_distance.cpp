@@ -4,7 +4,8 @@
 // on the cubic-spline walls (SplineLoop::closest_point: a bounding-box tree over the pieces, then
 // the roots of each candidate piece's quintic) against the naive peer, a brute-force scan over a
 // dense polyline of the same walls. Walls: the Eppler 387 and the blunt NACA 0012, its open
-// trailing edge closed by a straight segment (data/airfoils). Queries: uniform in a box around the bodies, and in a near-wall band.
+// trailing edge closed by a straight segment (data/airfoils). Queries: uniform in a box around
+// the bodies, and in a near-wall band.
 // Also times WallPowerLawField::evaluate (closest point + sizes + metric) on the same points.
 // Run by hand: bench_wall_distance [queries] [brute_force_queries] [polyline_points_per_loop].
 #include <algorithm>

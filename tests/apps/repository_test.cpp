@@ -36,7 +36,7 @@ std::string read_all(const fs::path& p) {
 // The shipped text files: sources, CMake, scripts, configs and documents, in the folders that
 // hold them (a build folder inside the repository is not scanned).
 std::vector<fs::path> shipped_text_files() {
-  const std::set<std::string> folders = {"apps", "bench", "configs", "data",      "docs",  "layers",
+  const std::set<std::string> folders = {"apps",    "bench",   "configs",   "data",  "docs",   "layers",
                                          "modules", "scripts", "surface3d", "tests", "volume", ".ci"};
   const std::set<std::string> exts = {".cpp", ".h", ".txt", ".cmake", ".py", ".sh", ".md", ".yaml", ""};
   std::vector<fs::path> out;
