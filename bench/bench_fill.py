@@ -3,7 +3,7 @@
 
 A. Metric-conforming linear triangles, plaf vs BAMG (F. Hecht's bidimensional anisotropic mesh
    generator; Debian's freefem++ ships it as /usr/bin/ffbamg, also looked up as `bamg`).
-   Domain: the NACA 0012 with a sharp trailing edge (shared/data/airfoils/naca0012_sharp.dat,
+   Domain: the NACA 0012 with a sharp trailing edge (data/airfoils/naca0012_sharp.dat,
    199 distinct points) inside a circle of radius R = 10 centred at (0.5, 0).
    Metric: analytic, anisotropic, smooth: the intersection (simultaneous reduction) of
      - a boundary-layer-like field: normal size h_n = 0.005 + 0.15 d (d: distance to the airfoil
@@ -91,11 +91,10 @@ def die(msg):
 # ---- airfoil and geometry helpers ----------------------------------------------------------
 
 def find_airfoil():
-    for base in (os.path.join(REPO, "..", "shared"), "/work/shared"):
-        p = os.path.abspath(os.path.join(base, "data", "airfoils", "naca0012_sharp.dat"))
-        if os.path.isfile(p):
-            return p
-    die("naca0012_sharp.dat not found in ../shared/data/airfoils beside the repository")
+    p = os.path.join(REPO, "data", "airfoils", "naca0012_sharp.dat")
+    if not os.path.isfile(p):
+        die(f"{p} not found (python3 data/make_naca0012_sharp.py writes it)")
+    return p
 
 
 def read_airfoil(path):

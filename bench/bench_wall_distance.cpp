@@ -3,8 +3,9 @@
 // Metric-Based Curved Meshing Using Prismatic Layers*, Sec. IV.A, eq. 6): the exact closest point
 // on the cubic-spline walls (SplineLoop::closest_point: a bounding-box tree over the pieces, then
 // the roots of each candidate piece's quintic) against the naive peer, a brute-force scan over a
-// dense polyline of the same walls. Walls: the Eppler 387 and the three 30P-30N elements
-// (shared/data/airfoils). Queries: uniform in a box around the bodies, and in a near-wall band.
+// dense polyline of the same walls. Walls: the Eppler 387 and the blunt NACA 0012, its open
+// trailing edge closed by a straight segment (data/airfoils). Queries: uniform in a box around
+// the bodies, and in a near-wall band.
 // Also times WallPowerLawField::evaluate (closest point + sizes + metric) on the same points.
 // Run by hand: bench_wall_distance [queries] [brute_force_queries] [polyline_points_per_loop].
 #include <algorithm>
@@ -97,7 +98,7 @@ struct Case {
 void run_case(const Case& c, std::size_t queries, std::size_t brute_queries, int polyline_points) {
   // 1. Walls.
   plaf::AirfoilsParams a;
-  for (const std::string& f : c.files) a.bodies.push_back({std::string(PLAF_SHARED_DATA) + "/airfoils/" + f, f, {}});
+  for (const std::string& f : c.files) a.bodies.push_back({std::string(PLAF_DATA) + "/airfoils/" + f, f, {}});
   a.corner_angle_deg = c.corner_angle_deg;
   std::vector<SplineLoop> walls;
   for (const plaf::GeometryLoop& g : plaf::build_airfoils_geometry(a).loops)
@@ -190,7 +191,7 @@ int main(int argc, char** argv) {
                  "usage: bench_wall_distance [queries >= 1] [brute_force_queries >= 1] [points_per_loop >= 3]\n");
     return 2;
   }
-  // Wall-law parameters and corner thresholds of configs/e387.yaml and configs/30p30n.yaml.
+  // Wall-law parameters and corner thresholds of configs/e387.yaml and configs/naca0012_blunt.yaml.
   WallLawParams e387;
   e387.h0 = 0.005;
   e387.growth = 1.2;
@@ -198,13 +199,12 @@ int main(int argc, char** argv) {
   e387.h_wall_max = 0.04;
   e387.curvature_factor = 0.3;
   e387.h_corner = 0.01;
-  WallLawParams hl = e387;
-  hl.h0 = 0.001;
-  hl.h_wall_max = 0.03;
-  hl.h_corner = 0.003;
+  WallLawParams blunt = e387;
+  blunt.h0 = 0.001;
+  blunt.h_corner = 0.005;
   const Case cases[] = {
       {"E387", {"e387.dat"}, 70.0, e387},
-      {"30P-30N", {"30p30n_slat.dat", "30p30n_main.dat", "30p30n_flap.dat"}, 30.0, hl},
+      {"NACA 0012, blunt TE", {"naca0012.dat"}, 30.0, blunt},
   };
   for (const Case& c : cases)
     run_case(c, static_cast<std::size_t>(queries), static_cast<std::size_t>(brute_queries), polyline_points);

@@ -118,7 +118,7 @@ TEST_CASE("cli: usage errors, --help and --version") {
 TEST_CASE("cli: a fill without layers meshes from the surface front, and layers and fill of type none are accepted") {
   const TempDir d("cli_fill_only");
   const std::string airfoil = "order: 1\ngeometry:\n  type: airfoils\n  bodies: [{file: " +
-                              std::string(PLAF_SHARED_DATA) + "/airfoils/naca0012.dat}]\n" +
+                              std::string(PLAF_DATA) + "/airfoils/naca0012.dat}]\n" +
                               "  farfield: {radius: 3}\nmetric: {type: uniform, h: 0.3}\n";
   for (const std::string& extra : {std::string("fill: {}\n"), std::string("layers: {type: none}\nfill: {}\n")}) {
     INFO(extra);

@@ -331,7 +331,7 @@ TEST_CASE("configs: a background metric from .mesh/.sol and from MSH 4.1 gives t
   const double r = 5;
   const Eigen::Vector2d c(0.5, 0.0);
   const std::string geometry =
-      "name: bg\ngeometry:\n  type: airfoils\n  bodies:\n    - file: " + std::string(PLAF_SHARED_DATA) +
+      "name: bg\ngeometry:\n  type: airfoils\n  bodies:\n    - file: " + std::string(PLAF_DATA) +
       "/airfoils/naca0012.dat\n  farfield: {shape: circle, radius: 5, center: [0.5, 0]}\n"
       "output: {formats: [msh, report]}\n";
   write_text(d.path / "meshb.yaml", geometry + "metric: {type: background, file: bg.mesh, sol: bg.sol}\n");

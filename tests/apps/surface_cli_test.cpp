@@ -1,18 +1,27 @@
 // SPDX-License-Identifier: MIT
-// End-to-end runs of 3D surface configurations on the shared data's bad and repaired inputs:
-// each bad input stops the run with its own one-line error (the last stderr line), exit code 1
-// and no output file; a repair is reported and the run goes on. And the 3D wall_power_law metric
-// through the whole run: the surface meshed at its sizes along the wall.
+// End-to-end runs of 3D surface configurations on bad and repaired inputs, generated here as STL
+// files (an icosphere with holes, with stray pieces inside, with a vertex pushed through, turned
+// inside out) or read from data/ (the ONERA M6 half wing): each bad input stops the run with its
+// own one-line error (the last stderr line), exit code 1 and no output file; a repair is reported
+// and the run goes on. And the 3D wall_power_law metric through the whole run: the surface meshed
+// at its sizes along the wall.
 #include <doctest/doctest.h>
 
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "tests/surface3d/test_surfaces.h"
 #include "tests/test_support.h"
 
 namespace fs = std::filesystem;
+using plaf::TriangleSoup;
 using plaf::test::PlafResult;
 using plaf::test::read_text;
 using plaf::test::TempDir;
@@ -32,12 +41,66 @@ std::string last_line(const std::string& text) {
   return text.substr(begin == std::string::npos ? 0 : begin + 1, end - (begin == std::string::npos ? 0 : begin + 1) + 1);
 }
 
+const std::string data = std::string(PLAF_DATA) + "/surfaces/";
 
-const std::string data = std::string(PLAF_SHARED_DATA) + "/surfaces/";
-
+// A surface_file configuration; `file` is relative to the configuration's folder or absolute.
 std::string surface(const std::string& file, const std::string& extra = "") {
-  return "geometry:\n  type: surface_file\n  file: " + data + file + "\n" + extra +
+  return "geometry:\n  type: surface_file\n  file: " + file + "\n" + extra +
          "metric: {type: uniform, h: 0.2}\nsurface: {iterations: 2}\norder: 2\n";
+}
+
+// An ASCII STL of the soup (the reader welds the corners back into shared points).
+std::string ascii_stl(const TriangleSoup& s) {
+  std::string out = "solid generated\n";
+  char buf[160];
+  for (const auto& t : s.triangles) {
+    out += "facet normal 0 0 0\n outer loop\n";
+    for (const int v : t) {
+      const Eigen::Vector3d& p = s.points[static_cast<std::size_t>(v)];
+      std::snprintf(buf, sizeof buf, "  vertex %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+      out += buf;
+    }
+    out += " endloop\nendfacet\n";
+  }
+  return out + "endsolid generated\n";
+}
+
+// b's points scaled by `scale` about the origin, then moved by `shift`, appended to a.
+void append(TriangleSoup& a, const TriangleSoup& b, double scale, const Eigen::Vector3d& shift) {
+  const int base = static_cast<int>(a.points.size());
+  for (const Eigen::Vector3d& p : b.points) a.points.push_back(scale * p + shift);
+  for (const auto& t : b.triangles) a.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+}
+
+// The unit icosphere (m = 6, 720 triangles) without `holes` triangles that share no vertex: as
+// many open boundary loops of three edges, none on a plane a config declares.
+TriangleSoup sphere_with_holes(int holes) {
+  TriangleSoup s = plaf::test::icosphere_soup(6);
+  std::set<int> used;
+  std::vector<std::array<int, 3>> kept;
+  for (const auto& t : s.triangles) {
+    const bool free = !used.count(t[0]) && !used.count(t[1]) && !used.count(t[2]);
+    if (holes > 0 && free) {
+      used.insert(t.begin(), t.end());
+      --holes;
+    } else {
+      kept.push_back(t);
+    }
+  }
+  s.triangles = kept;
+  return s;
+}
+
+// The unit icosphere with two small tetrahedra (edge 0.14) inside, on either side of the centre
+// along z, as the stray inner pieces a scanned or exported body may carry.
+TriangleSoup sphere_with_inner_pieces() {
+  TriangleSoup s = plaf::test::icosphere_soup(6);
+  TriangleSoup tet;
+  tet.points = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+  tet.triangles = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
+  append(s, tet, 0.05, {0, 0, 0.4});
+  append(s, tet, 0.05, {0, 0, -0.4});
+  return s;
 }
 
 }  // namespace
@@ -45,23 +108,28 @@ std::string surface(const std::string& file, const std::string& extra = "") {
 TEST_CASE("surface cli: each bad surface gives its own one-line error, exit code 1 and no output") {
   struct Case {
     const char* name;
+    TriangleSoup soup;  // written to case.stl unless empty
     std::string yaml;
     const char* message;
   };
-  const std::string bad_stl = "solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 zero\n";
+  // The inner pieces, and the sphere's first vertex (on the plane z = 0, away from the pieces)
+  // pushed through the centre to 1.5 on the other side: its fan of triangles crosses the sphere.
+  TriangleSoup pierced = sphere_with_inner_pieces();
+  pierced.points[0] *= -1.5;
   const Case cases[] = {
-      {"open scan", surface("stanford_bunny.obj"), "5 open boundary loops not on a symmetry plane"},
-      {"open half wing without its plane", surface("onera_m6_small.fmt"), "open boundary loop"},
-      {"stray inner pieces", surface("orion_capsule_binary.stl"), "2 components inside another"},
-      {"self-intersections", surface("orion_capsule_binary.stl", "  inner_components: drop\n"),
+      {"open scan", sphere_with_holes(5), surface("case.stl"), "5 open boundary loops not on a symmetry plane"},
+      {"open half wing without its plane", {}, surface(data + "onera_m6_small.fmt"), "open boundary loop"},
+      {"stray inner pieces", sphere_with_inner_pieces(), surface("case.stl"), "2 components inside another"},
+      {"self-intersections", pierced, surface("case.stl", "  inner_components: drop\n"),
        "self-intersecting triangle pair"},
-      {"missing file", surface("no_such_file.stl"), "no_such_file.stl"},
-      {"wing section missing",
-       "geometry: {type: wing, file: " + data + "nothing.dat}\nmetric: {type: uniform, h: 0.2}\n", "nothing.dat"},
+      {"missing file", {}, surface("no_such_file.stl"), "no_such_file.stl"},
+      {"wing section missing", {}, "geometry: {type: wing, file: nothing.dat}\nmetric: {type: uniform, h: 0.2}\n",
+       "nothing.dat"},
   };
   for (const Case& c : cases) {
     INFO(std::string(c.name));
     const TempDir d("surface_cli");
+    if (!c.soup.triangles.empty()) write_text(d / "case.stl", ascii_stl(c.soup));
     const PlafResult r = run_config(d, c.yaml);
     INFO(r.err);
     CHECK(r.code == 1);
@@ -71,6 +139,7 @@ TEST_CASE("surface cli: each bad surface gives its own one-line error, exit code
     CHECK(plaf::test::count_files(d / "out") == 0);
   }
   // A malformed STL names the file and the line.
+  const std::string bad_stl = "solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 zero\n";
   const TempDir d("surface_cli_stl");
   write_text(d / "bad.stl", bad_stl);
   const PlafResult r = run_config(d, "geometry: {type: surface_file, file: bad.stl}\nmetric: {type: uniform, h: 0.2}\n");
@@ -81,8 +150,13 @@ TEST_CASE("surface cli: each bad surface gives its own one-line error, exit code
 
 TEST_CASE("surface cli: an inward surface is repaired and meshed, an open half wing on its plane is tagged symmetry") {
   {
+    // An ellipsoid (semi-axes 1.5, 1.2, 1) from the icosphere with m = 12, turned inside out.
+    TriangleSoup inward = plaf::test::icosphere_soup(12);
+    for (Eigen::Vector3d& p : inward.points) p = p.cwiseProduct(Eigen::Vector3d(1.5, 1.2, 1.0));
+    for (auto& t : inward.triangles) std::swap(t[1], t[2]);
     const TempDir d("surface_cli_ellipsoid");
-    const PlafResult r = run_config(d, surface("ellipsoid_binary.stl"));
+    write_text(d / "case.stl", ascii_stl(inward));
+    const PlafResult r = run_config(d, surface("case.stl"));
     INFO(r.err);
     CHECK(r.code == 0);
     CHECK(r.err.find("repaired: ") != std::string::npos);
@@ -93,7 +167,7 @@ TEST_CASE("surface cli: an inward surface is repaired and meshed, an open half w
   }
   {
     const TempDir d("surface_cli_m6");
-    const PlafResult r = run_config(d, surface("onera_m6_small.fmt", "  symmetry_planes: [{normal: [0, 0, 1]}]\n"));
+    const PlafResult r = run_config(d, surface(data + "onera_m6_small.fmt", "  symmetry_planes: [{normal: [0, 0, 1]}]\n"));
     INFO(r.err);
     CHECK(r.code == 0);
     const std::string msh = read_text(d / "out" / "case.msh");
@@ -149,10 +223,10 @@ TEST_CASE("surface cli: a wall_power_law metric meshes the surface at its sizes 
   // initial triangulation is sized at its root's leading edge, on the wall) meshed with
   // wall_power_law and h_wall_max = 0.08 writes the same file.
   std::string wing = read_text(std::string(PLAF_CONFIGS) + "/wing_symmetry_surface.yaml");
-  const std::string section_file = "file: ../../shared/data/", uniform = "metric:\n  type: uniform\n  h: 0.08\n";
+  const std::string section_file = "file: ../data/", uniform = "metric:\n  type: uniform\n  h: 0.08\n";
   REQUIRE(wing.find(section_file) != std::string::npos);
   REQUIRE(wing.find(uniform) != std::string::npos);
-  wing.replace(wing.find(section_file), section_file.size(), "file: " + std::string(PLAF_SHARED_DATA) + "/");
+  wing.replace(wing.find(section_file), section_file.size(), "file: " + std::string(PLAF_DATA) + "/");
   std::string walled = wing;
   walled.replace(wing.find(uniform), uniform.size(),
                  "metric:\n  type: wall_power_law\n  h0: 1e-5\n  h_wall_max: 0.08\n");

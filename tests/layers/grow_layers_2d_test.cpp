@@ -147,7 +147,7 @@ TEST_CASE("layers: a concave 90 degree corner gets valid cells") {
 }
 
 TEST_CASE("layers: Q = 1..4 on the E387 give valid, conforming layers") {
-  BodyContour c = read_body_contour(PLAF_SHARED_DATA "/airfoils/e387.dat");
+  BodyContour c = read_body_contour(PLAF_DATA "/airfoils/e387.dat");
   const Geometry2D geo = body(c.points, c.corners);
   WallLawParams w;
   w.h0 = 0.005;
@@ -185,33 +185,6 @@ TEST_CASE("layers: growing from a straight wall leaves every element straight") 
   const CellBlock& b = r.mesh.cells.at(0);
   for (std::size_t i = 0; i < b.size(); ++i) CHECK_FALSE(is_curved(r.mesh, b, i, 1e-10));
   CHECK(check(r).ok());
-}
-
-TEST_CASE("layers: the 30P-30N elements (coves, cusp, blunt flap) grow valid, conforming layers") {
-  AirfoilsParams ap;
-  for (const char* f : {"30p30n_slat.dat", "30p30n_main.dat", "30p30n_flap.dat"})
-    ap.bodies.push_back({std::string(PLAF_SHARED_DATA "/airfoils/") + f, f, {}});
-  ap.farfield.radius = 25;
-  const Geometry2D geo = build_airfoils_geometry(ap);
-  std::vector<SplineLoop> walls;
-  for (const GeometryLoop& l : geo.loops)
-    if (l.kind == BoundaryKind::Wall) walls.push_back(l.loop);
-  WallLawParams w;
-  w.h0 = 0.001;
-  w.h_max = 2;
-  w.h_wall_max = 0.03;
-  w.curvature_factor = 0.3;
-  w.h_corner = 0.003;
-  const WallPowerLawField metric(walls, w);
-  const CurvedFront<2> front = mesh_curves(geo, metric, 3);
-  layers::LayerParams p;
-  p.max_layers = 3;
-  p.corner_angle_deg = 60;
-  const LayerResult<2> r = layers::grow_layers(front, metric, p);
-  CHECK(r.layers.size() == 3);
-  const QualityReport q = check(r);
-  CHECK(q.cells_invalid == 0);
-  CHECK(q.conformity.ok);
 }
 
 TEST_CASE("layers: isotropic_stop node stops the nodes where the metric is isotropic, with transition triangles") {

@@ -461,16 +461,6 @@ TEST_CASE("layers: layers plus fill have the Euler characteristic 1 - bodies and
     int q_first, q_last;
     layers::IsotropicStop stop;  // Node: layers until the metric is isotropic, ending in transitions
   };
-  AirfoilsParams ap;
-  for (const char* f : {"30p30n_slat.dat", "30p30n_main.dat", "30p30n_flap.dat"})
-    ap.bodies.push_back({std::string(PLAF_SHARED_DATA "/airfoils/") + f, f, {}});
-  ap.farfield.radius = 25;
-  WallLawParams law_30p30n;  // configs/30p30n.yaml
-  law_30p30n.h0 = 0.001;
-  law_30p30n.h_max = 2;
-  law_30p30n.h_wall_max = 0.03;
-  law_30p30n.curvature_factor = 0.3;
-  law_30p30n.h_corner = 0.003;
   const std::vector<HybridCase> cases = {
       {"NACA 2412", with_farfield(body(naca4(0.02, 0.4, 0.12, 80, 1.0), {0}), {0.5, 0}, 8), wall_law(1.0), 1, 4,
        layers::IsotropicStop::Off},
@@ -478,7 +468,6 @@ TEST_CASE("layers: layers plus fill have the Euler characteristic 1 - bodies and
        ellipse_law(1.0), 3, 3, layers::IsotropicStop::Node},
       {"two ellipses 0.1 apart", with_farfield(two_bodies(0.1), {0, 0.2}, 8), wall_law(1.0), 2, 2,
        layers::IsotropicStop::Off},
-      {"30P-30N (three bodies)", build_airfoils_geometry(ap), law_30p30n, 3, 3, layers::IsotropicStop::Off},
   };
   for (const HybridCase& hc : cases) {
     const WallPowerLawField metric(walls_of(hc.geometry), hc.law);

@@ -26,7 +26,7 @@ using plaf::EdgeFeature;
 using plaf::TriSurface;
 using plaf::VertexFeature;
 
-const std::string kAirfoils = std::string(PLAF_SHARED_DATA) + "/airfoils/";
+const std::string kAirfoils = std::string(PLAF_DATA) + "/airfoils/";
 
 double signed_volume(const TriSurface& s) {
   double v = 0;

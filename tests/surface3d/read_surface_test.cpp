@@ -3,10 +3,12 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <random>
@@ -15,6 +17,7 @@
 #include <vector>
 
 #include "modules/base/error.h"
+#include "tests/surface3d/test_surfaces.h"
 #include "tests/test_support.h"
 
 namespace plaf {
@@ -22,7 +25,7 @@ namespace {
 
 using Vec3 = Eigen::Vector3d;
 
-const std::string kSurfaces = std::string(PLAF_SHARED_DATA) + "/surfaces/";
+const std::string kSurfaces = std::string(PLAF_DATA) + "/surfaces/";
 
 // Edge use of a soup: boundary edges (one triangle), and whether every interior edge is used by
 // exactly two triangles in opposite directions (manifold and consistently oriented).
@@ -136,39 +139,64 @@ std::vector<std::array<Vec3, 3>> octahedron() {
 
 }  // namespace
 
-TEST_CASE("read_surface: the shared STL files read with their documented counts, closed and oriented") {
-  // SOURCES.md section 2: triangles, unique vertices, signed volume (outward > 0; the ellipsoid
-  // is stored inward). All are watertight.
-  check_file({"airfoil_extruded_amrex_ascii.stl", 64, 34, 0, 0, 1});  // volume checked below
-  check_file({"bullet_projectile_binary.stl", 3580, 1792, 0, 819.1, 1e-3});
-  check_file({"ellipsoid_binary.stl", 19404, 9704, 0, -7.533, 1e-3});
-  check_file({"sphere_burkardt_ascii.stl", 840, 422, 0, 8.43e6, 1e-3});
-  const TriangleSoup airfoil = read_surface_file(kSurfaces + "airfoil_extruded_amrex_ascii.stl");
-  CHECK(signed_volume(airfoil) > 0);
-  CHECK(airfoil.patch.empty());
-}
-
-TEST_CASE("read_surface: the Orion capsule binary STL reads with its documented counts") {
+TEST_CASE("read_surface: a 52,020-triangle binary STL reads welded, closed and outward") {
+  // The icosphere with m = 51: 20 m^2 triangles and, closed of genus 0 (V - E + F = 2 with
+  // E = 3F/2), 10 m^2 + 2 vertices, which the reader finds again by welding the STL's corners.
+  const int m = 51;
+  const TriangleSoup sphere = test::icosphere_soup(m);
+  std::vector<std::array<Vec3, 3>> tris;
+  for (const auto& t : sphere.triangles)
+    tris.push_back({sphere.points[static_cast<std::size_t>(t[0])], sphere.points[static_cast<std::size_t>(t[1])],
+                    sphere.points[static_cast<std::size_t>(t[2])]});
+  const test::TempDir dir("read_stl_big");
+  const auto path = test::write_text(dir / "icosphere.stl", binary_stl(tris, static_cast<std::uint32_t>(tris.size())));
   const auto t0 = std::chrono::steady_clock::now();
-  const TriangleSoup s = read_surface_file(kSurfaces + "orion_capsule_binary.stl");
-  MESSAGE("orion_capsule_binary.stl read in " << seconds_since(t0) << " s");
-  CHECK(s.triangles.size() == 51736);
-  CHECK(s.points.size() == 25860);
+  const TriangleSoup s = read_surface_file(path);
+  MESSAGE("icosphere.stl (" << tris.size() << " triangles) read in " << seconds_since(t0) << " s");
+  CHECK(s.triangles.size() == std::size_t{20 * m * m});
+  CHECK(s.points.size() == std::size_t{10 * m * m + 2});
+  CHECK(all_points_referenced(s));
   const EdgeCount edges = count_edges(s);
   CHECK(edges.manifold_oriented);
   CHECK(edges.boundary == 0);
-  // Main body +286.2 and two inward stray tetrahedra of -0.043 each.
-  CHECK(signed_volume(s) == doctest::Approx(286.2 - 2 * 0.043).epsilon(1e-3));
+  // The same volume as the double-precision soup, to the float rounding of the STL's points.
+  CHECK(signed_volume(s) == doctest::Approx(signed_volume(sphere)).epsilon(1e-6));
 }
 
-TEST_CASE("read_surface: the shared OBJ files read, the bunny's unreferenced vertices dropped") {
-  check_file({"spot.obj", 5856, 2930, 0, 0.718, 2e-3});
-  // The bunny has 35,947 vertex lines of which 34,834 are referenced: the reader drops the
-  // other 1,113. Its base has 5 holes with 223 boundary edges.
-  check_file({"stanford_bunny.obj", 69451, 34834, 223, 0, 1}, true);
+TEST_CASE("read_surface: an OBJ's unreferenced vertices are dropped, the referenced ones kept in order") {
+  // The icosphere with m = 20 (8,000 triangles, 4,002 vertices), with an unused vertex line
+  // after every fourth vertex: 1,001 extra vertices that the reader must drop. OpenMesh reads the
+  // file; the vertices it keeps must be the referenced ones, in file order.
+  const TriangleSoup sphere = test::icosphere_soup(20);
+  std::string obj = "# icosphere with unused vertices\n";
+  std::vector<int> line_of(sphere.points.size());
+  int lines = 0;
+  char buf[128];
+  for (std::size_t i = 0; i < sphere.points.size(); ++i) {
+    const Vec3& p = sphere.points[i];
+    std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    obj += buf;
+    line_of[i] = ++lines;
+    if (i % 4 == 0) {
+      obj += "v 5 5 5\n";
+      ++lines;
+    }
+  }
+  for (const auto& t : sphere.triangles) {
+    std::snprintf(buf, sizeof buf, "f %d %d %d\n", line_of[static_cast<std::size_t>(t[0])],
+                  line_of[static_cast<std::size_t>(t[1])], line_of[static_cast<std::size_t>(t[2])]);
+    obj += buf;
+  }
+  const test::TempDir dir("read_obj_unused");
+  const TriangleSoup s = read_surface_file(test::write_text(dir / "icosphere.obj", obj));
+  CHECK(s.triangles == sphere.triangles);
+  REQUIRE(s.points.size() == sphere.points.size());
+  double moved = 0;  // OpenMesh reads OBJ coordinates as floats: up to 6e-8 on the unit sphere
+  for (std::size_t i = 0; i < s.points.size(); ++i) moved = std::max(moved, (s.points[i] - sphere.points[i]).norm());
+  CHECK(moved < 1e-7);
 }
 
-TEST_CASE("read_surface: the shared Plot3D files read with merged interfaces and outward triangles") {
+TEST_CASE("read_surface: the Plot3D files of data/ read with merged interfaces and outward triangles") {
   // Unique nodes and 2 x quads triangles (no quad of these files is collapsed: each wing is a
   // disc, V - E + F = 1 on the quads, so none is skipped); open only at the z = 0 root.
   check_file({"onera_m6_small.fmt", 2 * 15232, 15321, 176, 0.0338, 2e-3}, true);

@@ -20,7 +20,7 @@ using Eigen::Vector2d;
 namespace {
 
 std::string airfoil(const std::string& file) {
-  return std::string(PLAF_SHARED_DATA) + "/airfoils/" + file;
+  return std::string(PLAF_DATA) + "/airfoils/" + file;
 }
 
 AirfoilsParams bodies(const std::vector<std::string>& files) {
@@ -139,11 +139,6 @@ TEST_CASE("geometry: the farfield is centred on the bodies' bounding box unless 
   a.farfield.center = {3.0, -1.0};
   const Geometry2D moved = build_airfoils_geometry(a);
   CHECK(moved.loops.back().loop.points()[0] == Vector2d(-12.0, -7.0));  // it starts at its lower left
-
-  // 30P-30N (SOURCES.md): the three elements span x in [-0.085382 (slat LE), 1.130859 (flap TE)].
-  const Geometry2D hl = build_airfoils_geometry(bodies({"30p30n_slat.dat", "30p30n_main.dat", "30p30n_flap.dat"}));
-  CHECK(hl.body_min[0] == -0.085382);
-  CHECK(hl.body_max[0] == 1.130859);
 }
 
 TEST_CASE("geometry: a farfield that does not enclose every body is a ConfigError") {
@@ -181,26 +176,15 @@ TEST_CASE("geometry: a farfield that does not enclose every body is a ConfigErro
       CHECK(e.find("e387.dat") != std::string::npos);
     }
   }
-  // 30P-30N in a circle of radius 0.55 about (0.45, -0.05): the slat's LE (-0.085382, -0.099631)
-  // is 0.537 away, the main element's TE (0.874007, 0.030943) 0.432, but the flap's TE
-  // (1.130859, -0.140497) 0.687: the error names the flap.
-  AirfoilsParams h = bodies({"30p30n_slat.dat", "30p30n_main.dat", "30p30n_flap.dat"});
-  h.farfield.radius = 0.55;
-  h.farfield.has_center = true;
-  h.farfield.center = {0.45, -0.05};
-  CHECK(config_error(h).find("30p30n_flap.dat") != std::string::npos);
 }
 
 TEST_CASE("geometry: body loops are clockwise whatever the file's orientation, the farfield counter-clockwise") {
-  // SOURCES.md: E387, RAE 2822 and NACA 0012 files run counter-clockwise, 30P-30N clockwise; the
-  // E387 polygon encloses 0.0573 (3 digits).
+  // SOURCES.md: the E387, RAE 2822 and NACA 0012 files run counter-clockwise (clockwise files:
+  // airfoil_io_test); the E387 polygon encloses 0.0573 (3 digits).
   const Geometry2D e387 = build_airfoils_geometry(bodies({"e387.dat"}));
   CHECK(e387.loops[0].loop.signed_area() == doctest::Approx(-0.0573).epsilon(1e-3));
   for (const auto& files :
-       std::vector<std::vector<std::string>>{{"e387.dat"},
-                                             {"rae2822.dat"},
-                                             {"naca0012.dat"},
-                                             {"30p30n_slat.dat", "30p30n_main.dat", "30p30n_flap.dat"}}) {
+       std::vector<std::vector<std::string>>{{"e387.dat"}, {"rae2822.dat"}, {"naca0012.dat"}}) {
     const Geometry2D g = build_airfoils_geometry(bodies(files));
     REQUIRE(g.loops.size() == files.size() + 1);
     for (std::size_t k = 0; k < files.size(); ++k) {
@@ -254,67 +238,22 @@ TEST_CASE("geometry: a corner given as [x, y] becomes a corner at the nearest co
   for (const Vector2d& p : {te, le_upper, le_lower}) CHECK(contains(d, p));
 }
 
-TEST_CASE("geometry: 30P-30N has corners at the slat cusp, the main element's cove and every trailing edge") {
-  // Turning angles of the file polygons (SOURCES.md geometry; computed from the coordinates):
-  // - slat: the closed TE (0.018772, 0.005079), 171.8 degrees; the lower cusp where the cove
-  //   surface meets the lower surface, (-0.026748, -0.108659), 155.2 degrees;
-  // - main: the closed TE (0.874007, 0.030943), 172.2 degrees; the flap cove, a horizontal
-  //   ceiling y = 0.032007 meeting a vertical wall x = 0.699928 at a right angle (90.0 degrees),
-  //   and that wall meeting the lower surface at (0.699928, -0.017223), 79.4 degrees;
-  // - flap: open by 5.9e-3 between (1.128307, -0.145799) and (1.130859, -0.140497), closed by
-  //   a straight segment; the polygon turns 104.2 and 58.4 degrees at its two ends.
-  // Every other point turns by less than 15 degrees.
-  // The closed TEs (first == last in the file) and the blunt TE ends are forced by the reader
-  // (airfoil_io.h), whatever the threshold; the others are corners above their turning angle.
-  struct Corner {
-    int body;
-    Vector2d at;
-    double turning_deg;
-    bool forced;
-  };
-  const Corner expected[] = {
-      {0, {0.018772, 0.005079}, 171.8, true},  {0, {-0.026748, -0.108659}, 155.2, false},
-      {1, {0.874007, 0.030943}, 172.2, true},  {1, {0.699928, 0.032007}, 90.0, false},
-      {1, {0.699928, -0.017223}, 79.4, false}, {2, {1.128307, -0.145799}, 104.2, true},
-      {2, {1.130859, -0.140497}, 58.4, true},
-  };
-  for (const double threshold : {30.0, 85.0, 100.0, 160.0, 180.0}) {
-    INFO("corner_angle_deg = " << threshold);
-    AirfoilsParams a = bodies({"30p30n_slat.dat", "30p30n_main.dat", "30p30n_flap.dat"});
-    a.corner_angle_deg = threshold;
-    const Geometry2D g = build_airfoils_geometry(a);
-    for (int body = 0; body < 3; ++body) {
-      INFO("body " << body);
-      std::vector<Vector2d> want;
-      for (const Corner& c : expected)
-        if (c.body == body && (c.forced || c.turning_deg > threshold)) want.push_back(c.at);
-      const std::vector<Vector2d> got = corner_points(g.loops[static_cast<std::size_t>(body)].loop);
-      CHECK(got.size() == want.size());
-      for (const Vector2d& p : want) CHECK(contains(got, p));
-    }
-  }
-}
-
 TEST_CASE("geometry: a point offset by d along a body's normal is within d of the body (exact closest point)") {
   // The foot p(t) is on the spline, so the distance from x = p(t) + d n(t) is at most d, to
-  // rounding (coordinates O(1): 1e-14). Regression inputs, verbatim: points where the closest
+  // rounding (coordinates O(1): 1e-14). Regression input, verbatim: a point where the closest
   // point's Newton iteration, converged to rounding, fell back to bisection in a stale bracket
-  // (distance 0.7% and 3x too large on the flap, 2e-9 relative on the E387).
+  // (2e-9 relative too large on the E387).
   struct Regression {
-    int body;  // 0..2: 30P-30N slat, main, flap; 3: E387
+    int body;  // 0: RAE 2822, 1: NACA 0012 (blunt TE), 2: NACA 0012 (sharp TE), 3: E387
     Vector2d x;
     double d;
   };
   const Regression regressions[] = {
-      {2, {0.89476812385936855, 0.023318358851753575}, 0.0013100720951507707},
-      {2, {0.88886230622353835, -0.017479412196767911}, 9.2607152934766891e-05},
-      {0, {-0.063606535461377567, -0.12380365783825711}, 0.0080562344454168239},
       {3, {0.99812107702980757, 0.0023747230634142305}, 0.0021083378660756787},
   };
   std::vector<SplineLoop> loops;
-  for (const GeometryLoop& g :
-       build_airfoils_geometry(bodies({"30p30n_slat.dat", "30p30n_main.dat", "30p30n_flap.dat"})).loops)
-    if (g.kind == BoundaryKind::Wall) loops.push_back(g.loop);
+  for (const char* file : {"rae2822.dat", "naca0012.dat", "naca0012_sharp.dat"})
+    loops.push_back(build_airfoils_geometry(bodies({file})).loops[0].loop);
   AirfoilsParams e387 = bodies({"e387.dat"});
   e387.corner_angle_deg = 70;  // as configs/e387.yaml
   loops.push_back(build_airfoils_geometry(e387).loops[0].loop);

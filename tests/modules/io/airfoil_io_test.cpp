@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path airfoils = fs::path(PLAF_SHARED_DATA) / "airfoils";
+const fs::path airfoils = fs::path(PLAF_DATA) / "airfoils";
 
 double signed_area(const std::vector<Vector2d>& p) {
   double twice = 0;
@@ -58,13 +58,27 @@ BodyContour transformed(BodyContour b, double scale, const Vector2d& shift, cons
   return b;
 }
 
+// The coordinate lines of `from` (a Selig file with one title line) in reverse order, without the
+// title: the same contour, clockwise.
+fs::path write_reversed(const fs::path& from, const fs::path& to) {
+  std::vector<std::string> lines = read_lines(from);
+  lines.erase(lines.begin());
+  std::string text;
+  for (auto it = lines.rbegin(); it != lines.rend(); ++it) text += *it + "\n";
+  return write_text(to, text);
+}
+
 }  // namespace
 
 TEST_CASE("airfoil: every real file reads with the point count and trailing edge of SOURCES.md") {
-  // All facts from shared/data/SOURCES.md: file points, header, TE closed (first == last) or the
+  // All facts from data/SOURCES.md: file points, header, TE closed (first == last) or the
   // two open TE end points, and whether the file runs counter-clockwise (Selig) or clockwise.
+  // Every shipped file runs counter-clockwise: the clockwise ones are two of them reversed.
+  const TempDir dir("airfoil_clockwise");
+  const fs::path e387_cw = write_reversed(airfoils / "e387.dat", dir / "e387_cw.dat");
+  const fs::path naca0012_cw = write_reversed(airfoils / "naca0012.dat", dir / "naca0012_cw.dat");
   struct Case {
-    const char* file;
+    fs::path file;
     int file_points;
     bool closed;
     const char* title;
@@ -78,16 +92,16 @@ TEST_CASE("airfoil: every real file reads with the point count and trailing edge
       {"n0012.dat", 131, false, "NACA 0012 AIRFOILS", {1.0, 0.00126}, {1.0, -0.00126}, true},
       {"naca0012_sharp.dat", 200, true, "", {1.0, 0.0}, {1.0, 0.0}, true},
       {"nlr7301.dat", 79, false, "NLR-7301 AIRFOIL", {1.0, 0.00055}, {1.0, -0.00055}, true},
-      {"30p30n_slat.dat", 201, true, "", {0.018772, 0.005079}, {0.018772, 0.005079}, false},
-      {"30p30n_main.dat", 221, true, "", {0.874007, 0.030943}, {0.874007, 0.030943}, false},
-      {"30p30n_flap.dat", 242, false, "", {1.128307, -0.145799}, {1.130859, -0.140497}, false},
+      {e387_cw, 61, true, "", {1.0, 0.0}, {1.0, 0.0}, false},
+      {naca0012_cw, 69, false, "", {1.0, -0.00126}, {1.0, 0.00126}, false},
   };
   for (const Case& k : cases) {
-    CAPTURE(k.file);
-    const BodyContour b = read_body_contour(airfoils / k.file);
+    const fs::path path = airfoils / k.file;  // k.file itself when it is absolute
+    CAPTURE(path.string());
+    const BodyContour b = read_body_contour(path);
     const int n = static_cast<int>(b.points.size());
     const int title_lines = std::string(k.title).empty() ? 0 : 1;
-    CHECK(b.file == (airfoils / k.file).string());
+    CHECK(b.file == path.string());
     CHECK(b.title == k.title);
     CHECK(n == (k.closed ? k.file_points - 1 : k.file_points));
     CHECK(b.blunt == !k.closed);
@@ -116,6 +130,9 @@ TEST_CASE("airfoil: every real file reads with the point count and trailing edge
   }
   // SOURCES.md: E387 shoelace area +0.0573 in file order.
   CHECK(signed_area(read_body_contour(airfoils / "e387.dat").points) == doctest::Approx(-0.0573).epsilon(1e-3));
+  // A file and its reverse read to the same clockwise points, sharp or blunt.
+  CHECK(read_body_contour(e387_cw).points == read_body_contour(airfoils / "e387.dat").points);
+  CHECK(read_body_contour(naca0012_cw).points == read_body_contour(airfoils / "naca0012.dat").points);
 }
 
 TEST_CASE("airfoil: the Lednicer layout reads to the same loop as the Selig layout") {
@@ -220,14 +237,14 @@ TEST_CASE("airfoil: bad files are rejected with file:line and the reason") {
   CHECK(missing == (dir / "no_such_file.dat").string() + ": cannot open the contour file");
 }
 
-TEST_CASE("airfoil: check_disjoint accepts 30P-30N and rejects crossing and nested contours") {
-  const BodyContour slat = read_body_contour(airfoils / "30p30n_slat.dat");
-  const BodyContour main = read_body_contour(airfoils / "30p30n_main.dat");
-  const BodyContour flap = read_body_contour(airfoils / "30p30n_flap.dat");
-  CHECK_NOTHROW(check_disjoint({slat, main, flap}));
-
+TEST_CASE("airfoil: check_disjoint accepts close bodies and rejects crossing and nested contours") {
   const BodyContour e387 = read_body_contour(airfoils / "e387.dat");
   CHECK_NOTHROW(check_disjoint({e387, transformed(e387, 1.0, Vector2d(1.5, 0.0), "e387_behind.dat")}));
+  // A slat and a flap of 0.3 chord, 0.05 ahead of the LE and 0.002 behind the TE (E387's y range
+  // [-0.01502, 0.08247] scaled: [-0.0045, 0.0247]; the copies sit 0.03 lower).
+  const BodyContour slat = transformed(e387, 0.3, Vector2d(-0.35, -0.03), "slat.dat");
+  const BodyContour flap = transformed(e387, 0.3, Vector2d(1.002, -0.03), "flap.dat");
+  CHECK_NOTHROW(check_disjoint({slat, e387, flap}));
 
   const std::string crossing = disjoint_error({e387, transformed(e387, 1.0, Vector2d(0.5, 0.01), "e387_shifted.dat")});
   CHECK(crossing.find("e387.dat:") != std::string::npos);
