@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -62,6 +63,30 @@ ConfigNode::~ConfigNode() = default;
 ConfigNode::ConfigNode(const ConfigNode&) = default;
 ConfigNode& ConfigNode::operator=(const ConfigNode&) = default;
 
+namespace {
+
+// yaml-cpp keeps both entries of a key given twice in one map and finds the first: the second
+// would never be checked. Reject it, naming both places (maps in lists included).
+void reject_duplicate_keys(const YAML::Node& n, const std::string& file, const std::string& path) {
+  if (n.IsSequence()) {
+    for (std::size_t i = 0; i < n.size(); ++i) reject_duplicate_keys(n[i], file, path + "[" + std::to_string(i) + "]");
+    return;
+  }
+  if (!n.IsMap()) return;
+  std::map<std::string, YAML::Mark> seen;
+  for (const auto& kv : n) {
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : "";
+    const std::string dotted_key = path.empty() ? key : path + "." + key;
+    const auto [it, fresh] = seen.emplace(key, kv.first.Mark());
+    if (!fresh)
+      throw ConfigError(position(file, kv.first.Mark()) + ": " + dotted_key + ": the key is given twice (first at " +
+                        position(file, it->second) + ")");
+    reject_duplicate_keys(kv.second, file, dotted_key);
+  }
+}
+
+}  // namespace
+
 ConfigNode ConfigNode::load_string(const std::string& text, const std::string& name) {
   auto s = std::make_shared<State>();
   s->file = name;
@@ -72,11 +97,18 @@ ConfigNode ConfigNode::load_string(const std::string& text, const std::string& n
   }
   if (s->node.IsNull()) s->node = YAML::Node(YAML::NodeType::Map);
   if (!s->node.IsMap()) throw ConfigError(position(name, s->node.Mark()) + ": the top level must be a map of keys");
+  reject_duplicate_keys(s->node, name, "");
   s->mark = s->node.Mark();
   return ConfigNode(s);
 }
 
 ConfigNode ConfigNode::load_file(const std::filesystem::path& path) {
+  // A directory, a device (/dev/zero) or a FIFO is no config: reading one would give a default
+  // run, never end, or block.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw InputError(path.string() + (std::filesystem::exists(path, ec) ? ": not a regular file (a config is a YAML file)"
+                                                                        : ": cannot open the config file"));
   std::ifstream in(path);
   if (!in) throw InputError(path.string() + ": cannot open the config file");
   std::stringstream buffer;

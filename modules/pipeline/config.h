@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Strict YAML reading on yaml-cpp: every value is read through a ConfigNode, which remembers the
-// keys asked for; finish() rejects any key nobody asked for. Every error is a ConfigError
+// keys asked for; finish() rejects any key nobody asked for, and loading rejects a key given twice
+// in one map (yaml-cpp would keep the first and never check the second). Every error is a ConfigError
 // "file:line:column: key.path: reason" (lines and columns 1-based).
 #pragma once
 

@@ -3,10 +3,15 @@
 
 #include <doctest/doctest.h>
 
+#include <sys/stat.h>
+
+#include <filesystem>
 #include <memory>
+#include <string>
 
 #include "modules/base/error.h"
 #include "modules/pipeline/registry.h"
+#include "tests/test_support.h"
 
 using namespace plaf;
 
@@ -66,4 +71,34 @@ TEST_CASE("config: asking for an absent key does not create it") {
   CHECK_FALSE(c.has("b"));
   CHECK(c.get_double("a", 0.0) == 1.0);
   CHECK_NOTHROW(c.finish());
+}
+
+TEST_CASE("config: a key given twice is an error naming both places, at any depth") {
+  const auto error = [](const std::string& yaml) {
+    try {
+      plaf::ConfigNode::load_string(yaml, "d.yaml");
+    } catch (const plaf::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // The first value would win and the second never be checked (issue: h: 0.3 then h: -1).
+  CHECK(error("metric:\n  h: 0.3\n  h: -1\n") == "d.yaml:3:3: metric.h: the key is given twice (first at d.yaml:2:3)");
+  CHECK(error("order: 2\norder: 3\n") == "d.yaml:2:1: order: the key is given twice (first at d.yaml:1:1)");
+  CHECK(error("geometry:\n  bodies:\n    - {file: a.dat, file: b.dat}\n") ==
+        "d.yaml:3:21: geometry.bodies[0].file: the key is given twice (first at d.yaml:3:8)");
+  CHECK(error("metric: {h: 0.3}\nlayers: {h: 0.3}\n") == "no error");  // the same key in two maps
+}
+
+TEST_CASE("config: a directory, a device or a FIFO is not a config file") {
+  const plaf::test::TempDir d("config_not_regular");
+  CHECK_THROWS_WITH_AS(plaf::ConfigNode::load_file(d.path),
+                       (d.path.string() + ": not a regular file (a config is a YAML file)").c_str(), plaf::InputError);
+  CHECK_THROWS_WITH_AS(plaf::ConfigNode::load_file("/dev/zero"), "/dev/zero: not a regular file (a config is a YAML file)",
+                       plaf::InputError);
+  const std::filesystem::path fifo = d / "fifo.yaml";
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  CHECK_THROWS_AS(plaf::ConfigNode::load_file(fifo), plaf::InputError);  // does not block
+  CHECK_THROWS_WITH_AS(plaf::ConfigNode::load_file(d / "missing.yaml"),
+                       ((d / "missing.yaml").string() + ": cannot open the config file").c_str(), plaf::InputError);
 }
