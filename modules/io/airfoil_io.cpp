@@ -317,6 +317,11 @@ void orient_clockwise(BodyContour& body) {
 BodyContour read_body_contour(const std::filesystem::path& path) {
   BodyContour body;
   body.file = path.string();
+  // A directory, a device or a FIFO is no contour: reading one would say "empty file", never end,
+  // or block.
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw InputError(body.file + ": not a regular file (a contour is a text file of x y lines)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(body.file + ": cannot open the contour file");
   // 1. The data lines and the title.

@@ -280,3 +280,12 @@ TEST_CASE("airfoil: a 20000-point contour is read and checked with the segment g
   CHECK(disjoint_error({b, transformed(b, 0.5, Vector2d(0.25, 0.0), "inner.dat")}) ==
         "inner.dat:20001: the contour lies inside the contour of " + b.file + " (lines 2-20001)");
 }
+
+TEST_CASE("airfoil: a directory or a device as the contour file is an InputError saying so") {
+  const plaf::test::TempDir d("airfoil_not_regular");
+  CHECK_THROWS_WITH_AS(plaf::read_body_contour(d.path),
+                       (d.path.string() + ": not a regular file (a contour is a text file of x y lines)").c_str(),
+                       plaf::InputError);
+  CHECK_THROWS_WITH_AS(plaf::read_body_contour("/dev/zero"),
+                       "/dev/zero: not a regular file (a contour is a text file of x y lines)", plaf::InputError);
+}
