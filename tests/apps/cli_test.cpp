@@ -145,3 +145,16 @@ TEST_CASE("cli: an output folder that cannot be made is exit code 1 with one lin
   CHECK(r.err.find("output.dir '" + (d / "afile" / "sub").string() + "': cannot create the folder") !=
         std::string::npos);
 }
+
+TEST_CASE("cli: check --metric refuses a 3D configuration, and --out '' is an output.dir error") {
+  const TempDir d("cli_check_3d");
+  const fs::path cfg = write_text(d / "case.yaml", good);
+  REQUIRE(run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d).code == 0);
+  const fs::path sphere = write_text(d / "sphere.yaml", "geometry: {type: sphere}\nmetric: {type: uniform, h: 0.5}\n");
+  const PlafResult r = run_plaf("check " + (d / "out" / "case.msh").string() + " --metric " + sphere.string(), d);
+  CHECK(r.code == 1);
+  CHECK(r.err.find(sphere.string() + ": --metric takes a 2D configuration") != std::string::npos);
+  const PlafResult empty = run_plaf("run " + cfg.string() + " --out ''", d);
+  CHECK(empty.code == 1);
+  CHECK(empty.err.find("output.dir '': cannot create the folder") != std::string::npos);
+}
