@@ -66,13 +66,18 @@ ConfigNode& ConfigNode::operator=(const ConfigNode&) = default;
 namespace {
 
 // yaml-cpp keeps both entries of a key given twice in one map and finds the first: the second
-// would never be checked. Reject it, naming both places (maps in lists included).
-void reject_duplicate_keys(const YAML::Node& n, const std::string& file, const std::string& path) {
+// would never be checked. Reject it, naming both places (maps in lists included). Every map or list
+// is visited once, by its position in the text: an alias shares its anchor's node, so a file of
+// nested aliases (a "billion laughs") stays linear instead of exponential.
+void reject_duplicate_keys(const YAML::Node& n, const std::string& file, const std::string& path,
+                           std::set<std::pair<int, int>>& visited) {
+  if (!n.IsMap() && !n.IsSequence()) return;
+  if (!visited.insert({n.Mark().line, n.Mark().column}).second) return;
   if (n.IsSequence()) {
-    for (std::size_t i = 0; i < n.size(); ++i) reject_duplicate_keys(n[i], file, path + "[" + std::to_string(i) + "]");
+    for (std::size_t i = 0; i < n.size(); ++i)
+      reject_duplicate_keys(n[i], file, path + "[" + std::to_string(i) + "]", visited);
     return;
   }
-  if (!n.IsMap()) return;
   std::map<std::string, YAML::Mark> seen;
   for (const auto& kv : n) {
     const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : "";
@@ -81,7 +86,7 @@ void reject_duplicate_keys(const YAML::Node& n, const std::string& file, const s
     if (!fresh)
       throw ConfigError(position(file, kv.first.Mark()) + ": " + dotted_key + ": the key is given twice (first at " +
                         position(file, it->second) + ")");
-    reject_duplicate_keys(kv.second, file, dotted_key);
+    reject_duplicate_keys(kv.second, file, dotted_key, visited);
   }
 }
 
@@ -97,7 +102,8 @@ ConfigNode ConfigNode::load_string(const std::string& text, const std::string& n
   }
   if (s->node.IsNull()) s->node = YAML::Node(YAML::NodeType::Map);
   if (!s->node.IsMap()) throw ConfigError(position(name, s->node.Mark()) + ": the top level must be a map of keys");
-  reject_duplicate_keys(s->node, name, "");
+  std::set<std::pair<int, int>> visited;
+  reject_duplicate_keys(s->node, name, "", visited);
   s->mark = s->node.Mark();
   return ConfigNode(s);
 }

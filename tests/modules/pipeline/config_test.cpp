@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <sstream>
 #include <string>
 
 #include "modules/base/error.h"
@@ -101,4 +102,19 @@ TEST_CASE("config: a directory, a device or a FIFO is not a config file") {
   CHECK_THROWS_AS(plaf::ConfigNode::load_file(fifo), plaf::InputError);  // does not block
   CHECK_THROWS_WITH_AS(plaf::ConfigNode::load_file(d / "missing.yaml"),
                        ((d / "missing.yaml").string() + ": cannot open the config file").c_str(), plaf::InputError);
+}
+
+TEST_CASE("config: nested aliases (a billion laughs) are read in linear time") {
+  // Nine levels of ten aliases each: 10^9 leaves if every alias were walked again.
+  std::string yaml = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n";
+  const char* const names[] = {"a0", "a1", "a2", "a3", "a4", "a5", "a6", "a7", "a8", "a9"};
+  for (int i = 1; i <= 9; ++i) {
+    std::ostringstream line;
+    line << names[i] << ": &" << names[i] << " [";
+    for (int k = 0; k < 10; ++k) line << (k ? ", *" : "*") << names[i - 1];
+    line << "]\n";
+    yaml += line.str();
+  }
+  const plaf::ConfigNode c = plaf::ConfigNode::load_string(yaml, "laughs.yaml");
+  CHECK_THROWS_WITH_AS(c.finish(), doctest::Contains("unknown key 'a0'"), plaf::ConfigError);
 }
