@@ -421,13 +421,10 @@ double attenuate(std::vector<Vec>& tops, const Vec& a, const Vec& b, const std::
                  double f_atten) {
   const std::size_t q = tops.size() - 1;
   if (q < 2) return 0;
-  std::vector<Vec> inner(tops.begin() + 1, tops.end() - 1), targets;
-  for (std::size_t k = 1; k < q; ++k)
-    targets.push_back(a + (static_cast<double>(k) / static_cast<double>(q)) * (b - a));
-  const double clipped =
-      attenuate<2>(inner, targets, std::vector<double>(heights.begin() + 1, heights.end() - 1), f_atten);
-  std::copy(inner.begin(), inner.end(), tops.begin() + 1);
-  return clipped;
+  check_order(static_cast<int>(q));  // the targets below hold at most max_order + 1 nodes
+  Vec targets[max_order + 1];
+  for (std::size_t k = 1; k < q; ++k) targets[k] = a + (static_cast<double>(k) / static_cast<double>(q)) * (b - a);
+  return attenuate<2>(tops.data() + 1, targets + 1, heights.data() + 1, q - 1, f_atten);
 }
 
 LayerResult<2> grow_layers(const CurvedFront<2>& front, const MetricField<2>& metric, const LayerParams& p) {

@@ -28,11 +28,10 @@ double layer_height(const MetricField<Dim>& metric, const Eigen::Matrix<double, 
 }
 
 template <int Dim>
-double attenuate(std::vector<Eigen::Matrix<double, Dim, 1>>& tops,
-                 const std::vector<Eigen::Matrix<double, Dim, 1>>& targets, const std::vector<double>& heights,
-                 double f_atten) {
+double attenuate(Eigen::Matrix<double, Dim, 1>* tops, const Eigen::Matrix<double, Dim, 1>* targets,
+                 const double* heights, std::size_t n, double f_atten) {
   double clipped = 0;
-  for (std::size_t k = 0; k < tops.size(); ++k) {
+  for (std::size_t k = 0; k < n; ++k) {
     Eigen::Matrix<double, Dim, 1> d = targets[k] - tops[k];
     const double need = d.norm(), limit = f_atten * heights[k];
     if (need > limit) {
@@ -277,10 +276,8 @@ void grow_fronts(FrontGrower<Dim>& g, const MetricField<Dim>& metric, const Laye
 
 template double layer_height<2>(const MetricField<2>&, const Eigen::Vector2d&, const Eigen::Vector2d&, bool);
 template double layer_height<3>(const MetricField<3>&, const Eigen::Vector3d&, const Eigen::Vector3d&, bool);
-template double attenuate<2>(std::vector<Eigen::Vector2d>&, const std::vector<Eigen::Vector2d>&,
-                             const std::vector<double>&, double);
-template double attenuate<3>(std::vector<Eigen::Vector3d>&, const std::vector<Eigen::Vector3d>&,
-                             const std::vector<double>&, double);
+template double attenuate<2>(Eigen::Vector2d*, const Eigen::Vector2d*, const double*, std::size_t, double);
+template double attenuate<3>(Eigen::Vector3d*, const Eigen::Vector3d*, const double*, std::size_t, double);
 template bool is_isotropic<2>(const Metric<2>&);
 template bool is_isotropic<3>(const Metric<3>&);
 template void grow_fronts<2>(FrontGrower<2>&, const MetricField<2>&, const LayerParams&, int, LayerResult<2>&);

@@ -60,13 +60,13 @@ template <int Dim>
 double layer_height(const MetricField<Dim>& metric, const Eigen::Matrix<double, Dim, 1>& x,
                     const Eigen::Matrix<double, Dim, 1>& n, bool integrate);
 
-// Curvature attenuation (Fig. 5): moves every tops[k] toward targets[k] (its position on the
-// linear element) by at most f_atten * heights[k]. Returns the largest needed move over its
-// height among the clipped nodes (0 when none was clipped: the element is now linear).
+// Curvature attenuation (Fig. 5): moves each of the n tops[k] toward targets[k] (its position on
+// the linear element) by at most f_atten * heights[k]. Returns the largest needed move over its
+// height among the clipped nodes (0 when none was clipped: the element is now linear). Pointers,
+// not vectors: it runs on every high-order node of every layer and allocates nothing.
 template <int Dim>
-double attenuate(std::vector<Eigen::Matrix<double, Dim, 1>>& tops,
-                 const std::vector<Eigen::Matrix<double, Dim, 1>>& targets, const std::vector<double>& heights,
-                 double f_atten);
+double attenuate(Eigen::Matrix<double, Dim, 1>* tops, const Eigen::Matrix<double, Dim, 1>* targets,
+                 const double* heights, std::size_t n, double f_atten);
 
 // True when the metric is isotropic to 0.1 % (its largest size within 0.999 of its smallest).
 template <int Dim>
