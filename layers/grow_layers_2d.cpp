@@ -357,7 +357,7 @@ class LoopFronts final : public FrontGrower<2> {
 
   std::array<CellType, 2> cell_types() const override { return {CellType::Quadrilateral, CellType::Triangle}; }
   std::size_t num_parts() const override { return loops_.size(); }
-  const std::string& part_tag(std::size_t part) const override { return loops_[part].tag; }
+  std::string part_name(std::size_t part) const override { return "loop " + loops_[part].tag; }
   std::size_t num_sites(std::size_t part) const override { return loops_[part].size() * static_cast<std::size_t>(q_); }
   std::vector<Vec> stop_points(std::size_t part) const override {
     std::vector<Vec> v;

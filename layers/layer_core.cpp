@@ -108,7 +108,7 @@ class LayerAttempts {
     return false;
   }
 
-  std::string part_name(std::size_t part) const { return (Dim == 2 ? "loop " : "surface ") + g_.part_tag(part); }
+  std::string part_name(std::size_t part) const { return g_.part_name(part); }
 
  private:
   FrontGrower<Dim>& g_;

@@ -98,7 +98,8 @@ class FrontGrower {
   virtual ~FrontGrower() = default;
   virtual std::array<CellType, 2> cell_types() const = 0;  // main, transition
   virtual std::size_t num_parts() const = 0;
-  virtual const std::string& part_tag(std::size_t part) const = 0;
+  // How events name a part ("loop wall").
+  virtual std::string part_name(std::size_t part) const = 0;
   // The number of height scale entries of a part (one per front node).
   virtual std::size_t num_sites(std::size_t part) const = 0;
   // The nodes whose metric decides the isotropic stop; `stopped` in build() is indexed like them.
