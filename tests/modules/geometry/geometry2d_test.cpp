@@ -276,3 +276,37 @@ TEST_CASE("geometry: a point offset by d along a body's normal is within d of th
   }
   CHECK(above == 0);
 }
+
+TEST_CASE("geometry: Geometry2D as the 2D reference: closest loop, normal into the domain, curves, scale") {
+  // A clockwise body circle of radius 1 inside the counter-clockwise farfield circle of radius 10,
+  // both about the origin: the domain is the annulus between them.
+  std::vector<Vector2d> body;
+  for (int i = 0; i < 256; ++i) {
+    const double a = -2 * M_PI * i / 256;  // clockwise
+    body.push_back({std::cos(a), std::sin(a)});
+  }
+  Geometry2D g;
+  g.loops.push_back({SplineLoop(body, {}, "wall"), "wall", BoundaryKind::Wall});
+  g.loops.push_back({farfield_circle({0, 0}, 10), "farfield", BoundaryKind::Farfield});
+  const ReferenceGeometry<2>& ref = g;
+  CHECK(ref.num_curves() == 2);
+  CHECK(ref.scale() == doctest::Approx(std::sqrt(2.0) * 20).epsilon(1e-6));
+  for (const double angle : {0.3, 2.0, 4.5}) {
+    const Vector2d u(std::cos(angle), std::sin(angle));
+    // Near the body: its point, and the normal pointing away from it (into the domain).
+    Vector2d n;
+    const Vector2d p = ref.project(2.0 * u, n);
+    CHECK((p - u).norm() < 1e-6);  // the spline through 256 points of the unit circle
+    CHECK(n.dot(u) > 1 - 1e-9);
+    CHECK((ref.normal(p) - n).norm() < 1e-12);
+    CHECK((ref.project(2.0 * u) - p).norm() < 1e-15);
+    // Near the farfield: its point, and its normal pointing inward (into the domain).
+    const Vector2d q = ref.project(9.0 * u, n);
+    CHECK((q - 10.0 * u).norm() < 1e-4);
+    CHECK(n.dot(u) < -1 + 1e-9);
+    // A chosen curve, whichever is closer.
+    CHECK((ref.project_to_curve(2.0 * u, 1) - 10.0 * u).norm() < 1e-4);
+    CHECK((ref.project_to_curve(9.0 * u, 0) - u).norm() < 1e-6);
+  }
+  CHECK_THROWS_AS(ref.project_to_curve({0, 0}, 2), Error);
+}
