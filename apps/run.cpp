@@ -14,6 +14,7 @@
 #include "modules/io/msh_io.h"
 #include "modules/pipeline/writers.h"
 #include "modules/mesh/hybrid2d.h"
+#include "modules/mesh/hybrid3d.h"
 #include "modules/mesh/quality.h"
 #include "modules/pipeline/layer_table.h"
 #include "modules/pipeline/run_config.h"
@@ -60,7 +61,11 @@ void assemble(RunState<2>& s, StageReport& rep) {
   if (o.split_quads) rep.add("split_quads", a.split_quads);
 }
 void assemble(RunState<3>& s, StageReport&) {
-  if (!s.mesh_done) throw MesherError("3D runs end at the surface mesh until the prism layers exist");
+  if (s.layers) {
+    s.mesh = assemble_hybrid_3d(*s.layers);
+    return;
+  }
+  if (!s.mesh_done) throw MesherError("assembly: the surface stage gave no mesh");
 }
 
 template <int Dim>

@@ -2,6 +2,7 @@
 #include "layers/plugins.h"
 
 #include "layers/grow_layers_2d.h"
+#include "layers/grow_layers_3d.h"
 #include "modules/base/error.h"
 #include "modules/pipeline/run_state.h"
 #include "modules/pipeline/stages.h"
@@ -40,6 +41,22 @@ void register_plugins() {
         if (s.layers->layers.empty())
           throw MesherError("layers: not even the first layer could be grown (" +
                             (s.layers->events.empty() ? std::string("no wall loop") : s.layers->events.back()) +
+                            ")");
+      };
+    });
+    stage_registry<3>(StageKind::Layers).add("extrude", [](const ConfigNode& section) -> Stage<3> {
+      LayerParams p = parse_layer_params(section);
+      if (p.isotropic_stop == IsotropicStop::Node)
+        throw ConfigError(section.where("isotropic_stop") + ": node is not available in 3D (use any, all or off)");
+      return [p](RunState<3>& s, StageReport& rep) mutable {
+        if (!s.front) throw MesherError("layers: the surface stage gave no front to grow from");
+        if (p.max_layers == 0) return;  // the surface mesh alone
+        p.close_linear = s.config.fill.enabled();
+        s.layers = grow_layers(*s.front, *s.metric, p);
+        for (const auto& [key, value] : s.layers->counts) rep.add(key, value);
+        if (s.layers->layers.empty())
+          throw MesherError("layers: not even the first layer could be grown (" +
+                            (s.layers->events.empty() ? std::string("no wall surface") : s.layers->events.back()) +
                             ")");
       };
     });

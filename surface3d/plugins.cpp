@@ -264,6 +264,7 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   const CurvingReport cr = curve_surface(surface, *s.reference, c.order, vo);
   s.mesh = surface_to_mesh(surface);
   s.mesh_done = true;
+  s.front = surface_front(s.mesh, *s.reference);
   rep.line("high order: " + std::to_string(cr.triangles) + " triangles of order " + std::to_string(c.order) + ", " +
            std::to_string(cr.straightened) + " straightened, " + std::to_string(cr.invalid) + " invalid");
   report_surface(surface, c.order, kept, detected, rr, cr, rep);

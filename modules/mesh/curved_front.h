@@ -13,7 +13,10 @@
 //   then interior nodes from start to end); element e's end is element e+1's start, and the last
 //   element ends at the first element's start.
 // - 3D: triangles of (Q+1)(Q+2)/2 node ids each in Gmsh triangle order, counter-clockwise seen
-//   from the domain (their right-hand normal points into the domain, out of the body).
+//   from the domain (their right-hand normal points into the domain, out of the body). A closed
+//   body has no rim; a half body ends on symmetry planes along its rim: the edges used by one
+//   triangle only, listed in rim_edges (Q+1 ids each in Gmsh line order, running as in their
+//   triangle) with the tag of the plane they lie on (the layers keep those nodes on the plane).
 #pragma once
 
 #include <cstdint>
@@ -22,6 +25,7 @@
 
 #include <Eigen/Core>
 
+#include "modules/geometry/reference.h"
 #include "modules/mesh/hybrid_mesh.h"
 
 namespace plaf {
@@ -60,6 +64,8 @@ struct CurvedFront<3> {
   std::vector<NodeId> triangles;         // (Q+1)(Q+2)/2 ids per triangle, Gmsh order
   std::vector<int> triangle_tag;         // per triangle: index into tags
   std::vector<BoundaryTag> tags;
+  std::vector<NodeId> rim_edges;         // (Q+1) ids per open edge, on a symmetry plane
+  std::vector<int> rim_tag;              // per rim edge: index into tags
 
   std::size_t num_triangles() const { return triangle_tag.size(); }
   const NodeId* triangle(std::size_t t) const {
@@ -69,6 +75,11 @@ struct CurvedFront<3> {
 
 // The front as a mesh of boundary facets only (order Q, one boundary block per tag), for output.
 HybridMesh<2> front_mesh(const CurvedFront<2>& front);
+
+// The 3D front of a surface mesh (its triangle boundary blocks, all of one order; its curves
+// blocks of kind Symmetry become the rim), with every node's normal from the reference. Throws
+// MesherError when the blocks mix orders or a curve of the rim is not an open edge.
+CurvedFront<3> surface_front(const HybridMesh<3>& surface, const ReferenceGeometry<3>& reference);
 
 }  // namespace mesh
 }  // namespace plaf

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "modules/mesh/curved_front.h"
@@ -37,6 +38,9 @@ struct LayerResult {
   std::vector<LayerStats> layers;
   int linear_after = -1;            // 1-based index of the first layer with a linear front, -1 if none
   std::vector<std::string> events;  // what stopped or shrank growth, one line each
+  // What the front's specifics counted, for the report (3D: the classes of the first front's
+  // nodes, concave merges, symmetry nodes).
+  std::vector<std::pair<std::string, std::size_t>> counts;
 };
 
 // The 2D front's loop `l` by its vertices, as a loop of a linear front.

@@ -114,8 +114,8 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
 
   c.finish();
   // Checked after the keys, so an unknown key is reported first.
-  if (r.layers.enabled() && r.geometry.type != "airfoils")
-    throw ConfigError(r.layers.section + ": layers need a spline geometry (type airfoils)");
+  if (r.layers.enabled() && r.dim == 2 && r.geometry.type != "airfoils")
+    throw ConfigError(r.layers.section + ": layers need a spline geometry (type airfoils) or a 3D body");
   if (r.fill.enabled() && r.geometry.type != "airfoils")
     throw ConfigError(r.fill.section + ": the fill needs a spline geometry (type airfoils)");
   return r;

@@ -66,8 +66,10 @@ struct RunState<3> {
   bool mesh_done = false;
   // The sizes the surface stage meshes to (before its curvature metric).
   const MetricField<3>& surface_base() const { return surface_sizes ? *surface_sizes : *metric; }
-  // What the quality stage measures the mesh in: the metric the surface followed.
+  // What the quality stage measures the mesh in: the run's metric for a volume mesh (layers), the
+  // metric the surface followed for a surface mesh.
   const MetricField<3>* measure() const {
+    if (layers) return metric.get();
     return surface_metric ? surface_metric.get() : surface_sizes ? surface_sizes.get() : metric.get();
   }
 };

@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: MIT
+// The collision test of a new 3D layer front (front_collisions_3d.h).
+#include "layers/front_collisions_3d.h"
+
+#include <algorithm>
+#include <array>
+
+#include "modules/elements/lagrange.h"
+#include "modules/geometry/aabb_tree.h"
+#include "modules/geometry/predicates.h"
+
+namespace plaf::layers {
+
+std::vector<std::size_t> front_collisions(const std::vector<FrontSurface>& fronts,
+                                          const std::vector<Eigen::Vector3d>& nodes, int q) {
+  const LagrangeElement& te = lagrange_element(CellType::Triangle, q);
+  const std::size_t np = static_cast<std::size_t>(te.size());
+  // The lattice's sub-triangles, counter-clockwise.
+  std::vector<std::array<int, 3>> subs;
+  for (int j = 0; j < q; ++j)
+    for (int i = 0; i + j < q; ++i) {
+      subs.push_back({te.find({i, j, 0}), te.find({i + 1, j, 0}), te.find({i, j + 1, 0})});
+      if (i + j + 2 <= q) subs.push_back({te.find({i + 1, j, 0}), te.find({i + 1, j + 1, 0}), te.find({i, j + 1, 0})});
+    }
+  std::vector<std::array<int, 3>> tris;     // mesh node ids
+  std::vector<long> owner;                  // fronts[0] triangle index, or -1
+  for (std::size_t f = 0; f < fronts.size(); ++f) {
+    const std::vector<int>& tl = *fronts[f].tri;
+    const std::vector<NodeId>& ids = *fronts[f].ids;
+    for (std::size_t t = 0; t * np < tl.size(); ++t)
+      for (const auto& s : subs) {
+        std::array<int, 3> tri;
+        for (int k = 0; k < 3; ++k)
+          tri[static_cast<std::size_t>(k)] = ids[static_cast<std::size_t>(tl[t * np + static_cast<std::size_t>(s[static_cast<std::size_t>(k)])])];
+        tris.push_back(tri);
+        owner.push_back(f == 0 ? static_cast<long>(t) : -1);
+      }
+  }
+  const TriangleTree tree(nodes, tris);
+  std::vector<std::size_t> hits;
+  for (const auto& [a, b] : tree.overlapping_pairs()) {
+    const long oa = owner[static_cast<std::size_t>(a)], ob = owner[static_cast<std::size_t>(b)];
+    if (oa < 0 && ob < 0) continue;
+    const auto& ta = tris[static_cast<std::size_t>(a)];
+    const auto& tb = tris[static_cast<std::size_t>(b)];
+    bool shared = false;
+    for (int u : ta)
+      for (int v : tb) shared = shared || u == v;
+    if (shared) continue;
+    if (!triangles_intersect(tree.triangle(a).data(), tree.triangle(b).data())) continue;
+    if (oa >= 0) hits.push_back(static_cast<std::size_t>(oa));
+    if (ob >= 0) hits.push_back(static_cast<std::size_t>(ob));
+  }
+  std::sort(hits.begin(), hits.end());
+  hits.erase(std::unique(hits.begin(), hits.end()), hits.end());
+  return hits;
+}
+
+}  // namespace plaf::layers

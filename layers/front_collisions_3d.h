@@ -1,0 +1,27 @@
+// SPDX-License-Identifier: MIT
+// The collision test of a new 3D layer front (grow_layers_3d.h, step 5): the front's curved
+// triangles as the linear sub-triangles of their node lattice, tested exactly (predicates.h) on
+// the candidate pairs of an AABB tree (aabb_tree.h).
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "modules/mesh/hybrid_mesh.h"
+
+namespace plaf::layers {
+
+// A front as triangles over local nodes: tri holds (Q+1)(Q+2)/2 local ids per triangle in Gmsh
+// order, ids maps a local node to its mesh node.
+struct FrontSurface {
+  const std::vector<int>* tri;
+  const std::vector<NodeId>* ids;
+};
+
+// The triangles of fronts[0] (by index) with a sub-triangle that crosses a sub-triangle of any of
+// the fronts (fronts[0] itself included) with which it shares no mesh node. Sorted, unique.
+std::vector<std::size_t> front_collisions(const std::vector<FrontSurface>& fronts,
+                                          const std::vector<Eigen::Vector3d>& nodes, int order);
+
+}  // namespace plaf::layers

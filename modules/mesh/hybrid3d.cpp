@@ -1,0 +1,20 @@
+// SPDX-License-Identifier: MIT
+// Assembly of the 3D hybrid mesh (hybrid3d.h).
+#include "modules/mesh/hybrid3d.h"
+
+namespace plaf {
+inline namespace mesh {
+
+HybridMesh<3> assemble_hybrid_3d(const LayerResult<3>& layers) {
+  HybridMesh<3> mesh = layers.mesh;
+  const CurvedFront<3>& outer = layers.outer;
+  if (outer.num_triangles() > 0) {
+    const int tag = mesh.add_tag("layers_outer", BoundaryKind::Named);
+    CellBlock& b = mesh.boundary_block(CellType::Triangle, outer.order, tag);
+    b.connectivity.insert(b.connectivity.end(), outer.triangles.begin(), outer.triangles.end());
+  }
+  return mesh;
+}
+
+}  // namespace mesh
+}  // namespace plaf
