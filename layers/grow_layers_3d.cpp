@@ -24,8 +24,30 @@ using Vec = Eigen::Vector3d;
 struct Plane {
   Vec point = Vec::Zero(), normal = Vec::UnitZ();
   int tag = -1;
-  Vec project(const Vec& x) const { return x - (x - point).dot(normal) * normal; }
 };
+
+// Direction d kept in the planes ids (one or two; -1 entries skipped): its component along their
+// intersection (zero when it has none).
+Vec in_planes(const Vec& d, const std::array<int, 2>& ids, const std::vector<Plane>& planes) {
+  if (ids[0] < 0) return d;
+  const Vec& a = planes[static_cast<std::size_t>(ids[0])].normal;
+  if (ids[1] < 0) return d - d.dot(a) * a;
+  const Vec line = a.cross(planes[static_cast<std::size_t>(ids[1])].normal).normalized();
+  return d.dot(line) * line;
+}
+
+// The closest point to x on the planes ids (one, or the line where two meet).
+Vec onto_planes(const Vec& x, const std::array<int, 2>& ids, const std::vector<Plane>& planes) {
+  if (ids[0] < 0) return x;
+  const Plane& a = planes[static_cast<std::size_t>(ids[0])];
+  if (ids[1] < 0) return x - (x - a.point).dot(a.normal) * a.normal;
+  const Plane& b = planes[static_cast<std::size_t>(ids[1])];
+  Eigen::Matrix<double, 2, 3> m;
+  m.row(0) = a.normal.transpose();
+  m.row(1) = b.normal.transpose();
+  const Eigen::Vector2d r(a.normal.dot(x - a.point), b.normal.dot(x - b.point));
+  return x - m.transpose() * (m * m.transpose()).ldlt().solve(r);
+}
 
 // One connected set of wall triangles with a fixed local numbering of its nodes (step 1).
 struct Part {
@@ -37,9 +59,9 @@ struct Part {
   // The attenuation target of node l: sum_k w[l][k] * top of local vertex v[l][k].
   std::vector<std::array<int, 3>> tv;
   std::vector<std::array<double, 3>> tw;
-  std::vector<int> plane;                            // per node: index into planes, -1 off the rim
+  std::vector<std::array<int, 2>> plane;             // per node: the planes it lies on (-1: none)
   std::vector<int> node_tri_start, node_tri;         // CSR: the triangles around each node
-  std::vector<std::array<int, 2>> rim;               // per rim edge: triangle, local edge
+  std::vector<std::array<int, 3>> rim;               // per rim edge: triangle, local edge, plane
   std::vector<int> vertices;                          // local ids of vertex nodes
   std::size_t size() const { return ids.size(); }
 };
@@ -143,7 +165,6 @@ class PartBuilder {
         use[1] = static_cast<int>(t);
         use[2] = e;
       }
-    p.plane.assign(p.size(), -1);
     // Rim tags from the front's rim edges, by their vertex pair.
     std::map<std::pair<NodeId, NodeId>, int> rim_tag;
     const std::size_t ne = static_cast<std::size_t>(q_ + 1);
@@ -151,15 +172,10 @@ class PartBuilder {
       const NodeId a = f_.rim_edges[k * ne], b = f_.rim_edges[k * ne + 1];
       rim_tag[{std::min(a, b), std::max(a, b)}] = f_.rim_tag[k];
     }
-    std::vector<int> root(p.size());
-    for (std::size_t i = 0; i < root.size(); ++i) root[i] = static_cast<int>(i);
-    auto find = [&](int a) {
-      while (root[static_cast<std::size_t>(a)] != a) a = root[static_cast<std::size_t>(a)];
-      return a;
+    struct RimEdge {
+      int tri, edge, tag;
     };
-    std::vector<int> rim_nodes;
-    std::map<int, int> tag_of_root;
-    std::vector<std::array<int, 3>> rim_edges;  // a, b, tag
+    std::vector<RimEdge> rim_edges;
     for (const auto& [ab, use] : edges) {
       if (use[0] > 2)
         throw MesherError("layers: an edge of surface " + p.name + " is shared by " + std::to_string(use[0]) +
@@ -173,45 +189,76 @@ class PartBuilder {
                           std::to_string(x.x()) + ", " + std::to_string(x.y()) + ", " + std::to_string(x.z()) +
                           "); the layers grow from closed surfaces or surfaces that end on symmetry planes");
       }
-      p.rim.push_back({use[1], use[2]});
-      const std::vector<int>& en = te.edge_nodes(use[2]);
-      const int* tl = p.tri.data() + static_cast<std::size_t>(use[1]) * static_cast<std::size_t>(np_);
-      for (int k : en) {
-        rim_nodes.push_back(tl[k]);
-        root[static_cast<std::size_t>(find(tl[k]))] = find(tl[en.front()]);
-      }
-      rim_edges.push_back({ab.first, ab.second, it->second});
+      rim_edges.push_back({use[1], use[2], it->second});
     }
-    // One plane per connected rim, fitted to its nodes.
-    std::map<int, std::vector<int>> groups;
-    for (int l : rim_nodes) groups[find(l)].push_back(l);
-    for (const auto& e : rim_edges) tag_of_root[find(e[0])] = e[2];
+    // One plane per connected run of rim edges of one tag (a corner node where two runs meet lies
+    // on both planes), fitted to its nodes.
+    std::vector<int> root(rim_edges.size());
+    for (std::size_t i = 0; i < root.size(); ++i) root[i] = static_cast<int>(i);
+    auto find = [&](int a) {
+      while (root[static_cast<std::size_t>(a)] != a) a = root[static_cast<std::size_t>(a)];
+      return a;
+    };
+    auto edge_nodes = [&](const RimEdge& e) {
+      std::vector<int> nodes;
+      for (int k : te.edge_nodes(e.edge)) nodes.push_back(p.tri[static_cast<std::size_t>(e.tri) * static_cast<std::size_t>(np_) + static_cast<std::size_t>(k)]);
+      return nodes;
+    };
+    std::map<std::pair<int, int>, int> first_at;  // (vertex, tag) -> a rim edge there
+    for (std::size_t i = 0; i < rim_edges.size(); ++i) {
+      const std::vector<int> en = edge_nodes(rim_edges[i]);
+      for (int v : {en.front(), en.back()}) {
+        const auto [it, added] = first_at.emplace(std::make_pair(v, rim_edges[i].tag), static_cast<int>(i));
+        if (!added) root[static_cast<std::size_t>(find(static_cast<int>(i)))] = find(it->second);
+      }
+    }
+    std::map<int, std::vector<int>> groups;  // root edge -> nodes
+    for (std::size_t i = 0; i < rim_edges.size(); ++i) {
+      const std::vector<int> en = edge_nodes(rim_edges[i]);
+      std::vector<int>& g = groups[find(static_cast<int>(i))];
+      g.insert(g.end(), en.begin(), en.end());
+    }
+    p.plane.assign(p.size(), {-1, -1});
+    std::map<int, int> plane_of_root;
     for (auto& [r, nodes] : groups) {
       std::sort(nodes.begin(), nodes.end());
       nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+      auto at = [&](int l) { return f_.nodes[static_cast<std::size_t>(p.ids[static_cast<std::size_t>(l)])]; };
       Vec c = Vec::Zero();
-      for (int l : nodes) c += f_.nodes[static_cast<std::size_t>(p.ids[static_cast<std::size_t>(l)])];
+      for (int l : nodes) c += at(l);
       c /= static_cast<double>(nodes.size());
       Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
       double diameter = 0;
       for (int l : nodes) {
-        const Vec d = f_.nodes[static_cast<std::size_t>(p.ids[static_cast<std::size_t>(l)])] - c;
+        const Vec d = at(l) - c;
         cov += d * d.transpose();
         diameter = std::max(diameter, 2 * d.norm());
       }
       Plane pl;
       pl.point = c;
       pl.normal = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0).normalized();
-      pl.tag = tag_of_root[r];
+      pl.tag = rim_edges[static_cast<std::size_t>(r)].tag;
       double off = 0;
-      for (int l : nodes)
-        off = std::max(off, std::abs((f_.nodes[static_cast<std::size_t>(p.ids[static_cast<std::size_t>(l)])] - c).dot(pl.normal)));
+      for (int l : nodes) off = std::max(off, std::abs((at(l) - c).dot(pl.normal)));
       if (off > 1e-6 * diameter)
-        throw MesherError("layers: the open rim of surface " + p.name + " is not planar (a node lies " +
+        throw MesherError("layers: the open rim of surface " + p.name + " tagged " +
+                          f_.tags[static_cast<std::size_t>(pl.tag)].name + " is not planar (a node lies " +
                           std::to_string(off) + " off its best plane); a surface may end only on symmetry planes");
-      for (int l : nodes) p.plane[static_cast<std::size_t>(l)] = static_cast<int>(planes.size());
+      const int index = static_cast<int>(planes.size());
+      plane_of_root[r] = index;
+      for (int l : nodes) {
+        std::array<int, 2>& np = p.plane[static_cast<std::size_t>(l)];
+        if (np[0] < 0)
+          np[0] = index;
+        else if (np[1] < 0)
+          np[1] = index;
+        else
+          throw MesherError("layers: a node of surface " + p.name + " lies on three symmetry planes");
+      }
       planes.push_back(pl);
     }
+    for (std::size_t i = 0; i < rim_edges.size(); ++i)
+      p.rim.push_back({rim_edges[i].tri, rim_edges[i].edge, plane_of_root[find(static_cast<int>(i))]});
   }
 
   const CurvedFront<3>& f_;
@@ -299,10 +346,8 @@ class PartLayerBuilder {
       // The first layer starts from the reference normal where the surface is smooth (Sec. II.B).
       const std::size_t id = static_cast<std::size_t>(part_.ids[l]);
       if (first_ && r.kind == NodeClass::Smooth && id < front0_.normals.size()) r.n = front0_.normals[id];
-      const int pl = part_.plane[l];
-      if (pl >= 0) {
-        const Vec& pn = planes_[static_cast<std::size_t>(pl)].normal;
-        const Vec inplane = r.n - r.n.dot(pn) * pn;
+      if (part_.plane[l][0] >= 0) {
+        const Vec inplane = in_planes(r.n, part_.plane[l], planes_);
         if (!(inplane.norm() > 1e-3))
           throw MesherError("layers: surface " + part_.name + " meets its symmetry plane tangentially at " +
                             std::to_string(x_[l].x()) + ", " + std::to_string(x_[l].y()) + ", " + std::to_string(x_[l].z()));
@@ -312,6 +357,29 @@ class PartLayerBuilder {
       if (part_.is_vertex[l]) ++classes[static_cast<int>(r.kind)];
       concave_[l] = is_concave(r.kind) ? 1 : 0;
       nn_[l] = r;
+    }
+    // Next to a convex ridge or corner (merged normals, no fan yet) the high-order nodes move along
+    // the blend of their triangle's vertex normals: the faces' own normals there differ from the
+    // merged vertex normal by up to half the dihedral angle, and the attenuation (f_atten h per
+    // layer) could never catch up with the bend that would grow each layer.
+    std::vector<std::uint8_t> blend(n, 0);
+    for (std::size_t t = 0; t < num_tris(); ++t) {
+      const int* tl = tri(t);
+      bool convex = false;
+      for (int v = 0; v < 3; ++v) {
+        const NodeClass k = nn_[static_cast<std::size_t>(tl[v])].kind;
+        convex = convex || (k != NodeClass::Smooth && !is_concave(k));
+      }
+      if (convex)
+        for (int k = 3; k < np_; ++k) blend[static_cast<std::size_t>(tl[k])] = 1;
+    }
+    for (std::size_t l = 0; l < n; ++l) {
+      if (!blend[l] || nn_[l].kind != NodeClass::Smooth) continue;
+      Vec m = Vec::Zero();
+      for (int k = 0; k < 3; ++k)
+        m += part_.tw[l][static_cast<std::size_t>(k)] * nn_[static_cast<std::size_t>(part_.tv[l][static_cast<std::size_t>(k)])].n;
+      m = in_planes(m, part_.plane[l], planes_);
+      if (m.norm() > 1e-6) nn_[l].n = m.normalized();
     }
     if (counts_ != nullptr) {
       counts_->clear();
@@ -346,7 +414,7 @@ class PartLayerBuilder {
       const NodeNormal& r = nn_[l];
       h_[l] *= r.stretch;
       top_[l] = x_[l] + h_[l] * r.n;
-      if (part_.plane[l] >= 0) top_[l] = planes_[static_cast<std::size_t>(part_.plane[l])].project(top_[l]);
+      top_[l] = onto_planes(top_[l], part_.plane[l], planes_);
     }
     // Straight tops: on a straight base (the node at its linear position) and on every triangle
     // touching a concave node.
@@ -414,7 +482,7 @@ class PartLayerBuilder {
       const std::vector<int>& en = te.edge_nodes(re[1]);
       for (const Lattice& lat : qe.lattice())
         out_.rim_quads.push_back(at(tl[en[static_cast<std::size_t>(q_ - lat[0])]], lat[1]));
-      out_.rim_quad_tag.push_back(planes_[static_cast<std::size_t>(part_.plane[static_cast<std::size_t>(tl[en[0]])])].tag);
+      out_.rim_quad_tag.push_back(planes_[static_cast<std::size_t>(re[2])].tag);
     }
   }
 

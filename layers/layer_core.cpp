@@ -115,7 +115,9 @@ class LayerAttempts {
   const LayerParams& p_;
   int q_;
   LayerResult<Dim>& r_;
-  JacobianCertifier certifier_;
+  // The sign only (the quality stage bounds the scaled Jacobian): refinement stops once det J > 0
+  // is proven, which spares most subdivisions of thin curved cells.
+  JacobianCertifier certifier_{ValidityOptions{std::numeric_limits<double>::infinity(), ValidityOptions{}.max_depth}};
   std::vector<double> coords_;
 };
 

@@ -372,6 +372,28 @@ TEST_CASE("configs: a background metric from .mesh/.sol and from MSH 4.1 gives t
   CHECK(json_value(report_meshb, "invalid") == "0");
 }
 
+TEST_CASE("configs: 3D prism layers are certified, conforming and attenuate to a linear front") {
+  int layered = 0;
+  for (const Run& r : shipped_runs()) {
+    if (r.dim != 3) continue;
+    const std::string report = read_text(r.out / (r.name + ".report.json"));
+    if (report.find("\"layers\": {") == std::string::npos) continue;
+    ++layered;
+    INFO(r.config.string() << "\n" << r.err);
+    CHECK(r.code == 0);
+    CHECK(json_value(report, "invalid") == "0");
+    CHECK(json_value(report, "ok", report.find("\"conformity\": {")) == "true");
+    CHECK(json_number(report, "min", report.find("\"scaled_jacobian\"")) > 0);
+    CHECK(json_number(report, "linear_after", report.find("\"layers\": {")) > 0);
+    if (r.name == "sphere_layers") {
+      // h0 = 1e-5 R: the first layer's aspect ratio is above 1e4.
+      CHECK(json_number(report, "max", report.find("\"aspect_ratio\"")) > 1e4);
+      CHECK(json_value(report, "count", report.find("\"layers\": {")) == "30");
+    }
+  }
+  CHECK(layered >= 1);
+}
+
 TEST_CASE("configs: 3D surfaces are metric-conforming, keep their features and tag their symmetry loops") {
   int surfaces = 0;
   for (const Run& r : shipped_runs()) {
@@ -380,7 +402,9 @@ TEST_CASE("configs: 3D surfaces are metric-conforming, keep their features and t
     INFO(r.config.string() << "\n" << r.err);
     REQUIRE(r.code == 0);
     const std::string report = read_text(r.out / (r.name + ".report.json"));
-    const std::size_t metric = report.find("\"metric\": {");
+    // A run with layers is measured in the run's metric; its surface in the remesher's report.
+    const bool layered = report.find("\"layers\": {") != std::string::npos;
+    const std::size_t metric = report.find(layered ? "\"remesh\": {" : "\"metric\": {");
     REQUIRE(metric != std::string::npos);
     CHECK(json_number(report, "unit_fraction", metric) >= 0.9);
     CHECK(json_number(report, "min", report.find("\"scaled_jacobian\"")) > 0);

@@ -1,0 +1,458 @@
+// SPDX-License-Identifier: MIT
+// The 3D prism layers (layers/grow_layers_3d.h, layers/normals_3d.h):
+//  1. node normals and classes at ridges and corners (the visibility normal, concave stretch);
+//  2. a flat plate between four symmetry planes grows exact geometric layers, its side faces on
+//     the planes, tagged;
+//  3. a sphere at scales 1e-6 and 1e6 gives the layers of scale 1, scaled;
+//  4. the prisms of each layer tile the volume between its fronts exactly (quadrature of det J
+//     against the divergence theorem on the curved fronts), every prism certified;
+//  5. two spheres too close for their layers: the collision test stops them without a crossing;
+//  6. an open surface whose rim is not on a plane is refused.
+#include <doctest/doctest.h>
+
+#include <array>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "layers/front_collisions_3d.h"
+#include "layers/grow_layers_3d.h"
+#include "layers/normals_3d.h"
+#include "modules/base/error.h"
+#include "modules/elements/lagrange.h"
+#include "modules/elements/validity.h"
+#include "modules/mesh/curved_front.h"
+#include "modules/mesh/hybrid3d.h"
+#include "modules/mesh/hybrid_mesh.h"
+
+using namespace plaf;
+using namespace plaf::layers;
+using Eigen::Vector3d;
+
+namespace {
+
+// A boundary-layer metric of the wall law h_n(d) = h0 + (g - 1) d along the wall normal, size ht
+// along the wall, for a wall given by its distance and normal functions.
+class TestWallMetric final : public MetricField<3> {
+ public:
+  TestWallMetric(double h0, double g, double ht, std::function<double(const Vector3d&)> d,
+                 std::function<Vector3d(const Vector3d&)> n)
+      : h0_(h0), g_(g), ht_(ht), d_(std::move(d)), n_(std::move(n)) {}
+  Metric<3> evaluate(const Vector3d& x) const override {
+    const Vector3d n = n_(x);
+    const double hn = h0_ + (g_ - 1) * std::max(0.0, d_(x));
+    const Eigen::Matrix3d m = n * n.transpose() / (hn * hn) + (Eigen::Matrix3d::Identity() - n * n.transpose()) / (ht_ * ht_);
+    return Metric<3>::from_matrix(m);
+  }
+
+ private:
+  double h0_, g_, ht_;
+  std::function<double(const Vector3d&)> d_;
+  std::function<Vector3d(const Vector3d&)> n_;
+};
+
+// Triangles of order q on the given vertices, their lattice nodes placed by `place` (from the
+// linear position) and merged by position.
+struct FrontBuilder {
+  int q;
+  CurvedFront<3> f;
+  std::map<std::tuple<long, long, long>, NodeId> ids;
+  double key_scale;
+
+  FrontBuilder(int order, double scale) : q(order), key_scale(1e9 / scale) { f.order = order; }
+  NodeId node(const Vector3d& x, const Vector3d& n) {
+    const auto key = std::make_tuple(std::lround(x.x() * key_scale), std::lround(x.y() * key_scale),
+                                     std::lround(x.z() * key_scale));
+    const auto [it, added] = ids.emplace(key, static_cast<NodeId>(f.nodes.size()));
+    if (added) {
+      f.nodes.push_back(x);
+      f.normals.push_back(n);
+    }
+    return it->second;
+  }
+  template <class Place>
+  void triangle(const Vector3d& a, const Vector3d& b, const Vector3d& c, int tag, Place place) {
+    for (const Lattice& l : lagrange_element(CellType::Triangle, q).lattice()) {
+      const Vector3d lin = a + (static_cast<double>(l[0]) / q) * (b - a) + (static_cast<double>(l[1]) / q) * (c - a);
+      Vector3d n;
+      const Vector3d x = place(lin, n);
+      f.triangles.push_back(node(x, n));
+    }
+    f.triangle_tag.push_back(tag);
+  }
+};
+
+// The unit square [0, 1]^2 at z = 0, n x n cells split in two, facing +z, its four sides on
+// symmetry planes with four tags.
+CurvedFront<3> plate(int n, int q) {
+  FrontBuilder b(q, 1.0);
+  b.f.tags = {{"wall", BoundaryKind::Wall}, {"x0", BoundaryKind::Symmetry}, {"x1", BoundaryKind::Symmetry},
+              {"y0", BoundaryKind::Symmetry}, {"y1", BoundaryKind::Symmetry}};
+  auto flat = [](const Vector3d& x, Vector3d& nrm) {
+    nrm = Vector3d::UnitZ();
+    return x;
+  };
+  const double h = 1.0 / n;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const Vector3d p00(i * h, j * h, 0), p10((i + 1) * h, j * h, 0), p01(i * h, (j + 1) * h, 0),
+          p11((i + 1) * h, (j + 1) * h, 0);
+      b.triangle(p00, p10, p11, 0, flat);
+      b.triangle(p00, p11, p01, 0, flat);
+    }
+  // Rim edges by their vertex pairs (the layers read the pair and the tag).
+  auto rim = [&](const Vector3d& a, const Vector3d& c, int tag) {
+    Vector3d unused;
+    b.f.rim_edges.push_back(b.node(a, unused));
+    b.f.rim_edges.push_back(b.node(c, unused));
+    for (int k = 1; k < q; ++k) b.f.rim_edges.push_back(b.node(a + (static_cast<double>(k) / q) * (c - a), unused));
+    b.f.rim_tag.push_back(tag);
+  };
+  for (int i = 0; i < n; ++i) {
+    rim(Vector3d(i * h, 0, 0), Vector3d((i + 1) * h, 0, 0), 3);
+    rim(Vector3d(i * h, 1, 0), Vector3d((i + 1) * h, 1, 0), 4);
+    rim(Vector3d(0, i * h, 0), Vector3d(0, (i + 1) * h, 0), 1);
+    rim(Vector3d(1, i * h, 0), Vector3d(1, (i + 1) * h, 0), 2);
+  }
+  return b.f;
+}
+
+// An icosphere of radius r at centre c (the icosahedron split `levels` times), order q, every
+// node on the sphere, facing outward.
+CurvedFront<3> sphere(double r, const Vector3d& c, int levels, int q, const std::string& tag = "wall") {
+  const double t = (1 + std::sqrt(5.0)) / 2;
+  std::vector<Vector3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                             {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  for (Vector3d& p : v) p.normalize();
+  std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                       {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                       {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (int l = 0; l < levels; ++l) {
+    std::vector<std::array<int, 3>> g;
+    std::map<std::pair<int, int>, int> mid;
+    auto m = [&](int a, int b) {
+      const auto [it, added] = mid.emplace(std::make_pair(std::min(a, b), std::max(a, b)), static_cast<int>(v.size()));
+      if (added) v.push_back((v[static_cast<std::size_t>(a)] + v[static_cast<std::size_t>(b)]).normalized());
+      return it->second;
+    };
+    for (const auto& tr : f) {
+      const int ab = m(tr[0], tr[1]), bc = m(tr[1], tr[2]), ca = m(tr[2], tr[0]);
+      g.push_back({tr[0], ab, ca});
+      g.push_back({tr[1], bc, ab});
+      g.push_back({tr[2], ca, bc});
+      g.push_back({ab, bc, ca});
+    }
+    f = g;
+  }
+  FrontBuilder b(q, r);
+  b.f.tags = {{tag, BoundaryKind::Wall}};
+  auto on_sphere = [&](const Vector3d& x, Vector3d& nrm) {
+    nrm = (x - c).normalized();
+    return Vector3d(c + r * nrm);
+  };
+  for (const auto& tr : f)
+    b.triangle(c + r * v[static_cast<std::size_t>(tr[0])], c + r * v[static_cast<std::size_t>(tr[1])],
+               c + r * v[static_cast<std::size_t>(tr[2])], 0, on_sphere);
+  return b.f;
+}
+
+TestWallMetric sphere_metric(double r, const Vector3d& c, double h0, double g, double ht) {
+  return TestWallMetric(
+      h0, g, ht, [r, c](const Vector3d& x) { return (x - c).norm() - r; },
+      [c](const Vector3d& x) { return Vector3d((x - c).normalized()); });
+}
+
+// Gauss-Legendre nodes and weights on [0, 1].
+std::vector<std::pair<double, double>> gauss01(int n) {
+  std::vector<std::pair<double, double>> out;
+  for (int i = 0; i < n; ++i) {
+    double x = std::cos(M_PI * (i + 0.75) / (n + 0.5));
+    for (int it = 0; it < 100; ++it) {
+      double p0 = 1, p1 = x;
+      for (int k = 2; k <= n; ++k) {
+        const double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      const double dp = n * (x * p1 - p0) / (x * x - 1);
+      const double dx = p1 / dp;
+      x -= dx;
+      if (std::abs(dx) < 1e-16) break;
+    }
+    double p0 = 1, p1 = x;
+    for (int k = 2; k <= n; ++k) {
+      const double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
+      p0 = p1;
+      p1 = p2;
+    }
+    const double dp = n * (x * p1 - p0) / (x * x - 1);
+    out.push_back({(1 - x) / 2, 1 / ((1 - x * x) * dp * dp)});
+  }
+  return out;
+}
+
+// Quadrature over the unit triangle (collapsed Gauss, exact to degree 2n - 2).
+std::vector<std::tuple<double, double, double>> triangle_rule(int n) {
+  std::vector<std::tuple<double, double, double>> r;
+  for (const auto& [s, ws] : gauss01(n))
+    for (const auto& [t, wt] : gauss01(n)) r.push_back({s, (1 - s) * t, ws * wt * (1 - s)});
+  return r;
+}
+
+// Volume of a prism (quadrature of det J).
+double prism_volume(const HybridMesh<3>& mesh, const CellBlock& b, std::size_t c) {
+  const LagrangeElement& e = lagrange_element(CellType::Prism, b.order);
+  std::vector<double> coords(static_cast<std::size_t>(3 * e.size()));
+  gather_coords<3>(mesh, b, c, coords.data());
+  double v = 0;
+  for (const auto& [u, w2, wt] : triangle_rule(7))
+    for (const auto& [w, ww] : gauss01(6)) {
+      const double xi[3] = {u, w2, w};
+      v += wt * ww * jacobian_determinant(CellType::Prism, b.order, coords.data(), xi);
+    }
+  return v;
+}
+
+// (1/3) of the integral of x . n dA over curved triangles (the volume they enclose when closed
+// and facing outward), each given by its num_nodes(Triangle, q) points.
+double enclosed_volume(const std::vector<std::vector<Vector3d>>& tris, int q) {
+  const LagrangeElement& e = lagrange_element(CellType::Triangle, q);
+  std::vector<double> phi(static_cast<std::size_t>(e.size())), dphi(static_cast<std::size_t>(2 * e.size()));
+  double v = 0;
+  for (const auto& t : tris)
+    for (const auto& [u, w2, wt] : triangle_rule(7)) {
+      const double xi[2] = {u, w2};
+      e.eval(xi, phi.data());
+      e.eval_grad(xi, dphi.data());
+      Vector3d x = Vector3d::Zero(), xu = Vector3d::Zero(), xv = Vector3d::Zero();
+      for (int k = 0; k < e.size(); ++k) {
+        x += phi[static_cast<std::size_t>(k)] * t[static_cast<std::size_t>(k)];
+        xu += dphi[static_cast<std::size_t>(2 * k)] * t[static_cast<std::size_t>(k)];
+        xv += dphi[static_cast<std::size_t>(2 * k + 1)] * t[static_cast<std::size_t>(k)];
+      }
+      v += wt * x.dot(xu.cross(xv)) / 3;
+    }
+  return v;
+}
+
+// The top faces of layer `layer`'s prisms (0: the wall) as curved triangles.
+std::vector<std::vector<Vector3d>> layer_top(const LayerResult<3>& r, const CurvedFront<3>& wall, int layer) {
+  std::vector<std::vector<Vector3d>> tris;
+  const int q = wall.order;
+  if (layer == 0) {
+    for (std::size_t t = 0; t < wall.num_triangles(); ++t) {
+      std::vector<Vector3d> pts;
+      for (int k = 0; k < num_nodes(CellType::Triangle, q); ++k) pts.push_back(wall.nodes[static_cast<std::size_t>(wall.triangle(t)[k])]);
+      tris.push_back(pts);
+    }
+    return tris;
+  }
+  const LayerStats& st = r.layers[static_cast<std::size_t>(layer - 1)];
+  const LagrangeElement& pe = lagrange_element(CellType::Prism, q);
+  const LagrangeElement& te = lagrange_element(CellType::Triangle, q);
+  for (std::size_t c = st.first_cell; c < st.first_cell + st.cells; ++c) {
+    std::vector<Vector3d> pts(static_cast<std::size_t>(te.size()));
+    for (int k = 0; k < pe.size(); ++k) {
+      const Lattice& l = pe.lattice()[static_cast<std::size_t>(k)];
+      if (l[2] == q) pts[static_cast<std::size_t>(te.find({l[0], l[1], 0}))] = r.mesh.nodes[static_cast<std::size_t>(r.mesh.cells[0].cell(c)[k])];
+    }
+    tris.push_back(pts);
+  }
+  return tris;
+}
+
+}  // namespace
+
+TEST_CASE("normals 3D: the visibility normal and the classes of ridges and corners") {
+  const Vector3d x = Vector3d::UnitX(), y = Vector3d::UnitY(), z = Vector3d::UnitZ();
+  const double corner = 30 * M_PI / 180;
+  // A box corner: the normal that sees its three faces best is the diagonal, at equal angles.
+  CHECK((visibility_normal({x, y, z}) - Vector3d(1, 1, 1).normalized()).norm() < 1e-14);
+  // Convex: the neighbours lie below the tangent plane (along the box's edges).
+  NodeNormal c = node_normal({x, y, z}, {1, 1, 1}, {-x, -y, -z}, corner);
+  CHECK(c.kind == NodeClass::ConvexCorner);
+  CHECK(c.stretch == 1.0);
+  // Concave (inside a room's corner): stretched so the node lies one height off each wall.
+  NodeNormal cc = node_normal({x, y, z}, {1, 1, 1}, {x, y, z}, corner);
+  CHECK(cc.kind == NodeClass::ConcaveCorner);
+  CHECK(cc.stretch == doctest::Approx(std::sqrt(3.0)).epsilon(1e-12));
+  CHECK(cc.n.dot(x) * cc.stretch == doctest::Approx(1.0).epsilon(1e-12));
+  // Ridges: the bisector; a concave one stretched by 1 / cos 45.
+  NodeNormal r = node_normal({x, z}, {1, 1}, {-x, -z, y, -y}, corner);
+  CHECK(r.kind == NodeClass::ConvexRidge);
+  CHECK((r.n - Vector3d(1, 0, 1).normalized()).norm() < 1e-14);
+  NodeNormal rc = node_normal({x, z}, {1, 1}, {x, z, y, -y}, corner);
+  CHECK(rc.kind == NodeClass::ConcaveRidge);
+  CHECK(rc.stretch == doctest::Approx(std::sqrt(2.0)).epsilon(1e-12));
+  // Smooth: the weighted average; a saddle: neighbours on both sides of the tangent plane.
+  const Vector3d tilted = Vector3d(0.1, 0, 1).normalized();
+  NodeNormal s = node_normal({z, tilted}, {3, 1}, {x, -x}, corner);
+  CHECK(s.kind == NodeClass::Smooth);
+  CHECK((s.n - (3 * z + tilted).normalized()).norm() < 1e-14);
+  NodeNormal sd = node_normal({x, y, z}, {1, 1, 1}, {x, -y, -z}, corner);
+  CHECK(sd.kind == NodeClass::SaddleCorner);
+  // Faces no direction sees (a cusp) are an error, not a normal.
+  CHECK_THROWS_AS(node_normal({x, -x}, {1, 1}, {y}, corner), MesherError);
+}
+
+TEST_CASE("layers 3D: a plate between four symmetry planes grows exact geometric layers") {
+  for (int q : {1, 2, 3}) {
+    CAPTURE(q);
+    const CurvedFront<3> f = plate(4, q);
+    const double h0 = 1e-4, g = 1.3;
+    const TestWallMetric m(h0, g, 0.25, [](const Vector3d& x) { return x.z(); },
+                           [](const Vector3d&) { return Vector3d::UnitZ(); });
+    LayerParams p;
+    p.max_layers = 12;
+    const LayerResult<3> r = grow_layers(f, m, p);
+    REQUIRE(r.layers.size() == 12);
+    CHECK(r.linear_after == 1);
+    // Closed by the outer front (the assembly of a run without fill), the mesh conforms.
+    const ConformityReport cr = check_conformity<3>(assemble_hybrid_3d(r));
+    CHECK_MESSAGE(cr.ok, cr.first_problem);
+    // Every node sits at a height of the geometric series, right above a plate node.
+    std::vector<double> level = {0};
+    for (int k = 1; k <= 12 * q; ++k) {
+      const int layer = (k - 1) / q, sub = (k - 1) % q + 1;
+      const double base = h0 * (std::pow(g, layer) - 1) / (g - 1);
+      level.push_back(base + h0 * std::pow(g, layer) * sub / q);
+    }
+    std::size_t off_series = 0, moved = 0;
+    for (const Vector3d& x : r.mesh.nodes) {
+      double best = 1;
+      for (double z : level) best = std::min(best, std::abs(x.z() - z));
+      if (best > 1e-13) ++off_series;
+      const double gx = x.x() * 4 * q, gy = x.y() * 4 * q;
+      if (std::abs(gx - std::round(gx)) > 1e-12 || std::abs(gy - std::round(gy)) > 1e-12) ++moved;
+    }
+    CHECK(off_series == 0);
+    CHECK(moved == 0);
+    // The side faces: 4 n quadrilaterals per layer on the planes, tagged with them.
+    std::size_t quads = 0, off_plane = 0;
+    for (const CellBlock& b : r.mesh.boundary) {
+      if (b.type != CellType::Quadrilateral) continue;
+      const std::string& tag = r.mesh.tags[static_cast<std::size_t>(b.tag)].name;
+      CHECK(r.mesh.tags[static_cast<std::size_t>(b.tag)].kind == BoundaryKind::Symmetry);
+      for (std::size_t c = 0; c < b.size(); ++c) {
+        ++quads;
+        for (int k = 0; k < b.nodes_per_cell(); ++k) {
+          const Vector3d& x = r.mesh.nodes[static_cast<std::size_t>(b.cell(c)[k])];
+          const double d = tag == "x0" ? x.x() : tag == "x1" ? x.x() - 1 : tag == "y0" ? x.y() : x.y() - 1;
+          if (std::abs(d) > 1e-15) ++off_plane;
+        }
+      }
+    }
+    CHECK(quads == 16 * 12);
+    CHECK(off_plane == 0);
+  }
+}
+
+TEST_CASE("layers 3D: a sphere at scales 1e-6 and 1e6 gives the layers of scale 1, scaled") {
+  auto grow = [](double s) {
+    const Vector3d c = s * Vector3d(0.3, -0.2, 0.1);
+    const CurvedFront<3> f = sphere(s, c, 1, 2);
+    const TestWallMetric m = sphere_metric(s, c, 1e-4 * s, 1.3, 0.3 * s);
+    LayerParams p;
+    p.max_layers = 18;
+    return grow_layers(f, m, p);
+  };
+  const LayerResult<3> ref = grow(1);
+  REQUIRE(ref.layers.size() == 18);
+  for (double s : {1e-6, 1e6}) {
+    CAPTURE(s);
+    const LayerResult<3> r = grow(s);
+    REQUIRE(r.mesh.nodes.size() == ref.mesh.nodes.size());
+    CHECK(r.linear_after == ref.linear_after);
+    CHECK(r.events == ref.events);
+    double worst = 0;
+    for (std::size_t i = 0; i < r.mesh.nodes.size(); ++i)
+      worst = std::max(worst, (r.mesh.nodes[i] / s - ref.mesh.nodes[i]).norm());
+    CHECK(worst < 1e-9);
+    for (std::size_t k = 0; k < r.layers.size(); ++k)
+      CHECK(r.layers[k].max_clipped_rel == doctest::Approx(ref.layers[k].max_clipped_rel).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("layers 3D: the prisms of each layer tile the volume between its fronts, all certified") {
+  for (int q : {2, 3}) {
+    CAPTURE(q);
+    const CurvedFront<3> f = sphere(1, Vector3d::Zero(), 1, q);
+    const TestWallMetric m = sphere_metric(1, Vector3d::Zero(), 1e-3, 1.4, 0.4);
+    LayerParams p;
+    p.max_layers = 18;
+    const LayerResult<3> r = grow_layers(f, m, p);
+    REQUIRE(r.layers.size() == 18);
+    MESSAGE("max clip/h " << r.layers[0].max_clipped_rel << " .. " << r.layers[17].max_clipped_rel);
+    CHECK(r.linear_after > 1);  // the curvature attenuates over several layers
+    JacobianCertifier cert;
+    const CellBlock& prisms = r.mesh.cells[0];
+    std::vector<double> coords(static_cast<std::size_t>(3 * prisms.nodes_per_cell()));
+    std::size_t invalid = 0;
+    for (std::size_t c = 0; c < prisms.size(); ++c) {
+      gather_coords<3>(r.mesh, prisms, c, coords.data());
+      if (!cert.certify(CellType::Prism, q, coords.data()).valid) ++invalid;
+    }
+    CHECK(invalid == 0);
+    double below = enclosed_volume(layer_top(r, f, 0), q);
+    for (int k = 1; k <= 18; ++k) {
+      CAPTURE(k);
+      const double above = enclosed_volume(layer_top(r, f, k), q);
+      const LayerStats& st = r.layers[static_cast<std::size_t>(k - 1)];
+      double cells = 0;
+      for (std::size_t c = st.first_cell; c < st.first_cell + st.cells; ++c) cells += prism_volume(r.mesh, prisms, c);
+      CHECK(cells == doctest::Approx(above - below).epsilon(1e-10));
+      below = above;
+    }
+    const ConformityReport cr = check_conformity<3>(r.mesh);
+    CHECK(cr.open_facets == r.outer.num_triangles());  // the outer front is open until the assembly
+  }
+}
+
+TEST_CASE("layers 3D: two spheres too close for their layers stop without crossing") {
+  CurvedFront<3> a = sphere(1, Vector3d::Zero(), 1, 2, "a");
+  const CurvedFront<3> b = sphere(1, Vector3d(2.05, 0, 0), 1, 2, "b");
+  // One front of two parts: b's nodes after a's.
+  const NodeId off = static_cast<NodeId>(a.nodes.size());
+  a.nodes.insert(a.nodes.end(), b.nodes.begin(), b.nodes.end());
+  a.normals.insert(a.normals.end(), b.normals.begin(), b.normals.end());
+  for (NodeId id : b.triangles) a.triangles.push_back(id + off);
+  a.tags.push_back({"b", BoundaryKind::Wall});
+  for (std::size_t t = 0; t < b.num_triangles(); ++t) a.triangle_tag.push_back(1);
+  // Uniform layer heights of 0.01: the fronts meet after about 2.5 layers each.
+  const UniformMetricField<3> m(Metric<3>::isotropic(0.01));
+  LayerParams p;
+  p.max_layers = 10;
+  const LayerResult<3> r = grow_layers(a, m, p);
+  bool crossing_event = false;
+  for (const std::string& e : r.events) crossing_event = crossing_event || e.find("front crossings") != std::string::npos;
+  CHECK(crossing_event);
+  // No two top faces of the final fronts cross.
+  std::vector<int> local(r.outer.triangles.size());
+  std::vector<NodeId> ids(r.outer.triangles.begin(), r.outer.triangles.end());
+  for (std::size_t i = 0; i < local.size(); ++i) local[i] = static_cast<int>(i);
+  CHECK(front_collisions({{&local, &ids}}, r.mesh.nodes, 2).empty());
+}
+
+TEST_CASE("layers 3D: an open surface whose rim is not on a plane is refused") {
+  CurvedFront<3> f = sphere(1, Vector3d::Zero(), 1, 2);
+  // Drop the triangles around one vertex: an open hole whose rim is not listed as symmetry.
+  const std::size_t np = 6;
+  std::vector<NodeId> kept;
+  std::vector<int> tags;
+  for (std::size_t t = 0; t < f.num_triangles(); ++t) {
+    const NodeId* n = f.triangle(t);
+    if (n[0] == 0 || n[1] == 0 || n[2] == 0) continue;
+    kept.insert(kept.end(), n, n + np);
+    tags.push_back(f.triangle_tag[t]);
+  }
+  f.triangles = kept;
+  f.triangle_tag = tags;
+  const UniformMetricField<3> m(Metric<3>::isotropic(0.01));
+  CHECK_THROWS_WITH_AS(grow_layers(f, m, LayerParams{}), doctest::Contains("not on a symmetry plane"), MesherError);
+}
