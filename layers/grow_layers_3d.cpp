@@ -342,7 +342,15 @@ class PartLayerBuilder {
         for (int v = 0; v < 3; ++v)
           if (static_cast<std::size_t>(tl[v]) != l) to_nb.push_back(x_[static_cast<std::size_t>(tl[v])] - x_[l]);
       }
-      NodeNormal r = node_normal(f, w, to_nb, corner_rad);
+      NodeNormal r;
+      try {
+        r = node_normal(f, w, to_nb, corner_rad);
+      } catch (const MesherError& e) {
+        // Name the node: a cusp is a defect of the surface there (a fold, a notch).
+        throw MesherError(std::string(e.what()) + " at " + std::to_string(x_[l].x()) + ", " +
+                          std::to_string(x_[l].y()) + ", " + std::to_string(x_[l].z()) + " on surface " + part_.name +
+                          "; check the surface mesh there (surface.* in the report)");
+      }
       // The first layer starts from the reference normal where the surface is smooth (Sec. II.B).
       const std::size_t id = static_cast<std::size_t>(part_.ids[l]);
       if (first_ && r.kind == NodeClass::Smooth && id < front0_.normals.size()) r.n = front0_.normals[id];

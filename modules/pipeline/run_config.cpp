@@ -104,7 +104,10 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     plan(kind, type, s, out);
   };
   plan_section(StageKind::Layers, "extrude", "layers need a spline geometry (type airfoils)", r.layers);
-  plan_section(StageKind::Fill, "advancing_front", "the fill needs a spline geometry (type airfoils)", r.fill);
+  plan_section(StageKind::Fill, "advancing_front",
+               r.dim == 3 ? "there is no 3D fill yet (the TetGen fill is planned): leave the fill section out"
+                          : "the fill needs a spline geometry (type airfoils)",
+               r.fill);
 
   const ConfigNode v = c.child("validity");
   r.validity.rel_tol = v.get_in_range("rel_tol", r.validity.rel_tol, 1e-6, 1.0);
