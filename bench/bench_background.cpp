@@ -55,8 +55,8 @@ plaf::Metric<2> analytic_metric(const Eigen::Vector2d& x) {
 }
 
 // n x n squares on [0,1]^2, each split along its diagonal: 2 n^2 triangles.
-plaf::BackgroundMesh structured_square(int n) {
-  plaf::BackgroundMesh m;
+plaf::BackgroundMesh<2> structured_square(int n) {
+  plaf::BackgroundMesh<2> m;
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) {
       m.nodes.emplace_back(static_cast<double>(i) / n, static_cast<double>(j) / n);
@@ -65,8 +65,8 @@ plaf::BackgroundMesh structured_square(int n) {
   auto id = [n](int i, int j) { return static_cast<plaf::NodeId>(j * (n + 1) + i); };
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
-      m.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      m.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+      m.simplices.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.simplices.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
     }
   return m;
 }
@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
   // 1. The background mesh and the query points: uniformly random inside; along random
   //    segments of 1000 points each (coherent, as when a mesher walks along edges); and a tenth
   //    as many outside.
-  const plaf::BackgroundMesh mesh = structured_square(n);
+  const plaf::BackgroundMesh<2> mesh = structured_square(n);
   std::mt19937 rng(2024);
   std::uniform_real_distribution<double> u01(0.0, 1.0), around(-1.0, 2.0);
   std::vector<Eigen::Vector2d> inside(evaluations), outside;
@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
     if (x[0] < 0 || x[0] > 1 || x[1] < 0 || x[1] > 1) outside.push_back(x);
   }
   std::printf("background mesh: %zu nodes, %zu triangles; %zu evaluations inside, %zu outside\n", mesh.nodes.size(),
-              mesh.triangles.size(), inside.size(), outside.size());
+              mesh.simplices.size(), inside.size(), outside.size());
 
   // 2. Build (node logarithms and quadtree).
   Clock::time_point t0 = Clock::now();

@@ -64,9 +64,9 @@ bool triangle_meets_square(const std::array<Eigen::Vector2d, 3>& p, const Eigen:
 
 }  // namespace
 
-BackgroundMetricField::Quadtree::Quadtree(const BackgroundMesh& mesh) {
+BackgroundMetricField::Quadtree::Quadtree(const BackgroundMesh<2>& mesh) {
   // 1. Per-triangle affine data.
-  const std::size_t num_tris = mesh.triangles.size();
+  const std::size_t num_tris = mesh.simplices.size();
   affine.resize(num_tris);
   min_altitude.resize(num_tris);
   diameter.resize(num_tris);
@@ -76,7 +76,7 @@ BackgroundMetricField::Quadtree::Quadtree(const BackgroundMesh& mesh) {
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   double max_margin = 0;
   for (std::size_t t = 0; t < num_tris; ++t) {
-    const auto& tri = mesh.triangles[t];
+    const auto& tri = mesh.simplices[t];
     const Eigen::Vector2d &a = mesh.nodes[tri[0]], &b = mesh.nodes[tri[1]], &c = mesh.nodes[tri[2]];
     Eigen::Matrix2d e;
     e << b - a, c - a;
@@ -110,7 +110,7 @@ BackgroundMetricField::Quadtree::Quadtree(const BackgroundMesh& mesh) {
   build(mesh, 0, center, half, 0, std::move(all));
 }
 
-void BackgroundMetricField::Quadtree::build(const BackgroundMesh& mesh, std::size_t node, const Eigen::Vector2d& c,
+void BackgroundMetricField::Quadtree::build(const BackgroundMesh<2>& mesh, std::size_t node, const Eigen::Vector2d& c,
                                             double cell_half, int depth, std::vector<std::int32_t> tris) {
   double smallest = std::numeric_limits<double>::infinity();
   for (std::int32_t t : tris) smallest = std::min(smallest, min_altitude[static_cast<std::size_t>(t)]);
@@ -127,7 +127,7 @@ void BackgroundMetricField::Quadtree::build(const BackgroundMesh& mesh, std::siz
     const Eigen::Vector2d cc = child_center(c, cell_half, k);
     std::vector<std::int32_t> sub;
     for (std::int32_t t : tris) {
-      const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
+      const auto& tri = mesh.simplices[static_cast<std::size_t>(t)];
       const double margin = 2 * bary_tol_rel * diameter[static_cast<std::size_t>(t)];
       if (triangle_meets_square({mesh.nodes[tri[0]], mesh.nodes[tri[1]], mesh.nodes[tri[2]]}, cc,
                                 0.5 * cell_half + margin))
@@ -172,7 +172,7 @@ int BackgroundMetricField::Quadtree::locate(const Eigen::Vector2d& x) const {
   return best;
 }
 
-BackgroundMetricField::Quadtree::Nearest BackgroundMetricField::Quadtree::nearest(const BackgroundMesh& mesh,
+BackgroundMetricField::Quadtree::Nearest BackgroundMetricField::Quadtree::nearest(const BackgroundMesh<2>& mesh,
                                                                                   const Eigen::Vector2d& x) const {
   // Branch and bound over the tree (children visited nearest first, cells pruned by their
   // distance). The closest point of a triangle lies in a leaf that lists it, so pruning by cell
@@ -194,7 +194,7 @@ BackgroundMetricField::Quadtree::Nearest BackgroundMetricField::Quadtree::neares
     if (n.first_child < 0) {
       for (std::int32_t k = 0; k < n.count; ++k) {
         const int tri = items[static_cast<std::size_t>(n.begin + k)];
-        const auto& v = mesh.triangles[static_cast<std::size_t>(tri)];
+        const auto& v = mesh.simplices[static_cast<std::size_t>(tri)];
         for (int i = 0; i < 3; ++i) {
           const Eigen::Vector2d p =
               closest_on_segment(x, mesh.nodes[v[static_cast<std::size_t>(i)]], mesh.nodes[v[(i + 1) % 3]]);

@@ -14,7 +14,7 @@ inline namespace metric {
 
 struct BackgroundMetricField::Quadtree {
   // Per-triangle affine data, then the tree; InputError if no triangle has positive area.
-  explicit Quadtree(const BackgroundMesh& mesh);
+  explicit Quadtree(const BackgroundMesh<2>& mesh);
 
   // Barycentric coordinates of x in triangle t.
   Eigen::Vector3d barycentric(int t, const Eigen::Vector2d& x) const;
@@ -25,7 +25,7 @@ struct BackgroundMetricField::Quadtree {
     int triangle = -1;
     Eigen::Vector2d point;
   };
-  Nearest nearest(const BackgroundMesh& mesh, const Eigen::Vector2d& x) const;
+  Nearest nearest(const BackgroundMesh<2>& mesh, const Eigen::Vector2d& x) const;
 
   // A node is a square cell; the root's centre and half side are stored, children are found by
   // halving. Leaves list the triangles that meet their cell (closed, widened by the locate
@@ -59,7 +59,7 @@ struct BackgroundMetricField::Quadtree {
  private:
   // Files the triangles tris under node (the cell of centre c and half side cell_half), split
   // while that separates them.
-  void build(const BackgroundMesh& mesh, std::size_t node, const Eigen::Vector2d& c, double cell_half, int depth,
+  void build(const BackgroundMesh<2>& mesh, std::size_t node, const Eigen::Vector2d& c, double cell_half, int depth,
              std::vector<std::int32_t> tris);
 };
 
