@@ -127,9 +127,9 @@ int main(int argc, char** argv) {
 
   // 2. Build (node logarithms and quadtree).
   Clock::time_point t0 = Clock::now();
-  const plaf::BackgroundMetricField le(mesh, plaf::MetricMean::LogEuclidean);
+  const plaf::BackgroundMetricField<2> le(mesh, plaf::MetricMean::LogEuclidean);
   std::printf("%-34s %9.3f s\n", "build (logs + quadtree)", seconds_since(t0));
-  const plaf::BackgroundMetricField ai(mesh, plaf::MetricMean::AffineInvariant);
+  const plaf::BackgroundMetricField<2> ai(mesh, plaf::MetricMean::AffineInvariant);
 
   // 3. Throughput.
   for (const auto& [name, points] :

@@ -4,11 +4,10 @@
 // interpolates its vertex metrics with barycentric weights, by the log-Euclidean (default) or
 // affine-invariant weighted mean (metric.h). A point outside the background mesh takes the metric
 // of the nearest simplex at the closest point of that simplex.
-//   2D: BackgroundMetricField (below), triangles found through a quadtree (background_quadtree.h).
-//   3D: BackgroundMetricField3 (background_metric_3d.h), tetrahedra found through a
-//       bounding-volume tree (background_tet_tree.h).
-// The readers serve both: the run's dimension is the template argument, and a file of the other
-// dimension is an InputError naming the line.
+// The means: 2D in closed form for three 2x2 metrics (metric_mean3.h); 3D log_euclidean_mean's
+// formula with the node logarithms computed once, and affine_invariant_mean (metric.h).
+// The field and the readers are templates over the run's dimension (2 or 3): triangles in 2D,
+// tetrahedra in 3D; a file of the other dimension is an InputError naming the line.
 #pragma once
 
 #include <array>
@@ -58,24 +57,50 @@ BackgroundMesh<Dim> read_background_msh(const std::filesystem::path& path);
 template <int Dim>
 BackgroundMesh<Dim> read_background_meshb(const std::filesystem::path& mesh, const std::filesystem::path& sol);
 
-class BackgroundMetricField final : public MetricField<2> {
+// The field: the containing simplex (closed, with a relative tolerance) through a tree over the
+// simplices' boxes, O(log n) per point for a mesh whose boxes overlap boundedly. Simplices of
+// zero size (|det| <= 1e-13 (longest edge)^Dim) are never located.
+template <int Dim>
+class BackgroundMetricField final : public MetricField<Dim> {
  public:
-  BackgroundMetricField(BackgroundMesh<2> mesh, MetricMean mean);
-  ~BackgroundMetricField() override;
-  Metric<2> evaluate(const Eigen::Vector2d& x) const override;
+  using Point = Eigen::Matrix<double, Dim, 1>;
+  using Matrix = Eigen::Matrix<double, Dim, Dim>;
+  using Weights = Eigen::Matrix<double, Dim + 1, 1>;
 
-  // The triangle containing x (closed, with a relative tolerance), or -1: for tests.
-  int locate(const Eigen::Vector2d& x) const;
-  // Barycentric coordinates of x in triangle t.
-  Eigen::Vector3d barycentric(int t, const Eigen::Vector2d& x) const;
-  const BackgroundMesh<2>& mesh() const { return mesh_; }
+  // InputError if the mesh fails check_background_mesh or no simplex has a positive size.
+  BackgroundMetricField(BackgroundMesh<Dim> mesh, MetricMean mean);
+  ~BackgroundMetricField() override;
+  Metric<Dim> evaluate(const Point& x) const override;
+
+  // The simplex containing x, or -1: for tests.
+  int locate(const Point& x) const;
+  // Barycentric coordinates of x in simplex s (NaN for a simplex of zero size).
+  Weights barycentric(int s, const Point& x) const;
+  // What evaluate averages at x: the simplex (the containing one, or the nearest) and the
+  // barycentric weights there (of x, or of the simplex's closest point to x), clipped to >= 0 and
+  // summing to 1. MesherError at a non-finite x.
+  struct Located {
+    int simplex;
+    Weights w;
+  };
+  Located weights(const Point& x) const;
+  const BackgroundMesh<Dim>& mesh() const { return mesh_; }
 
  private:
-  struct Quadtree;
-  BackgroundMesh<2> mesh_;
+  // The point location, one per dimension: 2D a quadtree over the triangles
+  // (background_quadtree.h), 3D a bounding-volume tree over the tetrahedra
+  // (background_tet_tree.h).
+  struct Tree;
+  // Both trees: a point may lie this far outside a simplex, in units of its altitude (the
+  // barycentric coordinate is the signed distance to a facet over the altitude), and be in it.
+  static constexpr double bary_tol_rel = 1e-10;
+  // Both trees: simplices with |det| <= degenerate_rel * (longest edge)^Dim have no size.
+  static constexpr double degenerate_rel = 1e-13;
+
+  BackgroundMesh<Dim> mesh_;
   MetricMean mean_;
-  std::vector<Eigen::Matrix2d> logs_;  // log of every node metric, for the log-Euclidean mean
-  std::unique_ptr<Quadtree> tree_;
+  std::vector<Matrix> logs_;  // log of every node metric, for the log-Euclidean mean
+  std::unique_ptr<Tree> tree_;
 };
 
 }  // namespace metric

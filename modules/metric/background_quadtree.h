@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The point location of the background-mesh field (background_metric.h): a quadtree over the
+// The point location of the 2D background-mesh field (background_metric.h): a quadtree over the
 // triangles of the background mesh, the triangle containing a point, and the nearest triangle
-// to a point outside the mesh. Internal to modules/metric.
+// to a point outside the mesh (3D: background_tet_tree.h). Internal to modules/metric.
 #pragma once
 
 #include <cstdint>
@@ -12,18 +12,20 @@
 namespace plaf {
 inline namespace metric {
 
-struct BackgroundMetricField::Quadtree {
+template <>
+struct BackgroundMetricField<2>::Tree {
   // Per-triangle affine data, then the tree; InputError if no triangle has positive area.
-  explicit Quadtree(const BackgroundMesh<2>& mesh);
+  explicit Tree(const BackgroundMesh<2>& mesh);
 
   // Barycentric coordinates of x in triangle t.
   Eigen::Vector3d barycentric(int t, const Eigen::Vector2d& x) const;
   // The triangle containing x (closed, with a relative tolerance), or -1.
   int locate(const Eigen::Vector2d& x) const;
-  // The triangle nearest to x and its closest point to x (triangle -1 if none is found).
+  // The triangle nearest to x and the barycentric coordinates of its closest point to x
+  // (simplex -1 if none is found).
   struct Nearest {
-    int triangle = -1;
-    Eigen::Vector2d point;
+    int simplex = -1;
+    Eigen::Vector3d weights = Eigen::Vector3d::Zero();
   };
   Nearest nearest(const BackgroundMesh<2>& mesh, const Eigen::Vector2d& x) const;
 

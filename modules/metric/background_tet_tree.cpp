@@ -17,13 +17,6 @@ namespace plaf {
 inline namespace metric {
 namespace {
 
-// A point may lie this far outside a tetrahedron, in units of its altitude (the barycentric
-// coordinate is the signed distance to a face over the altitude), and be in it; as in 2D
-// (background_quadtree.cpp).
-constexpr double bary_tol_rel = 1e-10;
-// Tetrahedra with |det| <= degenerate_rel * (longest edge)^3 have no volume and are never located
-// (a regular tetrahedron has det = 6 V = 0.707 L^3).
-constexpr double degenerate_rel = 1e-13;
 // Leaves hold at most this many tetrahedra.
 constexpr std::int32_t leaf_capacity = 4;
 // Median splits halve the count: the tree is at most log2(2^31) levels deep, and a traversal
@@ -41,7 +34,7 @@ bool in_box(const Eigen::Vector3d& x, const Eigen::Vector3d& lo, const Eigen::Ve
 
 }  // namespace
 
-BackgroundMetricField3::TetTree::TetTree(const BackgroundMesh<3>& mesh) {
+BackgroundMetricField<3>::Tree::Tree(const BackgroundMesh<3>& mesh) {
   // 1. Per tetrahedron: validity, its box widened by its locate margin, the box centre.
   const std::size_t num_tets = mesh.simplices.size();
   std::vector<Eigen::Vector3d> lo(num_tets), hi(num_tets), centers(num_tets);
@@ -55,7 +48,7 @@ BackgroundMetricField3::TetTree::TetTree(const BackgroundMesh<3>& mesh) {
     double longest2 = 0;
     for (std::size_t i = 0; i < 4; ++i)
       for (std::size_t j = i + 1; j < 4; ++j) longest2 = std::max(longest2, (p[i] - p[j]).squaredNorm());
-    const double longest = std::sqrt(longest2), det = edges[t].determinant();
+    const double longest = std::sqrt(longest2), det = edges[t].determinant();  // regular: 0.707 L^3
     if (!(std::abs(det) > degenerate_rel * longest2 * longest) || !std::isfinite(det)) continue;
     const double margin = 2 * bary_tol_rel * longest;
     lo[t] = p[0].cwiseMin(p[1]).cwiseMin(p[2]).cwiseMin(p[3]).array() - margin;
@@ -76,7 +69,7 @@ BackgroundMetricField3::TetTree::TetTree(const BackgroundMesh<3>& mesh) {
   }
 }
 
-std::int32_t BackgroundMetricField3::TetTree::build(std::int32_t begin, std::int32_t end,
+std::int32_t BackgroundMetricField<3>::Tree::build(std::int32_t begin, std::int32_t end,
                                                     const std::vector<Eigen::Vector3d>& lo,
                                                     const std::vector<Eigen::Vector3d>& hi,
                                                     const std::vector<Eigen::Vector3d>& centers) {
@@ -111,13 +104,13 @@ std::int32_t BackgroundMetricField3::TetTree::build(std::int32_t begin, std::int
   return index;
 }
 
-Eigen::Vector4d BackgroundMetricField3::TetTree::barycentric(int t, const Eigen::Vector3d& x) const {
+Eigen::Vector4d BackgroundMetricField<3>::Tree::barycentric(int t, const Eigen::Vector3d& x) const {
   const std::int32_t s = slot_of[static_cast<std::size_t>(t)];
   if (s < 0) return Eigen::Vector4d::Constant(std::numeric_limits<double>::quiet_NaN());
   return slot_barycentric(static_cast<std::size_t>(s), x);
 }
 
-int BackgroundMetricField3::TetTree::locate(const Eigen::Vector3d& x) const {
+int BackgroundMetricField<3>::Tree::locate(const Eigen::Vector3d& x) const {
   // Every leaf whose box holds x, depth first: the first tetrahedron with x inside, else the one x
   // is least outside (within the tolerance).
   int best = -1;
@@ -150,7 +143,7 @@ int BackgroundMetricField3::TetTree::locate(const Eigen::Vector3d& x) const {
   return best;
 }
 
-BackgroundMetricField3::TetTree::Nearest BackgroundMetricField3::TetTree::nearest(const BackgroundMesh<3>& mesh,
+BackgroundMetricField<3>::Tree::Nearest BackgroundMetricField<3>::Tree::nearest(const BackgroundMesh<3>& mesh,
                                                                                   const Eigen::Vector3d& x) const {
   // Branch and bound over the tree: children visited nearest first, nodes pruned by the distance
   // to their boxes (which hold their tetrahedra, so the pruning is exact). A tetrahedron's closest
@@ -185,7 +178,7 @@ BackgroundMetricField3::TetTree::Nearest BackgroundMetricField3::TetTree::neares
           const double d2 = (p - x).squaredNorm();
           if (d2 < best2) {
             best2 = d2;
-            best.tetrahedron = items[s];
+            best.simplex = items[s];
             best.weights.setZero();
             for (std::size_t j = 0; j < 3; ++j) best.weights[static_cast<Eigen::Index>(corner[j])] = face_weights[static_cast<Eigen::Index>(j)];
           }

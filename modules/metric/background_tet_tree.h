@@ -1,31 +1,32 @@
 // SPDX-License-Identifier: MIT
-// The point location of the 3D background-mesh field (background_metric_3d.h): a bounding-volume
+// The point location of the 3D background-mesh field (background_metric.h): a bounding-volume
 // tree over the tetrahedra's boxes, the tetrahedron containing a point, and the nearest
-// tetrahedron to a point outside the mesh with the barycentric weights of its closest point.
-// Internal to modules/metric.
+// tetrahedron to a point outside the mesh with the barycentric weights of its closest point
+// (2D: background_quadtree.h). Internal to modules/metric.
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
 #include <vector>
 
-#include "modules/metric/background_metric_3d.h"
+#include "modules/metric/background_metric.h"
 
 namespace plaf {
 inline namespace metric {
 
-struct BackgroundMetricField3::TetTree {
+template <>
+struct BackgroundMetricField<3>::Tree {
   // Per-tetrahedron affine data, then the tree; InputError if no tetrahedron has positive volume.
-  explicit TetTree(const BackgroundMesh<3>& mesh);
+  explicit Tree(const BackgroundMesh<3>& mesh);
 
   // Barycentric coordinates of x in tetrahedron t (NaN for a tetrahedron of zero volume).
   Eigen::Vector4d barycentric(int t, const Eigen::Vector3d& x) const;
   // The tetrahedron containing x (closed, with a relative tolerance), or -1.
   int locate(const Eigen::Vector3d& x) const;
   // The tetrahedron nearest to x and the barycentric coordinates of its closest point to x
-  // (tetrahedron -1 if none is found).
+  // (simplex -1 if none is found).
   struct Nearest {
-    int tetrahedron = -1;
+    int simplex = -1;
     Eigen::Vector4d weights = Eigen::Vector4d::Zero();
   };
   Nearest nearest(const BackgroundMesh<3>& mesh, const Eigen::Vector3d& x) const;

@@ -2,11 +2,9 @@
 #include "modules/metric/metric_fields.h"
 
 #include <cmath>
-#include <type_traits>
 
 #include "modules/base/error.h"
 #include "modules/metric/background_metric.h"
-#include "modules/metric/background_metric_3d.h"
 
 namespace plaf {
 inline namespace metric {
@@ -54,8 +52,7 @@ std::unique_ptr<MetricField<Dim>> make_background_field(const BackgroundParams& 
   const bool meshb = std::filesystem::path(b.file).extension() == ".mesh";
   if (meshb && b.sol.empty()) throw ConfigError(where + ": a .mesh background needs its .sol file (sol:)");
   BackgroundMesh<Dim> mesh = meshb ? read_background_meshb<Dim>(b.file, b.sol) : read_background_msh<Dim>(b.file);
-  using Field = std::conditional_t<Dim == 2, BackgroundMetricField, BackgroundMetricField3>;
-  return std::make_unique<Field>(std::move(mesh), parse_metric_mean(b.mean));
+  return std::make_unique<BackgroundMetricField<Dim>>(std::move(mesh), parse_metric_mean(b.mean));
 }
 template std::unique_ptr<MetricField<2>> make_background_field<2>(const BackgroundParams&, const std::string&);
 template std::unique_ptr<MetricField<3>> make_background_field<3>(const BackgroundParams&, const std::string&);

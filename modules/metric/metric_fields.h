@@ -7,9 +7,9 @@
 //     sizes: [h1, h2]       anisotropic sizes (instead of h); 3D: [hx, hy, hz]   default: none
 //     angle_deg: <deg>      direction of h1 from the x axis (2D)  default: 0
 //   metric:
-//     type: background      metric at the nodes of a background mesh of the run's dimension
-//                           (2D: triangles, background_metric.h; 3D: tetrahedra,
-//                           background_metric_3d.h; the file formats: background_metric.h)
+//     type: background      metric at the nodes of a background mesh of the run's dimension,
+//                           2D triangles or 3D tetrahedra (background_metric.h: the field and
+//                           the file formats)
 //     file: <path>          Gmsh .msh with a tensor $NodeData view, or a libMeshb .mesh  (required)
 //     sol: <path>           the .sol of a .mesh file (required with a .mesh)  default: none
 //     mean: log_euclidean|affine_invariant                        default: log_euclidean

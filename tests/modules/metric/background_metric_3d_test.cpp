@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-// The 3D background-mesh metric (background_metric_3d.h) and its readers (background_metric.h):
+// The background-mesh metric in 3D and its readers (background_metric.h):
 // point location against brute force, exact reproduction of a field linear in log space, the
 // means of metric.h, points outside, both file formats, prisms split conformingly, every error
 // case, and a run of plaf with a 3D configuration whose metric is a background mesh.
-#include "modules/metric/background_metric_3d.h"
+#include "modules/metric/background_metric.h"
 
 #include <doctest/doctest.h>
 
@@ -25,24 +25,22 @@
 #include "modules/base/error.h"
 #include "modules/geometry/aabb_tree.h"
 #include "modules/io/msh_io.h"
+#include "tests/modules/metric/background_checks.h"
 #include "tests/test_support.h"
 
 using namespace plaf;
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
 using Eigen::Vector4d;
+using test::check_input_error;
+using test::input_error;
 using test::read_text;
+using test::replace;
 using test::TempDir;
 using test::write_text;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string replace(std::string s, const std::string& from, const std::string& to) {
-  const std::size_t at = s.find(from);
-  REQUIRE_MESSAGE(at != std::string::npos, "test fixture lacks: ", from);
-  return s.replace(at, from.size(), to);
-}
 
 Matrix3d sym(double xx, double xy, double yy, double xz, double yz, double zz) {
   Matrix3d m;
@@ -200,17 +198,6 @@ void write_meshb_background(const BackgroundMesh<3>& m, const fs::path& mesh, co
   write_text(sol, s.str());
 }
 
-// The InputError message of f(), or "" if it throws none.
-template <class F>
-std::string input_error(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 // The number of the first line of text that starts with `start` (lines count from 1).
 int line_of(const std::string& text, const std::string& start) {
   const std::size_t at = text.find('\n' + start);
@@ -227,11 +214,11 @@ TEST_CASE("background 3D: the tree locates what brute force finds, inside, on fa
     Vector3d origin;
   };
   const Scale scales[] = {{1e-8, {3e-7, -1e-7, 2e-8}}, {0.25, {0.0, 0.0, 0.0}}, {1e8, {-4e9, 2e9, 1e9}}};
-  int on_faces = 0, inside = 0, outside = 0;
+  test::LocateCounts counts;
   for (const Scale& s : scales) {
     const int n = 6;
     const BackgroundMesh<3> mesh = perturbed_cube(n, s.h, s.origin, 7, {{2, 3, 3}, {3, 3, 3}, {0, 5, 1}});
-    const BackgroundMetricField3 field(mesh, MetricMean::LogEuclidean);
+    const BackgroundMetricField<3> field(mesh, MetricMean::LogEuclidean);
     std::mt19937 rng(42);
     std::uniform_real_distribution<double> u01(0.0, 1.0);
     std::uniform_int_distribution<std::size_t> pick(0, mesh.simplices.size() - 1);
@@ -252,28 +239,12 @@ TEST_CASE("background 3D: the tree locates what brute force finds, inside, on fa
       points.push_back(w[0] * mesh.nodes[t[0]] + w[1] * mesh.nodes[t[1]] + w[2] * mesh.nodes[t[2]] +
                        w[3] * mesh.nodes[t[3]]);
     }
-    for (const Vector3d& x : points) {
-      // Brute force: the largest smallest barycentric coordinate over all tetrahedra.
-      double best = -std::numeric_limits<double>::infinity();
-      for (std::size_t t = 0; t < mesh.simplices.size(); ++t)
-        best = std::max(best, field.barycentric(static_cast<int>(t), x).minCoeff());
-      const int t = field.locate(x);
-      INFO("x = ", x.transpose(), ", best = ", best, ", located = ", t);
-      if (best >= -1e-13) CHECK(t >= 0);
-      if (best < -1e-9) CHECK(t == -1);
-      if (t >= 0) CHECK(field.barycentric(t, x).minCoeff() >= -1e-9);
-      if (std::abs(best) < 1e-12)
-        ++on_faces;
-      else if (best > 0)
-        ++inside;
-      else
-        ++outside;
-    }
+    test::check_locate(field, points, counts);
   }
-  CHECK(on_faces + inside + outside == 3 * 4000);
-  CHECK(on_faces >= 3000);
-  CHECK(inside >= 3000);
-  CHECK(outside >= 300);
+  CHECK(counts.on_facets + counts.inside + counts.outside == 3 * 4000);
+  CHECK(counts.on_facets >= 3000);
+  CHECK(counts.inside >= 3000);
+  CHECK(counts.outside >= 300);
 }
 
 TEST_CASE("background 3D: log-Euclidean interpolation reproduces a field linear in log space") {
@@ -285,7 +256,7 @@ TEST_CASE("background 3D: log-Euclidean interpolation reproduces a field linear 
     f.origin = origin;
     f.length = n * h;
     set_metrics(mesh, f);
-    const BackgroundMetricField3 field(mesh, MetricMean::LogEuclidean);
+    const BackgroundMetricField<3> field(mesh, MetricMean::LogEuclidean);
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> u01(0.0, 1.0);
     double worst = 0;
@@ -308,22 +279,22 @@ TEST_CASE("background 3D: the interpolant is metric.h's weighted mean of the ver
   // congruence; both means agree for commuting metrics.
   BackgroundMesh<3> mesh = perturbed_cube(4, 1.0, Vector3d::Zero(), 23);
   set_random_metrics(mesh, 31);
-  const BackgroundMetricField3 le(mesh, MetricMean::LogEuclidean), ai(mesh, MetricMean::AffineInvariant);
+  const BackgroundMetricField<3> le(mesh, MetricMean::LogEuclidean), ai(mesh, MetricMean::AffineInvariant);
   Matrix3d g;
   g << 1.7, -0.4, 0.2, 0.9, 0.3, -0.5, 0.1, 0.6, 1.1;  // invertible, neither orthogonal nor symmetric
   BackgroundMesh<3> congruent = mesh;
   for (Metric<3>& m : congruent.metrics) m = Metric<3>::from_matrix(g.transpose() * m.matrix() * g);
-  const BackgroundMetricField3 ai_g(congruent, MetricMean::AffineInvariant);
+  const BackgroundMetricField<3> ai_g(congruent, MetricMean::AffineInvariant);
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> u(-1.0, 5.0);  // some outside
   double worst_le = 0, worst_ai = 0, worst_gradient = 0, worst_congruence = 0;
   for (int k = 0; k < 300; ++k) {
     const Vector3d x(u(rng), u(rng), u(rng));
-    const BackgroundMetricField3::Weights w = le.weights(x);
+    const BackgroundMetricField<3>::Located w = le.weights(x);
     CHECK(w.w.minCoeff() >= 0);
     CHECK(w.w.sum() == doctest::Approx(1.0).epsilon(1e-15));
     std::array<Metric<3>, 4> m;
-    for (std::size_t i = 0; i < 4; ++i) m[i] = mesh.metrics[mesh.simplices[w.tetrahedron][i]];
+    for (std::size_t i = 0; i < 4; ++i) m[i] = mesh.metrics[mesh.simplices[w.simplex][i]];
     const std::array<double, 4> ws{w.w[0], w.w[1], w.w[2], w.w[3]};
     worst_le = std::max(worst_le, rel_diff(le.evaluate(x).matrix(), log_euclidean_mean<3>(m, ws).matrix()));
     const Matrix3d mean = ai.evaluate(x).matrix();
@@ -346,7 +317,7 @@ TEST_CASE("background 3D: the interpolant is metric.h's weighted mean of the ver
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   for (Metric<3>& m : mesh.metrics)
     m = Metric<3>::from_directions(r, Vector3d(1e-3 + u01(rng), 0.1 + u01(rng), 0.1 + 10 * u01(rng)));
-  const BackgroundMetricField3 le_c(mesh, MetricMean::LogEuclidean), ai_c(mesh, MetricMean::AffineInvariant);
+  const BackgroundMetricField<3> le_c(mesh, MetricMean::LogEuclidean), ai_c(mesh, MetricMean::AffineInvariant);
   double worst = 0;
   for (int k = 0; k < 300; ++k) {
     const Vector3d x(u(rng), u(rng), u(rng));
@@ -362,7 +333,7 @@ TEST_CASE("background 3D: outside the mesh, the metric of the nearest point of t
   LogLinear f;
   set_metrics(mesh, f);
   for (MetricMean mean : {MetricMean::LogEuclidean, MetricMean::AffineInvariant}) {
-    const BackgroundMetricField3 field(mesh, mean);
+    const BackgroundMetricField<3> field(mesh, mean);
     struct Case {
       Vector3d x, closest;
     };
@@ -380,7 +351,7 @@ TEST_CASE("background 3D: outside the mesh, the metric of the nearest point of t
     }
   }
   // Random points, also in the hole: against the brute-force closest point of the mesh.
-  const BackgroundMetricField3 field(mesh, MetricMean::LogEuclidean);
+  const BackgroundMetricField<3> field(mesh, MetricMean::LogEuclidean);
   std::mt19937 rng(4);
   std::uniform_real_distribution<double> u(-1.0, 2.0), hole(0.25, 0.75);
   int tested = 0;
@@ -407,26 +378,14 @@ TEST_CASE("background 3D: MSH 4.1 (9 and 6 components) and .mesh/.sol read the s
   write_msh_background(mesh, dir / "m9.msh", 9);
   write_msh_background(mesh, dir / "m6.msh", 6);
   write_meshb_background(mesh, dir / "m.mesh", dir / "m.sol");
-  const BackgroundMesh<3> read[] = {read_background_msh<3>(dir / "m9.msh"), read_background_msh<3>(dir / "m6.msh"),
-                                    read_background_meshb<3>(dir / "m.mesh", dir / "m.sol")};
-  for (const BackgroundMesh<3>& r : read) {
-    REQUIRE(r.nodes.size() == mesh.nodes.size());
-    REQUIRE(r.simplices == mesh.simplices);
-    for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
-      CHECK(r.nodes[i] == mesh.nodes[i]);
-      CHECK(r.metrics[i].matrix() == mesh.metrics[i].matrix());
-    }
-  }
-  const BackgroundMetricField3 reference(mesh, MetricMean::LogEuclidean);
-  std::vector<std::unique_ptr<BackgroundMetricField3>> fields;  // the field is neither copied nor moved
-  for (const BackgroundMesh<3>& r : read) fields.push_back(std::make_unique<BackgroundMetricField3>(r, MetricMean::LogEuclidean));
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> u(-0.2, 1.0);
-  for (int k = 0; k < 200; ++k) {
-    const Vector3d x = origin + Vector3d(u(rng), u(rng), u(rng));
-    const Matrix3d expected = reference.evaluate(x).matrix();
-    for (const auto& field : fields) CHECK(field->evaluate(x).matrix() == expected);
-  }
+  std::vector<Vector3d> points;
+  for (int k = 0; k < 200; ++k) points.push_back(origin + Vector3d(u(rng), u(rng), u(rng)));
+  test::check_read_alike<3>(mesh,
+                            {read_background_msh<3>(dir / "m9.msh"), read_background_msh<3>(dir / "m6.msh"),
+                             read_background_meshb<3>(dir / "m.mesh", dir / "m.sol")},
+                            points);
   // The 2D readers refuse these files, and the 3D readers the 2D ones (background_metric_test.cpp).
   CHECK(input_error([&] { read_background_msh<2>(dir / "m9.msh"); }).find("a 2D run needs a 2D background mesh") !=
         std::string::npos);
@@ -512,7 +471,7 @@ TEST_CASE("background 3D: MSH prisms split into conforming tetrahedra, high-orde
     }
   }
   CHECK(boundary == 2 * static_cast<int>(triangles.size()) + 4 * n * layers * 2);
-  const BackgroundMetricField3 field(mesh, MetricMean::LogEuclidean);
+  const BackgroundMetricField<3> field(mesh, MetricMean::LogEuclidean);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   double worst = 0;
   for (int k = 0; k < 1000; ++k) {
@@ -533,7 +492,7 @@ TEST_CASE("background 3D: MSH prisms split into conforming tetrahedra, high-orde
   const BackgroundMesh<3> small = read_background_msh<3>(dir / "p2.msh");
   CHECK(small.nodes.size() == 4);
   CHECK(small.simplices.size() == 1);
-  const BackgroundMetricField3 p2_field(small, MetricMean::LogEuclidean);
+  const BackgroundMetricField<3> p2_field(small, MetricMean::LogEuclidean);
   CHECK(rel_diff(p2_field.evaluate(Vector3d(0, 0, 1)).matrix(), sym(1, 0, 1, 0, 0, 4)) < 1e-14);
   // Diagonal metrics commute: the log-Euclidean mean is the geometric mean of the entries.
   const Matrix3d mid = p2_field.evaluate(Vector3d(0.5, 0, 0)).matrix();
@@ -601,10 +560,7 @@ TEST_CASE("background 3D: bad MSH files throw InputError naming file and line") 
     INFO(c.what);
     const fs::path p = dir / "bad.msh";
     write_text(p, c.text);
-    const std::string message = input_error([&] { read_background_msh<3>(p); });
-    REQUIRE_MESSAGE(!message.empty(), "no InputError for: ", c.what);
-    CHECK_MESSAGE(message.find(c.fragment) != std::string::npos, message);
-    CHECK_MESSAGE(message.rfind(p.string() + ":" + std::to_string(c.line) + ": ", 0) == 0, message);
+    check_input_error([&] { read_background_msh<3>(p); }, p, c.line, c.fragment);
   }
 }
 
@@ -655,21 +611,17 @@ TEST_CASE("background 3D: bad .mesh/.sol files throw InputError naming file and 
     const fs::path pm = dir / "bad.mesh", ps = dir / "bad.sol";
     write_text(pm, c.mesh);
     write_text(ps, c.sol);
-    const std::string message = input_error([&] { read_background_meshb<3>(pm, ps); });
-    REQUIRE_MESSAGE(!message.empty(), "no InputError for: ", c.what);
-    CHECK_MESSAGE(message.find(c.fragment) != std::string::npos, message);
-    const fs::path& named = c.in_sol ? ps : pm;
-    CHECK_MESSAGE(message.rfind(named.string() + ":" + std::to_string(c.line) + ": ", 0) == 0, message);
+    check_input_error([&] { read_background_meshb<3>(pm, ps); }, c.in_sol ? ps : pm, c.line, c.fragment);
   }
   // A mesh whose tetrahedra all have zero volume, and one that refers to a missing node.
   BackgroundMesh<3> flat;
   flat.nodes = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
   flat.simplices = {{0, 1, 2, 3}};
   flat.metrics.assign(4, Metric<3>());
-  CHECK(input_error([&] { BackgroundMetricField3(flat, MetricMean::LogEuclidean); }) ==
+  CHECK(input_error([&] { BackgroundMetricField<3>(flat, MetricMean::LogEuclidean); }) ==
         "background mesh has no tetrahedron of positive volume");
   flat.simplices = {{0, 1, 2, 4}};
-  CHECK(input_error([&] { BackgroundMetricField3(flat, MetricMean::LogEuclidean); }).find("refers to node 4") !=
+  CHECK(input_error([&] { BackgroundMetricField<3>(flat, MetricMean::LogEuclidean); }).find("refers to node 4") !=
         std::string::npos);
 }
 
@@ -679,42 +631,9 @@ TEST_CASE("background 3D: every truncation and random corruption of the files pa
   set_metrics(mesh, LogLinear());
   write_msh_background(mesh, dir / "good.msh", 6);
   write_meshb_background(mesh, dir / "good.mesh", dir / "good.sol");
-  auto outcome = [&](const std::function<void()>& read) {
-    try {
-      read();
-      return 0;
-    } catch (const InputError&) {
-      return 1;
-    }  // any other exception fails the test case
-  };
-  const fs::path msh = dir / "bad.msh", mesh_bad = dir / "bad.mesh", sol_bad = dir / "bad.sol";
-  const std::string texts[] = {read_text(dir / "good.msh"), read_text(dir / "good.mesh"), read_text(dir / "good.sol")};
-  const fs::path targets[] = {msh, mesh_bad, sol_bad};
-  const std::function<void()> readers[] = {
-      [&] { read_background_msh<3>(msh); },
-      [&] { read_background_meshb<3>(mesh_bad, dir / "good.sol"); },
-      [&] { read_background_meshb<3>(dir / "good.mesh", sol_bad); },
-  };
-  std::mt19937 rng(13);
-  std::uniform_int_distribution<int> byte(0, 255);
-  for (int f = 0; f < 3; ++f) {
-    const std::string& good = texts[f];
-    // Every prefix that stops before the final $EndNodeData or End is incomplete.
-    const std::size_t complete = f == 0 ? good.size() - 1 : good.rfind("End") + 3;
-    int rejected = 0, prefixes = 0;
-    for (std::size_t n = 0; n < complete; ++n, ++prefixes) {
-      write_text(targets[f], good.substr(0, n));
-      rejected += outcome(readers[f]);
-    }
-    CHECK(rejected == prefixes);
-    std::uniform_int_distribution<std::size_t> pos(0, good.size() - 1);
-    for (int trial = 0; trial < 200; ++trial) {
-      std::string text = good;
-      for (int k = 0; k < 1 + trial % 4; ++k) text[pos(rng)] = static_cast<char>(byte(rng));
-      write_text(targets[f], text);
-      outcome(readers[f]);
-    }
-  }
+  test::check_background_files_fuzz(
+      dir, [](const fs::path& p) { read_background_msh<3>(p); },
+      [](const fs::path& m, const fs::path& s) { read_background_meshb<3>(m, s); });
 }
 
 TEST_CASE("background 3D: a sphere meshed through a configuration with a background metric") {

@@ -16,24 +16,22 @@
 
 #include "modules/base/error.h"
 #include "modules/io/msh_io.h"
+#include "tests/modules/metric/background_checks.h"
 #include "tests/test_support.h"
 
 using namespace plaf;
 using Eigen::Matrix2d;
 using Eigen::Vector2d;
 using Eigen::Vector3d;
+using test::check_input_error;
+using test::input_error;
 using test::read_text;
+using test::replace;
 using test::TempDir;
 using test::write_text;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string replace(std::string s, const std::string& from, const std::string& to) {
-  const std::size_t at = s.find(from);
-  REQUIRE_MESSAGE(at != std::string::npos, "test fixture lacks: ", from);
-  return s.replace(at, from.size(), to);
-}
 
 Matrix2d sym(double a, double b, double c) {
   Matrix2d m;
@@ -142,17 +140,6 @@ void write_meshb_background(const BackgroundMesh<2>& m, const fs::path& mesh, co
   write_text(sol, s.str());
 }
 
-// The InputError message of f(), or "" if it throws none.
-template <class F>
-std::string input_error(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 }  // namespace
 
 TEST_CASE("background: quadtree locate agrees with brute force inside, on edges and outside") {
@@ -162,11 +149,11 @@ TEST_CASE("background: quadtree locate agrees with brute force inside, on edges 
     Vector2d origin;
   };
   const Scale scales[] = {{1e-8, {3e-7, -1e-7}}, {0.05, {0.0, 0.0}}, {1e8, {-4e9, 2e9}}};
-  int on_edges = 0, inside = 0, outside = 0;
+  test::LocateCounts counts;
   for (const Scale& s : scales) {
     const int n = 16;
     const BackgroundMesh<2> mesh = perturbed_square(n, s.h, s.origin, 7, {{3, 4}, {4, 4}, {10, 11}, {0, 15}});
-    const BackgroundMetricField field(mesh, MetricMean::LogEuclidean);
+    const BackgroundMetricField<2> field(mesh, MetricMean::LogEuclidean);
     std::mt19937 rng(42);
     std::uniform_real_distribution<double> u01(0.0, 1.0);
     std::uniform_int_distribution<std::size_t> pick(0, mesh.simplices.size() - 1);
@@ -184,29 +171,11 @@ TEST_CASE("background: quadtree locate agrees with brute force inside, on edges 
       w /= w.sum();
       points.push_back(w[0] * mesh.nodes[t[0]] + w[1] * mesh.nodes[t[1]] + w[2] * mesh.nodes[t[2]]);
     }
-    for (const Vector2d& x : points) {
-      // Brute force: the largest smallest barycentric coordinate over all triangles.
-      double best = -std::numeric_limits<double>::infinity();
-      for (std::size_t t = 0; t < mesh.simplices.size(); ++t)
-        best = std::max(best, field.barycentric(static_cast<int>(t), x).minCoeff());
-      const int t = field.locate(x);
-      INFO("x = ", x.transpose(), ", best = ", best, ", located = ", t);
-      // Inside or on an edge up to round-off: found; clearly outside: not. Any triangle found
-      // must contain x up to a relative tolerance.
-      if (best >= -1e-13) CHECK(t >= 0);
-      if (best < -1e-9) CHECK(t == -1);
-      if (t >= 0) CHECK(field.barycentric(t, x).minCoeff() >= -1e-9);
-      if (std::abs(best) < 1e-12)
-        ++on_edges;
-      else if (best > 0)
-        ++inside;
-      else
-        ++outside;
-    }
+    test::check_locate(field, points, counts);
   }
-  CHECK(on_edges + inside + outside >= 10000);
-  CHECK(on_edges >= 3000);
-  CHECK(outside >= 300);
+  CHECK(counts.on_facets + counts.inside + counts.outside == 3 * 4200);
+  CHECK(counts.on_facets >= 3000);
+  CHECK(counts.outside >= 300);
 }
 
 TEST_CASE("background: log-Euclidean interpolation reproduces a field linear in log space") {
@@ -217,7 +186,7 @@ TEST_CASE("background: log-Euclidean interpolation reproduces a field linear in 
     f.origin = Vector2d(2 * h, -h);
     f.length = n * h;
     set_metrics(mesh, f);
-    const BackgroundMetricField field(mesh, MetricMean::LogEuclidean);
+    const BackgroundMetricField<2> field(mesh, MetricMean::LogEuclidean);
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> u01(0.0, 1.0);
     double worst = 0;
@@ -247,8 +216,8 @@ TEST_CASE("background: affine-invariant interpolation commutes with congruence, 
   g << 1.7, -0.4, 0.9, 0.3;  // invertible, neither orthogonal nor symmetric
   BackgroundMesh<2> congruent = mesh;
   for (Metric<2>& m : congruent.metrics) m = Metric<2>::from_matrix(g.transpose() * m.matrix() * g);
-  const BackgroundMetricField field(mesh, MetricMean::AffineInvariant);
-  const BackgroundMetricField field_g(congruent, MetricMean::AffineInvariant);
+  const BackgroundMetricField<2> field(mesh, MetricMean::AffineInvariant);
+  const BackgroundMetricField<2> field_g(congruent, MetricMean::AffineInvariant);
   double worst = 0;
   for (int k = 0; k < 300; ++k) {
     const Vector2d x = 6 * Vector2d(u01(rng), u01(rng));
@@ -261,8 +230,8 @@ TEST_CASE("background: affine-invariant interpolation commutes with congruence, 
   Matrix2d r;
   r << std::cos(0.7), -std::sin(0.7), std::sin(0.7), std::cos(0.7);
   for (Metric<2>& m : mesh.metrics) m = Metric<2>::from_directions(r, Vector2d(1e-3 + u01(rng), 0.1 + 10 * u01(rng)));
-  const BackgroundMetricField ai(mesh, MetricMean::AffineInvariant);
-  const BackgroundMetricField le(mesh, MetricMean::LogEuclidean);
+  const BackgroundMetricField<2> ai(mesh, MetricMean::AffineInvariant);
+  const BackgroundMetricField<2> le(mesh, MetricMean::LogEuclidean);
   worst = 0;
   for (int k = 0; k < 300; ++k) {
     const Vector2d x = Vector2d(-1, -1) + 8 * Vector2d(u01(rng), u01(rng));  // some outside
@@ -283,7 +252,7 @@ TEST_CASE("background: the affine-invariant interpolant is the weighted Karcher 
     r << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
     m = Metric<2>::from_directions(r, Vector2d(0.01 + u01(rng), 0.5 + 2 * u01(rng)));
   }
-  const BackgroundMetricField field(mesh, MetricMean::AffineInvariant);
+  const BackgroundMetricField<2> field(mesh, MetricMean::AffineInvariant);
   double worst = 0;
   for (int k = 0; k < 500; ++k) {
     const Vector2d x = 8 * Vector2d(u01(rng), u01(rng));
@@ -303,7 +272,7 @@ TEST_CASE("background: the affine-invariant interpolant is the weighted Karcher 
   LogLinear f;
   f.length = 8;
   set_metrics(mesh, f);
-  const BackgroundMetricField smooth(mesh, MetricMean::AffineInvariant);
+  const BackgroundMetricField<2> smooth(mesh, MetricMean::AffineInvariant);
   worst = 0;
   for (int k = 0; k < 300; ++k) {
     const Vector2d x = 8 * Vector2d(u01(rng), u01(rng));
@@ -326,28 +295,14 @@ TEST_CASE("background: a metric read from MSH 4.1 (9 and 4 components) and .mesh
   write_msh_background(mesh, dir / "m9.msh", 9);
   write_msh_background(mesh, dir / "m4.msh", 4);
   write_meshb_background(mesh, dir / "m.mesh", dir / "m.sol");
-  const BackgroundMesh<2> read[] = {read_background_msh<2>(dir / "m9.msh"), read_background_msh<2>(dir / "m4.msh"),
-                                 read_background_meshb<2>(dir / "m.mesh", dir / "m.sol")};
-  for (const BackgroundMesh<2>& r : read) {
-    REQUIRE(r.nodes.size() == mesh.nodes.size());
-    REQUIRE(r.simplices == mesh.simplices);
-    for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
-      CHECK(r.nodes[i] == mesh.nodes[i]);
-      CHECK(r.metrics[i].matrix() == mesh.metrics[i].matrix());
-    }
-  }
-  for (MetricMean mean : {MetricMean::LogEuclidean, MetricMean::AffineInvariant}) {
-    const BackgroundMetricField reference(mesh, mean);
-    std::vector<std::unique_ptr<BackgroundMetricField>> fields;  // the field is neither copied nor moved
-    for (const BackgroundMesh<2>& r : read) fields.push_back(std::make_unique<BackgroundMetricField>(r, mean));
-    std::mt19937 rng(1);
-    std::uniform_real_distribution<double> u(-0.7, 0.7);
-    for (int k = 0; k < 200; ++k) {
-      const Vector2d x = Vector2d(0, 0.75) + Vector2d(u(rng), u(rng));
-      const Matrix2d expected = reference.evaluate(x).matrix();
-      for (const auto& field : fields) CHECK(field->evaluate(x).matrix() == expected);
-    }
-  }
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-0.7, 0.7);
+  std::vector<Vector2d> points;
+  for (int k = 0; k < 200; ++k) points.push_back(Vector2d(0, 0.75) + Vector2d(u(rng), u(rng)));
+  test::check_read_alike<2>(mesh,
+                            {read_background_msh<2>(dir / "m9.msh"), read_background_msh<2>(dir / "m4.msh"),
+                             read_background_meshb<2>(dir / "m.mesh", dir / "m.sol")},
+                            points);
 }
 
 TEST_CASE("background: MSH with sparse tags, a quadrilateral, a P2 triangle and comments reads its vertices") {
@@ -365,7 +320,7 @@ TEST_CASE("background: MSH with sparse tags, a quadrilateral, a P2 triangle and 
   const BackgroundMesh<2> m = read_background_msh<2>(dir / "small.msh");
   CHECK(m.nodes.size() == 5);
   CHECK(m.simplices.size() == 3);
-  const BackgroundMetricField field(m, MetricMean::LogEuclidean);
+  const BackgroundMetricField<2> field(m, MetricMean::LogEuclidean);
   // Within the quad, at the nodes, diag entries are exact; at a P2 triangle vertex too.
   CHECK(rel_diff(field.evaluate(Vector2d(1, 1)).matrix(), sym(2, 0, 5)) < 1e-14);
   CHECK(rel_diff(field.evaluate(Vector2d(2, 0.5)).matrix(), sym(3, 0, 4.5)) < 1e-14);
@@ -381,7 +336,7 @@ TEST_CASE("background: outside the mesh, the metric of the nearest point of the 
   BackgroundMesh<2> mesh = perturbed_square(n, 1.0 / n, Vector2d::Zero(), 17, {{5, 5}, {6, 5}, {5, 6}});
   LogLinear f;
   set_metrics(mesh, f);
-  const BackgroundMetricField field(mesh, MetricMean::LogEuclidean);
+  const BackgroundMetricField<2> field(mesh, MetricMean::LogEuclidean);
   CHECK(rel_diff(field.evaluate(Vector2d(1.5, 0.3)).matrix(), f.at(Vector2d(1, 0.3))) < 1e-12);
   CHECK(rel_diff(field.evaluate(Vector2d(-3, 0.7)).matrix(), f.at(Vector2d(0, 0.7))) < 1e-12);
   CHECK(rel_diff(field.evaluate(Vector2d(2, 2)).matrix(), f.at(Vector2d(1, 1))) < 1e-12);
@@ -451,10 +406,7 @@ TEST_CASE("background: bad MSH files throw InputError naming file and line") {
     INFO(c.what);
     const fs::path p = dir / "bad.msh";
     write_text(p, c.text);
-    const std::string message = input_error([&] { read_background_msh<2>(p); });
-    REQUIRE_MESSAGE(!message.empty(), "no InputError for: ", c.what);
-    CHECK_MESSAGE(message.find(c.fragment) != std::string::npos, message);
-    CHECK_MESSAGE(message.rfind(p.string() + ":" + std::to_string(c.line) + ": ", 0) == 0, message);
+    check_input_error([&] { read_background_msh<2>(p); }, p, c.line, c.fragment);
   }
   CHECK_THROWS_AS(read_background_msh<2>(dir / "does_not_exist.msh"), InputError);
 }
@@ -505,11 +457,7 @@ TEST_CASE("background: bad .mesh/.sol files throw InputError naming file and lin
     const fs::path pm = dir / "bad.mesh", ps = dir / "bad.sol";
     write_text(pm, c.mesh);
     write_text(ps, c.sol);
-    const std::string message = input_error([&] { read_background_meshb<2>(pm, ps); });
-    REQUIRE_MESSAGE(!message.empty(), "no InputError for: ", c.what);
-    CHECK_MESSAGE(message.find(c.fragment) != std::string::npos, message);
-    const fs::path& named = c.in_sol ? ps : pm;
-    CHECK_MESSAGE(message.rfind(named.string() + ":" + std::to_string(c.line) + ": ", 0) == 0, message);
+    check_input_error([&] { read_background_meshb<2>(pm, ps); }, c.in_sol ? ps : pm, c.line, c.fragment);
   }
 }
 
@@ -519,40 +467,7 @@ TEST_CASE("background: every truncation and random corruption of the files parse
   set_metrics(mesh, LogLinear());
   write_msh_background(mesh, dir / "good.msh", 9);
   write_meshb_background(mesh, dir / "good.mesh", dir / "good.sol");
-  auto outcome = [&](const std::function<void()>& read) {
-    try {
-      read();
-      return 0;
-    } catch (const InputError&) {
-      return 1;
-    }  // any other exception fails the test case
-  };
-  const fs::path msh = dir / "bad.msh", mesh_bad = dir / "bad.mesh", sol_bad = dir / "bad.sol";
-  const std::string texts[] = {read_text(dir / "good.msh"), read_text(dir / "good.mesh"), read_text(dir / "good.sol")};
-  const fs::path targets[] = {msh, mesh_bad, sol_bad};
-  const std::function<void()> readers[] = {
-      [&] { read_background_msh<2>(msh); },
-      [&] { read_background_meshb<2>(mesh_bad, dir / "good.sol"); },
-      [&] { read_background_meshb<2>(dir / "good.mesh", sol_bad); },
-  };
-  std::mt19937 rng(13);
-  std::uniform_int_distribution<int> byte(0, 255);
-  for (int f = 0; f < 3; ++f) {
-    const std::string& good = texts[f];
-    // Every prefix that stops before the final $EndNodeData or End is incomplete.
-    const std::size_t complete = f == 0 ? good.size() - 1 : good.rfind("End") + 3;
-    int rejected = 0, prefixes = 0;
-    for (std::size_t n = 0; n < complete; ++n, ++prefixes) {
-      write_text(targets[f], good.substr(0, n));
-      rejected += outcome(readers[f]);
-    }
-    CHECK(rejected == prefixes);
-    std::uniform_int_distribution<std::size_t> pos(0, good.size() - 1);
-    for (int trial = 0; trial < 200; ++trial) {
-      std::string text = good;
-      for (int k = 0; k < 1 + trial % 4; ++k) text[pos(rng)] = static_cast<char>(byte(rng));
-      write_text(targets[f], text);
-      outcome(readers[f]);
-    }
-  }
+  test::check_background_files_fuzz(
+      dir, [](const fs::path& p) { read_background_msh<2>(p); },
+      [](const fs::path& m, const fs::path& s) { read_background_meshb<2>(m, s); });
 }
