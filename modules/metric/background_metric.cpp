@@ -93,9 +93,9 @@ Metric<Dim> BackgroundMetricField<Dim>::evaluate(const Point& x) const {
   std::array<std::size_t, Dim + 1> node;
   for (std::size_t i = 0; i <= Dim; ++i) node[i] = static_cast<std::size_t>(v[i]);
   if constexpr (Dim == 2) {
-    return metric_mean3(mean_, {&mesh_.metrics[node[0]].matrix(), &mesh_.metrics[node[1]].matrix(),
-                                &mesh_.metrics[node[2]].matrix()},
-                        {&logs_[node[0]], &logs_[node[1]], &logs_[node[2]]}, at.w);
+    return metric_mean3(
+        mean_, {&mesh_.metrics[node[0]].matrix(), &mesh_.metrics[node[1]].matrix(), &mesh_.metrics[node[2]].matrix()},
+        {&logs_[node[0]], &logs_[node[1]], &logs_[node[2]]}, at.w);
   } else {
     if (mean_ == MetricMean::LogEuclidean) {
       // exp(sum w_i log M_i): log_euclidean_mean (metric.h) with the logarithms computed once.

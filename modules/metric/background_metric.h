@@ -26,7 +26,7 @@ struct BackgroundMesh {
   using Point = Eigen::Matrix<double, Dim, 1>;
   using Simplex = std::array<NodeId, Dim + 1>;
   std::vector<Point> nodes;
-  std::vector<Simplex> simplices;  // triangles (2D) or tetrahedra (3D), linear
+  std::vector<Simplex> simplices;    // triangles (2D) or tetrahedra (3D), linear
   std::vector<Metric<Dim>> metrics;  // one per node
 };
 
@@ -40,10 +40,10 @@ void check_background_mesh(const BackgroundMesh<Dim>& mesh);
 //   2D: triangles and quadrilaterals (split in two along 0-2); a view of 9 components (3x3
 //       tensor, row-major; its xx xy / yx yy block is used) or 4 (2x2, row-major).
 //   3D: tetrahedra and prisms (split into three tetrahedra along the quadrilateral faces'
-//       diagonals through their first node in file order, so neighbouring prisms agree: J. Dompierre et
-//       al., *How to Subdivide Pyramids, Prisms and Hexahedra into Tetrahedra*, IMR 1999);
-//       hexahedra and pyramids are refused by the MSH reader (msh_io.h). A view of 9 components
-//       (3x3, row-major) or 6 (xx xy yy xz yz zz: the libMeshb order of the .sol below).
+//       diagonals through their first node in file order, so that neighbouring prisms agree:
+//       J. Dompierre et al., *How to Subdivide Pyramids, Prisms and Hexahedra into Tetrahedra*,
+//       IMR 1999); hexahedra and pyramids are refused by the MSH reader (msh_io.h). A view of 9
+//       components (3x3, row-major) or 6 (xx xy yy xz yz zz: the libMeshb order of the .sol below).
 // InputError "path:line: reason" on bad content, a mesh of the other dimension, a mesh without
 // cells of the run's dimension, a missing view, a non-SPD tensor or a vertex without a value.
 template <int Dim>

@@ -106,7 +106,7 @@ BackgroundMetricField<2>::Tree::Tree(const BackgroundMesh<2>& mesh) {
 }
 
 void BackgroundMetricField<2>::Tree::build(const BackgroundMesh<2>& mesh, std::size_t node, const Eigen::Vector2d& c,
-                                            double cell_half, int depth, std::vector<std::int32_t> tris) {
+                                           double cell_half, int depth, std::vector<std::int32_t> tris) {
   double smallest = std::numeric_limits<double>::infinity();
   for (std::int32_t t : tris) smallest = std::min(smallest, min_altitude[static_cast<std::size_t>(t)]);
   if (tris.size() <= leaf_capacity || depth >= max_depth || 2 * cell_half < split_stop_rel * smallest) {
@@ -168,7 +168,7 @@ int BackgroundMetricField<2>::Tree::locate(const Eigen::Vector2d& x) const {
 }
 
 BackgroundMetricField<2>::Tree::Nearest BackgroundMetricField<2>::Tree::nearest(const BackgroundMesh<2>& mesh,
-                                                                                  const Eigen::Vector2d& x) const {
+                                                                                const Eigen::Vector2d& x) const {
   // Branch and bound over the tree (children visited nearest first, cells pruned by their
   // distance). The closest point of a triangle lies in a leaf that lists it, so pruning by cell
   // distance is exact.

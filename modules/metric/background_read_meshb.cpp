@@ -48,9 +48,8 @@ MeshbEnd read_meshb_keywords(TextCursor& in, int dim, const ReadSection& read_se
       const int dim_line = in.next_line();
       const std::int64_t file_dim = in.integer("dimension");
       if (file_dim != dim)
-        in.fail_at(dim_line, "Dimension " + std::to_string(file_dim) + ": a " + std::to_string(dim) +
-                                 "D run needs a " + std::to_string(dim) + "D background mesh (Dimension " +
-                                 std::to_string(dim) + ")");
+        in.fail_at(dim_line, "Dimension " + std::to_string(file_dim) + ": a " + std::to_string(dim) + "D run needs a " +
+                                 std::to_string(dim) + "D background mesh (Dimension " + std::to_string(dim) + ")");
       dimension = true;
     } else if (!read_section(kw, line, dimension)) {
       if (!is_keyword(kw)) in.fail_at(line, "expected a keyword, found " + TextCursor::quote(kw));

@@ -123,9 +123,9 @@ void read_node_data(TextCursor& in, MshScan<Dim>& scan, int section_line) {
     const int line = in.next_line();
     const std::int64_t tag = in.integer("node tag");
     for (int k = 0; k < per; ++k) v[static_cast<std::size_t>(k)] = in.real("tensor component");
-    scan.entries.push_back({tag, line,
-                            metric_from_file<Dim>(in, line, tensor_from_components<Dim>(v, per),
-                                                  "node tag " + std::to_string(tag))});
+    scan.entries.push_back(
+        {tag, line,
+         metric_from_file<Dim>(in, line, tensor_from_components<Dim>(v, per), "node tag " + std::to_string(tag))});
   }
   in.expect("$EndNodeData");
 }
@@ -215,9 +215,9 @@ BackgroundMesh<Dim> read_background_msh(const std::filesystem::path& path) {
   const std::string text = read_whole_file(path);
   TextCursor in(path, text);
   if (msh.dim != Dim)
-    in.fail_at(scan_msh<Dim>(path, text, false).elements_line,
-               "the background mesh is " + std::to_string(msh.dim) + "D; a " + std::to_string(Dim) + "D run needs a " +
-                   std::to_string(Dim) + "D background mesh");
+    in.fail_at(scan_msh<Dim>(path, text, false).elements_line, "the background mesh is " + std::to_string(msh.dim) +
+                                                                   "D; a " + std::to_string(Dim) + "D run needs a " +
+                                                                   std::to_string(Dim) + "D background mesh");
   const MshScan<Dim> scan = scan_msh<Dim>(path, text, true);
   const HybridMesh<Dim>* mesh = nullptr;
   if constexpr (Dim == 2)

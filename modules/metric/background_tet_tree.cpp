@@ -70,9 +70,9 @@ BackgroundMetricField<3>::Tree::Tree(const BackgroundMesh<3>& mesh) {
 }
 
 std::int32_t BackgroundMetricField<3>::Tree::build(std::int32_t begin, std::int32_t end,
-                                                    const std::vector<Eigen::Vector3d>& lo,
-                                                    const std::vector<Eigen::Vector3d>& hi,
-                                                    const std::vector<Eigen::Vector3d>& centers) {
+                                                   const std::vector<Eigen::Vector3d>& lo,
+                                                   const std::vector<Eigen::Vector3d>& hi,
+                                                   const std::vector<Eigen::Vector3d>& centers) {
   const auto index = static_cast<std::int32_t>(nodes.size());
   nodes.emplace_back();
   Node node;
@@ -95,9 +95,10 @@ std::int32_t BackgroundMetricField<3>::Tree::build(std::int32_t begin, std::int3
   int axis = 0;
   (c_hi - c_lo).maxCoeff(&axis);
   const std::int32_t mid = begin + (end - begin) / 2;
-  std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end, [&](std::int32_t a, std::int32_t b) {
-    return centers[static_cast<std::size_t>(a)][axis] < centers[static_cast<std::size_t>(b)][axis];
-  });
+  std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                   [&](std::int32_t a, std::int32_t b) {
+                     return centers[static_cast<std::size_t>(a)][axis] < centers[static_cast<std::size_t>(b)][axis];
+                   });
   build(begin, mid, lo, hi, centers);  // the next node
   node.second = build(mid, end, lo, hi, centers);
   nodes[static_cast<std::size_t>(index)] = node;
@@ -144,10 +145,10 @@ int BackgroundMetricField<3>::Tree::locate(const Eigen::Vector3d& x) const {
 }
 
 BackgroundMetricField<3>::Tree::Nearest BackgroundMetricField<3>::Tree::nearest(const BackgroundMesh<3>& mesh,
-                                                                                  const Eigen::Vector3d& x) const {
-  // Branch and bound over the tree: children visited nearest first, nodes pruned by the distance
-  // to their boxes (which hold their tetrahedra, so the pruning is exact). A tetrahedron's closest
-  // point to x outside it is the closest of its four faces' closest points.
+                                                                                const Eigen::Vector3d& x) const {
+  // Branch and bound over the tree: children visited nearest first, nodes and tetrahedra pruned by
+  // the distance to their boxes (which hold them, so the pruning is exact). A tetrahedron's
+  // closest point to x outside it is the closest of its faces' closest points.
   struct Entry {
     std::int32_t node;
     double dist2;
@@ -167,20 +168,28 @@ BackgroundMetricField<3>::Tree::Nearest BackgroundMetricField<3>::Tree::nearest(
         const Eigen::Vector4d inside = slot_barycentric(s, x);
         if (inside.minCoeff() >= 0) return {items[s], inside};
         const auto& v = mesh.simplices[static_cast<std::size_t>(items[s])];
-        for (std::size_t f = 0; f < 4; ++f) {  // the face opposite vertex f
+        std::array<const Eigen::Vector3d*, 4> p;
+        for (std::size_t i = 0; i < 4; ++i) p[i] = &mesh.nodes[static_cast<std::size_t>(v[i])];
+        const Eigen::Vector3d lo = p[0]->cwiseMin(*p[1]).cwiseMin(*p[2]).cwiseMin(*p[3]);
+        const Eigen::Vector3d hi = p[0]->cwiseMax(*p[1]).cwiseMax(*p[2]).cwiseMax(*p[3]);
+        if (box_distance2(x, lo, hi) >= best2) continue;
+        // The closest point lies on a face x is beyond (the outward normal cone at it holds x - p):
+        // the face opposite a vertex whose barycentric coordinate is negative.
+        for (std::size_t f = 0; f < 4; ++f) {
+          if (inside[static_cast<Eigen::Index>(f)] >= 0) continue;
           std::array<std::size_t, 3> corner;
           for (std::size_t i = 0, j = 0; i < 4; ++i)
             if (i != f) corner[j++] = i;
           Eigen::Vector3d face_weights;
-          const Eigen::Vector3d p = closest_point_on_triangle(
-              x, mesh.nodes[static_cast<std::size_t>(v[corner[0]])], mesh.nodes[static_cast<std::size_t>(v[corner[1]])],
-              mesh.nodes[static_cast<std::size_t>(v[corner[2]])], &face_weights);
-          const double d2 = (p - x).squaredNorm();
+          const Eigen::Vector3d q =
+              closest_point_on_triangle(x, *p[corner[0]], *p[corner[1]], *p[corner[2]], &face_weights);
+          const double d2 = (q - x).squaredNorm();
           if (d2 < best2) {
             best2 = d2;
             best.simplex = items[s];
             best.weights.setZero();
-            for (std::size_t j = 0; j < 3; ++j) best.weights[static_cast<Eigen::Index>(corner[j])] = face_weights[static_cast<Eigen::Index>(j)];
+            for (std::size_t j = 0; j < 3; ++j)
+              best.weights[static_cast<Eigen::Index>(corner[j])] = face_weights[static_cast<Eigen::Index>(j)];
           }
         }
       }

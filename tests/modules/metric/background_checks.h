@@ -146,10 +146,9 @@ inline void check_truncations_and_corruptions(const std::vector<FuzzedFile>& fil
 // The sweep over good.msh and the pair good.mesh / good.sol in dir, read by read_msh(path) and
 // read_meshb(mesh, sol): every prefix that stops before the final $EndNodeData or End is
 // incomplete.
-inline void check_background_files_fuzz(const TempDir& dir,
-                                        const std::function<void(const std::filesystem::path&)>& read_msh,
-                                        const std::function<void(const std::filesystem::path&,
-                                                                 const std::filesystem::path&)>& read_meshb) {
+inline void check_background_files_fuzz(
+    const TempDir& dir, const std::function<void(const std::filesystem::path&)>& read_msh,
+    const std::function<void(const std::filesystem::path&, const std::filesystem::path&)>& read_meshb) {
   const std::filesystem::path msh = dir / "bad.msh", mesh = dir / "bad.mesh", sol = dir / "bad.sol";
   const std::string msh_text = read_text(dir / "good.msh"), mesh_text = read_text(dir / "good.mesh"),
                     sol_text = read_text(dir / "good.sol");

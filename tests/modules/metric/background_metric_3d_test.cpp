@@ -3,8 +3,6 @@
 // point location against brute force, exact reproduction of a field linear in log space, the
 // means of metric.h, points outside, both file formats, prisms split conformingly, every error
 // case, and a run of plaf with a 3D configuration whose metric is a background mesh.
-#include "modules/metric/background_metric.h"
-
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -25,6 +23,7 @@
 #include "modules/base/error.h"
 #include "modules/geometry/aabb_tree.h"
 #include "modules/io/msh_io.h"
+#include "modules/metric/background_metric.h"
 #include "tests/modules/metric/background_checks.h"
 #include "tests/test_support.h"
 
@@ -224,13 +223,15 @@ TEST_CASE("background 3D: the tree locates what brute force finds, inside, on fa
     std::uniform_int_distribution<std::size_t> pick(0, mesh.simplices.size() - 1);
     std::vector<Vector3d> points;
     for (int k = 0; k < 1400; ++k)  // anywhere around the domain, some in the holes
-      points.push_back(s.origin + s.h * n * Vector3d(-0.2 + 1.4 * u01(rng), -0.2 + 1.4 * u01(rng), -0.2 + 1.4 * u01(rng)));
+      points.push_back(s.origin +
+                       s.h * n * Vector3d(-0.2 + 1.4 * u01(rng), -0.2 + 1.4 * u01(rng), -0.2 + 1.4 * u01(rng)));
     for (int k = 0; k < 1400; ++k) {  // on faces, edges and at vertices
       const auto& t = mesh.simplices[pick(rng)];
       Vector3d w(u01(rng), u01(rng), k % 5 == 0 ? 0.0 : u01(rng));
       if (k % 7 == 0) w[1] = 0;
       w /= w.sum();
-      points.push_back(w[0] * mesh.nodes[t[k % 4]] + w[1] * mesh.nodes[t[(k + 1) % 4]] + w[2] * mesh.nodes[t[(k + 2) % 4]]);
+      points.push_back(w[0] * mesh.nodes[t[k % 4]] + w[1] * mesh.nodes[t[(k + 1) % 4]] +
+                       w[2] * mesh.nodes[t[(k + 2) % 4]]);
     }
     for (int k = 0; k < 1200; ++k) {  // strictly inside a tetrahedron
       const auto& t = mesh.simplices[pick(rng)];
@@ -302,8 +303,7 @@ TEST_CASE("background 3D: the interpolant is metric.h's weighted mean of the ver
     Eigen::SelfAdjointEigenSolver<Matrix3d> es(mean);
     const Matrix3d isqrt = es.operatorInverseSqrt();
     Matrix3d gradient = Matrix3d::Zero();
-    for (std::size_t i = 0; i < 4; ++i)
-      gradient += ws[i] * Metric<3>::from_matrix(isqrt * m[i].matrix() * isqrt).log();
+    for (std::size_t i = 0; i < 4; ++i) gradient += ws[i] * Metric<3>::from_matrix(isqrt * m[i].matrix() * isqrt).log();
     worst_gradient = std::max(worst_gradient, gradient.norm());
     worst_congruence = std::max(worst_congruence, rel_diff(ai_g.evaluate(x).matrix(), g.transpose() * mean * g));
   }
@@ -503,21 +503,22 @@ TEST_CASE("background 3D: MSH prisms split into conforming tetrahedra, high-orde
 TEST_CASE("background 3D: bad MSH files throw InputError naming file and line") {
   TempDir dir("background3d_msh_bad");
   const std::string good =
-      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"                                           // 1-3
-      "$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n"   // 4-15
-      "$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3 4\n$EndElements\n"                           // 16-20
-      "$NodeData\n1\n\"metric\"\n1\n0\n3\n0\n9\n4\n"                                     // 21-29
+      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"                                                    // 1-3
+      "$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n"             // 4-15
+      "$Elements\n1 1 1 1\n3 1 4 1\n1 1 2 3 4\n$EndElements\n"                                    // 16-20
+      "$NodeData\n1\n\"metric\"\n1\n0\n3\n0\n9\n4\n"                                              // 21-29
       "1 1 0 0 0 1 0 0 0 1\n2 2 0.5 0 0.5 1 0 0 0 1\n3 1 0 0 0 3 0 0 0 1\n4 1 0 0 0 1 0 0 0 2\n"  // 30-33
-      "$EndNodeData\n";                                                                  // 34
+      "$EndNodeData\n";                                                                           // 34
   write_text(dir / "good.msh", good);
   CHECK(read_background_msh<3>(dir / "good.msh").simplices.size() == 1);
-  const std::string six = replace(replace(replace(replace(replace(good, "0\n9\n4\n", "0\n6\n4\n"),
-                                                          "1 1 0 0 0 1 0 0 0 1", "1 1 0 1 0 0 1"),
-                                                  "2 2 0.5 0 0.5 1 0 0 0 1", "2 2 0.5 1 0 0 1"),
-                                          "3 1 0 0 0 3 0 0 0 1", "3 1 0 3 0 0 1"),
-                                  "4 1 0 0 0 1 0 0 0 2", "4 1 0 1 0 0 2");
+  const std::string six =
+      replace(replace(replace(replace(replace(good, "0\n9\n4\n", "0\n6\n4\n"), "1 1 0 0 0 1 0 0 0 1", "1 1 0 1 0 0 1"),
+                              "2 2 0.5 0 0.5 1 0 0 0 1", "2 2 0.5 1 0 0 1"),
+                      "3 1 0 0 0 3 0 0 0 1", "3 1 0 3 0 0 1"),
+              "4 1 0 0 0 1 0 0 0 2", "4 1 0 1 0 0 2");
   write_text(dir / "six.msh", six);
-  const BackgroundMesh<3> from_six = read_background_msh<3>(dir / "six.msh"), from_nine = read_background_msh<3>(dir / "good.msh");
+  const BackgroundMesh<3> from_six = read_background_msh<3>(dir / "six.msh"),
+                          from_nine = read_background_msh<3>(dir / "good.msh");
   for (std::size_t i = 0; i < 4; ++i) CHECK(from_six.metrics[i].matrix() == from_nine.metrics[i].matrix());
   // A 3D surface mesh (triangles of a volume entity, as write_msh41 writes one) has no cells.
   HybridMesh<3> surface;
@@ -528,10 +529,10 @@ TEST_CASE("background 3D: bad MSH files throw InputError naming file and line") 
   write_msh41(surface, dir / "surface.msh");
   const std::string surface_text = read_text(dir / "surface.msh") + node_data(std::vector<Metric<3>>(4), 9);
   const std::string hexahedron =
-      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"                                          // 1-3
-      "$Nodes\n1 8 1 8\n3 1 0 8\n1\n2\n3\n4\n5\n6\n7\n8\n"                                // 4-14
-      "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n$EndNodes\n"                 // 15-23
-      "$Elements\n1 1 1 1\n3 1 5 1\n1 1 2 3 4 5 6 7 8\n$EndElements\n" +                     // 24-28
+      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"                               // 1-3
+      "$Nodes\n1 8 1 8\n3 1 0 8\n1\n2\n3\n4\n5\n6\n7\n8\n"                   // 4-14
+      "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n$EndNodes\n"  // 15-23
+      "$Elements\n1 1 1 1\n3 1 5 1\n1 1 2 3 4 5 6 7 8\n$EndElements\n" +     // 24-28
       node_data(std::vector<Metric<3>>(8), 9);
   struct Case {
     const char* what;
@@ -567,17 +568,17 @@ TEST_CASE("background 3D: bad MSH files throw InputError naming file and line") 
 TEST_CASE("background 3D: bad .mesh/.sol files throw InputError naming file and line") {
   TempDir dir("background3d_meshb_bad");
   const std::string mesh =
-      "MeshVersionFormatted 2\n"                                     // 1
-      "Dimension 3\n"                                                // 2
-      "Vertices\n5\n0 0 0 1\n1 0 0 1\n0 1 0 1\n0 0 1 1\n1 1 1 1\n"   // 3-9
-      "Triangles\n1\n1 2 3 7\n"                                      // 10-12, the boundary: skipped
-      "Tetrahedra\n2\n1 2 3 4 0\n2 3 4 5 0\n"                        // 13-16
-      "End\n";                                                       // 17
+      "MeshVersionFormatted 2\n"                                    // 1
+      "Dimension 3\n"                                               // 2
+      "Vertices\n5\n0 0 0 1\n1 0 0 1\n0 1 0 1\n0 0 1 1\n1 1 1 1\n"  // 3-9
+      "Triangles\n1\n1 2 3 7\n"                                     // 10-12, the boundary: skipped
+      "Tetrahedra\n2\n1 2 3 4 0\n2 3 4 5 0\n"                       // 13-16
+      "End\n";                                                      // 17
   const std::string sol =
-      "MeshVersionFormatted 2\n"                                                          // 1
-      "Dimension 3\n"                                                                     // 2
+      "MeshVersionFormatted 2\n"                                                                      // 1
+      "Dimension 3\n"                                                                                 // 2
       "SolAtVertices\n5\n1 3\n1 0 1 0 0 1\n2 0.5 1 0 0 1\n1 0 2 0 0 1\n1 0 1 0.5 0 3\n1 0 1 0 0 1\n"  // 3-10
-      "End\n";                                                                            // 11
+      "End\n";                                                                                        // 11
   write_text(dir / "good.mesh", mesh);
   write_text(dir / "good.sol", sol);
   const BackgroundMesh<3> read = read_background_meshb<3>(dir / "good.mesh", dir / "good.sol");
@@ -678,10 +679,10 @@ TEST_CASE("background 3D: a sphere meshed through a configuration with a backgro
   const std::string flat =
       "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 3 1 3\n2 1 0 3\n1\n2\n3\n0 0 0\n1 0 0\n0 1 0\n$EndNodes\n"
       "$Elements\n1 1 1 1\n2 1 2 1\n1 1 2 3\n$EndElements\n";
-  write_text(d / "flat.msh", flat + "$NodeData\n1\n\"m\"\n1\n0\n3\n0\n4\n3\n1 1 0 0 1\n2 1 0 0 1\n3 1 0 0 1\n$EndNodeData\n");
+  write_text(d / "flat.msh",
+             flat + "$NodeData\n1\n\"m\"\n1\n0\n3\n0\n4\n3\n1 1 0 0 1\n2 1 0 0 1\n3 1 0 0 1\n$EndNodeData\n");
   write_text(d / "flat.yaml", head + "metric: {type: background, file: flat.msh}\n");
-  const test::PlafResult r =
-      test::run_plaf("run " + (d / "flat.yaml").string() + " --out " + (d / "flat").string(), d);
+  const test::PlafResult r = test::run_plaf("run " + (d / "flat.yaml").string() + " --out " + (d / "flat").string(), d);
   CHECK(r.code == 1);
   CHECK_MESSAGE(r.err.find((d / "flat.msh").string() + ":14: the background mesh is 2D; a 3D run needs a 3D "
                                                        "background mesh") != std::string::npos,

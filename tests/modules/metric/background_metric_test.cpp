@@ -47,7 +47,7 @@ double rel_diff(const Matrix2d& a, const Matrix2d& b) {
 // by up to 0.3 h (so every cell stays convex), each cell split along a random diagonal, and the
 // cells listed in `holes` left out (so some points inside the bounding box are outside).
 BackgroundMesh<2> perturbed_square(int n, double h, Vector2d origin, unsigned seed,
-                                const std::vector<std::pair<int, int>>& holes = {}) {
+                                   const std::vector<std::pair<int, int>>& holes = {}) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> jitter(-0.3, 0.3);
   std::bernoulli_distribution flip(0.5);
