@@ -73,12 +73,14 @@ constexpr int short_components = Dim == 2 ? 4 : 6;
 
 template <int Dim>
 Eigen::Matrix<double, Dim, Dim> tensor_from_components(const std::array<double, full_components>& v, int per) {
-  Eigen::Matrix<double, Dim, Dim> m;
-  if (Dim == 3 && per == short_components<3>) {
-    std::array<double, Dim*(Dim + 1) / 2> packed{};
-    std::copy_n(v.begin(), packed.size(), packed.begin());
-    return symmetric_from_packed<Dim>(packed);
+  if constexpr (Dim == 3) {
+    if (per == short_components<3>) {
+      std::array<double, Dim*(Dim + 1) / 2> packed{};
+      std::copy_n(v.begin(), packed.size(), packed.begin());
+      return symmetric_from_packed<Dim>(packed);
+    }
   }
+  Eigen::Matrix<double, Dim, Dim> m;
   const int row = per == full_components ? 3 : Dim;  // row-major: (i, j) at i * row + j
   for (int i = 0; i < Dim; ++i)
     for (int j = 0; j < Dim; ++j) m(i, j) = v[static_cast<std::size_t>(i * row + j)];
