@@ -16,11 +16,6 @@ namespace plaf {
 inline namespace metric {
 namespace {
 
-// A point may lie this far outside a triangle, in units of the triangle's altitude (the
-// barycentric coordinate is the signed distance to an edge over the altitude), and be in it.
-constexpr double bary_tol_rel = 1e-10;
-// Triangles with |det| <= degenerate_rel * (longest edge)^2 cover no area and are never located.
-constexpr double degenerate_rel = 1e-13;
 // A quadtree cell is split while it holds more than leaf_capacity triangles, is shallower than
 // max_depth, and its side is larger than split_stop_rel times the smallest altitude of its
 // triangles (below that, splitting cannot separate triangles that meet at one vertex).
@@ -64,9 +59,9 @@ bool triangle_meets_square(const std::array<Eigen::Vector2d, 3>& p, const Eigen:
 
 }  // namespace
 
-BackgroundMetricField::Quadtree::Quadtree(const BackgroundMesh& mesh) {
+BackgroundMetricField<2>::Tree::Tree(const BackgroundMesh<2>& mesh) {
   // 1. Per-triangle affine data.
-  const std::size_t num_tris = mesh.triangles.size();
+  const std::size_t num_tris = mesh.simplices.size();
   affine.resize(num_tris);
   min_altitude.resize(num_tris);
   diameter.resize(num_tris);
@@ -76,7 +71,7 @@ BackgroundMetricField::Quadtree::Quadtree(const BackgroundMesh& mesh) {
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   double max_margin = 0;
   for (std::size_t t = 0; t < num_tris; ++t) {
-    const auto& tri = mesh.triangles[t];
+    const auto& tri = mesh.simplices[t];
     const Eigen::Vector2d &a = mesh.nodes[tri[0]], &b = mesh.nodes[tri[1]], &c = mesh.nodes[tri[2]];
     Eigen::Matrix2d e;
     e << b - a, c - a;
@@ -110,8 +105,8 @@ BackgroundMetricField::Quadtree::Quadtree(const BackgroundMesh& mesh) {
   build(mesh, 0, center, half, 0, std::move(all));
 }
 
-void BackgroundMetricField::Quadtree::build(const BackgroundMesh& mesh, std::size_t node, const Eigen::Vector2d& c,
-                                            double cell_half, int depth, std::vector<std::int32_t> tris) {
+void BackgroundMetricField<2>::Tree::build(const BackgroundMesh<2>& mesh, std::size_t node, const Eigen::Vector2d& c,
+                                           double cell_half, int depth, std::vector<std::int32_t> tris) {
   double smallest = std::numeric_limits<double>::infinity();
   for (std::int32_t t : tris) smallest = std::min(smallest, min_altitude[static_cast<std::size_t>(t)]);
   if (tris.size() <= leaf_capacity || depth >= max_depth || 2 * cell_half < split_stop_rel * smallest) {
@@ -127,7 +122,7 @@ void BackgroundMetricField::Quadtree::build(const BackgroundMesh& mesh, std::siz
     const Eigen::Vector2d cc = child_center(c, cell_half, k);
     std::vector<std::int32_t> sub;
     for (std::int32_t t : tris) {
-      const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
+      const auto& tri = mesh.simplices[static_cast<std::size_t>(t)];
       const double margin = 2 * bary_tol_rel * diameter[static_cast<std::size_t>(t)];
       if (triangle_meets_square({mesh.nodes[tri[0]], mesh.nodes[tri[1]], mesh.nodes[tri[2]]}, cc,
                                 0.5 * cell_half + margin))
@@ -137,14 +132,14 @@ void BackgroundMetricField::Quadtree::build(const BackgroundMesh& mesh, std::siz
   }
 }
 
-Eigen::Vector3d BackgroundMetricField::Quadtree::barycentric(int t, const Eigen::Vector2d& x) const {
+Eigen::Vector3d BackgroundMetricField<2>::Tree::barycentric(int t, const Eigen::Vector2d& x) const {
   const auto i = static_cast<std::size_t>(t);
   const Affine& a = affine[i];
   const Eigen::Vector2d l = a.inverse * (x - a.origin);
   return {1 - l[0] - l[1], l[0], l[1]};
 }
 
-int BackgroundMetricField::Quadtree::locate(const Eigen::Vector2d& x) const {
+int BackgroundMetricField<2>::Tree::locate(const Eigen::Vector2d& x) const {
   if (box_distance2(x, center, half) > 0) return -1;
   // Descend to the leaf holding x.
   std::size_t node = 0;
@@ -172,8 +167,8 @@ int BackgroundMetricField::Quadtree::locate(const Eigen::Vector2d& x) const {
   return best;
 }
 
-BackgroundMetricField::Quadtree::Nearest BackgroundMetricField::Quadtree::nearest(const BackgroundMesh& mesh,
-                                                                                  const Eigen::Vector2d& x) const {
+BackgroundMetricField<2>::Tree::Nearest BackgroundMetricField<2>::Tree::nearest(const BackgroundMesh<2>& mesh,
+                                                                                const Eigen::Vector2d& x) const {
   // Branch and bound over the tree (children visited nearest first, cells pruned by their
   // distance). The closest point of a triangle lies in a leaf that lists it, so pruning by cell
   // distance is exact.
@@ -186,7 +181,8 @@ BackgroundMetricField::Quadtree::Nearest BackgroundMetricField::Quadtree::neares
   std::size_t top = 0;
   stack[top++] = {0, half, box_distance2(x, center, half), center};
   double best2 = std::numeric_limits<double>::infinity();
-  Nearest best{-1, x};
+  int best = -1;
+  Eigen::Vector2d best_point = x;
   while (top > 0) {
     const Entry e = stack[--top];
     if (e.dist2 >= best2) continue;
@@ -194,14 +190,15 @@ BackgroundMetricField::Quadtree::Nearest BackgroundMetricField::Quadtree::neares
     if (n.first_child < 0) {
       for (std::int32_t k = 0; k < n.count; ++k) {
         const int tri = items[static_cast<std::size_t>(n.begin + k)];
-        const auto& v = mesh.triangles[static_cast<std::size_t>(tri)];
+        const auto& v = mesh.simplices[static_cast<std::size_t>(tri)];
         for (int i = 0; i < 3; ++i) {
           const Eigen::Vector2d p =
               closest_on_segment(x, mesh.nodes[v[static_cast<std::size_t>(i)]], mesh.nodes[v[(i + 1) % 3]]);
           const double d2 = (p - x).squaredNorm();
           if (d2 < best2) {
             best2 = d2;
-            best = {tri, p};
+            best = tri;
+            best_point = p;
           }
         }
       }
@@ -216,7 +213,8 @@ BackgroundMetricField::Quadtree::Nearest BackgroundMetricField::Quadtree::neares
     for (const Entry& child : children)
       if (child.dist2 < best2) stack[top++] = child;
   }
-  return best;
+  if (best < 0) return {};
+  return {best, barycentric(best, best_point)};
 }
 
 }  // namespace metric

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The point location of the background-mesh field (background_metric.h): a quadtree over the
+// The point location of the 2D background-mesh field (background_metric.h): a quadtree over the
 // triangles of the background mesh, the triangle containing a point, and the nearest triangle
-// to a point outside the mesh. Internal to modules/metric.
+// to a point outside the mesh (3D: background_tet_tree.h). Internal to modules/metric.
 #pragma once
 
 #include <cstdint>
@@ -12,20 +12,22 @@
 namespace plaf {
 inline namespace metric {
 
-struct BackgroundMetricField::Quadtree {
+template <>
+struct BackgroundMetricField<2>::Tree {
   // Per-triangle affine data, then the tree; InputError if no triangle has positive area.
-  explicit Quadtree(const BackgroundMesh& mesh);
+  explicit Tree(const BackgroundMesh<2>& mesh);
 
   // Barycentric coordinates of x in triangle t.
   Eigen::Vector3d barycentric(int t, const Eigen::Vector2d& x) const;
   // The triangle containing x (closed, with a relative tolerance), or -1.
   int locate(const Eigen::Vector2d& x) const;
-  // The triangle nearest to x and its closest point to x (triangle -1 if none is found).
+  // The triangle nearest to x and the barycentric coordinates of its closest point to x
+  // (simplex -1 if none is found).
   struct Nearest {
-    int triangle = -1;
-    Eigen::Vector2d point;
+    int simplex = -1;
+    Eigen::Vector3d weights = Eigen::Vector3d::Zero();
   };
-  Nearest nearest(const BackgroundMesh& mesh, const Eigen::Vector2d& x) const;
+  Nearest nearest(const BackgroundMesh<2>& mesh, const Eigen::Vector2d& x) const;
 
   // A node is a square cell; the root's centre and half side are stored, children are found by
   // halving. Leaves list the triangles that meet their cell (closed, widened by the locate
@@ -59,7 +61,7 @@ struct BackgroundMetricField::Quadtree {
  private:
   // Files the triangles tris under node (the cell of centre c and half side cell_half), split
   // while that separates them.
-  void build(const BackgroundMesh& mesh, std::size_t node, const Eigen::Vector2d& c, double cell_half, int depth,
+  void build(const BackgroundMesh<2>& mesh, std::size_t node, const Eigen::Vector2d& c, double cell_half, int depth,
              std::vector<std::int32_t> tris);
 };
 

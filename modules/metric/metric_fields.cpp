@@ -47,12 +47,15 @@ BackgroundParams parse_background_params(const ConfigNode& m) {
   return b;
 }
 
-std::unique_ptr<MetricField<2>> make_background_field(const BackgroundParams& b, const std::string& where) {
+template <int Dim>
+std::unique_ptr<MetricField<Dim>> make_background_field(const BackgroundParams& b, const std::string& where) {
   const bool meshb = std::filesystem::path(b.file).extension() == ".mesh";
   if (meshb && b.sol.empty()) throw ConfigError(where + ": a .mesh background needs its .sol file (sol:)");
-  BackgroundMesh mesh = meshb ? read_background_meshb(b.file, b.sol) : read_background_msh(b.file);
-  return std::make_unique<BackgroundMetricField>(std::move(mesh), parse_metric_mean(b.mean));
+  BackgroundMesh<Dim> mesh = meshb ? read_background_meshb<Dim>(b.file, b.sol) : read_background_msh<Dim>(b.file);
+  return std::make_unique<BackgroundMetricField<Dim>>(std::move(mesh), parse_metric_mean(b.mean));
 }
+template std::unique_ptr<MetricField<2>> make_background_field<2>(const BackgroundParams&, const std::string&);
+template std::unique_ptr<MetricField<3>> make_background_field<3>(const BackgroundParams&, const std::string&);
 
 std::unique_ptr<MetricField<2>> make_wall_law_field(const WallLawParams& params, const Geometry2D& g,
                                                     const std::string& where) {

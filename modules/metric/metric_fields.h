@@ -7,9 +7,11 @@
 //     sizes: [h1, h2]       anisotropic sizes (instead of h); 3D: [hx, hy, hz]   default: none
 //     angle_deg: <deg>      direction of h1 from the x axis (2D)  default: 0
 //   metric:
-//     type: background      metric at the nodes of a background mesh (background_metric.h)
+//     type: background      metric at the nodes of a background mesh of the run's dimension,
+//                           2D triangles or 3D tetrahedra (background_metric.h: the field and
+//                           the file formats)
 //     file: <path>          Gmsh .msh with a tensor $NodeData view, or a libMeshb .mesh  (required)
-//     sol: <path>           the .sol of a .mesh file              default: none
+//     sol: <path>           the .sol of a .mesh file (required with a .mesh)  default: none
 //     mean: log_euclidean|affine_invariant                        default: log_euclidean
 // The wall_power_law options live beside its field in wall_metric.h (3D: wall_metric_3d.h).
 #pragma once
@@ -45,9 +47,13 @@ struct BackgroundParams {
   std::string mean = "log_euclidean";
 };
 
+// The same keys in 2D and 3D (ConfigError naming the key).
 BackgroundParams parse_background_params(const ConfigNode& metric);
-// The background field (background_metric.h); `where` names the config key in errors.
-std::unique_ptr<MetricField<2>> make_background_field(const BackgroundParams& params, const std::string& where);
+// The background field of a Dim-dimensional run: reads the file(s) (InputError "path:line:
+// reason", a mesh of the other dimension included) and builds the field; `where` names the
+// config key in errors (ConfigError: a .mesh without sol).
+template <int Dim>
+std::unique_ptr<MetricField<Dim>> make_background_field(const BackgroundParams& params, const std::string& where);
 
 // The wall power law over the geometry's wall loops (ConfigError naming `where` without walls).
 std::unique_ptr<MetricField<2>> make_wall_law_field(const WallLawParams& params, const Geometry2D& geometry,

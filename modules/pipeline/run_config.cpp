@@ -60,7 +60,7 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   if (stage_registry<3>(StageKind::Geometry).contains(geometry_type)) r.dim = 3;
 
   // The metric's type; its plugin parses the section (stages.h). A 2D type missing from the 3D
-  // registry (background) is named as such.
+  // registry (none today) is named as such.
   const ConfigNode m = c.child("metric");
   const std::string metric_type = m.get_string("type", "uniform");
   if (r.dim == 3 && !stage_registry<3>(StageKind::Metric).contains(metric_type) &&

@@ -16,7 +16,8 @@
 //     type: uniform         UniformMetricParams (modules/metric/metric_fields.h), 2D and 3D
 //     type: wall_power_law  WallLawParams (modules/metric/wall_metric.h), 2D and 3D (3D:
 //                           modules/metric/wall_metric_3d.h, without curvature_factor and h_corner)
-//     type: background      BackgroundParams (modules/metric/metric_fields.h), 2D
+//     type: background      BackgroundParams (modules/metric/metric_fields.h), 2D and 3D (a
+//                           background mesh of the run's dimension, modules/metric/background_metric.h)
 //   layers:                 prismatic layers grown from the walls; absent: none. Keys of the
 //     type: extrude         chosen type, parsed by its plugin: layers/plugins.h
 //   fill:                   the fill of the domain between the layers' outer front (or the surface

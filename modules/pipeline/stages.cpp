@@ -86,7 +86,7 @@ void register_2d() {
   metric.add("background", [](const ConfigNode& section) -> Stage<2> {
     const BackgroundParams p = parse_background_params(section);
     const std::string where = section.where("type");
-    return [p, where](RunState<2>& s, StageReport&) { s.metric = make_background_field(p, where); };
+    return [p, where](RunState<2>& s, StageReport&) { s.metric = make_background_field<2>(p, where); };
   });
   StageRegistry<2>& surface = stage_registry<2>(StageKind::Surface);
   surface.add("curves", [](const ConfigNode&) -> Stage<2> {
@@ -123,6 +123,12 @@ void register_3d() {
       s.surface_sizes = std::make_unique<WallSizesAlongWall3>(field);
       s.metric = std::make_unique<WallPowerLawField3>(std::move(field));
     };
+  });
+  // The metric at the nodes of a tetrahedral background mesh; the surface follows it as it is.
+  metric.add("background", [](const ConfigNode& section) -> Stage<3> {
+    const BackgroundParams p = parse_background_params(section);
+    const std::string where = section.where("type");
+    return [p, where](RunState<3>& s, StageReport&) { s.metric = make_background_field<3>(p, where); };
   });
 }
 

@@ -9,7 +9,7 @@
 // (core: register_core_plugins below; surface3d/plugins.h, layers/plugins.h, volume/plugins.h).
 // Types (kind: 2D | 3D):
 //   geometry: annulus, airfoils | sphere, ellipsoid, box, wing, surface_file
-//   metric:   uniform, wall_power_law, background | uniform, wall_power_law
+//   metric:   uniform, wall_power_law, background | uniform, wall_power_law, background
 //   surface:  annulus, curves (by the geometry) | remesh (surface.type)
 //   layers:   none, extrude | none
 //   fill:     none, advancing_front | none
@@ -45,8 +45,8 @@ using StageRegistry = Registry<Stage<Dim>(const ConfigNode& section)>;
 template <int Dim>
 StageRegistry<Dim>& stage_registry(StageKind kind);
 
-// Registers core's stages: 2D geometries, metrics and surface meshes, the 3D uniform metric, and
-// the "none" layers and fill of both dimensions. Idempotent.
+// Registers core's stages: 2D geometries, metrics and surface meshes, the 3D metrics, and the
+// "none" layers and fill of both dimensions. Idempotent.
 void register_core_plugins();
 
 // One line per stage kind and dimension with its registered types, and the output formats.

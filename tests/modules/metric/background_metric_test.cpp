@@ -16,24 +16,22 @@
 
 #include "modules/base/error.h"
 #include "modules/io/msh_io.h"
+#include "tests/modules/metric/background_checks.h"
 #include "tests/test_support.h"
 
 using namespace plaf;
 using Eigen::Matrix2d;
 using Eigen::Vector2d;
 using Eigen::Vector3d;
+using test::check_input_error;
+using test::input_error;
 using test::read_text;
+using test::replace;
 using test::TempDir;
 using test::write_text;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string replace(std::string s, const std::string& from, const std::string& to) {
-  const std::size_t at = s.find(from);
-  REQUIRE_MESSAGE(at != std::string::npos, "test fixture lacks: ", from);
-  return s.replace(at, from.size(), to);
-}
 
 Matrix2d sym(double a, double b, double c) {
   Matrix2d m;
@@ -48,12 +46,12 @@ double rel_diff(const Matrix2d& a, const Matrix2d& b) {
 // An irregular triangulation of [x0, x0 + n h] x [y0, y0 + n h]: interior lattice nodes moved
 // by up to 0.3 h (so every cell stays convex), each cell split along a random diagonal, and the
 // cells listed in `holes` left out (so some points inside the bounding box are outside).
-BackgroundMesh perturbed_square(int n, double h, Vector2d origin, unsigned seed,
-                                const std::vector<std::pair<int, int>>& holes = {}) {
+BackgroundMesh<2> perturbed_square(int n, double h, Vector2d origin, unsigned seed,
+                                   const std::vector<std::pair<int, int>>& holes = {}) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> jitter(-0.3, 0.3);
   std::bernoulli_distribution flip(0.5);
-  BackgroundMesh m;
+  BackgroundMesh<2> m;
   auto id = [n](int i, int j) { return static_cast<NodeId>(j * (n + 1) + i); };
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) {
@@ -68,11 +66,11 @@ BackgroundMesh perturbed_square(int n, double h, Vector2d origin, unsigned seed,
       if (std::find(holes.begin(), holes.end(), std::make_pair(i, j)) != holes.end()) continue;
       const NodeId a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
       if (diag) {
-        m.triangles.push_back({a, b, c});
-        m.triangles.push_back({a, c, d});
+        m.simplices.push_back({a, b, c});
+        m.simplices.push_back({a, c, d});
       } else {
-        m.triangles.push_back({a, b, d});
-        m.triangles.push_back({b, c, d});
+        m.simplices.push_back({a, b, d});
+        m.simplices.push_back({b, c, d});
       }
     }
   m.metrics.assign(m.nodes.size(), Metric<2>());
@@ -92,7 +90,7 @@ struct LogLinear {
   Matrix2d at(const Vector2d& x) const { return Metric<2>::exp(log_at(x)).matrix(); }
 };
 
-void set_metrics(BackgroundMesh& m, const LogLinear& f) {
+void set_metrics(BackgroundMesh<2>& m, const LogLinear& f) {
   for (std::size_t i = 0; i < m.nodes.size(); ++i) m.metrics[i] = Metric<2>::exp(f.log_at(m.nodes[i]));
 }
 
@@ -104,11 +102,11 @@ Vector2d closest_on_segment(const Vector2d& x, const Vector2d& p, const Vector2d
 
 // MSH 4.1 of mesh m with a $NodeData view of `components` (9 or 4) per node; node tags are
 // 1..N (write_msh41), so view entry i belongs to node i.
-void write_msh_background(const BackgroundMesh& m, const fs::path& p, int components) {
+void write_msh_background(const BackgroundMesh<2>& m, const fs::path& p, int components) {
   HybridMesh<2> h;
   h.nodes = m.nodes;
   CellBlock& b = h.block(CellType::Triangle, 1);
-  for (const auto& t : m.triangles) b.connectivity.insert(b.connectivity.end(), t.begin(), t.end());
+  for (const auto& t : m.simplices) b.connectivity.insert(b.connectivity.end(), t.begin(), t.end());
   write_msh41(h, p);
   std::ostringstream s;
   s.precision(17);  // reads back bit for bit
@@ -124,13 +122,13 @@ void write_msh_background(const BackgroundMesh& m, const fs::path& p, int compon
   write_text(p, s.str());
 }
 
-void write_meshb_background(const BackgroundMesh& m, const fs::path& mesh, const fs::path& sol) {
+void write_meshb_background(const BackgroundMesh<2>& m, const fs::path& mesh, const fs::path& sol) {
   std::ostringstream t;
   t.precision(17);
   t << "MeshVersionFormatted 2\n\nDimension 2\n\nVertices\n" << m.nodes.size() << "\n";
   for (const Vector2d& x : m.nodes) t << x[0] << " " << x[1] << " 0\n";
-  t << "\nTriangles\n" << m.triangles.size() << "\n";
-  for (const auto& tri : m.triangles) t << tri[0] + 1 << " " << tri[1] + 1 << " " << tri[2] + 1 << " 1\n";
+  t << "\nTriangles\n" << m.simplices.size() << "\n";
+  for (const auto& tri : m.simplices) t << tri[0] + 1 << " " << tri[1] + 1 << " " << tri[2] + 1 << " 1\n";
   t << "\nEnd\n";
   write_text(mesh, t.str());
   std::ostringstream s;
@@ -142,17 +140,6 @@ void write_meshb_background(const BackgroundMesh& m, const fs::path& mesh, const
   write_text(sol, s.str());
 }
 
-// The InputError message of f(), or "" if it throws none.
-template <class F>
-std::string input_error(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 }  // namespace
 
 TEST_CASE("background: quadtree locate agrees with brute force inside, on edges and outside") {
@@ -162,62 +149,44 @@ TEST_CASE("background: quadtree locate agrees with brute force inside, on edges 
     Vector2d origin;
   };
   const Scale scales[] = {{1e-8, {3e-7, -1e-7}}, {0.05, {0.0, 0.0}}, {1e8, {-4e9, 2e9}}};
-  int on_edges = 0, inside = 0, outside = 0;
+  test::LocateCounts counts;
   for (const Scale& s : scales) {
     const int n = 16;
-    const BackgroundMesh mesh = perturbed_square(n, s.h, s.origin, 7, {{3, 4}, {4, 4}, {10, 11}, {0, 15}});
-    const BackgroundMetricField field(mesh, MetricMean::LogEuclidean);
+    const BackgroundMesh<2> mesh = perturbed_square(n, s.h, s.origin, 7, {{3, 4}, {4, 4}, {10, 11}, {0, 15}});
+    const BackgroundMetricField<2> field(mesh, MetricMean::LogEuclidean);
     std::mt19937 rng(42);
     std::uniform_real_distribution<double> u01(0.0, 1.0);
-    std::uniform_int_distribution<std::size_t> pick(0, mesh.triangles.size() - 1);
+    std::uniform_int_distribution<std::size_t> pick(0, mesh.simplices.size() - 1);
     std::vector<Vector2d> points;
     for (int k = 0; k < 1400; ++k)  // anywhere around the domain, some in the holes
       points.push_back(s.origin + s.h * n * Vector2d(-0.2 + 1.4 * u01(rng), -0.2 + 1.4 * u01(rng)));
     for (int k = 0; k < 1400; ++k) {  // on edges and at vertices
-      const auto& t = mesh.triangles[pick(rng)];
+      const auto& t = mesh.simplices[pick(rng)];
       const double a = k % 7 == 0 ? 0.0 : u01(rng);
       points.push_back((1 - a) * mesh.nodes[t[k % 3]] + a * mesh.nodes[t[(k + 1) % 3]]);
     }
     for (int k = 0; k < 1400; ++k) {  // strictly inside a triangle
-      const auto& t = mesh.triangles[pick(rng)];
+      const auto& t = mesh.simplices[pick(rng)];
       Vector3d w(0.01 + u01(rng), 0.01 + u01(rng), 0.01 + u01(rng));
       w /= w.sum();
       points.push_back(w[0] * mesh.nodes[t[0]] + w[1] * mesh.nodes[t[1]] + w[2] * mesh.nodes[t[2]]);
     }
-    for (const Vector2d& x : points) {
-      // Brute force: the largest smallest barycentric coordinate over all triangles.
-      double best = -std::numeric_limits<double>::infinity();
-      for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-        best = std::max(best, field.barycentric(static_cast<int>(t), x).minCoeff());
-      const int t = field.locate(x);
-      INFO("x = ", x.transpose(), ", best = ", best, ", located = ", t);
-      // Inside or on an edge up to round-off: found; clearly outside: not. Any triangle found
-      // must contain x up to a relative tolerance.
-      if (best >= -1e-13) CHECK(t >= 0);
-      if (best < -1e-9) CHECK(t == -1);
-      if (t >= 0) CHECK(field.barycentric(t, x).minCoeff() >= -1e-9);
-      if (std::abs(best) < 1e-12)
-        ++on_edges;
-      else if (best > 0)
-        ++inside;
-      else
-        ++outside;
-    }
+    test::check_locate(field, points, counts);
   }
-  CHECK(on_edges + inside + outside >= 10000);
-  CHECK(on_edges >= 3000);
-  CHECK(outside >= 300);
+  CHECK(counts.on_facets + counts.inside + counts.outside == 3 * 4200);
+  CHECK(counts.on_facets >= 3000);
+  CHECK(counts.outside >= 300);
 }
 
 TEST_CASE("background: log-Euclidean interpolation reproduces a field linear in log space") {
   for (double h : {1e-8, 1.0, 1e8}) {
     const int n = 10;
-    BackgroundMesh mesh = perturbed_square(n, h, Vector2d(2 * h, -h), 3);
+    BackgroundMesh<2> mesh = perturbed_square(n, h, Vector2d(2 * h, -h), 3);
     LogLinear f;
     f.origin = Vector2d(2 * h, -h);
     f.length = n * h;
     set_metrics(mesh, f);
-    const BackgroundMetricField field(mesh, MetricMean::LogEuclidean);
+    const BackgroundMetricField<2> field(mesh, MetricMean::LogEuclidean);
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> u01(0.0, 1.0);
     double worst = 0;
@@ -234,7 +203,7 @@ TEST_CASE("background: log-Euclidean interpolation reproduces a field linear in 
 }
 
 TEST_CASE("background: affine-invariant interpolation commutes with congruence, means agree for commuting metrics") {
-  BackgroundMesh mesh = perturbed_square(6, 1.0, Vector2d::Zero(), 11);
+  BackgroundMesh<2> mesh = perturbed_square(6, 1.0, Vector2d::Zero(), 11);
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   for (Metric<2>& m : mesh.metrics) {  // independent random anisotropic metrics
@@ -245,10 +214,10 @@ TEST_CASE("background: affine-invariant interpolation commutes with congruence, 
   }
   Matrix2d g;
   g << 1.7, -0.4, 0.9, 0.3;  // invertible, neither orthogonal nor symmetric
-  BackgroundMesh congruent = mesh;
+  BackgroundMesh<2> congruent = mesh;
   for (Metric<2>& m : congruent.metrics) m = Metric<2>::from_matrix(g.transpose() * m.matrix() * g);
-  const BackgroundMetricField field(mesh, MetricMean::AffineInvariant);
-  const BackgroundMetricField field_g(congruent, MetricMean::AffineInvariant);
+  const BackgroundMetricField<2> field(mesh, MetricMean::AffineInvariant);
+  const BackgroundMetricField<2> field_g(congruent, MetricMean::AffineInvariant);
   double worst = 0;
   for (int k = 0; k < 300; ++k) {
     const Vector2d x = 6 * Vector2d(u01(rng), u01(rng));
@@ -261,8 +230,8 @@ TEST_CASE("background: affine-invariant interpolation commutes with congruence, 
   Matrix2d r;
   r << std::cos(0.7), -std::sin(0.7), std::sin(0.7), std::cos(0.7);
   for (Metric<2>& m : mesh.metrics) m = Metric<2>::from_directions(r, Vector2d(1e-3 + u01(rng), 0.1 + 10 * u01(rng)));
-  const BackgroundMetricField ai(mesh, MetricMean::AffineInvariant);
-  const BackgroundMetricField le(mesh, MetricMean::LogEuclidean);
+  const BackgroundMetricField<2> ai(mesh, MetricMean::AffineInvariant);
+  const BackgroundMetricField<2> le(mesh, MetricMean::LogEuclidean);
   worst = 0;
   for (int k = 0; k < 300; ++k) {
     const Vector2d x = Vector2d(-1, -1) + 8 * Vector2d(u01(rng), u01(rng));  // some outside
@@ -274,7 +243,7 @@ TEST_CASE("background: affine-invariant interpolation commutes with congruence, 
 TEST_CASE("background: the affine-invariant interpolant is the weighted Karcher mean of the vertex metrics") {
   // First-order optimality: sum w_i log(X^-1/2 M_i X^-1/2) = 0 at X, for far-apart, strongly
   // anisotropic vertex metrics (aspect ratios up to 250, random orientations).
-  BackgroundMesh mesh = perturbed_square(8, 1.0, Vector2d::Zero(), 23);
+  BackgroundMesh<2> mesh = perturbed_square(8, 1.0, Vector2d::Zero(), 23);
   std::mt19937 rng(31);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   for (Metric<2>& m : mesh.metrics) {
@@ -283,7 +252,7 @@ TEST_CASE("background: the affine-invariant interpolant is the weighted Karcher 
     r << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
     m = Metric<2>::from_directions(r, Vector2d(0.01 + u01(rng), 0.5 + 2 * u01(rng)));
   }
-  const BackgroundMetricField field(mesh, MetricMean::AffineInvariant);
+  const BackgroundMetricField<2> field(mesh, MetricMean::AffineInvariant);
   double worst = 0;
   for (int k = 0; k < 500; ++k) {
     const Vector2d x = 8 * Vector2d(u01(rng), u01(rng));
@@ -294,7 +263,7 @@ TEST_CASE("background: the affine-invariant interpolant is the weighted Karcher 
     const Matrix2d isqrt = es.operatorInverseSqrt();
     Matrix2d gradient = Matrix2d::Zero();
     for (int i = 0; i < 3; ++i)
-      gradient += w[i] * Metric<2>::from_matrix(isqrt * mesh.metrics[mesh.triangles[t][i]].matrix() * isqrt).log();
+      gradient += w[i] * Metric<2>::from_matrix(isqrt * mesh.metrics[mesh.simplices[t][i]].matrix() * isqrt).log();
     worst = std::max(worst, gradient.norm());
   }
   CHECK(worst < 1e-10);
@@ -303,14 +272,14 @@ TEST_CASE("background: the affine-invariant interpolant is the weighted Karcher 
   LogLinear f;
   f.length = 8;
   set_metrics(mesh, f);
-  const BackgroundMetricField smooth(mesh, MetricMean::AffineInvariant);
+  const BackgroundMetricField<2> smooth(mesh, MetricMean::AffineInvariant);
   worst = 0;
   for (int k = 0; k < 300; ++k) {
     const Vector2d x = 8 * Vector2d(u01(rng), u01(rng));
     const int t = smooth.locate(x);
     const Vector3d w = smooth.barycentric(t, x).cwiseMax(0.0);
-    const std::array<Metric<2>, 3> m{mesh.metrics[mesh.triangles[t][0]], mesh.metrics[mesh.triangles[t][1]],
-                                     mesh.metrics[mesh.triangles[t][2]]};
+    const std::array<Metric<2>, 3> m{mesh.metrics[mesh.simplices[t][0]], mesh.metrics[mesh.simplices[t][1]],
+                                     mesh.metrics[mesh.simplices[t][2]]};
     const std::array<double, 3> ws{w[0], w[1], w[2]};
     worst = std::max(worst, rel_diff(smooth.evaluate(x).matrix(), affine_invariant_mean<2>(m, ws).matrix()));
   }
@@ -319,35 +288,21 @@ TEST_CASE("background: the affine-invariant interpolant is the weighted Karcher 
 
 TEST_CASE("background: a metric read from MSH 4.1 (9 and 4 components) and .mesh/.sol evaluates identically") {
   TempDir dir("background_io");
-  BackgroundMesh mesh = perturbed_square(8, 0.125, Vector2d(-0.5, 0.25), 21, {{2, 2}});
+  BackgroundMesh<2> mesh = perturbed_square(8, 0.125, Vector2d(-0.5, 0.25), 21, {{2, 2}});
   LogLinear f;
   f.origin = Vector2d(-0.5, 0.25);
   set_metrics(mesh, f);
   write_msh_background(mesh, dir / "m9.msh", 9);
   write_msh_background(mesh, dir / "m4.msh", 4);
   write_meshb_background(mesh, dir / "m.mesh", dir / "m.sol");
-  const BackgroundMesh read[] = {read_background_msh(dir / "m9.msh"), read_background_msh(dir / "m4.msh"),
-                                 read_background_meshb(dir / "m.mesh", dir / "m.sol")};
-  for (const BackgroundMesh& r : read) {
-    REQUIRE(r.nodes.size() == mesh.nodes.size());
-    REQUIRE(r.triangles == mesh.triangles);
-    for (std::size_t i = 0; i < mesh.nodes.size(); ++i) {
-      CHECK(r.nodes[i] == mesh.nodes[i]);
-      CHECK(r.metrics[i].matrix() == mesh.metrics[i].matrix());
-    }
-  }
-  for (MetricMean mean : {MetricMean::LogEuclidean, MetricMean::AffineInvariant}) {
-    const BackgroundMetricField reference(mesh, mean);
-    std::vector<std::unique_ptr<BackgroundMetricField>> fields;  // the field is neither copied nor moved
-    for (const BackgroundMesh& r : read) fields.push_back(std::make_unique<BackgroundMetricField>(r, mean));
-    std::mt19937 rng(1);
-    std::uniform_real_distribution<double> u(-0.7, 0.7);
-    for (int k = 0; k < 200; ++k) {
-      const Vector2d x = Vector2d(0, 0.75) + Vector2d(u(rng), u(rng));
-      const Matrix2d expected = reference.evaluate(x).matrix();
-      for (const auto& field : fields) CHECK(field->evaluate(x).matrix() == expected);
-    }
-  }
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-0.7, 0.7);
+  std::vector<Vector2d> points;
+  for (int k = 0; k < 200; ++k) points.push_back(Vector2d(0, 0.75) + Vector2d(u(rng), u(rng)));
+  test::check_read_alike<2>(mesh,
+                            {read_background_msh<2>(dir / "m9.msh"), read_background_msh<2>(dir / "m4.msh"),
+                             read_background_meshb<2>(dir / "m.mesh", dir / "m.sol")},
+                            points);
 }
 
 TEST_CASE("background: MSH with sparse tags, a quadrilateral, a P2 triangle and comments reads its vertices") {
@@ -362,10 +317,10 @@ TEST_CASE("background: MSH with sparse tags, a quadrilateral, a P2 triangle and 
       "$NodeData\n2\n\"metric\"\n\"interpolation\"\n1\n0.0\n4\n0\n4\n5\n0\n"
       "10 1 0 0 4\n20 2 0 0 4\n30 2 0 0 5\n40 1 0 0 5\n50 3 0 0 4.5\n$EndNodeData\n";
   write_text(dir / "small.msh", text);
-  const BackgroundMesh m = read_background_msh(dir / "small.msh");
+  const BackgroundMesh<2> m = read_background_msh<2>(dir / "small.msh");
   CHECK(m.nodes.size() == 5);
-  CHECK(m.triangles.size() == 3);
-  const BackgroundMetricField field(m, MetricMean::LogEuclidean);
+  CHECK(m.simplices.size() == 3);
+  const BackgroundMetricField<2> field(m, MetricMean::LogEuclidean);
   // Within the quad, at the nodes, diag entries are exact; at a P2 triangle vertex too.
   CHECK(rel_diff(field.evaluate(Vector2d(1, 1)).matrix(), sym(2, 0, 5)) < 1e-14);
   CHECK(rel_diff(field.evaluate(Vector2d(2, 0.5)).matrix(), sym(3, 0, 4.5)) < 1e-14);
@@ -378,10 +333,10 @@ TEST_CASE("background: MSH with sparse tags, a quadrilateral, a P2 triangle and 
 TEST_CASE("background: outside the mesh, the metric of the nearest point of the nearest triangle") {
   // Exact at a point beside a straight boundary: the closest point is (x_max, y).
   const int n = 12;
-  BackgroundMesh mesh = perturbed_square(n, 1.0 / n, Vector2d::Zero(), 17, {{5, 5}, {6, 5}, {5, 6}});
+  BackgroundMesh<2> mesh = perturbed_square(n, 1.0 / n, Vector2d::Zero(), 17, {{5, 5}, {6, 5}, {5, 6}});
   LogLinear f;
   set_metrics(mesh, f);
-  const BackgroundMetricField field(mesh, MetricMean::LogEuclidean);
+  const BackgroundMetricField<2> field(mesh, MetricMean::LogEuclidean);
   CHECK(rel_diff(field.evaluate(Vector2d(1.5, 0.3)).matrix(), f.at(Vector2d(1, 0.3))) < 1e-12);
   CHECK(rel_diff(field.evaluate(Vector2d(-3, 0.7)).matrix(), f.at(Vector2d(0, 0.7))) < 1e-12);
   CHECK(rel_diff(field.evaluate(Vector2d(2, 2)).matrix(), f.at(Vector2d(1, 1))) < 1e-12);
@@ -395,7 +350,7 @@ TEST_CASE("background: outside the mesh, the metric of the nearest point of the 
     if (field.locate(x) >= 0) continue;
     double best = std::numeric_limits<double>::infinity();
     Vector2d cp;
-    for (const auto& t : mesh.triangles)
+    for (const auto& t : mesh.simplices)
       for (int i = 0; i < 3; ++i) {
         const Vector2d p = closest_on_segment(x, mesh.nodes[t[i]], mesh.nodes[t[(i + 1) % 3]]);
         if ((p - x).norm() < best) {
@@ -420,7 +375,7 @@ TEST_CASE("background: bad MSH files throw InputError naming file and line") {
       "$NodeData\n1\n\"metric\"\n1\n0\n3\n0\n4\n3\n"                         // 19-27
       "1 1 0 0 1\n2 2 0.5 0.5 1\n3 1 0 0 3\n$EndNodeData\n";                 // 28-31
   write_text(dir / "good.msh", good);
-  CHECK(read_background_msh(dir / "good.msh").triangles.size() == 1);
+  CHECK(read_background_msh<2>(dir / "good.msh").simplices.size() == 1);
   struct Case {
     const char* what;
     std::string text;
@@ -443,7 +398,7 @@ TEST_CASE("background: bad MSH files throw InputError naming file and line") {
        replace(replace(good, "1 3 1 3\n2 1 0 3\n1\n2\n3\n0 0 0\n1 0 0\n0 1 0",
                        "1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n0 1 0\n0 0 1"),
                "2 1 2 1\n1 1 2 3", "3 1 4 1\n1 1 2 3 4"),
-       "plaf reads 2D background meshes", 16},
+       "a 2D run needs a 2D background mesh", 16},
       {"bad mesh part", replace(good, "1 1 2 3\n", "1 1 2 9\n"), "unknown node tag 9", 17},
       {"two views", good + good.substr(good.find("$NodeData")), "duplicate section $NodeData", 32},
   };
@@ -451,12 +406,9 @@ TEST_CASE("background: bad MSH files throw InputError naming file and line") {
     INFO(c.what);
     const fs::path p = dir / "bad.msh";
     write_text(p, c.text);
-    const std::string message = input_error([&] { read_background_msh(p); });
-    REQUIRE_MESSAGE(!message.empty(), "no InputError for: ", c.what);
-    CHECK_MESSAGE(message.find(c.fragment) != std::string::npos, message);
-    CHECK_MESSAGE(message.rfind(p.string() + ":" + std::to_string(c.line) + ": ", 0) == 0, message);
+    check_input_error([&] { read_background_msh<2>(p); }, p, c.line, c.fragment);
   }
-  CHECK_THROWS_AS(read_background_msh(dir / "does_not_exist.msh"), InputError);
+  CHECK_THROWS_AS(read_background_msh<2>(dir / "does_not_exist.msh"), InputError);
 }
 
 TEST_CASE("background: bad .mesh/.sol files throw InputError naming file and line") {
@@ -475,7 +427,7 @@ TEST_CASE("background: bad .mesh/.sol files throw InputError naming file and lin
       "End\n";                                                  // 10
   write_text(dir / "good.mesh", mesh);
   write_text(dir / "good.sol", sol);
-  CHECK(read_background_meshb(dir / "good.mesh", dir / "good.sol").triangles.size() == 2);
+  CHECK(read_background_meshb<2>(dir / "good.mesh", dir / "good.sol").simplices.size() == 2);
   struct Case {
     const char* what;
     std::string mesh, sol;
@@ -492,7 +444,7 @@ TEST_CASE("background: bad .mesh/.sol files throw InputError naming file and lin
       {"value count", mesh, replace(sol, "SolAtVertices\n4", "SolAtVertices\n3"), true, "has 4 vertices", 4},
       {"3D solution", mesh, replace(sol, "Dimension 2", "Dimension 3"), true, "Dimension 3", 2},
       {"no SolAtVertices", mesh, "MeshVersionFormatted 2\nDimension 2\nEnd\n", true, "no SolAtVertices", 3},
-      {"3D mesh", replace(mesh, "Dimension 2", "Dimension 3"), sol, false, "plaf reads 2D background meshes", 3},
+      {"3D mesh", replace(mesh, "Dimension 2", "Dimension 3"), sol, false, "a 2D run needs a 2D background mesh", 3},
       {"vertex index", replace(mesh, "1 3 4 0", "1 3 5 0"), sol, false, "vertex index 5 is outside 1..4", 16},
       {"truncated .mesh", mesh.substr(0, mesh.find("1 1 1")), sol, false, "truncated file?", 5},
       {"truncated .mesh data", mesh.substr(0, mesh.find("0 1 1\nEdges")), sol, false, "unexpected end of file", 9},
@@ -505,54 +457,17 @@ TEST_CASE("background: bad .mesh/.sol files throw InputError naming file and lin
     const fs::path pm = dir / "bad.mesh", ps = dir / "bad.sol";
     write_text(pm, c.mesh);
     write_text(ps, c.sol);
-    const std::string message = input_error([&] { read_background_meshb(pm, ps); });
-    REQUIRE_MESSAGE(!message.empty(), "no InputError for: ", c.what);
-    CHECK_MESSAGE(message.find(c.fragment) != std::string::npos, message);
-    const fs::path& named = c.in_sol ? ps : pm;
-    CHECK_MESSAGE(message.rfind(named.string() + ":" + std::to_string(c.line) + ": ", 0) == 0, message);
+    check_input_error([&] { read_background_meshb<2>(pm, ps); }, c.in_sol ? ps : pm, c.line, c.fragment);
   }
 }
 
 TEST_CASE("background: every truncation and random corruption of the files parses or throws InputError") {
   TempDir dir("background_fuzz");
-  BackgroundMesh mesh = perturbed_square(2, 0.5, Vector2d::Zero(), 2);
+  BackgroundMesh<2> mesh = perturbed_square(2, 0.5, Vector2d::Zero(), 2);
   set_metrics(mesh, LogLinear());
   write_msh_background(mesh, dir / "good.msh", 9);
   write_meshb_background(mesh, dir / "good.mesh", dir / "good.sol");
-  auto outcome = [&](const std::function<void()>& read) {
-    try {
-      read();
-      return 0;
-    } catch (const InputError&) {
-      return 1;
-    }  // any other exception fails the test case
-  };
-  const fs::path msh = dir / "bad.msh", mesh_bad = dir / "bad.mesh", sol_bad = dir / "bad.sol";
-  const std::string texts[] = {read_text(dir / "good.msh"), read_text(dir / "good.mesh"), read_text(dir / "good.sol")};
-  const fs::path targets[] = {msh, mesh_bad, sol_bad};
-  const std::function<void()> readers[] = {
-      [&] { read_background_msh(msh); },
-      [&] { read_background_meshb(mesh_bad, dir / "good.sol"); },
-      [&] { read_background_meshb(dir / "good.mesh", sol_bad); },
-  };
-  std::mt19937 rng(13);
-  std::uniform_int_distribution<int> byte(0, 255);
-  for (int f = 0; f < 3; ++f) {
-    const std::string& good = texts[f];
-    // Every prefix that stops before the final $EndNodeData or End is incomplete.
-    const std::size_t complete = f == 0 ? good.size() - 1 : good.rfind("End") + 3;
-    int rejected = 0, prefixes = 0;
-    for (std::size_t n = 0; n < complete; ++n, ++prefixes) {
-      write_text(targets[f], good.substr(0, n));
-      rejected += outcome(readers[f]);
-    }
-    CHECK(rejected == prefixes);
-    std::uniform_int_distribution<std::size_t> pos(0, good.size() - 1);
-    for (int trial = 0; trial < 200; ++trial) {
-      std::string text = good;
-      for (int k = 0; k < 1 + trial % 4; ++k) text[pos(rng)] = static_cast<char>(byte(rng));
-      write_text(targets[f], text);
-      outcome(readers[f]);
-    }
-  }
+  test::check_background_files_fuzz(
+      dir, [](const fs::path& p) { read_background_msh<2>(p); },
+      [](const fs::path& m, const fs::path& s) { read_background_meshb<2>(m, s); });
 }

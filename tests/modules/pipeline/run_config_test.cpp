@@ -365,8 +365,10 @@ TEST_CASE("run config: 3D keys are checked like the 2D ones") {
   CHECK(err("geometry: {type: surface_file}\n") == doctest::Contains("file is required"));
   CHECK(err("geometry: {type: surface_file, file: a.stl, symmetry_planes: [{normal: [0, 0, 0]}]}\n") ==
         doctest::Contains("must not be zero"));
-  CHECK(err("geometry: {type: sphere}\nmetric: {type: background, file: a.msh}\n") ==
-        doctest::Contains("2D only; 3D runs take: uniform, wall_power_law"));
+  CHECK(err("geometry: {type: sphere}\nmetric: {type: background, file: a.msh}\n") == "no error");
+  CHECK(err("geometry: {type: sphere}\nmetric: {type: background}\n") == doctest::Contains("file is required"));
+  CHECK(err("geometry: {type: sphere}\nmetric: {type: background, file: a.msh, h: 1}\n") ==
+        doctest::Contains("metric.h"));
   CHECK(err("geometry: {type: sphere}\nmetric: {type: wall_power_law, h0: 1e-5, h_wall_max: 0.1}\n") == "no error");
   CHECK(err("geometry: {type: sphere}\nmetric: {type: wall_power_law, curvature_factor: 0.3}\n") ==
         doctest::Contains("metric.curvature_factor: not a 3D wall_power_law key"));
