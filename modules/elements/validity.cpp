@@ -6,10 +6,14 @@
 // coefficients by the inverse of the Bernstein matrix at those points. The coefficients bound
 // det J from below and above (convex hull property), and the samples are values of det J, so
 //   min coefficient <= min det J <= min sample,   max sample <= max det J <= max coefficient.
-// A sub-cell is an affine image of the reference cell; sampling the ORIGINAL det J at the images
-// of the same equispaced points and applying the same matrix gives the Bernstein coefficients of
-// det J restricted to the sub-cell, which converge to det J under subdivision (Johnen et al.'s
-// adaptive subdivision). Refinement is best-first: only the sub-cell holding the lowest (highest)
+// A sub-cell is an affine image of the reference cell. The cell itself is sampled; a sub-cell's
+// coefficients come from its parent's by the fixed subdivision matrix of its child map (Johnen et
+// al.'s adaptive subdivision): the parent's Bernstein polynomial evaluated at the child's points
+// (E_k, whose rows give the child's samples, i.e. values of det J) and mapped back by the inverse
+// Bernstein matrix (M_k = A^-1 E_k, a de Casteljau step: stochastic, so rounding does not grow
+// with the depth). Child maps are block diagonal (simplex part x segment part), so both factors
+// of the tensor space subdivide separately: C_child = Ma_k C Mb_k^T. No basis function is
+// evaluated below the root, which makes a subdivision a few small matrix products. Refinement is best-first: only the sub-cell holding the lowest (highest)
 // coefficient can raise (lower) the global bound, so it is the only one split.
 #include "modules/elements/validity.h"
 
@@ -96,14 +100,43 @@ long double power(long double x, int n) {
 // with barycentric l_0 = 1 - sum x, l_i = x_i. Dimension 0 is the constant 1.
 struct Factor {
   std::vector<std::array<double, 3>> points;  // equispaced points, one per basis function
+  std::vector<std::array<long double, 3>> x;  // the same points in long double
   Eigen::MatrixXd inverse;                    // coefficients = inverse * samples at points
+  Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic> inverse_l;
 };
 
-Factor make_factor(int dim, int n) {
+// Multi-indices of the Bernstein basis of degree n on the dim-simplex, in the Factor's order.
+std::vector<std::array<int, 3>> bernstein_indices(int dim, int n) {
   std::vector<std::array<int, 3>> alpha;
   for (int k = 0; k <= (dim > 2 ? n : 0); ++k)
     for (int j = 0; j <= (dim > 1 ? n - k : 0); ++j)
       for (int i = 0; i <= (dim > 0 ? n - j - k : 0); ++i) alpha.push_back({i, j, k});
+  return alpha;
+}
+
+// b(p, c) = Bernstein polynomial c of degree n on the dim-simplex at point x[p], in long double.
+using MatrixL = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
+MatrixL bernstein_matrix(int dim, int n, const std::vector<std::array<long double, 3>>& x) {
+  const std::vector<std::array<int, 3>> alpha = bernstein_indices(dim, n);
+  MatrixL b(static_cast<Eigen::Index>(x.size()), static_cast<Eigen::Index>(alpha.size()));
+  for (std::size_t p = 0; p < x.size(); ++p)
+    for (std::size_t c = 0; c < alpha.size(); ++c) {
+      long double l0 = 1;
+      int a0 = n;
+      long double v = 1;
+      for (int d = 0; d < dim; ++d) {
+        l0 -= x[p][static_cast<std::size_t>(d)];
+        a0 -= alpha[c][static_cast<std::size_t>(d)];
+        v *= power(x[p][static_cast<std::size_t>(d)], alpha[c][static_cast<std::size_t>(d)]) /
+             factorial(alpha[c][static_cast<std::size_t>(d)]);
+      }
+      b(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(c)) = v * power(l0, a0) * factorial(n) / factorial(a0);
+    }
+  return b;
+}
+
+Factor make_factor(int dim, int n) {
+  const std::vector<std::array<int, 3>> alpha = bernstein_indices(dim, n);
   const int size = static_cast<int>(alpha.size());
 
   Factor f;
@@ -113,26 +146,14 @@ Factor make_factor(int dim, int n) {
     for (int d = 0; d < dim; ++d) x[p][d] = n > 0 ? static_cast<long double>(alpha[p][d]) / n : 1.0L / (dim + 1);
   for (const auto& xp : x)
     f.points.push_back({static_cast<double>(xp[0]), static_cast<double>(xp[1]), static_cast<double>(xp[2])});
+  f.x = x;
 
   // Build and invert in long double (at most 220 x 220, the Q = 4 tetrahedron), so the inverse
   // is accurate to a few ulps. Its infinity norm still amplifies rounding in the samples: it
   // reaches ~5e3 per factor at Q = 4, so coefficients of a Q = 4 prism carry noise of ~1e-8
   // times max |det J|; a positive min_lower below that is a rounding-level certificate.
-  using MatrixL = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
-  MatrixL b(size, size);
-  for (int p = 0; p < size; ++p)
-    for (int c = 0; c < size; ++c) {
-      long double l0 = 1;
-      int a0 = n;
-      long double v = 1;
-      for (int d = 0; d < dim; ++d) {
-        l0 -= x[p][d];
-        a0 -= alpha[c][d];
-        v *= power(x[p][d], alpha[c][d]) / factorial(alpha[c][d]);
-      }
-      b(p, c) = v * power(l0, a0) * factorial(n) / factorial(a0);
-    }
-  f.inverse = b.partialPivLu().inverse().cast<double>();
+  f.inverse_l = bernstein_matrix(dim, n, x).partialPivLu().inverse();
+  f.inverse = f.inverse_l.cast<double>();
   return f;
 }
 
@@ -208,8 +229,6 @@ const std::vector<Affine>& children(CellType type) {
 }
 
 struct SubCell {
-  Eigen::Vector3d origin;
-  Eigen::Matrix3d map;
   int depth;
   double coef_min, coef_max;  // extreme Bernstein coefficients of det J on this sub-cell
 };
@@ -225,7 +244,26 @@ struct Space {
   std::vector<Eigen::Vector3d> points;   // reference sample points, index ia * nb + ib
   std::vector<double> root_gradients;    // basis gradients at every point of the whole cell
   Eigen::MatrixXd samples, half, coefs;  // na x nb scratch
+  // Per child map k: its samples from the parent's coefficients (Ea, Eb) and its coefficients
+  // (Ma = A^-1 Ea, Mb = B^-1 Eb), per factor.
+  std::vector<Eigen::MatrixXd> ea, eb, ma, mb;
 };
+
+// The subdivision matrices of one factor (dim, degree n) for the child map y = origin + map x
+// restricted to the factor's coordinates [first, first + dim).
+void factor_child(const Factor& f, int dim, int n, int first, const Affine& kid, Eigen::MatrixXd& e,
+                  Eigen::MatrixXd& m) {
+  std::vector<std::array<long double, 3>> y(f.x.size(), {0, 0, 0});
+  for (std::size_t p = 0; p < f.x.size(); ++p)
+    for (int r = 0; r < dim; ++r) {
+      long double v = kid.origin[first + r];
+      for (int c = 0; c < dim; ++c) v += static_cast<long double>(kid.map(first + r, first + c)) * f.x[p][static_cast<std::size_t>(c)];
+      y[p][static_cast<std::size_t>(r)] = v;
+    }
+  const MatrixL el = bernstein_matrix(dim, n, y);
+  e = el.cast<double>();
+  m = (f.inverse_l * el).cast<double>();
+}
 
 }  // namespace
 
@@ -248,7 +286,8 @@ struct JacobianCertifier::Impl {
   ValidityOptions options;
   std::array<std::array<Space, max_order + 1>, 5> spaces;
   std::vector<SubCell> leaves;
-  std::array<double, max_grad_size> dphi{};
+  std::vector<Eigen::MatrixXd> leaf_coefs;  // per leaf: its Bernstein coefficients (na x nb)
+  Eigen::MatrixXd parent_coefs;
 
   Space& space(CellType type, int order) {
     Space& s = spaces[static_cast<int>(type)][order];
@@ -272,40 +311,58 @@ struct JacobianCertifier::Impl {
     s.samples.resize(na, nb);
     s.half.resize(na, nb);
     s.coefs.resize(na, nb);
+    for (const Affine& kid : children(type)) {
+      // Child maps are block diagonal: the simplex coordinates [0, dim_a), the segment dim_a.
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+          if ((r < g.dim_a) != (c < g.dim_a) && kid.map(r, c) != 0)
+            throw MesherError("validity: a child map mixes the factors of the Bernstein space");
+      s.ea.emplace_back();
+      s.ma.emplace_back();
+      s.eb.emplace_back();
+      s.mb.emplace_back();
+      factor_child(s.a, g.dim_a, g.deg_a, 0, kid, s.ea.back(), s.ma.back());
+      factor_child(s.b, g.dim_b, g.deg_b, g.dim_a, kid, s.eb.back(), s.mb.back());
+    }
     s.ready = true;
     return s;
   }
 
-  // Samples det J on sub-cell c, stores its coefficient range in c and returns the sample range.
-  Range evaluate(const LagrangeElement& e, const double* coords, Space& s, SubCell& c) {
+  // Samples det J on the whole cell, stores its coefficients in `coefs` and their range in c,
+  // and returns the sample range.
+  Range evaluate_root(const LagrangeElement& e, const double* coords, Space& s, SubCell& c, Eigen::MatrixXd& coefs) {
     Range r{inf, -inf};
     const Eigen::Index nb = s.samples.cols();
-    const bool root = c.depth == 0;
     const std::size_t per_point = static_cast<std::size_t>(e.size() * e.dim());
     for (Eigen::Index ia = 0; ia < s.samples.rows(); ++ia)
       for (Eigen::Index ib = 0; ib < nb; ++ib) {
         const auto k = static_cast<std::size_t>(ia * nb + ib);
-        double v;
-        if (root && e.dim() == 2) {
-          v = mapping_jacobian_from_gradients<2>(e.size(), coords, s.root_gradients.data() + k * per_point)
-                  .determinant();
-        } else if (root && e.dim() == 3) {
-          v = mapping_jacobian_from_gradients<3>(e.size(), coords, s.root_gradients.data() + k * per_point)
-                  .determinant();
-        } else {
-          const Eigen::Vector3d xi = c.origin + c.map * s.points[k];
-          v = det_at(e, coords, xi.data(), dphi.data());
-        }
+        const double v =
+            e.dim() == 2
+                ? mapping_jacobian_from_gradients<2>(e.size(), coords, s.root_gradients.data() + k * per_point).determinant()
+                : mapping_jacobian_from_gradients<3>(e.size(), coords, s.root_gradients.data() + k * per_point).determinant();
         s.samples(ia, ib) = v;
         r.lo = std::min(r.lo, v);
         r.hi = std::max(r.hi, v);
       }
     // C = A^-1 S B^-T, the tensor form of the inverse Bernstein matrix.
     s.half.noalias() = s.a.inverse * s.samples;
-    s.coefs.noalias() = s.half * s.b.inverse.transpose();
-    c.coef_min = s.coefs.minCoeff();
-    c.coef_max = s.coefs.maxCoeff();
+    coefs.noalias() = s.half * s.b.inverse.transpose();
+    c.coef_min = coefs.minCoeff();
+    c.coef_max = coefs.maxCoeff();
     return r;
+  }
+
+  // Child k of a sub-cell with coefficients `parent`: its coefficients and range, and the range
+  // of its samples (values of det J at its points).
+  Range subdivide(Space& s, const Eigen::MatrixXd& parent, std::size_t k, SubCell& c, Eigen::MatrixXd& coefs) {
+    s.half.noalias() = s.ea[k] * parent;
+    s.samples.noalias() = s.half * s.eb[k].transpose();
+    s.half.noalias() = s.ma[k] * parent;
+    coefs.noalias() = s.half * s.mb[k].transpose();
+    c.coef_min = coefs.minCoeff();
+    c.coef_max = coefs.maxCoeff();
+    return {s.samples.minCoeff(), s.samples.maxCoeff()};
   }
 };
 
@@ -344,12 +401,13 @@ JacobianBounds JacobianCertifier::certify(CellType type, int order, const double
 
   Impl& m = *impl_;
   Space& s = m.space(type, order);
-  const std::vector<Affine>& kids = children(type);
-  const int num_kids = static_cast<int>(kids.size());
+  const int num_kids = static_cast<int>(children(type).size());
   std::vector<SubCell>& leaves = m.leaves;
+  std::vector<Eigen::MatrixXd>& coefs = m.leaf_coefs;
   leaves.clear();
-  leaves.push_back({Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), 0, 0, 0});
-  Range seen = m.evaluate(e, coords, s, leaves[0]);
+  leaves.push_back({0, 0, 0});
+  if (coefs.empty()) coefs.emplace_back();
+  Range seen = m.evaluate_root(e, coords, s, leaves[0], coefs[0]);
 
   JacobianBounds r;
   bool min_frozen = false, max_frozen = false;  // the bound's sub-cell is at the depth limit
@@ -380,18 +438,18 @@ JacobianBounds JacobianCertifier::certify(CellType type, int order, const double
       (min_open ? min_frozen : max_frozen) = true;
       continue;
     }
-    const SubCell parent = leaves[pick];
+    const int depth = leaves[pick].depth + 1;
+    m.parent_coefs = coefs[pick];
     for (int k = 0; k < num_kids; ++k) {
-      const Affine& a = kids[static_cast<std::size_t>(k)];
-      const SubCell child{parent.origin + parent.map * a.origin, parent.map * a.map, parent.depth + 1, 0, 0};
       std::size_t slot = pick;
       if (k == 0) {
-        leaves[pick] = child;
+        leaves[pick] = {depth, 0, 0};
       } else {
         slot = leaves.size();
-        leaves.push_back(child);
+        leaves.push_back({depth, 0, 0});
+        if (coefs.size() < leaves.size()) coefs.emplace_back();
       }
-      const Range got = m.evaluate(e, coords, s, leaves[slot]);
+      const Range got = m.subdivide(s, m.parent_coefs, static_cast<std::size_t>(k), leaves[slot], coefs[slot]);
       seen.lo = std::min(seen.lo, got.lo);
       seen.hi = std::max(seen.hi, got.hi);
     }
