@@ -661,3 +661,29 @@ TEST_CASE("validity: surface triangles are certified in their flat triangle's pl
   line[2] = Eigen::Vector3d(0, std::numeric_limits<double>::quiet_NaN(), 0);
   CHECK_THROWS_AS(certify_surface_triangle(certifier, 1, line.data()), InputError);
 }
+
+TEST_CASE("validity: surface quadrilaterals are certified in the plane of their vector area") {
+  JacobianCertifier certifier;
+  // The unit square in z = 0, counter-clockwise seen from +z: the frame keeps it as it is.
+  const std::vector<Eigen::Vector3d> square = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  std::vector<double> plane(8);
+  REQUIRE(surface_quad_plane_coords(1, square.data(), plane.data()));
+  CHECK(plane == std::vector<double>{0, 0, 1, 0, 1, 1, 0, 1});
+  JacobianBounds b = certify_surface_quad(certifier, 1, square.data());
+  CHECK(b.valid);
+  CHECK(b.scaled_lower() == doctest::Approx(1).epsilon(1e-12));
+  // Listed clockwise it is the same square seen from -z: still valid in its own frame.
+  const std::vector<Eigen::Vector3d> clockwise = {square[0], square[3], square[2], square[1]};
+  CHECK(certify_surface_quad(certifier, 1, clockwise.data()).valid);
+  // A bow tie (vertices 2 and 3 swapped) has a vanishing vector area: degenerate, invalid.
+  const std::vector<Eigen::Vector3d> bow_tie = {square[0], square[1], square[3], square[2]};
+  b = certify_surface_quad(certifier, 1, bow_tie.data());
+  CHECK_FALSE(b.valid);
+  CHECK(b.proven);
+  // A warped quadrilateral (vertex 2 lifted) is valid in its best-fitting plane.
+  const std::vector<Eigen::Vector3d> warped = {square[0], square[1], {1, 1, 0.3}, square[3]};
+  CHECK(certify_surface_quad(certifier, 1, warped.data()).valid);
+  std::vector<Eigen::Vector3d> bad = square;
+  bad[1].y() = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_AS(certify_surface_quad(certifier, 1, bad.data()), InputError);
+}
