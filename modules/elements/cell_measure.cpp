@@ -5,12 +5,12 @@
 #include <Eigen/LU>
 #include <array>
 #include <cmath>
-#include <numbers>
 #include <string>
 #include <vector>
 
 #include "modules/base/error.h"
 #include "modules/elements/mapping.h"
+#include "modules/metric/metric.h"
 
 namespace plaf {
 inline namespace elements {
@@ -23,35 +23,15 @@ struct GaussRule {
   std::array<double, max_points> x{}, w{};  // on [0, 1]
 };
 
-// The n-point Gauss-Legendre rule on [0, 1] (exact for degree 2n - 1): the roots of P_n by
-// Newton's method from Chebyshev-like guesses, weights 2 / ((1 - t^2) P_n'(t)^2) on [-1, 1].
-GaussRule gauss_legendre(int n) {
-  GaussRule r;
-  for (int i = 0; i < n; ++i) {
-    double t = std::cos(std::numbers::pi * (i + 0.75) / (n + 0.5));
-    double dp = 1;
-    for (int iteration = 0; iteration < 100; ++iteration) {
-      double p0 = 1, p1 = t;  // P_0, P_1, then the recurrence up to P_n
-      for (int k = 2; k <= n; ++k) {
-        const double p2 = ((2 * k - 1) * t * p1 - (k - 1) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = n * (t * p1 - p0) / (t * t - 1);  // P_n' from P_n and P_{n-1}
-      const double step = p1 / dp;
-      t -= step;
-      if (std::abs(step) < 1e-16) break;
-    }
-    r.x[static_cast<std::size_t>(i)] = (1 + t) / 2;
-    r.w[static_cast<std::size_t>(i)] = 1 / ((1 - t * t) * dp * dp);  // 2 / (...) halved for [0, 1]
-  }
-  return r;
-}
-
+// The n-point Gauss-Legendre rules on [0, 1] (exact for degree 2n - 1), built once; the rule
+// itself is the metric module's (gauss_legendre_01, metric.h), the one every quadrature of plaf uses.
 const GaussRule& rule(int n) {
   static const auto rules = [] {
     std::array<GaussRule, max_points + 1> all;
-    for (int k = 1; k <= max_points; ++k) all[static_cast<std::size_t>(k)] = gauss_legendre(k);
+    for (int k = 1; k <= max_points; ++k) {
+      GaussRule& r = all[static_cast<std::size_t>(k)];
+      gauss_legendre_01(k, r.x.data(), r.w.data());
+    }
     return all;
   }();
   return rules[static_cast<std::size_t>(n)];
