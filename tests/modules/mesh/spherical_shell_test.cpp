@@ -19,6 +19,7 @@
 #include "modules/io/msh_io.h"
 #include "modules/io/vtu_writer.h"
 #include "modules/mesh/quality.h"
+#include "modules/metric/metric.h"
 #include "tests/test_support.h"
 
 using namespace plaf;
@@ -94,7 +95,7 @@ TEST_CASE("shell: prism volumes sum to 4/3 pi ((1+t)^3 - 1) within the order-Q d
   }
 }
 
-TEST_CASE("shell: conforming, with facet counts from its wall, every prism certified valid") {
+TEST_CASE("shell: conforming, with facet counts from its wall, every prism certified valid, metric edge lengths") {
   for (const ShellOptions& o : shells()) {
     INFO(describe(o));
     const SphericalShell s = plaf::test::spherical_shell(o);
@@ -121,6 +122,17 @@ TEST_CASE("shell: conforming, with facet counts from its wall, every prism certi
     const double height = o.thickness / o.layers;
     CHECK(r.aspect_ratio_max >= 0.5 * s.wall_edge_max / height);
     CHECK(r.aspect_ratio_max <= 2.0 * s.wall_edge_max / height);
+    // Metric edge lengths in the unit metric (the curved edges' lengths), every distinct edge
+    // once: the radial edges, V wall vertices (Euler: V - E + F = 2, or 1 for the half shell's
+    // disk) times L, are straight and t / L long, the shortest; the wall edges at each of the
+    // L + 1 levels are arcs, the longest at radius 1 + t a little over its chord.
+    const UniformMetricField<3> unit(Metric<3>::isotropic(1.0));
+    const QualityReport rm = assess_quality<3>(s.mesh, &unit, QualityOptions{});
+    const std::size_t v = (o.half ? 1 : 2) + s.wall_edges - f;
+    CHECK(rm.metric.count == v * layers + s.wall_edges * (layers + 1));
+    CHECK(rm.metric.min == doctest::Approx(height).epsilon(1e-9));
+    CHECK(rm.metric.max >= (1 + o.thickness) * s.wall_edge_max * (1 - 1e-12));
+    CHECK(rm.metric.max <= (1 + o.thickness) * s.wall_edge_max * 1.05);
     if (o.order == 2 && o.thickness == 1e-5 && !o.half)
       MESSAGE(describe(o), ": min scaled Jacobian ", r.scaled_jacobian_min, ", max aspect ratio ", r.aspect_ratio_max,
               ", wall deviation ", s.radius_deviation);
