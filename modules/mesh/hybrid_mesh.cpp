@@ -111,7 +111,9 @@ using Weights = std::array<int, 4>;
 
 // facet_weights of every node of the facet with nv vertices (1: the end point of a line, 2: a
 // line, 3: a triangle, 4: a quadrilateral) and order q, in the facet type's Gmsh node order.
+// Throws ConfigError for an order outside 1..max_order (a malformed boundary block).
 const std::vector<Weights>& facet_weight_table(int nv, int q) {
+  check_order(q);
   static const auto table = [] {
     std::array<std::array<std::vector<Weights>, max_order + 1>, 5> t;
     for (int order = 1; order <= max_order; ++order) {
