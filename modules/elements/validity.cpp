@@ -496,6 +496,46 @@ JacobianBounds certify_surface_triangle(JacobianCertifier& certifier, int order,
   return certifier.certify(CellType::Triangle, order, coords.data());
 }
 
+bool surface_quad_plane_coords(int order, const Eigen::Vector3d* nodes, double* coords2d) {
+  const int n = num_nodes(CellType::Quadrilateral, order);
+  const Eigen::Vector3d a = nodes[0];
+  const Eigen::Vector3d d0 = nodes[2] - a, d1 = nodes[3] - nodes[1];
+  const Eigen::Vector3d normal = d0.cross(d1);  // twice the vector area of the vertex quadrilateral
+  constexpr double degenerate_sine = 1e-14;
+  const double area2 = normal.norm();
+  if (!std::isfinite(area2) || !(area2 > degenerate_sine * d0.norm() * d1.norm())) return false;
+  const Eigen::Vector3d unit_normal = normal / area2;
+  // Edge 0-1 in the plane; for a quadrilateral folded so far that edge 0-1 is along the normal,
+  // the diagonal 0-2 (never along it: the normal is orthogonal to it).
+  Eigen::Vector3d x_axis = nodes[1] - a;
+  x_axis -= x_axis.dot(unit_normal) * unit_normal;
+  if (!(x_axis.norm() > degenerate_sine * d0.norm())) x_axis = d0;
+  x_axis.normalize();
+  const Eigen::Vector3d y_axis = unit_normal.cross(x_axis);
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Vector3d d = nodes[k] - a;
+    coords2d[2 * k] = d.dot(x_axis);
+    coords2d[2 * k + 1] = d.dot(y_axis);
+  }
+  return true;
+}
+
+JacobianBounds certify_surface_quad(JacobianCertifier& certifier, int order, const Eigen::Vector3d* nodes) {
+  check_order(order);
+  const int n = num_nodes(CellType::Quadrilateral, order);
+  for (int k = 0; k < n; ++k)
+    if (!nodes[k].allFinite())
+      throw InputError("validity: node " + std::to_string(k) + " of an order-" + std::to_string(order) +
+                       " surface quadrilateral has a non-finite coordinate");
+  std::array<double, 2 * (max_order + 1) * (max_order + 1)> coords{};
+  if (!surface_quad_plane_coords(order, nodes, coords.data())) {
+    JacobianBounds degenerate;
+    degenerate.proven = true;
+    return degenerate;
+  }
+  return certifier.certify(CellType::Quadrilateral, order, coords.data());
+}
+
 double jacobian_determinant(CellType type, int order, const double* coords, const double* xi) {
   const LagrangeElement& e = lagrange_element(type, order);
   std::array<double, max_grad_size> dphi{};

@@ -14,6 +14,10 @@
 // (origin at vertex 0, first axis along edge 0-1, second axis in the plane, so the flat triangle
 // is counter-clockwise) and certified as a 2D triangle. det J > 0 everywhere means the curved
 // triangle projects one-to-one onto its flat triangle's plane, without folds over its edges.
+// Surface quadrilaterals (the side faces of prisms on a symmetry plane) are certified the same
+// way in the plane normal to their vector area (x2 - x0) x (x3 - x1), which is the plane of a
+// planar quadrilateral and the best-fitting one of a warped one: origin at vertex 0, first axis
+// along edge 0-1 projected onto the plane, so the vertices run counter-clockwise.
 #pragma once
 
 #include <Eigen/Dense>
@@ -71,6 +75,15 @@ bool surface_triangle_plane_coords(int order, const Eigen::Vector3d* nodes, doub
 // plane-frame map; scaled_lower() is its certified min / max). A degenerate flat triangle is
 // invalid (proven, all bounds 0). Throws InputError for a non-finite node, like certify().
 JacobianBounds certify_surface_triangle(JacobianCertifier& certifier, int order, const Eigen::Vector3d* nodes);
+
+// The nodes of an order-`order` surface quadrilateral (num_nodes(Quadrilateral, order) points,
+// Gmsh order) in the plane frame of its vector area (see above), into coords2d. False when the
+// vector area vanishes (to round-off relative to the diagonals) or a vertex is not finite.
+bool surface_quad_plane_coords(int order, const Eigen::Vector3d* nodes, double* coords2d);
+
+// The certified bounds of one curved surface quadrilateral in that plane frame; a degenerate one
+// is invalid (proven, all bounds 0). Throws InputError for a non-finite node.
+JacobianBounds certify_surface_quad(JacobianCertifier& certifier, int order, const Eigen::Vector3d* nodes);
 
 // det J of the cell's mapping at reference point xi (for sampling and tests).
 double jacobian_determinant(CellType type, int order, const double* coords, const double* xi);

@@ -76,7 +76,7 @@ struct FacetUse {
   int count = 0;
   bool boundary = false;
   std::array<NodeId, 2> around{-1, -1};  // successor and predecessor of the smallest vertex, first use
-  std::vector<NodeId> nodes;             // sorted high-order nodes of the first use
+  std::vector<NodeId> nodes;             // the first use's nodes in canonical order (canonical_nodes)
 };
 
 // The successor and predecessor of the smallest vertex in the facet's cyclic vertex order: two
@@ -103,7 +103,58 @@ FacetKey make_key(const NodeId* cell, const std::vector<int>& local, int nv) {
   return k;
 }
 
-// Is the 2D edge with vertices key[0], key[1] and the (sorted) node set `nodes` straight sided:
+// The weights of a facet node on the facet's vertices, in the facet's own vertex order: the
+// integer barycentric coordinates (times Q) on a line or triangle, the bilinear ones (times Q^2)
+// on a quadrilateral. They name the node's place on the facet independently of where the listing
+// starts or which way it runs, and differ between any two nodes of one facet.
+using Weights = std::array<int, 4>;
+
+// facet_weights of every node of the facet with nv vertices (1: the end point of a line, 2: a
+// line, 3: a triangle, 4: a quadrilateral) and order q, in the facet type's Gmsh node order.
+// Throws ConfigError for an order outside 1..max_order (a malformed boundary block).
+const std::vector<Weights>& facet_weight_table(int nv, int q) {
+  check_order(q);
+  static const auto table = [] {
+    std::array<std::array<std::vector<Weights>, max_order + 1>, 5> t;
+    for (int order = 1; order <= max_order; ++order) {
+      t[1][order] = {{1, 0, 0, 0}};
+      for (const Lattice& l : gmsh_lattice(CellType::Line, order)) t[2][order].push_back({order - l[0], l[0], 0, 0});
+      for (const Lattice& l : gmsh_lattice(CellType::Triangle, order))
+        t[3][order].push_back({order - l[0] - l[1], l[0], l[1], 0});
+      for (const Lattice& l : gmsh_lattice(CellType::Quadrilateral, order))
+        t[4][order].push_back(
+            {(order - l[0]) * (order - l[1]), l[0] * (order - l[1]), l[0] * l[1], (order - l[0]) * l[1]});
+    }
+    return t;
+  }();
+  return table[static_cast<std::size_t>(nv)][static_cast<std::size_t>(q)];
+}
+
+// The facet's nodes (cell[local[k]], in the facet type's Gmsh order) in a canonical order: by
+// their weights on the facet's vertices taken in increasing vertex id (the facet key). Two
+// listings of one facet give the same sequence exactly when every node sits at the same place
+// on the facet, whichever vertex they start at and whichever way they run; a permutation of
+// the high-order nodes (an edge's interior nodes reversed, a face's interior rotated) is a
+// different curved facet even though its node set is the same.
+void canonical_nodes(const NodeId* cell, const std::vector<int>& local, int q, int nv, const FacetKey& key,
+                     std::vector<std::pair<Weights, NodeId>>& scratch, std::vector<NodeId>& out) {
+  const std::vector<Weights>& w = facet_weight_table(nv, q);
+  std::array<int, 4> slot{0, 1, 2, 3};  // slot[p]: the facet vertex with the p-th smallest id
+  for (int p = 0; p < nv; ++p)
+    for (int v = 0; v < nv; ++v)
+      if (cell[local[v]] == key[p]) slot[p] = v;
+  scratch.clear();
+  for (std::size_t k = 0; k < local.size(); ++k) {
+    Weights sorted{0, 0, 0, 0};
+    for (int p = 0; p < nv; ++p) sorted[p] = w[k][slot[p]];
+    scratch.emplace_back(sorted, cell[local[k]]);
+  }
+  std::sort(scratch.begin(), scratch.end());
+  out.clear();
+  for (const auto& [weights, node] : scratch) out.push_back(node);
+}
+
+// Is the 2D edge with vertices key[0], key[1] and the nodes `nodes` (any order) straight sided:
 // its interior nodes on the chord at the equispaced parameters k / q? Then a lower-order cell
 // may share it (a linear triangle on the straight top edge of a curved layer cell).
 template <int Dim>
@@ -154,8 +205,8 @@ std::string describe(const FacetKey& k) {
 
 enum class FacetNodes { Same, OrderTransition, Mismatch };
 
-// Two uses of one facet with the sorted high-order nodes a and b: the same nodes, a straight 2D
-// edge at two orders, or a mismatch.
+// Two uses of one facet with the canonical node sequences a and b: the same nodes at the same
+// places, a straight 2D edge at two orders, or a mismatch.
 template <int Dim>
 FacetNodes compare_facet_nodes(const HybridMesh<Dim>& mesh, const FacetKey& key, const std::vector<NodeId>& a,
                                const std::vector<NodeId>& b) {
@@ -170,24 +221,24 @@ template <int Dim>
 FacetMap cell_facets(const HybridMesh<Dim>& mesh, ConformityReport& r) {
   FacetMap facets;
   facets.reserve(mesh.num_cells() * 3);
-  std::vector<NodeId> sorted;
+  std::vector<NodeId> canonical;
+  std::vector<std::pair<Weights, NodeId>> scratch;
   for (const CellBlock& b : mesh.cells) {
     const LagrangeElement& e = lagrange_element(b.type, b.order);
     for (std::size_t i = 0; i < b.size(); ++i) {
       const NodeId* c = b.cell(i);
       for (int f = 0; f < e.num_facets(); ++f) {
         const auto& local = e.facet_nodes(f);
-        const FacetKey key = make_key(c, local, facet_vertices(b.type, f));
-        sorted.clear();
-        for (int l : local) sorted.push_back(c[l]);
-        std::sort(sorted.begin(), sorted.end());
+        const int nv = facet_vertices(b.type, f);
+        const FacetKey key = make_key(c, local, nv);
+        canonical_nodes(c, local, b.order, nv, key, scratch, canonical);
         FacetUse& use = facets[key];
-        const auto around = around_min(c, local, facet_vertices(b.type, f));
+        const auto around = around_min(c, local, nv);
         if (use.count == 0) {
-          use.nodes = sorted;
+          use.nodes = canonical;
           use.around = around;
         } else {
-          const FacetNodes nodes = compare_facet_nodes(mesh, key, use.nodes, sorted);
+          const FacetNodes nodes = compare_facet_nodes(mesh, key, use.nodes, canonical);
           if (nodes == FacetNodes::OrderTransition) {
             ++r.order_transitions;
           } else if (nodes == FacetNodes::Mismatch) {
@@ -210,11 +261,12 @@ FacetMap cell_facets(const HybridMesh<Dim>& mesh, ConformityReport& r) {
 // Every boundary facet must be a facet of a cell, with the same high-order nodes; marks them.
 template <int Dim>
 void match_boundary(const HybridMesh<Dim>& mesh, FacetMap& facets, ConformityReport& r) {
-  std::vector<NodeId> sorted;
+  std::vector<NodeId> canonical;
+  std::vector<std::pair<Weights, NodeId>> scratch;
   for (const CellBlock& b : mesh.boundary) {
     const int nv = num_vertices(b.type);
-    std::vector<int> local(nv);
-    for (int v = 0; v < nv; ++v) local[v] = v;
+    std::vector<int> local(static_cast<std::size_t>(b.nodes_per_cell()));
+    for (std::size_t v = 0; v < local.size(); ++v) local[v] = static_cast<int>(v);
     for (std::size_t i = 0; i < b.size(); ++i) {
       const FacetKey key = make_key(b.cell(i), local, nv);
       auto it = facets.find(key);
@@ -223,9 +275,8 @@ void match_boundary(const HybridMesh<Dim>& mesh, FacetMap& facets, ConformityRep
         note_problem(r, "boundary " + describe(key) + " is not a facet of any cell");
       } else {
         it->second.boundary = true;
-        sorted.assign(b.cell(i), b.cell(i) + b.nodes_per_cell());
-        std::sort(sorted.begin(), sorted.end());
-        const FacetNodes nodes = compare_facet_nodes(mesh, key, sorted, it->second.nodes);
+        canonical_nodes(b.cell(i), local, b.order, nv, key, scratch, canonical);
+        const FacetNodes nodes = compare_facet_nodes(mesh, key, canonical, it->second.nodes);
         if (nodes == FacetNodes::OrderTransition) {
           ++r.order_transitions;
         } else if (nodes == FacetNodes::Mismatch) {

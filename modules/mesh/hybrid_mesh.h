@@ -83,12 +83,19 @@ struct ConformityReport {
 
 // Every interior facet shared by exactly two cells with identical high-order facet nodes, and
 // every facet used once listed in a boundary block; the two cells of a facet on opposite sides
-// of it. In 2D an edge may be shared by cells (or a boundary line) of different orders when it is
-// straight sided at the higher order (counted in order_transitions). A mesh of boundary facets
-// alone (a surface mesh) is checked as a mesh of those facets: closed, consistently oriented
-// loops (2D) or surfaces (3D); in 3D an open surface edge is a boundary facet when a curves block
-// lists it (with the same high-order nodes), e.g. the rim of a half-body on its symmetry plane.
-// Curves are not checked in a mesh with cells. Hash-based: O(number of facets).
+// of it. In 3D the facets are triangles and quadrilaterals: a prism has two triangles and three
+// quadrilaterals, and shares a triangle with a prism or a tetrahedron, a quadrilateral with a
+// prism. Identical means the same node at the same place of the facet (its weights on the
+// facet's vertices): a listing may start at any vertex and run either way (a boundary
+// quadrilateral need not start where its prism's face does), but the same nodes in other places
+// (an edge's interior nodes reversed, a face's interior nodes rotated) are a node mismatch, as
+// they make another curved facet. In 2D an edge may be shared by cells (or a boundary line) of
+// different orders when it is straight sided at the higher order (counted in order_transitions).
+// A mesh of boundary facets alone (a surface mesh) is checked as a mesh of those facets: closed,
+// consistently oriented loops (2D) or surfaces (3D); in 3D an open surface edge is a boundary
+// facet when a curves block lists it (with the same high-order nodes), e.g. the rim of a
+// half-body on its symmetry plane. Curves are not checked in a mesh with cells. Hash-based:
+// O(number of facets).
 template <int Dim>
 ConformityReport check_conformity(const HybridMesh<Dim>& mesh);
 

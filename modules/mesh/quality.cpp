@@ -165,10 +165,9 @@ void record_cell(const JacobianBounds& jb, double sj, double ar, QualityReport& 
   }
 }
 
-// The triangles of a 3D surface mesh (boundary blocks, no cells) as its cells: certified relative
-// to their flat triangles, aspect ratio in the flat triangle's plane frame. Quadrilateral facets
-// have no flat reference (four points need not be coplanar): they are not certified or counted
-// (per_cell gets valid = 1 and NaN values for them, keeping the block order of the writers).
+// The facets of a 3D surface mesh (boundary blocks, no cells) as its cells: triangles certified
+// relative to their flat triangles, quadrilaterals in the plane of their vector area
+// (validity.h); the aspect ratio in that plane frame.
 template <int Dim>
 void assess_surface(const HybridMesh<Dim>& mesh, JacobianCertifier& certifier, QualityReport& r,
                     CellQuality* per_cell) {
@@ -177,34 +176,26 @@ void assess_surface(const HybridMesh<Dim>& mesh, JacobianCertifier& certifier, Q
     std::vector<double> plane, grad;
     for (const CellBlock& b : mesh.boundary) {
       const bool triangle = b.type == CellType::Triangle;
-      if (triangle) {
-        r.cells_by_type[type_key(b)] += b.size();
-        r.cells_total += b.size();
-      }
+      r.cells_by_type[type_key(b)] += b.size();
+      r.cells_total += b.size();
       const LagrangeElement& e = lagrange_element(b.type, b.order);
       nodes.resize(static_cast<std::size_t>(e.size()));
       plane.resize(static_cast<std::size_t>(e.size()) * 2);
       grad.resize(static_cast<std::size_t>(e.size()) * 2);
       for (std::size_t i = 0; i < b.size(); ++i) {
-        if (!triangle) {
-          if (per_cell) {
-            per_cell->valid.push_back(1);
-            per_cell->scaled_jacobian.push_back(std::numeric_limits<double>::quiet_NaN());
-            per_cell->aspect_ratio.push_back(std::numeric_limits<double>::quiet_NaN());
-          }
-          continue;
-        }
         const NodeId* c = b.cell(i);
         for (int k = 0; k < e.size(); ++k) nodes[static_cast<std::size_t>(k)] = mesh.nodes[c[k]];
-        const JacobianBounds jb = certify_surface_triangle(certifier, b.order, nodes.data());
+        const JacobianBounds jb = triangle ? certify_surface_triangle(certifier, b.order, nodes.data())
+                                           : certify_surface_quad(certifier, b.order, nodes.data());
         const double sj = jb.scaled_lower();
-        const double ar = surface_triangle_plane_coords(b.order, nodes.data(), plane.data())
-                              ? aspect_ratio<2>(e, plane.data(), grad.data())
-                              : std::numeric_limits<double>::infinity();
+        const bool framed = triangle ? surface_triangle_plane_coords(b.order, nodes.data(), plane.data())
+                                     : surface_quad_plane_coords(b.order, nodes.data(), plane.data());
+        const double ar =
+            framed ? aspect_ratio<2>(e, plane.data(), grad.data()) : std::numeric_limits<double>::infinity();
         record_cell(jb, sj, ar, r, per_cell, [&] {
           std::ostringstream w;
-          w << "surface triangle " << i << " of boundary block " << (&b - mesh.boundary.data()) << " at ("
-            << nodes[0][0] << ", " << nodes[0][1] << ", " << nodes[0][2] << ")";
+          w << "surface " << cell_name(b.type) << ' ' << i << " of boundary block " << (&b - mesh.boundary.data())
+            << " at (" << nodes[0][0] << ", " << nodes[0][1] << ", " << nodes[0][2] << ")";
           return w.str();
         });
       }
@@ -249,8 +240,8 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
   if (per_cell) *per_cell = CellQuality{};
 
   // 1. Cells: certified validity, scaled Jacobian and aspect ratio.
-  // A 3D mesh of boundary triangles alone (a surface mesh): the triangles are the cells, certified
-  // relative to their flat triangles (validity.h).
+  // A 3D mesh of boundary facets alone (a surface mesh): its triangles and quadrilaterals are the
+  // cells, certified in their planes (validity.h).
   r.surface = Dim == 3 && mesh.cells.empty() && !mesh.boundary.empty();
   if (r.surface) assess_surface(mesh, certifier, r, per_cell);
   for (const CellBlock& b : mesh.cells) {
@@ -301,8 +292,10 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
           t.quality_histogram[static_cast<std::size_t>(std::min(9.0, std::floor(10 * q)))]++;
         }
       }
-      if (t.triangles) t.quality_mean = sum / static_cast<double>(t.triangles);
-      else t.quality_min = 0;
+      if (t.triangles)
+        t.quality_mean = sum / static_cast<double>(t.triangles);
+      else
+        t.quality_min = 0;
     }
   }
 
@@ -370,9 +363,9 @@ std::string report_json(const QualityReport& r) {
     const TriangleMetricStats& t = r.triangle_metric;
     if (t.triangles) {
       s << ",\n    \"triangles\": {\"count\": " << t.triangles << ", \"edges\": " << t.edges.count
-        << ", \"unit_fraction\": " << json_number(t.edges.unit_fraction) << ", \"edge_min\": " << json_number(t.edges.min)
-        << ", \"edge_max\": " << json_number(t.edges.max) << ", \"edge_mean\": " << json_number(t.edges.mean)
-        << ", \"edge_histogram_counts\": [";
+        << ", \"unit_fraction\": " << json_number(t.edges.unit_fraction)
+        << ", \"edge_min\": " << json_number(t.edges.min) << ", \"edge_max\": " << json_number(t.edges.max)
+        << ", \"edge_mean\": " << json_number(t.edges.mean) << ", \"edge_histogram_counts\": [";
       for (std::size_t k = 0; k < t.edges.histogram.size(); ++k) s << (k ? ", " : "") << t.edges.histogram[k];
       s << "], \"quality_min\": " << json_number(t.quality_min) << ", \"quality_mean\": " << json_number(t.quality_mean)
         << ", \"quality_histogram\": {\"bin_edges\": [0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1], "
@@ -408,7 +401,7 @@ std::string report_summary(const QualityReport& r) {
       << (r.conformity.ok ? "ok" : "FAILED: " + r.conformity.first_problem) << '\n';
     return s.str();
   }
-  s << r.name << ": " << r.cells_total << (r.surface ? " surface triangles (" : " cells (");
+  s << r.name << ": " << r.cells_total << (r.surface ? " surface facets (" : " cells (");
   bool first = true;
   for (const auto& [k, n] : r.cells_by_type) {
     s << (first ? "" : ", ") << n << ' ' << k;

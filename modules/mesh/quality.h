@@ -4,14 +4,19 @@
 //
 // Aspect ratio of a cell: sigma_max / sigma_min of J W^-1 at the cell's centroid, where J is the
 // mapping Jacobian and W maps the reference cell onto the regular cell of its type (equilateral
-// triangle, unit square, regular tetrahedron, equilateral prism of unit height): 1 for a regular
-// cell, w/h for a w x h rectangle.
+// triangle, unit square, regular tetrahedron, equilateral prism of unit side and unit height): 1
+// for a regular cell, w/h for a w x h rectangle. For a prism, J W^-1 stretches the base by its
+// in-plane shape and the axis by the height relative to the side, so a prism on an equilateral
+// base of side s and height h has singular values s, s, h: aspect ratio s / h, 1e5 for a boundary
+// layer prism whose height is 1e-5 of its base (a thin curved shell prism comes out at its base
+// edge over its height, times its base triangle's own distortion).
 // Metric conformity: every distinct linear edge of the cells is measured as the curved Lagrange
 // edge it is (metric.h); the unit fraction is the share of lengths in [1/sqrt 2, sqrt 2].
 // A 3D mesh of boundary facets alone (a surface mesh, e.g. the curved surface of surface3d) is
-// assessed through its triangles: they are the report's cells, certified relative to their flat
-// triangles (certify_surface_triangle, validity.h), with the aspect ratio in the flat triangle's
-// plane and the metric lengths of their edges; the report is marked `surface`.
+// assessed through its facets: they are the report's cells, triangles certified relative to their
+// flat triangles and quadrilaterals in the plane of their vector area (certify_surface_triangle,
+// certify_surface_quad, validity.h), with the aspect ratio in that plane and the metric lengths
+// of their edges; the report is marked `surface`.
 #pragma once
 
 #include <cstdint>

@@ -355,6 +355,138 @@ TEST_CASE("validity: Bernstein bounds enclose det J sampled densely inside pertu
     }
 }
 
+namespace {
+
+// Prisms x = (u, v, Z(u, v, w)) in the prism's space of order q: J is lower triangular, so
+// det J = dZ/dw exactly, with known extremes.
+struct AxialPrism {
+  const char* name;
+  int min_order;  // Z lies in the prism space from this order on
+  double (*z)(double u, double v, double w);
+  double det_min, det_max;            // exact extremes of dZ/dw over the prism
+  bool positive_at_nodes[max_order];  // per order 1..4: dZ/dw > 0 at every Lagrange node
+};
+
+// e2 = l0 l1 + l1 l2 + l2 l0 of the barycentric coordinates: 0 at the triangle's vertices, 1/4
+// at its edge midpoints, 1/3 (its maximum) at the centroid.
+double e2(double u, double v) {
+  const double l0 = 1 - u - v;
+  return l0 * u + u * v + v * l0;
+}
+
+const AxialPrism axial_prisms[] = {
+    // Q >= 1: dZ/dw = 1 + b u, b = -0.5: 1 on u = 0, 0.5 on u = 1.
+    {"tapered", 1, [](double u, double, double w) { return w * (1 - 0.5 * u); }, 0.5, 1.0, {true, true, true, true}},
+    // b = -1.5: -0.5 on the vertical edge u = 1, through its nodes.
+    {"tapered inverted",
+     1,
+     [](double u, double, double w) { return w * (1 - 1.5 * u); },
+     -0.5,
+     1.0,
+     {false, false, false, false}},
+    // Q >= 2: dZ/dw = 1 + a (0.3 - e2), a = 15: 5.5 at the vertices, 0.5 at the centroid.
+    {"dimpled",
+     2,
+     [](double u, double v, double w) { return w * (1 + 15 * (0.3 - e2(u, v))); },
+     0.5,
+     5.5,
+     {false, true, true, true}},
+    // a = 60: 19 at the vertices, 4 at the edge midpoints, 1 + 60 (0.3 - 5/16) = 0.25 at the
+    // Q = 4 face nodes (1/4, 1/4, 1/2), but -1 at the centroid (a node only at Q = 3).
+    {"dimpled inverted",
+     2,
+     [](double u, double v, double w) { return w * (1 + 60 * (0.3 - e2(u, v))); },
+     -1.0,
+     19.0,
+     {false, true, false, true}},
+    // Q >= 3: dZ/dw = 1 + a ((w - 1/2)^2 - 1/72), a = 144: 3 at w = 1/3, 2/3 (the Q = 3 nodes
+    // nearest 1/2), 35 at w = 0, 1, but -1 at w = 1/2 (a node at Q = 4).
+    {"waisted inverted",
+     3,
+     [](double, double, double w) { return w + 144 * (std::pow(w - 0.5, 3) / 3 - w / 72); },
+     -1.0,
+     35.0,
+     {false, false, true, false}},
+};
+
+}  // namespace
+
+TEST_CASE("validity: prisms of order 1..4 with exact det J extremes, valid and inverted (inside only where possible)") {
+  ValidityOptions options;
+  options.rel_tol = 1e-3;
+  JacobianCertifier certifier(options);
+  for (const AxialPrism& p : axial_prisms)
+    for (int q = p.min_order; q <= max_order; ++q) {
+      INFO(p.name, " Q=", q);
+      const LagrangeElement& e = lagrange_element(CellType::Prism, q);
+      Coords c;
+      for (int i = 0; i < e.size(); ++i) {
+        const Point r = e.ref_node(i);
+        c.insert(c.end(), {r[0], r[1], p.z(r[0], r[1], r[2])});
+      }
+      REQUIRE((min_det_at_nodes(CellType::Prism, q, c) > 0) == p.positive_at_nodes[q - 1]);
+      const JacobianBounds b = certifier.certify(CellType::Prism, q, c.data());
+      CHECK(b.proven);
+      CHECK(b.valid == (p.det_min > 0));
+      const double round_abs = 1e-9 * p.det_max;
+      CHECK(b.min_lower <= p.det_min + round_abs);
+      CHECK(b.max_upper >= p.det_max - round_abs);
+      CHECK(b.max_lower == doctest::Approx(p.det_max).epsilon(options.rel_tol));
+      if (p.det_min > 0) {
+        // Refined to rel_tol: the certified scaled Jacobian brackets det_min / det_max, within
+        // about rel_tol (both bounds are within rel_tol det_max of the extremes).
+        CHECK(b.min_upper >= p.det_min - round_abs);
+        CHECK(b.scaled_lower() <= p.det_min / p.det_max + round_abs);
+        CHECK(b.scaled_upper() >= p.det_min / p.det_max - round_abs);
+        CHECK(b.scaled_lower() == doctest::Approx(p.det_min / p.det_max).epsilon(2 * options.rel_tol));
+      } else {
+        CHECK(b.min_upper <= 0);
+        CHECK(b.scaled_lower() < 0);
+      }
+    }
+}
+
+TEST_CASE("validity: prisms of a spherical shell (t = 0.3 and 1e-5) are valid at orders 1..4, det J ~ t (1 + t w)^2") {
+  // Nodes at (1 + t w) n / |n| for n on the flat triangle a, b, c of unit vectors (a face of an
+  // icosahedron). The radius is linear in w and interpolated exactly, so the order-Q map is
+  // x = (1 + t w) N(u, v) with N the interpolant of the unit directions, and
+  // det J = t (1 + t w)^2 N . (N_u x N_v): min det J / t and max det J / (t (1 + t)^2) do not
+  // depend on t, the thin shell is as valid as the thick one. Dense samples lie inside the
+  // certified bounds, and the certified scaled Jacobian is within 2 rel_tol of theirs.
+  const double g = (1 + std::sqrt(5.0)) / 2;
+  const Eigen::Vector3d a = Eigen::Vector3d(0, 1, g).normalized(), b = Eigen::Vector3d(1, g, 0).normalized(),
+                        c = Eigen::Vector3d(-1, g, 0).normalized();
+  REQUIRE((b - a).cross(c - a).dot(a) > 0);  // counter-clockwise seen from outside: w points out
+  const ValidityOptions options;
+  JacobianCertifier certifier(options);
+  for (int q = 1; q <= max_order; ++q) {
+    std::vector<Range> dense;
+    for (const double t : {0.3, 1e-5}) {
+      INFO("t=", t, " Q=", q);
+      const LagrangeElement& e = lagrange_element(CellType::Prism, q);
+      Coords x;
+      for (int i = 0; i < e.size(); ++i) {
+        const Point r = e.ref_node(i);
+        const Eigen::Vector3d p = (1 + t * r[2]) * (a + r[0] * (b - a) + r[1] * (c - a)).normalized();
+        x.insert(x.end(), {p[0], p[1], p[2]});
+      }
+      const JacobianBounds r = certifier.certify(CellType::Prism, q, x.data());
+      CHECK(r.valid);
+      CHECK(r.proven);
+      const Range d = det_range(CellType::Prism, q, x, dense_points(CellType::Prism));
+      const double round_abs = 1e-9 * r.max_upper;
+      CHECK(d.lo >= r.min_lower - round_abs);
+      CHECK(d.hi <= r.max_upper + round_abs);
+      CHECK(r.scaled_lower() <= d.lo / d.hi + 1e-9);
+      CHECK(r.scaled_lower() >= d.lo / d.hi - 2 * options.rel_tol);
+      dense.push_back({d.lo / t, d.hi / (t * (1 + t) * (1 + t))});
+    }
+    INFO("Q=", q);
+    CHECK(dense[1].lo == doctest::Approx(dense[0].lo).epsilon(1e-9));
+    CHECK(dense[1].hi == doctest::Approx(dense[0].hi).epsilon(1e-9));
+  }
+}
+
 TEST_CASE("validity: annulus sector quadrilateral has scaled Jacobian r_in / r_out") {
   // x = (r cos(theta), r sin(theta)) with r = r0 + (r1 - r0) u, theta = theta0 + dtheta v has
   // det J = (r1 - r0) dtheta r, so min det J / max det J = r0 / r1 for the exact map; the
@@ -528,4 +660,30 @@ TEST_CASE("validity: surface triangles are certified in their flat triangle's pl
   CHECK_FALSE(surface_triangle_plane_coords(1, line.data(), plane.data()));
   line[2] = Eigen::Vector3d(0, std::numeric_limits<double>::quiet_NaN(), 0);
   CHECK_THROWS_AS(certify_surface_triangle(certifier, 1, line.data()), InputError);
+}
+
+TEST_CASE("validity: surface quadrilaterals are certified in the plane of their vector area") {
+  JacobianCertifier certifier;
+  // The unit square in z = 0, counter-clockwise seen from +z: the frame keeps it as it is.
+  const std::vector<Eigen::Vector3d> square = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  std::vector<double> plane(8);
+  REQUIRE(surface_quad_plane_coords(1, square.data(), plane.data()));
+  CHECK(plane == std::vector<double>{0, 0, 1, 0, 1, 1, 0, 1});
+  JacobianBounds b = certify_surface_quad(certifier, 1, square.data());
+  CHECK(b.valid);
+  CHECK(b.scaled_lower() == doctest::Approx(1).epsilon(1e-12));
+  // Listed clockwise it is the same square seen from -z: still valid in its own frame.
+  const std::vector<Eigen::Vector3d> clockwise = {square[0], square[3], square[2], square[1]};
+  CHECK(certify_surface_quad(certifier, 1, clockwise.data()).valid);
+  // A bow tie (vertices 2 and 3 swapped) has a vanishing vector area: degenerate, invalid.
+  const std::vector<Eigen::Vector3d> bow_tie = {square[0], square[1], square[3], square[2]};
+  b = certify_surface_quad(certifier, 1, bow_tie.data());
+  CHECK_FALSE(b.valid);
+  CHECK(b.proven);
+  // A warped quadrilateral (vertex 2 lifted) is valid in its best-fitting plane.
+  const std::vector<Eigen::Vector3d> warped = {square[0], square[1], {1, 1, 0.3}, square[3]};
+  CHECK(certify_surface_quad(certifier, 1, warped.data()).valid);
+  std::vector<Eigen::Vector3d> bad = square;
+  bad[1].y() = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_AS(certify_surface_quad(certifier, 1, bad.data()), InputError);
 }

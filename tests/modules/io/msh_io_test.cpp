@@ -183,6 +183,7 @@ void check_same(const HybridMesh<Dim>& a, const HybridMesh<Dim>& b) {
   };
   same_blocks(a.cells, b.cells);
   same_blocks(a.boundary, b.boundary);
+  same_blocks(a.curves, b.curves);
   REQUIRE(a.tags.size() == b.tags.size());
   for (std::size_t i = 0; i < a.tags.size(); ++i) {
     CHECK(a.tags[i].name == b.tags[i].name);

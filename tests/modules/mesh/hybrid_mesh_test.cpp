@@ -227,6 +227,127 @@ TEST_CASE("mesh: two cells sharing a facet's vertices but not its high-order nod
     });
 }
 
+namespace {
+
+// The weights of the nodes of a facet type on its vertices (line and triangle: barycentric
+// lattice coordinates; quadrilateral: bilinear products), in Gmsh order: independent of
+// hybrid_mesh.cpp, from the lattice of lagrange.h.
+std::vector<std::array<int, 4>> node_weights(CellType t, int q) {
+  std::vector<std::array<int, 4>> out;
+  for (const Lattice& l : gmsh_lattice(t, q)) {
+    if (t == CellType::Line) out.push_back({q - l[0], l[0], 0, 0});
+    if (t == CellType::Triangle) out.push_back({q - l[0] - l[1], l[0], l[1], 0});
+    if (t == CellType::Quadrilateral)
+      out.push_back({(q - l[0]) * (q - l[1]), l[0] * (q - l[1]), l[0] * l[1], (q - l[0]) * l[1]});
+  }
+  return out;
+}
+
+// The same facet listed from its vertex perm[0], then perm[1], ...: the node at each place of
+// the new listing is the node of the old listing at the same point of the facet.
+std::vector<NodeId> relist(const std::vector<NodeId>& nodes, CellType t, int q, const std::vector<int>& perm) {
+  const auto w = node_weights(t, q);
+  std::vector<NodeId> out;
+  for (const auto& want : w)
+    for (std::size_t k = 0; k < w.size(); ++k) {
+      bool same = true;
+      for (std::size_t j = 0; j < perm.size(); ++j) same = same && w[k][static_cast<std::size_t>(perm[j])] == want[j];
+      if (same) out.push_back(nodes[k]);
+    }
+  REQUIRE(out.size() == nodes.size());
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("mesh: a boundary facet may start at any vertex and run either way, its nodes in the same places") {
+  for (int q = 1; q <= max_order; ++q)
+    for_each_mesh(q, [&](const char* name, auto s, const Counts& counts) {
+      INFO(std::string(name), " Q=", q);
+      // Every boundary facet listed from its second vertex, backwards (a reflection and a turn).
+      for (CellBlock& b : s.mesh.boundary) {
+        const int nv = num_vertices(b.type);
+        std::vector<int> perm;
+        for (int j = 0; j < nv; ++j) perm.push_back(((1 - j) % nv + nv) % nv);
+        const auto npc = static_cast<std::size_t>(b.nodes_per_cell());
+        for (std::size_t i = 0; i < b.size(); ++i) {
+          const std::vector<NodeId> old(b.cell(i), b.cell(i) + npc);
+          const std::vector<NodeId> moved = relist(old, b.type, q, perm);
+          std::copy(moved.begin(), moved.end(), b.connectivity.begin() + static_cast<std::ptrdiff_t>(i * npc));
+        }
+      }
+      check_counts(check_conformity(s.mesh), counts);
+    });
+}
+
+TEST_CASE("mesh: the same facet nodes in other places (a reversed edge, a turned face) are a node mismatch") {
+  // Swapping two nodes of a facet inside one cell keeps every facet's node set (a sorted-set
+  // comparison passes it) but moves them: a different curved cell, which must not conform.
+  for (int q = 2; q <= max_order; ++q)
+    for_each_mesh(q, [&](const char* name, auto s, const Counts& counts) {
+      INFO(std::string(name), " Q=", q);
+      CellBlock& b = s.mesh.cells[0];
+      const std::size_t i = 1;
+      const int f = first_inner_facet(s, i);
+      REQUIRE(f >= 0);
+      const LagrangeElement& el = lagrange_element(b.type, q);
+      const std::vector<int>& local = el.facet_nodes(f);
+      // The first node inside edge 0 of the facet and the facet's last node (inside its last
+      // edge, or inside the face): two places of the facet.
+      const int nv = facet_vertex_count(b.type, f);
+      const int a = local[static_cast<std::size_t>(nv)], z = local.back();
+      if (s.dim == 2 && q == 2) return;  // an edge with one interior node: one place only
+      REQUIRE(a != z);
+      const auto at = [&](int l) {
+        return i * static_cast<std::size_t>(b.nodes_per_cell()) + static_cast<std::size_t>(l);
+      };
+      std::swap(b.connectivity[at(a)], b.connectivity[at(z)]);
+      const ConformityReport r = check_conformity(s.mesh);
+      CHECK(r.node_mismatches >= 1);
+      CHECK(r.interior_facets == counts.interior);
+      CHECK(r.boundary_facets == counts.boundary);
+      CHECK_FALSE(r.ok);
+      CHECK(r.first_problem.find("high-order nodes") != std::string::npos);
+    });
+}
+
+TEST_CASE(
+    "mesh: a prism layer under a tetrahedron layer conforms: quadrilaterals, prism-prism and prism-tet triangles") {
+  for (int q = 1; q <= max_order; ++q) {
+    INFO("Q=", q);
+    const int nx = 3, ny = 2;
+    // Layer z in [0, 1]: two prisms per square (split along the diagonal (i, j)-(i+1, j+1));
+    // layer z in [1, 2]: six Kuhn tetrahedra per cube, whose bottom triangles are cut along the
+    // same diagonal (kuhn_tets in structured_mesh.h).
+    StructuredMesh<3> s({nx, ny, 2}, q);
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        s.add_cell(CellType::Prism, {i, j, 0}, {{i + 1, j, 0}, {i + 1, j + 1, 0}, {i, j, 1}});
+        s.add_cell(CellType::Prism, {i, j, 0}, {{i + 1, j + 1, 0}, {i, j + 1, 0}, {i, j, 1}});
+      }
+    const StructuredMesh<3> tets = plaf::test::kuhn_tets(nx, ny, 1, q);
+    const CellBlock& tb = tets.mesh.cells[0];
+    CellBlock& out = s.mesh.block(CellType::Tetrahedron, q);
+    for (NodeId v : tb.connectivity) {  // the tet layer lifted by one cube onto s's lattice
+      std::array<int, 3> p = tets.fine_of(v);
+      p[2] += q;
+      out.connectivity.push_back(s.id(p));
+    }
+    s.tag_box_boundary();
+    std::size_t quads = 0, triangles = 0;
+    for (const CellBlock& b : s.mesh.boundary) (b.type == CellType::Quadrilateral ? quads : triangles) += b.size();
+    const auto x = static_cast<std::size_t>(nx), y = static_cast<std::size_t>(ny);
+    // Interior: the prism layer's inner quadrilaterals (one per inner edge of its triangle
+    // grid), the 2 x y triangles between the layers, the tet layer's own inner faces. Boundary:
+    // the prisms' bottom triangles and side quadrilaterals, the tets' faces but their bottom.
+    const Counts t = triangle_counts(x, y), k = tet_counts(x, y, 1);
+    const Counts want{t.interior + 2 * x * y + k.interior, 2 * x * y + t.boundary + k.boundary - 2 * x * y};
+    check_counts(check_conformity(s.mesh), want);
+    CHECK(quads == t.boundary);
+    CHECK(triangles == 2 * x * y + k.boundary - 2 * x * y);
+  }
+}
+
 TEST_CASE("mesh: a crack (cells on both sides of a plane with their own nodes) opens its facets") {
   for (int q = 1; q <= max_order; ++q)
     for_each_mesh(q, [&](const char* name, auto s, const Counts& counts) {

@@ -268,7 +268,8 @@ TEST_CASE(
     want3.push_back({set3.add_affine(CellType::Prism, Eigen::Matrix3d::Identity()), sqrt3});
     // Equilateral base of side 1 and height H: J = W diag(1, 1, H), so J W^-1 = diag(I, H) (W is
     // block diagonal) with singular values 1, 1, H.
-    for (const double height : {1.0, 3.0, 0.01, 1e4}) {
+    // Height 1e-5: a boundary-layer prism whose height is 1e-5 of its base, aspect ratio 1e5.
+    for (const double height : {1.0, 3.0, 0.01, 1e4, 1e-5}) {
       Eigen::Matrix3d prism = Eigen::Matrix3d::Zero();
       prism.topLeftCorner<2, 2>() = tri / sqrt3;  // circumradius 1: side sqrt 3
       prism(2, 2) = height;
@@ -629,7 +630,8 @@ TEST_CASE("quality: the triangles' metric section counts their edges once and th
   CHECK(r.triangle_metric.quality_min == doctest::Approx(1.0));
   CHECK(r.triangle_metric.quality_histogram[9] == 1);
   // Stretched 4x along x in the metric's eyes: q = 4 sqrt3 A / sum l^2 drops.
-  const UniformMetricField<2> stretched(Metric<2>::from_directions(Eigen::Matrix2d::Identity(), Eigen::Vector2d(0.025, 0.1)));
+  const UniformMetricField<2> stretched(
+      Metric<2>::from_directions(Eigen::Matrix2d::Identity(), Eigen::Vector2d(0.025, 0.1)));
   CHECK(assess_quality<2>(m, &stretched, QualityOptions{}).triangle_metric.quality_min < 0.6);
 }
 
@@ -661,7 +663,7 @@ TEST_CASE("quality: a 3D surface mesh is assessed through its triangles, certifi
   r = assess_quality<3>(m, nullptr, QualityOptions{});
   CHECK(r.ok());
   CHECK(r.conformity.boundary_facets == 4);
-  CHECK(report_summary(r).find("2 surface triangles (2 triangle_Q2)") != std::string::npos);
+  CHECK(report_summary(r).find("2 surface facets (2 triangle_Q2)") != std::string::npos);
   CHECK(report_json(r).find("\"surface\": true") != std::string::npos);
 
   // With a metric: the metric lengths of the 5 distinct edges (unit metric: their lengths).
@@ -682,6 +684,54 @@ TEST_CASE("quality: a 3D surface mesh is assessed through its triangles, certifi
   CHECK(r.first_invalid.rfind("surface triangle 0 of boundary block 0 at (0, 0, 0)", 0) == 0);
   CHECK(pc.valid == std::vector<std::uint8_t>{0, 1});
   CHECK(r.scaled_jacobian_min < 0);
+}
+
+TEST_CASE("quality: surface quadrilaterals (prism sides on a symmetry plane) are certified in their plane") {
+  // Order-Q quadrilaterals x = a + u e0 + v e1 (+ a bend): a 2 x 1 rectangle in the tilted
+  // plane spanned by e0, e1, the same rectangle bent out of its plane along its normal, and one
+  // whose edge 0-1 folds back on itself in the plane (the map's u-derivative along e0 is
+  // 1 - 2.4 u). Next to them, a triangle: both kinds are the report's cells.
+  const Eigen::Vector3d a(0.3, -1, 2), e0 = 2 * Eigen::Vector3d(1, 0.2, 0.1).normalized();
+  const Eigen::Vector3d e1 = e0.cross(Eigen::Vector3d(0, 0, 1)).cross(e0).normalized();
+  const Eigen::Vector3d normal = e0.cross(e1).normalized();
+  for (int q = 2; q <= max_order; ++q) {
+    INFO("Q=", q);
+    HybridMesh<3> m;
+    const int symmetry = m.add_tag("symmetry", BoundaryKind::Symmetry);
+    const auto add_quad = [&](auto bump) {
+      CellBlock& b = m.boundary_block(CellType::Quadrilateral, q, symmetry);
+      const LagrangeElement& e = lagrange_element(CellType::Quadrilateral, q);
+      for (int i = 0; i < e.size(); ++i) {
+        const auto r = e.ref_node(i);
+        b.connectivity.push_back(static_cast<NodeId>(m.nodes.size()));
+        m.nodes.push_back(a + r[0] * e0 + r[1] * e1 + bump(r[0], r[1]));
+      }
+    };
+    add_quad([](double, double) { return Eigen::Vector3d::Zero(); });
+    add_quad([&](double u, double v) { return Eigen::Vector3d(0.4 * u * (1 - u) * v * normal); });
+    add_quad([&](double u, double) { return Eigen::Vector3d(-1.2 * u * u * e0); });
+    CellBlock& t = m.boundary_block(CellType::Triangle, 1, symmetry);
+    for (const Eigen::Vector3d& x : {a, Eigen::Vector3d(a + e0), Eigen::Vector3d(a + e1)}) {
+      t.connectivity.push_back(static_cast<NodeId>(m.nodes.size()));
+      m.nodes.push_back(x);
+    }
+    CellQuality pc;
+    const QualityReport r = assess_quality<3>(m, nullptr, QualityOptions{}, &pc);
+    CHECK(r.surface);
+    CHECK(r.cells_total == 4);
+    CHECK(r.cells_by_type.at("quadrilateral_Q" + std::to_string(q)) == 3);
+    CHECK(r.cells_by_type.at("triangle_Q1") == 1);
+    CHECK(pc.valid == std::vector<std::uint8_t>{1, 1, 0, 1});
+    CHECK(r.cells_invalid == 1);
+    CHECK(r.first_invalid.rfind("surface quadrilateral 2 of boundary block 0 at (", 0) == 0);
+    // Flat and bent along the normal: the same map in the plane, scaled Jacobian 1 and aspect
+    // ratio 2 (the rectangle's sides).
+    for (std::size_t k : {0, 1}) {
+      CHECK(pc.scaled_jacobian[k] == doctest::Approx(1).epsilon(1e-9));
+      CHECK(pc.aspect_ratio[k] == doctest::Approx(2).epsilon(1e-9));
+    }
+    CHECK(pc.scaled_jacobian[2] < 0);
+  }
 }
 
 TEST_CASE("quality: 2D and volume meshes are not marked surface") {
