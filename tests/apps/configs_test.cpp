@@ -19,6 +19,7 @@
 #include "modules/geometry/geometry2d.h"
 #include "modules/pipeline/config.h"
 #include "modules/pipeline/run_config.h"
+#include "tests/gmsh_support.h"
 #include "tests/test_support.h"
 
 namespace fs = std::filesystem;
@@ -385,6 +386,15 @@ TEST_CASE("configs: 3D prism layers are certified, conforming and attenuate to a
     CHECK(json_value(report, "ok", report.find("\"conformity\": {")) == "true");
     CHECK(json_number(report, "min", report.find("\"scaled_jacobian\"")) > 0);
     CHECK(json_number(report, "linear_after", report.find("\"layers\": {")) > 0);
+    // Gmsh's own eye: gmsh -check is clean and its Bezier bounds find every Jacobian positive.
+    if (plaf::test::gmsh_on_path()) {
+      plaf::test::TempDir dir("configs_gmsh_" + r.name);
+      std::filesystem::copy_file(r.out / (r.name + ".msh"), dir / "mesh.msh");
+      CHECK(plaf::test::gmsh_complaints(plaf::test::run_gmsh("mesh.msh -check", dir).out).empty());
+      const plaf::test::GmshJacobians gj = plaf::test::gmsh_jacobians("mesh.msh", dir);
+      CHECK(gj.min_j > 0);
+      CHECK(gj.worst_ratio == doctest::Approx(json_number(report, "min", report.find("\"scaled_jacobian\""))).epsilon(0.01));
+    }
     if (r.name == "sphere_layers") {
       // h0 = 1e-5 R: the first layer's aspect ratio is above 1e4.
       CHECK(json_number(report, "max", report.find("\"aspect_ratio\"")) > 1e4);
