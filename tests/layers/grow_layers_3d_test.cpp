@@ -24,11 +24,13 @@
 #include "layers/grow_layers_3d.h"
 #include "layers/normals_3d.h"
 #include "modules/base/error.h"
+#include "modules/elements/cell_measure.h"
 #include "modules/elements/lagrange.h"
 #include "modules/elements/validity.h"
 #include "modules/mesh/curved_front.h"
 #include "modules/mesh/hybrid3d.h"
 #include "modules/mesh/hybrid_mesh.h"
+#include "modules/metric/metric.h"
 
 using namespace plaf;
 using namespace plaf::layers;
@@ -168,32 +170,12 @@ TestWallMetric sphere_metric(double r, const Vector3d& c, double h0, double g, d
       [c](const Vector3d& x) { return Vector3d((x - c).normalized()); });
 }
 
-// Gauss-Legendre nodes and weights on [0, 1].
+// Gauss-Legendre nodes and weights on [0, 1] (metric.h's rule).
 std::vector<std::pair<double, double>> gauss01(int n) {
+  std::vector<double> x(static_cast<std::size_t>(n)), w(static_cast<std::size_t>(n));
+  gauss_legendre_01(n, x.data(), w.data());
   std::vector<std::pair<double, double>> out;
-  for (int i = 0; i < n; ++i) {
-    double x = std::cos(M_PI * (i + 0.75) / (n + 0.5));
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1, p1 = x;
-      for (int k = 2; k <= n; ++k) {
-        const double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      const double dp = n * (x * p1 - p0) / (x * x - 1);
-      const double dx = p1 / dp;
-      x -= dx;
-      if (std::abs(dx) < 1e-16) break;
-    }
-    double p0 = 1, p1 = x;
-    for (int k = 2; k <= n; ++k) {
-      const double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
-      p0 = p1;
-      p1 = p2;
-    }
-    const double dp = n * (x * p1 - p0) / (x * x - 1);
-    out.push_back({(1 - x) / 2, 1 / ((1 - x * x) * dp * dp)});
-  }
+  for (int i = 0; i < n; ++i) out.push_back({x[static_cast<std::size_t>(i)], w[static_cast<std::size_t>(i)]});
   return out;
 }
 
@@ -205,18 +187,11 @@ std::vector<std::tuple<double, double, double>> triangle_rule(int n) {
   return r;
 }
 
-// Volume of a prism (quadrature of det J).
+// Volume of a prism (cell_measure: exact quadrature of det J).
 double prism_volume(const HybridMesh<3>& mesh, const CellBlock& b, std::size_t c) {
-  const LagrangeElement& e = lagrange_element(CellType::Prism, b.order);
-  std::vector<double> coords(static_cast<std::size_t>(3 * e.size()));
+  std::vector<double> coords(static_cast<std::size_t>(3 * b.nodes_per_cell()));
   gather_coords<3>(mesh, b, c, coords.data());
-  double v = 0;
-  for (const auto& [u, w2, wt] : triangle_rule(7))
-    for (const auto& [w, ww] : gauss01(6)) {
-      const double xi[3] = {u, w2, w};
-      v += wt * ww * jacobian_determinant(CellType::Prism, b.order, coords.data(), xi);
-    }
-  return v;
+  return cell_measure(CellType::Prism, b.order, coords.data());
 }
 
 // (1/3) of the integral of x . n dA over curved triangles (the volume they enclose when closed
