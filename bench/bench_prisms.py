@@ -56,6 +56,11 @@ beside it, load 2-11, so +-20 %), plaf Release build of f4776fc, Gmsh 4.8.4, def
   B (one run, --only-large): 184,320 wall triangles, 5,529,600 Q2 prisms, 0 invalid; layer
      stage 81.0 s (68,300 prisms/s), quality stage 438.7 s, whole process 526 s (8.8 min),
      peak RSS 4,776 MiB.
+  A again after the validity change (sub-cells by subdivision matrices, the layer stage proving
+     the sign only), build of 2b0e0a1+, machine otherwise idle: plaf 593,100 prisms in 5.22 s
+     (113,718 prisms/s), Gmsh 586,560 in 1.17 s (503,025/s): plaf/Gmsh 0.23 (0.27 against
+     3D + top). Quality stage 15.5 s (was 84-86 s), whole process 21.3 s, peak RSS 528 MiB.
+     The goal (plaf >= Gmsh's rate while certifying) is not met yet.
 """
 import argparse
 import json
