@@ -5,9 +5,7 @@
 namespace plaf {
 inline namespace mesh {
 
-HybridMesh<3> assemble_hybrid_3d(const LayerResult<3>& layers) {
-  HybridMesh<3> mesh = layers.mesh;
-  const CurvedFront<3>& outer = layers.outer;
+HybridMesh<3> assemble_hybrid_3d(HybridMesh<3> mesh, const CurvedFront<3>& outer) {
   if (outer.num_triangles() > 0) {
     const int tag = mesh.add_tag("layers_outer", BoundaryKind::Named);
     CellBlock& b = mesh.boundary_block(CellType::Triangle, outer.order, tag);

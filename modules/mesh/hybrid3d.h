@@ -10,9 +10,10 @@
 namespace plaf {
 inline namespace mesh {
 
-// The 3D mesh of a layer stage's result: its cells and boundary, plus the outer front's
-// triangles (order Q) in a boundary block tagged `layers_outer` (kind Named).
-HybridMesh<3> assemble_hybrid_3d(const LayerResult<3>& layers);
+// The 3D mesh of a layer stage's result: its mesh (cells and boundary; moved in, it holds every
+// node of the run) plus the outer front's triangles (order Q) in a boundary block tagged
+// `layers_outer` (kind Named).
+HybridMesh<3> assemble_hybrid_3d(HybridMesh<3> layer_mesh, const CurvedFront<3>& outer);
 
 }  // namespace mesh
 }  // namespace plaf

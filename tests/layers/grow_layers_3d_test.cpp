@@ -289,7 +289,7 @@ TEST_CASE("layers 3D: a plate between four symmetry planes grows exact geometric
     REQUIRE(r.layers.size() == 12);
     CHECK(r.linear_after == 1);
     // Closed by the outer front (the assembly of a run without fill), the mesh conforms.
-    const ConformityReport cr = check_conformity<3>(assemble_hybrid_3d(r));
+    const ConformityReport cr = check_conformity<3>(assemble_hybrid_3d(r.mesh, r.outer));
     CHECK_MESSAGE(cr.ok, cr.first_problem);
     // Every node sits at a height of the geometric series, right above a plate node.
     std::vector<double> level = {0};
