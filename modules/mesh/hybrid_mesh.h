@@ -5,9 +5,9 @@
 // Conventions: cell connectivity is in Gmsh's node order (lagrange.h); 2D cells are
 // counter-clockwise (det J > 0), 3D cells have positive volume. Boundary facets are cells of
 // dimension Dim-1 (lines in 2D; triangles/quadrilaterals in 3D) carrying the index of their tag.
-// The 3D layers write theirs facing into the cells they bound (the wall's right-hand normal out of
-// the body, as the surface mesh has it; the symmetry quadrilaterals' into the prisms);
-// check_conformity does not depend on a facet's orientation. In 3D, curves are tagged line blocks (dimension 1): feature or symmetry curves of a surface,
+// The 3D layers' wall and outer-front triangles keep the surface's orientation (right-hand normal
+// away from the body), their symmetry quadrilaterals face into the prisms; check_conformity does
+// not depend on a facet's orientation. In 3D, curves are tagged line blocks (dimension 1): feature or symmetry curves of a surface,
 // e.g. the symmetry loop where a half-body's surface ends on its symmetry plane.
 #pragma once
 
