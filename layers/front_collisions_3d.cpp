@@ -11,17 +11,21 @@
 
 namespace plaf::layers {
 
-std::vector<std::size_t> front_collisions(const std::vector<FrontSurface>& fronts,
-                                          const std::vector<Eigen::Vector3d>& nodes, int q) {
-  const LagrangeElement& te = lagrange_element(CellType::Triangle, q);
-  const std::size_t np = static_cast<std::size_t>(te.size());
-  // The lattice's sub-triangles, counter-clockwise.
-  std::vector<std::array<int, 3>> subs;
+std::vector<std::array<int, 3>> sub_triangles(int q) {
+  const LagrangeElement& t = lagrange_element(CellType::Triangle, q);
+  std::vector<std::array<int, 3>> s;
   for (int j = 0; j < q; ++j)
     for (int i = 0; i + j < q; ++i) {
-      subs.push_back({te.find({i, j, 0}), te.find({i + 1, j, 0}), te.find({i, j + 1, 0})});
-      if (i + j + 2 <= q) subs.push_back({te.find({i + 1, j, 0}), te.find({i + 1, j + 1, 0}), te.find({i, j + 1, 0})});
+      s.push_back({t.find({i, j, 0}), t.find({i + 1, j, 0}), t.find({i, j + 1, 0})});
+      if (i + j + 2 <= q) s.push_back({t.find({i + 1, j, 0}), t.find({i + 1, j + 1, 0}), t.find({i, j + 1, 0})});
     }
+  return s;
+}
+
+std::vector<std::size_t> front_collisions(const std::vector<FrontSurface>& fronts,
+                                          const std::vector<Eigen::Vector3d>& nodes, int q) {
+  const std::size_t np = static_cast<std::size_t>(num_nodes(CellType::Triangle, q));
+  const std::vector<std::array<int, 3>> subs = sub_triangles(q);
   std::vector<std::array<int, 3>> tris;     // mesh node ids
   std::vector<long> owner;                  // fronts[0] triangle index, or -1
   for (std::size_t f = 0; f < fronts.size(); ++f) {

@@ -4,6 +4,7 @@
 // the candidate pairs of an AABB tree (aabb_tree.h).
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include <Eigen/Core>
@@ -11,6 +12,10 @@
 #include "modules/mesh/hybrid_mesh.h"
 
 namespace plaf::layers {
+
+// The linear sub-triangles of the order-q triangle's node lattice, as triangle node indices
+// (Gmsh order), counter-clockwise like the triangle: q^2 of them.
+std::vector<std::array<int, 3>> sub_triangles(int q);
 
 // A front as triangles over local nodes: tri holds (Q+1)(Q+2)/2 local ids per triangle in Gmsh
 // order, ids maps a local node to its mesh node.

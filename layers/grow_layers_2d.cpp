@@ -359,6 +359,7 @@ class LoopFronts final : public FrontGrower<2> {
   std::size_t num_parts() const override { return loops_.size(); }
   std::string part_name(std::size_t part) const override { return "loop " + loops_[part].tag; }
   std::size_t num_sites(std::size_t part) const override { return loops_[part].size() * static_cast<std::size_t>(q_); }
+  std::size_t num_stop_points(std::size_t part) const override { return loops_[part].size(); }
   std::vector<Vec> stop_points(std::size_t part) const override {
     std::vector<Vec> v;
     const FrontLoop& l = loops_[part];

@@ -31,8 +31,10 @@ struct Plane {
 Vec in_planes(const Vec& d, const std::array<int, 2>& ids, const std::vector<Plane>& planes) {
   if (ids[0] < 0) return d;
   const Vec& a = planes[static_cast<std::size_t>(ids[0])].normal;
-  if (ids[1] < 0) return d - d.dot(a) * a;
-  const Vec line = a.cross(planes[static_cast<std::size_t>(ids[1])].normal).normalized();
+  const Vec cross = a.cross(planes[static_cast<std::size_t>(ids[1])].normal);
+  // Two (nearly) parallel planes through one node are one plane (two tags on it).
+  if (ids[1] < 0 || cross.norm() < 1e-9) return d - d.dot(a) * a;
+  const Vec line = cross.normalized();
   return d.dot(line) * line;
 }
 
@@ -40,8 +42,8 @@ Vec in_planes(const Vec& d, const std::array<int, 2>& ids, const std::vector<Pla
 Vec onto_planes(const Vec& x, const std::array<int, 2>& ids, const std::vector<Plane>& planes) {
   if (ids[0] < 0) return x;
   const Plane& a = planes[static_cast<std::size_t>(ids[0])];
-  if (ids[1] < 0) return x - (x - a.point).dot(a.normal) * a.normal;
-  const Plane& b = planes[static_cast<std::size_t>(ids[1])];
+  const Plane& b = planes[static_cast<std::size_t>(std::max(ids[1], 0))];
+  if (ids[1] < 0 || a.normal.cross(b.normal).norm() < 1e-9) return x - (x - a.point).dot(a.normal) * a.normal;
   Eigen::Matrix<double, 2, 3> m;
   m.row(0) = a.normal.transpose();
   m.row(1) = b.normal.transpose();
@@ -65,18 +67,6 @@ struct Part {
   std::vector<int> vertices;                          // local ids of vertex nodes
   std::size_t size() const { return ids.size(); }
 };
-
-// The sub-triangles of the order-q lattice: (a, b, c) as triangle node indices, counter-clockwise.
-std::vector<std::array<int, 3>> sub_triangles(int q) {
-  const LagrangeElement& t = lagrange_element(CellType::Triangle, q);
-  std::vector<std::array<int, 3>> s;
-  for (int j = 0; j < q; ++j)
-    for (int i = 0; i + j < q; ++i) {
-      s.push_back({t.find({i, j, 0}), t.find({i + 1, j, 0}), t.find({i, j + 1, 0})});
-      if (i + j + 2 <= q) s.push_back({t.find({i + 1, j, 0}), t.find({i + 1, j + 1, 0}), t.find({i, j + 1, 0})});
-    }
-  return s;
-}
 
 // The parts of the front's wall triangles and their symmetry planes.
 class PartBuilder {
@@ -526,6 +516,7 @@ class SurfaceFronts final : public FrontGrower<3> {
   std::size_t num_parts() const override { return parts_.size(); }
   std::string part_name(std::size_t part) const override { return "surface " + parts_[part].name; }
   std::size_t num_sites(std::size_t part) const override { return parts_[part].size(); }
+  std::size_t num_stop_points(std::size_t part) const override { return parts_[part].vertices.size(); }
   std::vector<Vec> stop_points(std::size_t part) const override {
     std::vector<Vec> v;
     for (int l : parts_[part].vertices) v.push_back(mesh_.nodes[static_cast<std::size_t>(parts_[part].ids[static_cast<std::size_t>(l)])]);

@@ -188,7 +188,7 @@ class Growth {
     bool any = false;
     for (std::size_t part = 0; part < parts_; ++part) {
       if (linear_[part]) continue;
-      const std::vector<std::uint8_t> stopped(g_.stop_points(part).size(), 0);
+      const std::vector<std::uint8_t> stopped(g_.num_stop_points(part), 0);
       bool closed = false;
       for (double factor : {1.5, 3.0, 6.0}) {
         std::vector<double> scale(g_.num_sites(part), std::max(1.0, factor * clip_[part]));
@@ -229,9 +229,12 @@ class Growth {
   // the metric's size in every direction: no more anisotropic layer is wanted there. Fills
   // `stopped` (per stop point); true when the whole part stops (an event).
   bool stops_isotropic(std::size_t part, int layer, std::vector<std::uint8_t>& stopped) {
+    if (p_.isotropic_stop == IsotropicStop::Off) {
+      stopped.assign(g_.num_stop_points(part), 0);
+      return false;
+    }
     const std::vector<typename FrontGrower<Dim>::Vec> points = g_.stop_points(part);
     stopped.assign(points.size(), 0);
-    if (p_.isotropic_stop == IsotropicStop::Off) return false;
     std::size_t iso = 0;
     for (std::size_t e = 0; e < points.size(); ++e)
       if (is_isotropic<Dim>(metric_.evaluate(points[e]))) {

@@ -104,6 +104,8 @@ class FrontGrower {
   virtual std::size_t num_sites(std::size_t part) const = 0;
   // The nodes whose metric decides the isotropic stop; `stopped` in build() is indexed like them.
   virtual std::vector<Vec> stop_points(std::size_t part) const = 0;
+  // Their number (without gathering them: the isotropic stop is off in most runs).
+  virtual std::size_t num_stop_points(std::size_t part) const = 0;
   // One layer on a part; heights are multiplied by scale[site].
   virtual BuiltLayer build(std::size_t part, int layer, const std::vector<double>& scale,
                            const std::vector<std::uint8_t>& stopped, double f_atten) = 0;

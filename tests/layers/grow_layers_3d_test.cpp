@@ -90,11 +90,12 @@ struct FrontBuilder {
 };
 
 // The unit square [0, 1]^2 at z = 0, n x n cells split in two, facing +z, its four sides on
-// symmetry planes with four tags.
-CurvedFront<3> plate(int n, int q) {
+// symmetry planes with four tags (five with split_y0: the side y = 0 in two halves with their
+// own tags, so the node between them lies on two parallel planes).
+CurvedFront<3> plate(int n, int q, bool split_y0 = false) {
   FrontBuilder b(q, 1.0);
   b.f.tags = {{"wall", BoundaryKind::Wall}, {"x0", BoundaryKind::Symmetry}, {"x1", BoundaryKind::Symmetry},
-              {"y0", BoundaryKind::Symmetry}, {"y1", BoundaryKind::Symmetry}};
+              {"y0", BoundaryKind::Symmetry}, {"y1", BoundaryKind::Symmetry}, {"y0b", BoundaryKind::Symmetry}};
   auto flat = [](const Vector3d& x, Vector3d& nrm) {
     nrm = Vector3d::UnitZ();
     return x;
@@ -116,7 +117,7 @@ CurvedFront<3> plate(int n, int q) {
     b.f.rim_tag.push_back(tag);
   };
   for (int i = 0; i < n; ++i) {
-    rim(Vector3d(i * h, 0, 0), Vector3d((i + 1) * h, 0, 0), 3);
+    rim(Vector3d(i * h, 0, 0), Vector3d((i + 1) * h, 0, 0), split_y0 && 2 * i >= n ? 5 : 3);
     rim(Vector3d(i * h, 1, 0), Vector3d((i + 1) * h, 1, 0), 4);
     rim(Vector3d(0, i * h, 0), Vector3d(0, (i + 1) * h, 0), 1);
     rim(Vector3d(1, i * h, 0), Vector3d(1, (i + 1) * h, 0), 2);
@@ -326,6 +327,27 @@ TEST_CASE("layers 3D: a plate between four symmetry planes grows exact geometric
     CHECK(quads == 16 * 12);
     CHECK(off_plane == 0);
   }
+}
+
+TEST_CASE("layers 3D: a side split into two tags on one plane keeps its nodes on it") {
+  const CurvedFront<3> f = plate(4, 2, true);
+  const TestWallMetric m(1e-3, 1.2, 0.25, [](const Vector3d& x) { return x.z(); },
+                         [](const Vector3d&) { return Vector3d::UnitZ(); });
+  LayerParams p;
+  p.max_layers = 5;
+  const LayerResult<3> r = grow_layers(f, m, p);
+  REQUIRE(r.layers.size() == 5);
+  // Every node finite, and the nodes of the side y = 0 (the columns over it) on it.
+  std::size_t bad = 0;
+  for (const Vector3d& x : r.mesh.nodes)
+    if (!x.allFinite() || (std::abs(x.y()) < 1e-9 && x.y() != 0.0)) ++bad;
+  CHECK(bad == 0);
+  const ConformityReport cr = check_conformity<3>(assemble_hybrid_3d(r.mesh, r.outer));
+  CHECK_MESSAGE(cr.ok, cr.first_problem);
+  std::size_t y0b = 0;
+  for (const CellBlock& b : r.mesh.boundary)
+    if (b.type == CellType::Quadrilateral && r.mesh.tags[static_cast<std::size_t>(b.tag)].name == "y0b") y0b += b.size();
+  CHECK(y0b == 2 * 5);
 }
 
 TEST_CASE("layers 3D: a sphere at scales 1e-6 and 1e6 gives the layers of scale 1, scaled") {
