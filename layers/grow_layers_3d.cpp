@@ -5,7 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <map>
+#include <memory>
+#include <set>
 #include <unordered_map>
 
 #include <Eigen/Eigenvalues>
@@ -51,22 +55,89 @@ Vec onto_planes(const Vec& x, const std::array<int, 2>& ids, const std::vector<P
   return x - m.transpose() * (m * m.transpose()).ldlt().solve(r);
 }
 
-// One connected set of wall triangles with a fixed local numbering of its nodes (step 1).
+// A front of one part with a fixed local numbering of its nodes (step 1): the wall triangles at
+// first; after a first layer with fans also the corner fans' triangles (grown as tetrahedra) and
+// the ridge fans' quadrilaterals (each grown as two prisms split along the ridge). Faces are
+// numbered triangles first, then quadrilaterals.
 struct Part {
   std::string name;
+  int np = 3, nqn = 4;                  // nodes per triangle, per quadrilateral
   std::vector<int> tri;                 // np local node ids per triangle, Gmsh order
   std::vector<int> tri_tag;             // per triangle: index into the front's tags
+  // Per triangle: {-1, -1, -1} grows a prism; else its local vertices in rank order (s, m, t):
+  // three tetrahedra whose quadrilateral diagonals run from the bottom of the lower rank to the
+  // top of the higher (acyclic, so the three tetrahedra fill the prism; step 6).
+  std::vector<std::array<int, 3>> split;
+  std::vector<int> quad;                // nqn local ids per quadrilateral, Gmsh order, lattice i along the ridge
+  std::vector<int> quad_tag;
   std::vector<NodeId> ids;              // current mesh node id of each local node
-  std::vector<std::uint8_t> is_vertex;  // a vertex of some triangle (else high-order)
-  // The attenuation target of node l: sum_k w[l][k] * top of local vertex v[l][k].
-  std::vector<std::array<int, 3>> tv;
-  std::vector<std::array<double, 3>> tw;
+  std::vector<std::uint8_t> is_vertex;  // a vertex of some face (else high-order)
+  // The attenuation target of node l: sum_k w[l][k] * top of local vertex v[l][k] (k < 4).
+  std::vector<std::array<int, 4>> tv;
+  std::vector<std::array<double, 4>> tw;
   std::vector<std::array<int, 2>> plane;             // per node: the planes it lies on (-1: none)
-  std::vector<int> node_tri_start, node_tri;         // CSR: the triangles around each node
-  std::vector<std::array<int, 3>> rim;               // per rim edge: triangle, local edge, plane
+  std::vector<int> node_face_start, node_face;       // CSR: the faces around each node
+  // Per rim edge: face, edge (a triangle's edge 0-2; a quadrilateral's 0: its i = 0 end, 1: its
+  // i = Q end), plane.
+  std::vector<std::array<int, 3>> rim;
   std::vector<int> vertices;                          // local ids of vertex nodes
   std::size_t size() const { return ids.size(); }
+  std::size_t nt() const { return tri_tag.size(); }
+  std::size_t nq() const { return quad_tag.size(); }
+  std::size_t num_faces() const { return nt() + nq(); }
+  const int* face(std::size_t f) const {
+    return f < nt() ? tri.data() + f * static_cast<std::size_t>(np) : quad.data() + (f - nt()) * static_cast<std::size_t>(nqn);
+  }
+  int face_size(std::size_t f) const { return f < nt() ? np : nqn; }
+  int face_vertices(std::size_t f) const { return f < nt() ? 3 : 4; }
+  int face_tag(std::size_t f) const { return f < nt() ? tri_tag[f] : quad_tag[f - nt()]; }
 };
+
+constexpr std::array<int, 3> kPrism = {-1, -1, -1};
+
+// The derived arrays of a part from its faces: vertex flags, attenuation recipes (barycentric on
+// triangles, bilinear on quadrilaterals), the faces around each node.
+void finish_part(Part& p, int q) {
+  const std::size_t n = p.size();
+  p.is_vertex.assign(n, 0);
+  p.tv.assign(n, {0, 0, 0, 0});
+  p.tw.assign(n, {0, 0, 0, 0});
+  const LagrangeElement& te = lagrange_element(CellType::Triangle, q);
+  const LagrangeElement& qe = lagrange_element(CellType::Quadrilateral, q);
+  for (std::size_t f = 0; f < p.num_faces(); ++f) {
+    const int* fl = p.face(f);
+    const bool quad = f >= p.nt();
+    const LagrangeElement& e = quad ? qe : te;
+    for (int k = 0; k < p.face_size(f); ++k) {
+      const Lattice& lat = e.lattice()[static_cast<std::size_t>(k)];
+      const double u = static_cast<double>(lat[0]) / q, v = static_cast<double>(lat[1]) / q;
+      const std::size_t l = static_cast<std::size_t>(fl[k]);
+      if (quad) {
+        p.tv[l] = {fl[0], fl[1], fl[2], fl[3]};
+        for (int m = 0; m < 4; ++m) {
+          const Lattice& c = qe.lattice()[static_cast<std::size_t>(m)];
+          p.tw[l][static_cast<std::size_t>(m)] = (c[0] == 0 ? 1 - u : u) * (c[1] == 0 ? 1 - v : v);
+        }
+      } else {
+        p.tv[l] = {fl[0], fl[1], fl[2], fl[0]};
+        p.tw[l] = {1 - u - v, u, v, 0};
+      }
+      if (k < p.face_vertices(f)) p.is_vertex[l] = 1;
+    }
+  }
+  p.vertices.clear();
+  for (std::size_t l = 0; l < n; ++l)
+    if (p.is_vertex[l]) p.vertices.push_back(static_cast<int>(l));
+  p.node_face_start.assign(n + 1, 0);
+  for (std::size_t f = 0; f < p.num_faces(); ++f)
+    for (int k = 0; k < p.face_size(f); ++k) ++p.node_face_start[static_cast<std::size_t>(p.face(f)[k]) + 1];
+  for (std::size_t l = 0; l < n; ++l) p.node_face_start[l + 1] += p.node_face_start[l];
+  p.node_face.resize(static_cast<std::size_t>(p.node_face_start[n]));
+  std::vector<int> fill(p.node_face_start.begin(), p.node_face_start.end() - 1);
+  for (std::size_t f = 0; f < p.num_faces(); ++f)
+    for (int k = 0; k < p.face_size(f); ++k)
+      p.node_face[static_cast<std::size_t>(fill[static_cast<std::size_t>(p.face(f)[k])]++)] = static_cast<int>(f);
+}
 
 // The parts of the front's wall triangles and their symmetry planes.
 class PartBuilder {
@@ -99,44 +170,19 @@ class PartBuilder {
  private:
   Part part(const std::vector<int>& tris, std::vector<Plane>& planes) {
     Part p;
-    const LagrangeElement& te = lagrange_element(CellType::Triangle, q_);
+    p.np = np_;
+    p.nqn = (q_ + 1) * (q_ + 1);
     std::unordered_map<NodeId, int> local;
     p.name = f_.tags[static_cast<std::size_t>(f_.triangle_tag[static_cast<std::size_t>(tris[0])])].name;
     for (int t : tris) {
       const NodeId* n = f_.triangle(static_cast<std::size_t>(t));
       for (int k = 0; k < np_; ++k) p.tri.push_back(local.emplace(n[k], static_cast<int>(local.size())).first->second);
       p.tri_tag.push_back(f_.triangle_tag[static_cast<std::size_t>(t)]);
+      p.split.push_back(kPrism);
     }
     p.ids.assign(local.size(), -1);
-    p.is_vertex.assign(local.size(), 0);
-    p.tv.assign(local.size(), {0, 0, 0});
-    p.tw.assign(local.size(), {0, 0, 0});
     for (const auto& [id, l] : local) p.ids[static_cast<std::size_t>(l)] = id;
-    const std::size_t nt = tris.size();
-    for (std::size_t t = 0; t < nt; ++t) {
-      const int* tl = p.tri.data() + t * static_cast<std::size_t>(np_);
-      for (int k = 0; k < np_; ++k) {
-        const Lattice& lat = te.lattice()[static_cast<std::size_t>(k)];
-        const double u = static_cast<double>(lat[0]) / q_, v = static_cast<double>(lat[1]) / q_;
-        const std::size_t l = static_cast<std::size_t>(tl[k]);
-        p.tv[l] = {tl[0], tl[1], tl[2]};
-        p.tw[l] = {1 - u - v, u, v};
-        if (k < 3) p.is_vertex[l] = 1;
-      }
-    }
-    for (std::size_t l = 0; l < p.size(); ++l)
-      if (p.is_vertex[l]) p.vertices.push_back(static_cast<int>(l));
-    // Triangles around each node (CSR).
-    p.node_tri_start.assign(p.size() + 1, 0);
-    for (int l : p.tri) ++p.node_tri_start[static_cast<std::size_t>(l) + 1];
-    for (std::size_t l = 0; l < p.size(); ++l) p.node_tri_start[l + 1] += p.node_tri_start[l];
-    p.node_tri.resize(p.tri.size());
-    std::vector<int> fill(p.node_tri_start.begin(), p.node_tri_start.end() - 1);
-    for (std::size_t t = 0; t < nt; ++t)
-      for (int k = 0; k < np_; ++k) {
-        const std::size_t l = static_cast<std::size_t>(p.tri[t * static_cast<std::size_t>(np_) + static_cast<std::size_t>(k)]);
-        p.node_tri[static_cast<std::size_t>(fill[l]++)] = static_cast<int>(t);
-      }
+    finish_part(p, q_);
     rim(p, planes);
     return p;
   }
@@ -255,54 +301,95 @@ class PartBuilder {
   const int q_, np_;
 };
 
-// The pending build of one part: its new top ids, the columns, and the rim quadrilaterals.
-struct PartLayer {
-  BuiltLayer built;
-  std::vector<NodeId> top;         // per local node: its new node
-  std::vector<NodeId> rim_quads;   // (Q+1)^2 ids per quadrilateral, Gmsh order
-  std::vector<int> rim_quad_tag;
+// A growth direction of the new layer at an old front node. Without fans every node has one; the
+// first layer's fans give a fan node one per wedge of faces around it, the directions along each
+// fan's arc and, at a corner, the directions of the corner's patch (step 6).
+struct Dir {
+  int base = 0;          // the old front node it grows from
+  Vec d = Vec::UnitZ();  // unit direction
+  double stretch = 1;    // height factor (concave merges)
+  bool concave = false;
+  bool fan = false;      // a direction of a fan node: its top stays on the fan (no attenuation)
 };
 
-// Builds one layer on one part (steps 2-4).
+// The pending build of one part.
+struct PartLayer {
+  BuiltLayer built;
+  std::array<std::vector<int>, 2> cell_face;  // per new cell: the old face whose neighbourhood shrinks if it fails
+  std::vector<int> face_origin;               // per face of the new front: the same
+  std::vector<NodeId> top;                    // per node of the new front
+  std::shared_ptr<Part> next;                 // the new front's faces when fans changed them (else the old ones)
+  std::vector<NodeId> sym_quads, sym_tris;    // symmetry facets, Gmsh order, facing the cells
+  std::vector<int> sym_quad_tag, sym_tri_tag;
+};
+
+// The cells of a hexahedron (quadrilateral base, lattice (i, j) with i along the ridge, levels w
+// up the layer) split along the ridge into the prisms {v >= w} and {v <= w} of its (v, w) cross
+// sections: per prism node, (i, j, w) of the hexahedron.
+std::array<std::vector<std::array<int, 3>>, 2> hex_prisms(int q) {
+  const LagrangeElement& pe = lagrange_element(CellType::Prism, q);
+  std::array<std::vector<std::array<int, 3>>, 2> r;
+  for (const Lattice& lat : pe.lattice()) {
+    const int a = lat[0], b = lat[1], c = lat[2];
+    r[0].push_back({c, a + b, b});
+    r[1].push_back({c, a, a + b});
+  }
+  return r;
+}
+
+// Builds one layer on one part (steps 2-6).
 class PartLayerBuilder {
  public:
   PartLayerBuilder(HybridMesh<3>& mesh, const MetricField<3>& metric, const LayerParams& p, int q,
                    const CurvedFront<3>& front0, const Part& part, const std::vector<Plane>& planes, bool first_layer,
                    const std::vector<double>& scale, double f_atten, std::vector<std::pair<std::string, std::size_t>>* counts)
-      : mesh_(mesh), metric_(metric), p_(p), q_(q), np_(num_nodes(CellType::Triangle, q)), front0_(front0),
-        part_(part), planes_(planes), first_(first_layer), scale_(scale), f_atten_(f_atten), counts_(counts) {}
+      : mesh_(mesh), metric_(metric), p_(p), q_(q), np_(num_nodes(CellType::Triangle, q)),
+        nqn_(num_nodes(CellType::Quadrilateral, q)), front0_(front0), part_(part), planes_(planes), first_(first_layer),
+        scale_(scale), f_atten_(f_atten), counts_(counts) {}
 
   PartLayer build() {
     const std::size_t n = part_.size();
     x_.resize(n);
     for (std::size_t l = 0; l < n; ++l) x_[l] = mesh_.nodes[static_cast<std::size_t>(part_.ids[l])];
     normals();
+    if (first_ && part_.nq() == 0) fans();
+    if (!fanned_) {
+      dirs_.resize(n);
+      for (std::size_t l = 0; l < n; ++l)
+        dirs_[l] = {static_cast<int>(l), nn_[l].n, nn_[l].stretch, is_concave(nn_[l].kind), false};
+      out_.face_origin.resize(part_.num_faces());
+      for (std::size_t f = 0; f < part_.num_faces(); ++f) out_.face_origin[f] = static_cast<int>(f);
+    }
+    blend();
+    if (counts_ != nullptr) count();
     tops();
     columns_and_cells();
     return std::move(out_);
   }
 
  private:
-  const int* tri(std::size_t t) const { return part_.tri.data() + t * static_cast<std::size_t>(np_); }
-  std::size_t num_tris() const { return part_.tri_tag.size(); }
+  const Part& next() const { return out_.next ? *out_.next : part_; }
+  std::size_t ent_begin(std::size_t l) const { return static_cast<std::size_t>(ent_start_[l]); }
+  std::size_t ent_end(std::size_t l) const { return static_cast<std::size_t>(ent_start_[l + 1]); }
 
-  // 2. Normals: per node, the sub-triangle normals around it with their angles there.
+  // 2. Normals: per node, the sub-triangle normals around it with their angles there and faces.
   void normals() {
     const std::size_t n = part_.size();
-    const std::vector<std::array<int, 3>> subs = sub_triangles(q_);
-    std::vector<int> start(n + 1, 0);
-    for (std::size_t t = 0; t < num_tris(); ++t)
-      for (const auto& s : subs)
-        for (int k : s) ++start[static_cast<std::size_t>(tri(t)[k]) + 1];
-    for (std::size_t l = 0; l < n; ++l) start[l + 1] += start[l];
-    std::vector<Vec> face(static_cast<std::size_t>(start[n]));
-    std::vector<double> weight(face.size());
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (std::size_t t = 0; t < num_tris(); ++t)
-      for (const auto& s : subs) {
-        const int* tl = tri(t);
-        const Vec a = x_[static_cast<std::size_t>(tl[s[0]])], b = x_[static_cast<std::size_t>(tl[s[1]])],
-                  c = x_[static_cast<std::size_t>(tl[s[2]])];
+    const std::vector<std::array<int, 3>> subs[2] = {sub_triangles(q_), sub_quad_triangles(q_)};
+    ent_start_.assign(n + 1, 0);
+    for (std::size_t f = 0; f < part_.num_faces(); ++f)
+      for (const auto& s : subs[f >= part_.nt() ? 1 : 0])
+        for (int k : s) ++ent_start_[static_cast<std::size_t>(part_.face(f)[k]) + 1];
+    for (std::size_t l = 0; l < n; ++l) ent_start_[l + 1] += ent_start_[l];
+    ent_n_.resize(static_cast<std::size_t>(ent_start_[n]));
+    ent_w_.resize(ent_n_.size());
+    ent_f_.resize(ent_n_.size());
+    std::vector<int> fill(ent_start_.begin(), ent_start_.end() - 1);
+    for (std::size_t f = 0; f < part_.num_faces(); ++f)
+      for (const auto& s : subs[f >= part_.nt() ? 1 : 0]) {
+        const int* fl = part_.face(f);
+        const Vec a = x_[static_cast<std::size_t>(fl[s[0]])], b = x_[static_cast<std::size_t>(fl[s[1]])],
+                  c = x_[static_cast<std::size_t>(fl[s[2]])];
         const Vec nn = (b - a).cross(c - a);
         if (!(nn.norm() > 0)) {
           throw MesherError("layers: a degenerate front triangle in surface " + part_.name + " at " +
@@ -312,182 +399,647 @@ class PartLayerBuilder {
         const Vec pts[3] = {a, b, c};
         for (int k = 0; k < 3; ++k) {
           const Vec e1 = pts[(k + 1) % 3] - pts[k], e2 = pts[(k + 2) % 3] - pts[k];
-          const std::size_t l = static_cast<std::size_t>(tl[s[static_cast<std::size_t>(k)]]);
-          face[static_cast<std::size_t>(fill[l])] = un;
-          weight[static_cast<std::size_t>(fill[l]++)] = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
+          const std::size_t l = static_cast<std::size_t>(fl[s[static_cast<std::size_t>(k)]]);
+          const std::size_t e = static_cast<std::size_t>(fill[l]++);
+          ent_n_[e] = un;
+          ent_w_[e] = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
+          ent_f_[e] = static_cast<int>(f);
         }
       }
     nn_.assign(n, NodeNormal{});
-    concave_.assign(n, 0);
     const double corner_rad = p_.corner_angle_deg * M_PI / 180;
-    std::vector<Vec> f, to_nb;
+    std::vector<Vec> fv, to_nb;
     std::vector<double> w;
-    std::size_t classes[6] = {0, 0, 0, 0, 0, 0}, sym = 0;
     for (std::size_t l = 0; l < n; ++l) {
-      f.assign(face.begin() + start[l], face.begin() + start[l + 1]);
-      w.assign(weight.begin() + start[l], weight.begin() + start[l + 1]);
+      fv.assign(ent_n_.begin() + static_cast<std::ptrdiff_t>(ent_begin(l)), ent_n_.begin() + static_cast<std::ptrdiff_t>(ent_end(l)));
+      w.assign(ent_w_.begin() + static_cast<std::ptrdiff_t>(ent_begin(l)), ent_w_.begin() + static_cast<std::ptrdiff_t>(ent_end(l)));
       to_nb.clear();
-      for (int k = part_.node_tri_start[l]; k < part_.node_tri_start[l + 1]; ++k) {
-        const int* tl = tri(static_cast<std::size_t>(part_.node_tri[static_cast<std::size_t>(k)]));
-        for (int v = 0; v < 3; ++v)
-          if (static_cast<std::size_t>(tl[v]) != l) to_nb.push_back(x_[static_cast<std::size_t>(tl[v])] - x_[l]);
+      for (int k = part_.node_face_start[l]; k < part_.node_face_start[l + 1]; ++k) {
+        const std::size_t f = static_cast<std::size_t>(part_.node_face[static_cast<std::size_t>(k)]);
+        for (int v = 0; v < part_.face_vertices(f); ++v)
+          if (static_cast<std::size_t>(part_.face(f)[v]) != l) to_nb.push_back(x_[static_cast<std::size_t>(part_.face(f)[v])] - x_[l]);
       }
-      NodeNormal r;
-      try {
-        r = node_normal(f, w, to_nb, corner_rad);
-      } catch (const MesherError& e) {
-        // Name the node: a cusp is a defect of the surface there (a fold, a notch).
-        throw MesherError(std::string(e.what()) + " at " + std::to_string(x_[l].x()) + ", " +
-                          std::to_string(x_[l].y()) + ", " + std::to_string(x_[l].z()) + " on surface " + part_.name +
-                          "; check the surface mesh there (surface.* in the report)");
-      }
+      NodeNormal r = normal_at(l, fv, w, to_nb, corner_rad);
       // The first layer starts from the reference normal where the surface is smooth (Sec. II.B).
       const std::size_t id = static_cast<std::size_t>(part_.ids[l]);
       if (first_ && r.kind == NodeClass::Smooth && id < front0_.normals.size()) r.n = front0_.normals[id];
-      if (part_.plane[l][0] >= 0) {
-        const Vec inplane = in_planes(r.n, part_.plane[l], planes_);
-        if (!(inplane.norm() > 1e-3))
-          throw MesherError("layers: surface " + part_.name + " meets its symmetry plane tangentially at " +
-                            std::to_string(x_[l].x()) + ", " + std::to_string(x_[l].y()) + ", " + std::to_string(x_[l].z()));
-        r.n = inplane.normalized();
-        ++sym;
-      }
-      if (part_.is_vertex[l]) ++classes[static_cast<int>(r.kind)];
-      concave_[l] = is_concave(r.kind) ? 1 : 0;
+      r.n = in_plane(l, r.n);
       nn_[l] = r;
     }
-    // Next to a convex ridge or corner (merged normals, no fan yet) the high-order nodes move along
-    // the blend of their triangle's vertex normals: the faces' own normals there differ from the
-    // merged vertex normal by up to half the dihedral angle, and the attenuation (f_atten h per
-    // layer) could never catch up with the bend that would grow each layer.
-    std::vector<std::uint8_t> blend(n, 0);
-    for (std::size_t t = 0; t < num_tris(); ++t) {
-      const int* tl = tri(t);
-      bool convex = false;
-      for (int v = 0; v < 3; ++v) {
-        const NodeClass k = nn_[static_cast<std::size_t>(tl[v])].kind;
-        convex = convex || (k != NodeClass::Smooth && !is_concave(k));
+  }
+
+  NodeNormal normal_at(std::size_t l, const std::vector<Vec>& f, const std::vector<double>& w,
+                       const std::vector<Vec>& to_nb, double corner_rad) const {
+    try {
+      return node_normal(f, w, to_nb, corner_rad);
+    } catch (const MesherError& e) {
+      // Name the node: a cusp is a defect of the surface there (a fold, a notch).
+      throw MesherError(std::string(e.what()) + " at " + std::to_string(x_[l].x()) + ", " + std::to_string(x_[l].y()) +
+                        ", " + std::to_string(x_[l].z()) + " on surface " + part_.name +
+                        "; check the surface mesh there (surface.* in the report)");
+    }
+  }
+
+  // A direction at node l kept in its symmetry planes.
+  Vec in_plane(std::size_t l, const Vec& d) const {
+    if (part_.plane[l][0] < 0) return d;
+    const Vec inplane = in_planes(d, part_.plane[l], planes_);
+    if (!(inplane.norm() > 1e-3))
+      throw MesherError("layers: surface " + part_.name + " meets its symmetry plane tangentially at " +
+                        std::to_string(x_[l].x()) + ", " + std::to_string(x_[l].y()) + ", " + std::to_string(x_[l].z()));
+    return inplane.normalized();
+  }
+
+  // The angle-weighted normal of the old face f at its node l (one side of a ridge).
+  Vec side_normal(int f, int l) const {
+    Vec s = Vec::Zero();
+    for (std::size_t e = ent_begin(static_cast<std::size_t>(l)); e < ent_end(static_cast<std::size_t>(l)); ++e)
+      if (ent_f_[e] == f) s += ent_w_[e] * ent_n_[e];
+    return s.normalized();
+  }
+
+  int add_dir(int base, const Vec& d, double stretch, bool concave, bool fan) {
+    dirs_.push_back({base, in_plane(static_cast<std::size_t>(base), d.normalized()), stretch, concave, fan});
+    return static_cast<int>(dirs_.size()) - 1;
+  }
+
+  // 6. Fans at convex ridges and corners, on the first layer (Aubry & Loehner's ridge and corner
+  // fans; the issue's prism/tetrahedron variant). A wall edge is a fan edge when its two faces
+  // meet convexly at more than corner_angle_deg (at any of its nodes). Fan edges form chains
+  // between corners (3 or more fan edges at a node), symmetry planes (the chain's end node on
+  // the rim) or closed loops; a chain that ends anywhere else (its ridge fades out) keeps the
+  // merged normal, as a node on two planes or with two chains on a plane does: the fan would
+  // have nowhere to close (the robust choice; Sec. II.E leaves ridges open).
+  // At a fan node the faces around it form wedges (separated by fan edges), each growing along
+  // its own normal; between the two wedges of a fan edge an arc of k Q + 1 directions (k sectors
+  // of at most fan_angle_deg, the same k along the chain) gives in this layer one prism per
+  // sector and ridge edge (cross section: the node and two sector directions; extruded along the
+  // ridge) and a quadrilateral on the new front; at a corner, a patch of triangles from the
+  // corner's merged normal to every arc sector gives tetrahedra (node + patch triangle) and
+  // front triangles that grow as three tetrahedra in later layers. The quadrilaterals grow as
+  // hexahedra split into two prisms along the ridge; their lattice runs i along the chain and j
+  // across the arc from the right wedge to the left one (so i x j faces the domain), so the
+  // split diagonals of neighbouring hexahedra coincide along a chain and, at a corner, give the
+  // rank order of the patch triangles' tetrahedra.
+  void fans() {
+    const Part& p = part_;
+    const std::size_t nt = p.nt();
+    const LagrangeElement& te = lagrange_element(CellType::Triangle, q_);
+    const double corner_rad = p_.corner_angle_deg * M_PI / 180, fan_rad = p_.fan_angle_deg * M_PI / 180;
+    auto tri = [&](std::size_t t) { return p.tri.data() + t * static_cast<std::size_t>(np_); };
+    // Edges by vertex pair: the two triangles and their local edges.
+    struct Edge {
+      int t[2] = {-1, -1}, e[2] = {0, 0};
+    };
+    std::map<std::pair<int, int>, Edge> edges;
+    for (std::size_t t = 0; t < nt; ++t)
+      for (int e = 0; e < 3; ++e) {
+        const int a = tri(t)[e], b = tri(t)[(e + 1) % 3];
+        Edge& E = edges[{std::min(a, b), std::max(a, b)}];
+        const int slot = E.t[0] < 0 ? 0 : 1;
+        E.t[slot] = static_cast<int>(t);
+        E.e[slot] = e;
       }
-      if (convex)
-        for (int k = 3; k < np_; ++k) blend[static_cast<std::size_t>(tl[k])] = 1;
+    std::set<std::pair<int, int>> fan;
+    for (const auto& [ab, E] : edges) {
+      if (E.t[1] < 0) continue;
+      double dev = 0;
+      for (int k : te.edge_nodes(E.e[0])) {
+        const int l = tri(static_cast<std::size_t>(E.t[0]))[k];
+        dev = std::max(dev, std::acos(std::clamp(side_normal(E.t[0], l).dot(side_normal(E.t[1], l)), -1.0, 1.0)));
+      }
+      const int o0 = tri(static_cast<std::size_t>(E.t[0]))[(E.e[0] + 2) % 3], o1 = tri(static_cast<std::size_t>(E.t[1]))[(E.e[1] + 2) % 3];
+      const Vec& xa = x_[static_cast<std::size_t>(ab.first)];
+      const bool convex = (x_[static_cast<std::size_t>(o1)] - xa).dot(side_normal(E.t[0], ab.first)) < 0 &&
+                          (x_[static_cast<std::size_t>(o0)] - xa).dot(side_normal(E.t[1], ab.first)) < 0;
+      if (convex && dev > corner_rad) fan.insert(ab);
     }
-    for (std::size_t l = 0; l < n; ++l) {
-      if (!blend[l] || nn_[l].kind != NodeClass::Smooth) continue;
+    auto on_rim = [&](int v) { return p.plane[static_cast<std::size_t>(v)][0] >= 0; };
+    std::map<int, int> cnt;
+    for (bool changed = true; changed;) {
+      changed = false;
+      cnt.clear();
+      for (const auto& ab : fan) ++cnt[ab.first], ++cnt[ab.second];
+      for (auto it = fan.begin(); it != fan.end();) {
+        bool bad = false;
+        for (int v : {it->first, it->second}) {
+          const int c = cnt[v];
+          bad = bad || p.plane[static_cast<std::size_t>(v)][1] >= 0 || (on_rim(v) ? c != 1 : c == 1);
+        }
+        if (bad) {
+          it = fan.erase(it);
+          changed = true;
+        } else {
+          ++it;
+        }
+      }
+    }
+    if (fan.empty()) return;
+    fanned_ = true;
+    const std::size_t n = p.size();
+    fan_node_.assign(n, 0);
+    std::unordered_map<std::uint64_t, int> side_dir;  // (fan node, triangle) -> its wedge's direction
+    auto key = [&](int l, int t) { return static_cast<std::uint64_t>(l) * nt + static_cast<std::uint64_t>(t); };
+    // Wedges at fan vertices: the triangles around v joined across edges that are not fan edges.
+    std::vector<Vec> fv, to_nb;
+    std::vector<double> w;
+    for (const auto& [v, c] : cnt) {
+      fan_node_[static_cast<std::size_t>(v)] = 1;
+      std::vector<int> around, root;
+      for (int k = p.node_face_start[static_cast<std::size_t>(v)]; k < p.node_face_start[static_cast<std::size_t>(v) + 1]; ++k)
+        around.push_back(p.node_face[static_cast<std::size_t>(k)]);
+      for (std::size_t i = 0; i < around.size(); ++i) root.push_back(static_cast<int>(i));
+      std::function<int(int)> find = [&](int a) { return root[static_cast<std::size_t>(a)] == a ? a : root[static_cast<std::size_t>(a)] = find(root[static_cast<std::size_t>(a)]); };
+      std::map<int, int> by_other;  // the other vertex of an edge at v -> first triangle index there
+      for (std::size_t i = 0; i < around.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+          const int x = tri(static_cast<std::size_t>(around[i]))[k];
+          if (x == v || fan.count({std::min(v, x), std::max(v, x)})) continue;
+          const auto [it, added] = by_other.emplace(x, static_cast<int>(i));
+          if (!added) root[static_cast<std::size_t>(find(static_cast<int>(i)))] = find(it->second);
+        }
+      std::map<int, int> wedge_dir;
+      for (std::size_t i = 0; i < around.size(); ++i) {
+        const int r = find(static_cast<int>(i));
+        if (wedge_dir.count(r)) continue;
+        fv.clear();
+        w.clear();
+        to_nb.clear();
+        for (std::size_t j = 0; j < around.size(); ++j) {
+          if (find(static_cast<int>(j)) != r) continue;
+          for (std::size_t e = ent_begin(static_cast<std::size_t>(v)); e < ent_end(static_cast<std::size_t>(v)); ++e)
+            if (ent_f_[e] == around[j]) fv.push_back(ent_n_[e]), w.push_back(ent_w_[e]);
+          for (int k = 0; k < 3; ++k)
+            if (tri(static_cast<std::size_t>(around[j]))[k] != v) to_nb.push_back(x_[static_cast<std::size_t>(tri(static_cast<std::size_t>(around[j]))[k])] - x_[static_cast<std::size_t>(v)]);
+        }
+        const NodeNormal nn = normal_at(static_cast<std::size_t>(v), fv, w, to_nb, corner_rad);
+        wedge_dir[r] = add_dir(v, nn.n, nn.stretch, is_concave(nn.kind), true);
+      }
+      for (std::size_t i = 0; i < around.size(); ++i) side_dir[key(v, around[i])] = wedge_dir[find(static_cast<int>(i))];
+    }
+    // High-order nodes of fan edges: one direction per side.
+    for (const auto& ab : fan) {
+      const Edge& E = edges.at(ab);
+      const std::vector<int>& en = te.edge_nodes(E.e[0]);
+      for (std::size_t k = 1; k + 1 < en.size(); ++k) {
+        const int l = tri(static_cast<std::size_t>(E.t[0]))[en[k]];
+        fan_node_[static_cast<std::size_t>(l)] = 1;
+        for (int s = 0; s < 2; ++s) side_dir[key(l, E.t[s])] = add_dir(l, side_normal(E.t[s], l), 1, false, true);
+      }
+    }
+    // Every other node keeps its one direction.
+    std::vector<int> node_dir(n, -1);
+    for (std::size_t l = 0; l < n; ++l)
+      if (!fan_node_[l]) {
+        dirs_.push_back({static_cast<int>(l), nn_[l].n, nn_[l].stretch, is_concave(nn_[l].kind), false});
+        node_dir[l] = static_cast<int>(dirs_.size()) - 1;
+      }
+    auto dir_of = [&](int l, int t) {
+      return fan_node_[static_cast<std::size_t>(l)] ? side_dir.at(key(l, t)) : node_dir[static_cast<std::size_t>(l)];
+    };
+    // Chains, oriented by walking; an end is a node with other than two fan edges, or on the rim.
+    std::map<int, std::vector<std::pair<int, int>>> at_vertex;
+    for (const auto& ab : fan) at_vertex[ab.first].push_back(ab), at_vertex[ab.second].push_back(ab);
+    auto is_end = [&](int v) { return cnt[v] != 2 || on_rim(v); };
+    std::set<std::pair<int, int>> done;
+    std::vector<std::vector<std::pair<int, int>>> chains;  // directed edges (a, b)
+    auto walk = [&](int v, std::pair<int, int> e) {
+      std::vector<std::pair<int, int>> chain;
+      while (!done.count(e)) {
+        done.insert(e);
+        const int b = e.first == v ? e.second : e.first;
+        chain.push_back({v, b});
+        if (is_end(b)) break;
+        for (const auto& f : at_vertex[b])
+          if (!done.count(f)) e = f;
+        v = b;
+      }
+      chains.push_back(chain);
+    };
+    for (const auto& [v, list] : at_vertex)
+      if (is_end(v))
+        for (const auto& e : list)
+          if (!done.count(e)) walk(v, e);
+    for (const auto& e : fan)
+      if (!done.count(e)) walk(e.first, e);
+    // Arcs and fan edges.
+    std::map<std::pair<int, int>, int> arc_of;  // (right direction, left direction) -> arc
+    for (const auto& chain : chains) {
+      std::vector<FanEdge> list;
+      int k = 1;
+      for (const auto& [a, b] : chain) {
+        const Edge& E = edges.at({std::min(a, b), std::max(a, b)});
+        FanEdge fe;
+        const int s = tri(static_cast<std::size_t>(E.t[0]))[E.e[0]] == a ? 0 : 1;
+        fe.left = E.t[s];
+        fe.right = E.t[1 - s];
+        for (int node : te.edge_nodes(E.e[s])) fe.nodes.push_back(tri(static_cast<std::size_t>(fe.left))[node]);
+        for (int l : fe.nodes) {
+          const double ang = std::acos(std::clamp(dirs_[static_cast<std::size_t>(dir_of(l, fe.right))].d.dot(dirs_[static_cast<std::size_t>(dir_of(l, fe.left))].d), -1.0, 1.0));
+          k = std::max(k, static_cast<int>(std::ceil(ang / fan_rad - 1e-9)));
+        }
+        fe.plane[0] = on_rim(a) ? p.plane[static_cast<std::size_t>(a)][0] : -1;
+        fe.plane[1] = on_rim(b) ? p.plane[static_cast<std::size_t>(b)][0] : -1;
+        list.push_back(fe);
+      }
+      for (FanEdge& fe : list) {
+        fe.k = k;
+        for (int l : fe.nodes) {
+          const int dr = dir_of(l, fe.right), dl = dir_of(l, fe.left);
+          const auto [it, added] = arc_of.emplace(std::make_pair(dr, dl), static_cast<int>(arcs_.size()));
+          if (added) {
+            std::vector<int> arc(static_cast<std::size_t>(k * q_ + 1));
+            arc.front() = dr;
+            arc.back() = dl;
+            const Vec d0 = dirs_[static_cast<std::size_t>(dr)].d, d1 = dirs_[static_cast<std::size_t>(dl)].d;
+            for (int m = 1; m < k * q_; ++m) arc[static_cast<std::size_t>(m)] = add_dir(l, slerp(d0, d1, static_cast<double>(m) / (k * q_)), 1, false, true);
+            arcs_.push_back(arc);
+          }
+          fe.arcs.push_back(it->second);
+        }
+        fan_edges_.push_back(fe);
+      }
+    }
+    // The new front: the wall triangles over their directions, then the corner patches.
+    auto nw = std::make_shared<Part>();
+    nw->name = p.name;
+    nw->np = p.np;
+    nw->nqn = p.nqn;
+    for (std::size_t t = 0; t < nt; ++t) {
+      for (int k = 0; k < np_; ++k) nw->tri.push_back(dir_of(tri(t)[k], static_cast<int>(t)));
+      nw->tri_tag.push_back(p.tri_tag[t]);
+      nw->split.push_back(kPrism);
+      out_.face_origin.push_back(static_cast<int>(t));
+    }
+    for (const auto& [v, c] : cnt) {
+      if (c < 3) continue;
+      ++corner_fans_;
+      const int around0 = p.node_face[static_cast<std::size_t>(p.node_face_start[static_cast<std::size_t>(v)])];
+      const int centre = add_dir(v, nn_[static_cast<std::size_t>(v)].n, 1, false, true);
+      std::map<int, std::vector<int>> centre_edge;  // boundary direction -> the Q - 1 directions toward it
+      auto towards = [&](int d, int m) {
+        auto [it, added] = centre_edge.emplace(d, std::vector<int>());
+        if (added)
+          for (int j = 1; j < q_; ++j)
+            it->second.push_back(add_dir(v, (q_ - j) * dirs_[static_cast<std::size_t>(centre)].d + j * dirs_[static_cast<std::size_t>(d)].d, 1, false, true));
+        return it->second[static_cast<std::size_t>(m - 1)];
+      };
+      for (const FanEdge& fe : fan_edges_) {
+        int end = -1;
+        if (fe.nodes.front() == v) end = 0;
+        if (fe.nodes.back() == v) end = q_;
+        if (end < 0) continue;
+        const std::vector<int>& arc = arcs_[static_cast<std::size_t>(fe.arcs[static_cast<std::size_t>(end)])];
+        for (int s = 0; s < fe.k; ++s) {
+          const int a = arc[static_cast<std::size_t>(s * q_)], b = arc[static_cast<std::size_t>((s + 1) * q_)];
+          const Vec& dc = dirs_[static_cast<std::size_t>(centre)].d;
+          const Vec& da = dirs_[static_cast<std::size_t>(a)].d;
+          const Vec& db = dirs_[static_cast<std::size_t>(b)].d;
+          const bool ab = (da - dc).cross(db - dc).dot(dc) > 0;  // (centre, a, b) counter-clockwise from outside
+          for (const Lattice& lat : te.lattice()) {
+            const int w1 = lat[0], w2 = lat[1], w0 = q_ - w1 - w2;
+            const int wb = ab ? w2 : w1, wa = ab ? w1 : w2;
+            int d;
+            if (w0 == q_) d = centre;
+            else if (w0 == 0) d = arc[static_cast<std::size_t>(s * q_ + wb)];
+            else if (wa == 0) d = towards(b, wb);
+            else if (wb == 0) d = towards(a, wa);
+            else d = add_dir(v, w0 * dc + wa * da + wb * db, 1, false, true);
+            nw->tri.push_back(d);
+          }
+          nw->tri_tag.push_back(p.tri_tag[static_cast<std::size_t>(around0)]);
+          nw->split.push_back({0, ab ? 1 : 2, ab ? 2 : 1});
+          out_.face_origin.push_back(around0);
+          corner_tets_.push_back({v, static_cast<int>(nw->tri_tag.size()) - 1});
+        }
+      }
+    }
+    // The ridges' quadrilaterals.
+    const LagrangeElement& qe = lagrange_element(CellType::Quadrilateral, q_);
+    for (const FanEdge& fe : fan_edges_)
+      for (int s = 0; s < fe.k; ++s) {
+        for (const Lattice& lat : qe.lattice())
+          nw->quad.push_back(arcs_[static_cast<std::size_t>(fe.arcs[static_cast<std::size_t>(lat[0])])][static_cast<std::size_t>(s * q_ + lat[1])]);
+        nw->quad_tag.push_back(p.tri_tag[static_cast<std::size_t>(fe.left)]);
+        out_.face_origin.push_back(fe.left);
+      }
+    nw->ids.assign(dirs_.size(), -1);
+    nw->plane.resize(dirs_.size());
+    for (std::size_t d = 0; d < dirs_.size(); ++d) nw->plane[d] = p.plane[static_cast<std::size_t>(dirs_[d].base)];
+    nw->rim = p.rim;
+    std::size_t qf = nw->nt();
+    for (const FanEdge& fe : fan_edges_)
+      for (int s = 0; s < fe.k; ++s, ++qf)
+        for (int end = 0; end < 2; ++end)
+          if (fe.plane[end] >= 0) nw->rim.push_back({static_cast<int>(qf), end, fe.plane[end]});
+    finish_part(*nw, q_);
+    out_.next = nw;
+  }
+
+  static Vec slerp(const Vec& a, const Vec& b, double t) {
+    const double ang = std::acos(std::clamp(a.dot(b), -1.0, 1.0));
+    if (ang < 1e-12) return a;
+    return (std::sin((1 - t) * ang) * a + std::sin(t * ang) * b) / std::sin(ang);
+  }
+
+  // Next to a convex ridge or corner with a merged normal (no fan) the high-order nodes move
+  // along the blend of their face's vertex normals: the faces' own normals there differ from the
+  // merged vertex normal by up to half the dihedral angle, and the attenuation (f_atten h per
+  // layer) could never catch up with the bend that would grow each layer.
+  void blend() {
+    const Part& nw = next();
+    auto convex = [&](int d) {
+      const Dir& r = dirs_[static_cast<std::size_t>(d)];
+      const NodeClass k = nn_[static_cast<std::size_t>(r.base)].kind;
+      return !r.fan && k != NodeClass::Smooth && !is_concave(k);
+    };
+    std::vector<std::uint8_t> blend(dirs_.size(), 0);
+    for (std::size_t f = 0; f < nw.num_faces(); ++f) {
+      const int* fl = nw.face(f);
+      bool c = false;
+      for (int v = 0; v < nw.face_vertices(f); ++v) c = c || convex(fl[v]);
+      if (c)
+        for (int k = nw.face_vertices(f); k < nw.face_size(f); ++k) blend[static_cast<std::size_t>(fl[k])] = 1;
+    }
+    for (std::size_t d = 0; d < dirs_.size(); ++d) {
+      Dir& r = dirs_[d];
+      if (!blend[d] || r.fan || nn_[static_cast<std::size_t>(r.base)].kind != NodeClass::Smooth) continue;
       Vec m = Vec::Zero();
-      for (int k = 0; k < 3; ++k)
-        m += part_.tw[l][static_cast<std::size_t>(k)] * nn_[static_cast<std::size_t>(part_.tv[l][static_cast<std::size_t>(k)])].n;
-      m = in_planes(m, part_.plane[l], planes_);
-      if (m.norm() > 1e-6) nn_[l].n = m.normalized();
+      for (int k = 0; k < 4; ++k) m += nw.tw[d][static_cast<std::size_t>(k)] * dirs_[static_cast<std::size_t>(nw.tv[d][static_cast<std::size_t>(k)])].d;
+      m = in_planes(m, part_.plane[static_cast<std::size_t>(r.base)], planes_);
+      if (m.norm() > 1e-6) r.d = m.normalized();
     }
-    if (counts_ != nullptr) {
-      counts_->clear();
-      for (int k = 0; k < 6; ++k)
-        counts_->push_back({std::string("nodes.") + node_class_name(static_cast<NodeClass>(k)), classes[k]});
-      counts_->push_back({"nodes.symmetry", sym});
-      counts_->push_back({"merges", classes[static_cast<int>(NodeClass::ConcaveRidge)] +
-                                        classes[static_cast<int>(NodeClass::ConcaveCorner)]});
+  }
+
+  void count() {
+    std::size_t classes[6] = {0, 0, 0, 0, 0, 0}, sym = 0;
+    for (std::size_t l = 0; l < part_.size(); ++l) {
+      if (part_.is_vertex[l]) ++classes[static_cast<int>(nn_[l].kind)];
+      if (part_.plane[l][0] >= 0) ++sym;
     }
+    counts_->clear();
+    for (int k = 0; k < 6; ++k)
+      counts_->push_back({std::string("nodes.") + node_class_name(static_cast<NodeClass>(k)), classes[k]});
+    counts_->push_back({"nodes.symmetry", sym});
+    counts_->push_back({"merges", classes[static_cast<int>(NodeClass::ConcaveRidge)] +
+                                      classes[static_cast<int>(NodeClass::ConcaveCorner)]});
+    counts_->push_back({"ridge_fans.edges", fan_edges_.size()});
+    std::size_t sectors = 0;
+    for (const FanEdge& fe : fan_edges_) sectors += static_cast<std::size_t>(fe.k);
+    counts_->push_back({"ridge_fans.sectors", sectors});
+    counts_->push_back({"corner_fans", corner_fans_});
   }
 
   // 3-4. Heights, tops (on the symmetry planes), attenuation of the high-order tops.
   void tops() {
     const std::size_t n = part_.size();
-    top_.resize(n);
+    const Part& nw = next();
     h_.resize(n);
-    // The metric's height at the vertices; a high-order node takes the interpolation of its
-    // triangle's vertex heights (the attenuation's recipe). Its own metric height would feed back:
-    // a node the attenuation pulled toward the chord lies nearer the wall, gets a smaller height
-    // from a wall law, and falls further behind every layer (measured on a sphere: the front's
-    // sag grew from 0.005 to 0.012 in 30 layers instead of vanishing).
+    // The metric's height at the vertices (at a fan node the smallest over its directions: the
+    // wall's normal size, whichever face the metric measures from); a high-order node takes the
+    // interpolation of its face's vertex heights (the attenuation's recipe). Its own metric height
+    // would feed back: a node the attenuation pulled toward the chord lies nearer the wall, gets a
+    // smaller height from a wall law, and falls further behind every layer (measured on a sphere:
+    // the front's sag grew from 0.005 to 0.012 in 30 layers instead of vanishing).
     for (std::size_t l = 0; l < n; ++l)
-      if (part_.is_vertex[l]) h_[l] = layer_height<3>(metric_, x_[l], nn_[l].n, p_.integrate_height) * scale_[l];
+      if (part_.is_vertex[l]) h_[l] = fanned_ && fan_node_[l] ? std::numeric_limits<double>::infinity()
+                                                            : layer_height<3>(metric_, x_[l], nn_[l].n, p_.integrate_height);
+    if (fanned_)
+      for (const Dir& r : dirs_) {
+        const std::size_t l = static_cast<std::size_t>(r.base);
+        if (part_.is_vertex[l] && fan_node_[l]) h_[l] = std::min(h_[l], layer_height<3>(metric_, x_[l], r.d, p_.integrate_height));
+      }
     for (std::size_t l = 0; l < n; ++l)
       if (!part_.is_vertex[l]) {
         double h = 0;
-        for (int k = 0; k < 3; ++k)
-          h += part_.tw[l][static_cast<std::size_t>(k)] * h_[static_cast<std::size_t>(part_.tv[l][static_cast<std::size_t>(k)])];
+        for (int k = 0; k < 4; ++k) h += part_.tw[l][static_cast<std::size_t>(k)] * h_[static_cast<std::size_t>(part_.tv[l][static_cast<std::size_t>(k)])];
         h_[l] = h;
       }
-    for (std::size_t l = 0; l < n; ++l) {
-      const NodeNormal& r = nn_[l];
-      h_[l] *= r.stretch;
-      top_[l] = x_[l] + h_[l] * r.n;
-      top_[l] = onto_planes(top_[l], part_.plane[l], planes_);
+    for (std::size_t l = 0; l < n; ++l) h_[l] *= scale_[l];
+    const std::size_t nd = dirs_.size();
+    top_.resize(nd);
+    dh_.resize(nd);
+    for (std::size_t d = 0; d < nd; ++d) {
+      const Dir& r = dirs_[d];
+      const std::size_t l = static_cast<std::size_t>(r.base);
+      dh_[d] = h_[l] * r.stretch;
+      top_[d] = onto_planes(x_[l] + dh_[d] * r.d, part_.plane[l], planes_);
     }
-    // Straight tops: on a straight base (the node at its linear position) and on every triangle
+    // Straight tops: on a straight base (the node at its linear position) and on every face
     // touching a concave node.
-    std::vector<std::uint8_t> straight(n, 0);
-    for (std::size_t t = 0; t < num_tris(); ++t) {
-      const int* tl = tri(t);
-      if (concave_[static_cast<std::size_t>(tl[0])] || concave_[static_cast<std::size_t>(tl[1])] ||
-          concave_[static_cast<std::size_t>(tl[2])])
-        for (int k = 3; k < np_; ++k) straight[static_cast<std::size_t>(tl[k])] = 1;
+    std::vector<std::uint8_t> straight(nd, 0);
+    for (std::size_t f = 0; f < nw.num_faces(); ++f) {
+      const int* fl = nw.face(f);
+      bool c = false;
+      for (int v = 0; v < nw.face_vertices(f); ++v) c = c || dirs_[static_cast<std::size_t>(fl[v])].concave;
+      if (c)
+        for (int k = nw.face_vertices(f); k < nw.face_size(f); ++k) straight[static_cast<std::size_t>(fl[k])] = 1;
     }
     double clipped_max = 0;
-    for (std::size_t l = 0; l < n; ++l) {
-      if (part_.is_vertex[l]) continue;
-      const auto& v = part_.tv[l];
-      const auto& w = part_.tw[l];
+    for (std::size_t d = 0; d < nd; ++d) {
+      if (nw.is_vertex[d] || dirs_[d].fan) continue;
+      const std::size_t l = static_cast<std::size_t>(dirs_[d].base);
       Vec target = Vec::Zero(), linear = Vec::Zero();
       double size = 0;
-      for (int k = 0; k < 3; ++k) {
-        target += w[static_cast<std::size_t>(k)] * top_[static_cast<std::size_t>(v[static_cast<std::size_t>(k)])];
-        linear += w[static_cast<std::size_t>(k)] * x_[static_cast<std::size_t>(v[static_cast<std::size_t>(k)])];
-        size = std::max(size, (x_[static_cast<std::size_t>(v[static_cast<std::size_t>(k)])] - x_[l]).norm());
+      for (int k = 0; k < 4; ++k) {
+        const double w = nw.tw[d][static_cast<std::size_t>(k)];
+        target += w * top_[static_cast<std::size_t>(nw.tv[d][static_cast<std::size_t>(k)])];
+        const std::size_t v = static_cast<std::size_t>(part_.tv[l][static_cast<std::size_t>(k)]);
+        linear += part_.tw[l][static_cast<std::size_t>(k)] * x_[v];
+        size = std::max(size, (x_[v] - x_[l]).norm());
       }
-      if (straight[l] || (x_[l] - linear).norm() <= 1e-12 * size) {
-        top_[l] = target;
+      if (straight[d] || (x_[l] - linear).norm() <= 1e-12 * size) {
+        top_[d] = target;
         continue;
       }
-      clipped_max = std::max(clipped_max, attenuate<3>(&top_[l], &target, &h_[l], 1, f_atten_));
+      clipped_max = std::max(clipped_max, attenuate<3>(&top_[d], &target, &dh_[d], 1, f_atten_));
     }
     out_.built.max_clipped_rel = clipped_max;
-    out_.built.linear = clipped_max == 0;
+    out_.built.linear = clipped_max == 0 && !fanned_;
   }
 
-  // Columns of Q nodes per front node, one prism per triangle, the rim quadrilaterals.
-  void columns_and_cells() {
-    const std::size_t n = part_.size();
-    const std::size_t q = static_cast<std::size_t>(q_);
-    col_.resize(n * q);
-    out_.top.resize(n);
-    for (std::size_t l = 0; l < n; ++l) {
-      for (std::size_t k = 1; k <= q; ++k) {
-        mesh_.nodes.push_back(x_[l] + (static_cast<double>(k) / q_) * (top_[l] - x_[l]));
-        col_[l * q + k - 1] = static_cast<NodeId>(mesh_.nodes.size() - 1);
-      }
-      out_.top[l] = col_[l * q + q - 1];
+  // Node `level` (0..Q) of direction d's column; the inner ones are made when a cell first asks
+  // (an arc direction inside a sector of the first layer's fans has only its top).
+  NodeId at(int d, int level) {
+    const std::size_t b = static_cast<std::size_t>(dirs_[static_cast<std::size_t>(d)].base);
+    if (level == 0) return part_.ids[b];
+    NodeId& id = col_[static_cast<std::size_t>(d) * static_cast<std::size_t>(q_) + static_cast<std::size_t>(level) - 1];
+    if (id < 0) {
+      mesh_.nodes.push_back(x_[b] + (static_cast<double>(level) / q_) * (top_[static_cast<std::size_t>(d)] - x_[b]));
+      id = static_cast<NodeId>(mesh_.nodes.size() - 1);
     }
-    auto at = [&](int l, int level) {
-      return level == 0 ? part_.ids[static_cast<std::size_t>(l)] : col_[static_cast<std::size_t>(l) * q + static_cast<std::size_t>(level) - 1];
-    };
+    return id;
+  }
+
+  // A node of the first layer's fan cells off the columns: sum of w_k (k over directions of one
+  // base node, sum w = level < Q) at level/Q of the interpolated column length along the
+  // normalised weighted direction; one node per weight set, shared by every cell that has it.
+  NodeId fan_point(std::vector<std::pair<int, int>> weights) {
+    std::sort(weights.begin(), weights.end());
+    const auto it = fan_points_.find(weights);
+    if (it != fan_points_.end()) return it->second;
+    const std::size_t base = static_cast<std::size_t>(dirs_[static_cast<std::size_t>(weights[0].first)].base);
+    Vec d = Vec::Zero();
+    double len = 0, level = 0;
+    for (const auto& [dir, w] : weights) {
+      d += w * dirs_[static_cast<std::size_t>(dir)].d;
+      len += w * (top_[static_cast<std::size_t>(dir)] - x_[base]).norm();
+      level += w;
+    }
+    mesh_.nodes.push_back(x_[base] + (level / q_) * (len / level) * d.normalized());
+    const NodeId id = static_cast<NodeId>(mesh_.nodes.size() - 1);
+    fan_points_.emplace(weights, id);
+    return id;
+  }
+
+  // 5-6. Columns of Q nodes per direction; per face of the new front grown from an old face a
+  // prism (triangle), three tetrahedra (corner triangle) or two prisms (quadrilateral); the
+  // first layer's fan cells; the symmetry facets.
+  void columns_and_cells() {
+    const std::size_t nd = dirs_.size();
+    const std::size_t q = static_cast<std::size_t>(q_);
+    col_.assign(nd * q, -1);
+    out_.top.resize(nd);
+    for (std::size_t d = 0; d < nd; ++d) out_.top[d] = at(static_cast<int>(d), q_);
+    const Part& nw = next();
     const LagrangeElement& te = lagrange_element(CellType::Triangle, q_);
+    const LagrangeElement& qe = lagrange_element(CellType::Quadrilateral, q_);
     const LagrangeElement& pe = lagrange_element(CellType::Prism, q_);
     std::vector<int> tri_of_prism_node;
     for (const Lattice& lat : pe.lattice()) tri_of_prism_node.push_back(te.find({lat[0], lat[1], 0}));
-    std::vector<NodeId>& cells = out_.built.cells[0];
-    cells.reserve(num_tris() * static_cast<std::size_t>(pe.size()));
-    for (std::size_t t = 0; t < num_tris(); ++t) {
-      const int* tl = tri(t);
-      for (int k = 0; k < pe.size(); ++k)
-        cells.push_back(at(tl[tri_of_prism_node[static_cast<std::size_t>(k)]], pe.lattice()[static_cast<std::size_t>(k)][2]));
+    const auto hex = hex_prisms(q_);
+    std::vector<NodeId>& prisms = out_.built.cells[0];
+    std::vector<NodeId>& tets = out_.built.cells[1];
+    const std::size_t grown = fanned_ ? part_.nt() : nw.num_faces();  // faces grown from an old face
+    for (std::size_t f = 0; f < grown; ++f) {
+      const int* fl = nw.face(f);
+      if (f >= nw.nt()) {
+        for (int h = 0; h < 2; ++h) {
+          for (const auto& ijw : hex[static_cast<std::size_t>(h)]) prisms.push_back(at(fl[qe.find({ijw[0], ijw[1], 0})], ijw[2]));
+          out_.cell_face[0].push_back(static_cast<int>(f));
+        }
+      } else if (nw.split[f][0] < 0) {
+        for (int k = 0; k < pe.size(); ++k)
+          prisms.push_back(at(fl[tri_of_prism_node[static_cast<std::size_t>(k)]], pe.lattice()[static_cast<std::size_t>(k)][2]));
+        out_.cell_face[0].push_back(static_cast<int>(f));
+      } else {
+        split_tets(fl, nw.split[f], tets);
+        for (int k = 0; k < 3; ++k) out_.cell_face[1].push_back(static_cast<int>(f));
+      }
     }
-    // Rim quadrilaterals: u runs from the edge's second vertex to its first, v up the layer, so
-    // their normal points into the prisms (into the domain, as the wall's).
-    const LagrangeElement& qe = lagrange_element(CellType::Quadrilateral, q_);
-    for (const auto& re : part_.rim) {
-      const int* tl = tri(static_cast<std::size_t>(re[0]));
-      const std::vector<int>& en = te.edge_nodes(re[1]);
-      for (const Lattice& lat : qe.lattice())
-        out_.rim_quads.push_back(at(tl[en[static_cast<std::size_t>(q_ - lat[0])]], lat[1]));
-      out_.rim_quad_tag.push_back(planes_[static_cast<std::size_t>(re[2])].tag);
+    if (fanned_) fan_cells();
+    // Symmetry facets of the grown faces: a triangle's rim edge gives a quadrilateral (u from the
+    // edge's second vertex to its first, v up the layer: facing the cells, as the wall does); a
+    // quadrilateral's end gives the two triangles of its hexahedron's cross section there.
+    for (const auto& re : nw.rim) {
+      const std::size_t f = static_cast<std::size_t>(re[0]);
+      if (f >= grown) continue;
+      const int* fl = nw.face(f);
+      const int tag = planes_[static_cast<std::size_t>(re[2])].tag;
+      if (f < nw.nt()) {
+        const std::vector<int>& en = te.edge_nodes(re[1]);
+        for (const Lattice& lat : qe.lattice()) out_.sym_quads.push_back(at(fl[en[static_cast<std::size_t>(q_ - lat[0])]], lat[1]));
+        out_.sym_quad_tag.push_back(tag);
+      } else {
+        const int i = re[1] == 0 ? 0 : q_;
+        for (int h = 0; h < 2; ++h) {
+          for (const Lattice& lat : te.lattice()) {
+            const int a = re[1] == 0 ? lat[0] : lat[1], b = re[1] == 0 ? lat[1] : lat[0];
+            const int v = h == 0 ? a + b : a, w = h == 0 ? b : a + b;
+            out_.sym_tris.push_back(at(fl[qe.find({i, v, 0})], w));
+          }
+          out_.sym_tri_tag.push_back(tag);
+        }
+      }
     }
   }
+
+  // The three tetrahedra of the prism over triangle fl with rank order r (Part::split).
+  void split_tets(const int* fl, const std::array<int, 3>& r, std::vector<NodeId>& tets) {
+    const LagrangeElement& te = lagrange_element(CellType::Triangle, q_);
+    const LagrangeElement& tet = lagrange_element(CellType::Tetrahedron, q_);
+    const int s = r[0], m = r[1], t = r[2];
+    const std::array<std::array<int, 2>, 4> cells[3] = {{{{s, 0}, {m, 0}, {t, 0}, {t, 1}}},
+                                                        {{{s, 0}, {m, 0}, {m, 1}, {t, 1}}},
+                                                        {{{s, 0}, {s, 1}, {m, 1}, {t, 1}}}};
+    auto lat_of = [&](const std::array<int, 2>& vl) {
+      return Eigen::Vector3i(vl[0] == 1 ? q_ : 0, vl[0] == 2 ? q_ : 0, vl[1] * q_);
+    };
+    for (auto c : cells) {
+      // Positive orientation in the reference prism (its Jacobian has the prism's sign).
+      const Eigen::Vector3i a = lat_of(c[0]), b = lat_of(c[1]), cc = lat_of(c[2]), dd = lat_of(c[3]);
+      const Eigen::Matrix3d m3 = (Eigen::Matrix3d() << (b - a).cast<double>(), (cc - a).cast<double>(), (dd - a).cast<double>()).finished();
+      if (m3.determinant() < 0) std::swap(c[2], c[3]);
+      for (const Lattice& lat : tet.lattice()) {
+        const int w[4] = {q_ - lat[0] - lat[1] - lat[2], lat[0], lat[1], lat[2]};
+        Eigen::Vector3i pt = Eigen::Vector3i::Zero();
+        for (int k = 0; k < 4; ++k) pt += w[k] * lat_of(c[static_cast<std::size_t>(k)]);
+        pt /= q_;
+        tets.push_back(at(fl[te.find({pt[0], pt[1], 0})], pt[2]));
+      }
+    }
+  }
+
+  // The first layer's ridge fan prisms (cross section: the edge node, sector direction s + 1,
+  // sector direction s; extruded along the chain) and corner tetrahedra (corner node + patch
+  // triangle), and their symmetry triangles at chain ends on a plane.
+  void fan_cells() {
+    const LagrangeElement& te = lagrange_element(CellType::Triangle, q_);
+    const LagrangeElement& pe = lagrange_element(CellType::Prism, q_);
+    const LagrangeElement& tet = lagrange_element(CellType::Tetrahedron, q_);
+    for (const FanEdge& fe : fan_edges_)
+      for (int s = 0; s < fe.k; ++s) {
+        auto node = [&](int a, int b, int c) {
+          const std::vector<int>& arc = arcs_[static_cast<std::size_t>(fe.arcs[static_cast<std::size_t>(c)])];
+          const int d0 = arc[static_cast<std::size_t>(s * q_)], d1 = arc[static_cast<std::size_t>((s + 1) * q_)];
+          if (a + b == q_) return at(arc[static_cast<std::size_t>(s * q_ + a)], q_);
+          if (a == 0 && b == 0) return part_.ids[static_cast<std::size_t>(fe.nodes[static_cast<std::size_t>(c)])];
+          if (b == 0) return at(d1, a);
+          if (a == 0) return at(d0, b);
+          return fan_point({{d0, b}, {d1, a}});
+        };
+        for (const Lattice& lat : pe.lattice()) out_.built.cells[0].push_back(node(lat[0], lat[1], lat[2]));
+        out_.cell_face[0].push_back(fe.left);
+        for (int end = 0; end < 2; ++end) {
+          if (fe.plane[end] < 0) continue;
+          for (const Lattice& lat : te.lattice())
+            out_.sym_tris.push_back(end == 0 ? node(lat[0], lat[1], 0) : node(lat[1], lat[0], q_));
+          out_.sym_tri_tag.push_back(planes_[static_cast<std::size_t>(fe.plane[end])].tag);
+        }
+      }
+    const Part& nw = next();
+    for (const auto& [v, f] : corner_tets_) {
+      const int* fl = nw.face(static_cast<std::size_t>(f));
+      for (const Lattice& lat : tet.lattice()) {
+        const int w[4] = {q_ - lat[0] - lat[1] - lat[2], lat[0], lat[1], lat[2]};
+        if (w[0] == q_) {
+          out_.built.cells[1].push_back(part_.ids[static_cast<std::size_t>(v)]);
+        } else if (w[0] == 0) {
+          out_.built.cells[1].push_back(at(fl[te.find({w[2], w[3], 0})], q_));
+        } else {
+          std::vector<std::pair<int, int>> weights;
+          for (int k = 1; k < 4; ++k)
+            if (w[k] > 0) weights.push_back({fl[k - 1], w[k]});
+          out_.built.cells[1].push_back(weights.size() == 1 ? at(weights[0].first, weights[0].second) : fan_point(weights));
+        }
+      }
+      out_.cell_face[1].push_back(out_.face_origin[static_cast<std::size_t>(f)]);
+    }
+  }
+
+  // A ridge edge of the first layer's fans: its Q + 1 old nodes along the chain, its sides (the
+  // chain's left and right triangles), the arc at each node, the sector count, and the plane its
+  // first and last node lie on (-1: none).
+  struct FanEdge {
+    std::vector<int> nodes, arcs;
+    int left = 0, right = 0, k = 1;
+    std::array<int, 2> plane = {-1, -1};
+  };
 
   HybridMesh<3>& mesh_;
   const MetricField<3>& metric_;
   const LayerParams& p_;
-  const int q_, np_;
+  const int q_, np_, nqn_;
   const CurvedFront<3>& front0_;
   const Part& part_;
   const std::vector<Plane>& planes_;
@@ -496,9 +1048,19 @@ class PartLayerBuilder {
   const double f_atten_;
   std::vector<std::pair<std::string, std::size_t>>* counts_;
   std::vector<Vec> x_, top_;
-  std::vector<double> h_;
+  std::vector<double> h_, dh_;
   std::vector<NodeNormal> nn_;
-  std::vector<std::uint8_t> concave_;
+  std::vector<int> ent_start_, ent_f_;  // per node: its sub-triangle normals, angles and faces
+  std::vector<Vec> ent_n_;
+  std::vector<double> ent_w_;
+  std::vector<Dir> dirs_;
+  bool fanned_ = false;
+  std::vector<std::uint8_t> fan_node_;
+  std::vector<std::vector<int>> arcs_;
+  std::vector<FanEdge> fan_edges_;
+  std::vector<std::pair<int, int>> corner_tets_;  // (corner node, new front triangle)
+  std::size_t corner_fans_ = 0;
+  std::map<std::vector<std::pair<int, int>>, NodeId> fan_points_;
   std::vector<NodeId> col_;
   PartLayer out_;
 };
@@ -525,46 +1087,67 @@ class SurfaceFronts final : public FrontGrower<3> {
   BuiltLayer build(std::size_t part, int layer, const std::vector<double>& scale, const std::vector<std::uint8_t>&,
                    double f_atten) override {
     pending_part_ = part;
+    std::vector<std::pair<std::string, std::size_t>> counts;
     pending_ = PartLayerBuilder(mesh_, metric_, p_, q_, front0_, parts_[part], planes_, layer == 1, scale, f_atten,
-                                layer == 1 && part == 0 ? &counts_ : nullptr)
+                                layer == 1 ? &counts : nullptr)
                    .build();
+    if (layer == 1) pending_counts_ = counts;
     return std::move(pending_.built);
   }
+  const Part& pending_front() const { return pending_.next ? *pending_.next : parts_[pending_part_]; }
   std::vector<std::size_t> collisions(std::size_t part) const override {
     std::vector<FrontSurface> fronts;
-    fronts.push_back({&parts_[part].tri, &pending_.top});
+    const Part& nw = pending_front();
+    fronts.push_back({&nw.tri, &pending_.top, &nw.quad});
     for (std::size_t other = 0; other < parts_.size(); ++other)
-      if (other != part) fronts.push_back({&parts_[other].tri, &parts_[other].ids});
+      if (other != part) fronts.push_back({&parts_[other].tri, &parts_[other].ids, &parts_[other].quad});
     return front_collisions(fronts, mesh_.nodes, q_);
   }
   Vec front_point(std::size_t e) const override {
-    const Part& p = parts_[pending_part_];
-    return mesh_.nodes[static_cast<std::size_t>(pending_.top[static_cast<std::size_t>(p.tri[e * static_cast<std::size_t>(num_nodes(CellType::Triangle, q_))])])];
+    return mesh_.nodes[static_cast<std::size_t>(pending_.top[static_cast<std::size_t>(pending_front().face(e)[0])])];
   }
-  // Heights halve on the nodes of the failing triangles and of every triangle around them.
+  // Heights halve on the nodes of the old faces behind the failures and of every face around them.
   void shrink(std::size_t part, const std::vector<LayerFailure>& failures, std::vector<double>& scale) const override {
     const Part& p = parts_[part];
-    const std::size_t np = static_cast<std::size_t>(num_nodes(CellType::Triangle, q_));
     std::vector<std::uint8_t> halve(p.size(), 0);
-    for (const LayerFailure& f : failures) {
-      const int* tl = p.tri.data() + f.index * np;
-      for (int v = 0; v < 3; ++v)
-        for (int k = p.node_tri_start[static_cast<std::size_t>(tl[v])]; k < p.node_tri_start[static_cast<std::size_t>(tl[v]) + 1]; ++k)
-          for (std::size_t j = 0; j < np; ++j)
-            halve[static_cast<std::size_t>(p.tri[static_cast<std::size_t>(p.node_tri[static_cast<std::size_t>(k)]) * np + j])] = 1;
+    for (const LayerFailure& fl : failures) {
+      const std::size_t f = static_cast<std::size_t>(
+          fl.block == LayerFailure::kFrontElement ? pending_.face_origin[fl.index]
+                                                  : pending_.cell_face[static_cast<std::size_t>(fl.block)][fl.index]);
+      for (int v = 0; v < p.face_vertices(f); ++v) {
+        const std::size_t l = static_cast<std::size_t>(p.face(f)[v]);
+        for (int k = p.node_face_start[l]; k < p.node_face_start[l + 1]; ++k) {
+          const std::size_t g = static_cast<std::size_t>(p.node_face[static_cast<std::size_t>(k)]);
+          for (int j = 0; j < p.face_size(g); ++j) halve[static_cast<std::size_t>(p.face(g)[j])] = 1;
+        }
+      }
     }
     for (std::size_t l = 0; l < p.size(); ++l)
       if (halve[l]) scale[l] *= 0.5;
   }
   void accept(std::size_t part) override {
+    if (pending_.next) parts_[part] = std::move(*pending_.next);
     parts_[part].ids = std::move(pending_.top);
-    rim_quads_.insert(rim_quads_.end(), pending_.rim_quads.begin(), pending_.rim_quads.end());
-    rim_quad_tag_.insert(rim_quad_tag_.end(), pending_.rim_quad_tag.begin(), pending_.rim_quad_tag.end());
+    sym_quads_.insert(sym_quads_.end(), pending_.sym_quads.begin(), pending_.sym_quads.end());
+    sym_quad_tag_.insert(sym_quad_tag_.end(), pending_.sym_quad_tag.begin(), pending_.sym_quad_tag.end());
+    sym_tris_.insert(sym_tris_.end(), pending_.sym_tris.begin(), pending_.sym_tris.end());
+    sym_tri_tag_.insert(sym_tri_tag_.end(), pending_.sym_tri_tag.begin(), pending_.sym_tri_tag.end());
+    // The first layer's counts, summed over the parts.
+    for (const auto& [name, value] : pending_counts_) {
+      auto it = std::find_if(counts_.begin(), counts_.end(), [&](const auto& c) { return c.first == name; });
+      if (it == counts_.end())
+        counts_.push_back({name, value});
+      else
+        it->second += value;
+    }
+    pending_counts_.clear();
   }
 
   const std::vector<Part>& parts() const { return parts_; }
-  const std::vector<NodeId>& rim_quads() const { return rim_quads_; }
-  const std::vector<int>& rim_quad_tag() const { return rim_quad_tag_; }
+  const std::vector<NodeId>& sym_quads() const { return sym_quads_; }
+  const std::vector<int>& sym_quad_tag() const { return sym_quad_tag_; }
+  const std::vector<NodeId>& sym_tris() const { return sym_tris_; }
+  const std::vector<int>& sym_tri_tag() const { return sym_tri_tag_; }
 
  private:
   HybridMesh<3>& mesh_;
@@ -577,8 +1160,9 @@ class SurfaceFronts final : public FrontGrower<3> {
   std::vector<Part> parts_;
   std::size_t pending_part_ = 0;
   PartLayer pending_;
-  std::vector<NodeId> rim_quads_;
-  std::vector<int> rim_quad_tag_;
+  std::vector<std::pair<std::string, std::size_t>> pending_counts_;
+  std::vector<NodeId> sym_quads_, sym_tris_;
+  std::vector<int> sym_quad_tag_, sym_tri_tag_;
 };
 
 }  // namespace
@@ -589,6 +1173,7 @@ LayerResult<3> grow_layers(const CurvedFront<3>& front, const MetricField<3>& me
     throw ConfigError("layers.isotropic_stop: node is not available in 3D (use any, all or off)");
   const int q = front.order;
   const std::size_t np = static_cast<std::size_t>(num_nodes(CellType::Triangle, q));
+  const std::size_t nqn = static_cast<std::size_t>(num_nodes(CellType::Quadrilateral, q));
   LayerResult<3> r;
   r.mesh.nodes = front.nodes;
   r.mesh.tags = front.tags;
@@ -600,12 +1185,16 @@ LayerResult<3> grow_layers(const CurvedFront<3>& front, const MetricField<3>& me
   }
   SurfaceFronts fronts(r.mesh, front, metric, p, r.counts);
   grow_fronts<3>(fronts, metric, p, q, r);
-  // Symmetry quadrilaterals of every accepted layer.
-  const std::size_t nq = static_cast<std::size_t>(num_nodes(CellType::Quadrilateral, q));
-  for (std::size_t k = 0; k < fronts.rim_quad_tag().size(); ++k) {
-    CellBlock& b = r.mesh.boundary_block(CellType::Quadrilateral, q, fronts.rim_quad_tag()[k]);
-    b.connectivity.insert(b.connectivity.end(), fronts.rim_quads().begin() + static_cast<std::ptrdiff_t>(k * nq),
-                          fronts.rim_quads().begin() + static_cast<std::ptrdiff_t>((k + 1) * nq));
+  // Symmetry facets of every accepted layer.
+  for (std::size_t k = 0; k < fronts.sym_quad_tag().size(); ++k) {
+    CellBlock& b = r.mesh.boundary_block(CellType::Quadrilateral, q, fronts.sym_quad_tag()[k]);
+    b.connectivity.insert(b.connectivity.end(), fronts.sym_quads().begin() + static_cast<std::ptrdiff_t>(k * nqn),
+                          fronts.sym_quads().begin() + static_cast<std::ptrdiff_t>((k + 1) * nqn));
+  }
+  for (std::size_t k = 0; k < fronts.sym_tri_tag().size(); ++k) {
+    CellBlock& b = r.mesh.boundary_block(CellType::Triangle, q, fronts.sym_tri_tag()[k]);
+    b.connectivity.insert(b.connectivity.end(), fronts.sym_tris().begin() + static_cast<std::ptrdiff_t>(k * np),
+                          fronts.sym_tris().begin() + static_cast<std::ptrdiff_t>((k + 1) * np));
   }
   // The outer front (the wall's tags) and the fill's boundary.
   r.outer.order = q;
@@ -615,13 +1204,24 @@ LayerResult<3> grow_layers(const CurvedFront<3>& front, const MetricField<3>& me
   const int outer_tag = static_cast<int>(r.fill_front.tags.size());
   r.fill_front.tags.push_back({"layers_outer", BoundaryKind::Named});
   for (const Part& part : fronts.parts()) {
-    for (std::size_t t = 0; t < part.tri_tag.size(); ++t) {
-      for (std::size_t k = 0; k < np; ++k)
-        r.outer.triangles.push_back(part.ids[static_cast<std::size_t>(part.tri[t * np + k])]);
+    auto id = [&](int l) { return part.ids[static_cast<std::size_t>(l)]; };
+    for (std::size_t t = 0; t < part.nt(); ++t) {
+      const int* tl = part.face(t);
+      for (std::size_t k = 0; k < np; ++k) r.outer.triangles.push_back(id(tl[k]));
       r.outer.triangle_tag.push_back(part.tri_tag[t]);
-      const int* tl = part.tri.data() + t * np;
-      r.fill_front.triangles.push_back({part.ids[static_cast<std::size_t>(tl[0])], part.ids[static_cast<std::size_t>(tl[1])],
-                                        part.ids[static_cast<std::size_t>(tl[2])]});
+      r.fill_front.triangles.push_back({id(tl[0]), id(tl[1]), id(tl[2])});
+      r.fill_front.triangle_tag.push_back(outer_tag);
+    }
+    // Fan quadrilaterals: curved quadrilaterals on the outer front; the fill's boundary takes
+    // them as two linear triangles (a fill that meets them conformingly must split the last
+    // layer's hexahedra the same way: issue 15).
+    for (std::size_t k = 0; k < part.nq(); ++k) {
+      const int* ql = part.face(part.nt() + k);
+      for (std::size_t j = 0; j < nqn; ++j) r.outer.quads.push_back(id(ql[j]));
+      r.outer.quad_tag.push_back(part.quad_tag[k]);
+      r.fill_front.triangles.push_back({id(ql[0]), id(ql[1]), id(ql[2])});
+      r.fill_front.triangles.push_back({id(ql[0]), id(ql[2]), id(ql[3])});
+      r.fill_front.triangle_tag.push_back(outer_tag);
       r.fill_front.triangle_tag.push_back(outer_tag);
     }
   }

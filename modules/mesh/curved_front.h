@@ -66,8 +66,13 @@ struct CurvedFront<3> {
   std::vector<BoundaryTag> tags;
   std::vector<NodeId> rim_edges;         // (Q+1) ids per open edge, on a symmetry plane
   std::vector<int> rim_tag;              // per rim edge: index into tags
+  // Quadrilaterals ((Q+1)^2 ids each, Gmsh order, facing the domain like the triangles): the
+  // tops of the layers' ridge fans (grow_layers_3d.h); a surface front has none.
+  std::vector<NodeId> quads;
+  std::vector<int> quad_tag;
 
   std::size_t num_triangles() const { return triangle_tag.size(); }
+  std::size_t num_quads() const { return quad_tag.size(); }
   const NodeId* triangle(std::size_t t) const {
     return triangles.data() + t * static_cast<std::size_t>((order + 1) * (order + 2) / 2);
   }

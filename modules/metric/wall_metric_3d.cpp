@@ -34,7 +34,12 @@ WallPowerLawField3::Sizes WallPowerLawField3::sizes(const Eigen::Vector3d& x) co
   s.distance = offset.norm();
   s.normal_direction = wall_normal;
   const double scale = wall_->scale();
-  if (s.distance > kOnWallRel * scale && offset.dot(wall_normal) > 0) {
+  // Out of the body: the offset within 120 degrees of the reported normal. At a convex ridge or
+  // corner the closest point's normal is one face's, and a point in the fan (the ridge's normal
+  // cone) may lie at up to the dihedral deviation from it: along the other face's normal exactly
+  // (offset . n = 0) on a box's edge. Inside points have offset . n = -d. A sharper wedge than
+  // 60 degrees (a deviation over 120) falls back to the reported normal beyond it.
+  if (s.distance > kOnWallRel * scale && offset.dot(wall_normal) > -0.5 * s.distance) {
     const Eigen::Vector3d u = offset / s.distance;
     if ((u - wall_normal).norm() > kClosestPointRel * scale / s.distance) s.normal_direction = u;
   }

@@ -9,7 +9,8 @@
 // across an edge's or a corner's fan (a box's edges, a wing's trailing edge) the direction from
 // the edge or corner, as the 2D field does at corners. Where that direction is undefined or does
 // not point out of the body — x within 1e-9 x the reference's scale of the wall, or x inside
-// the body — it is the reference's normal at p. (The closest point is trusted to 1e-12 of the
+// the body (x - p more than 120 degrees from the reference's normal at p; on the edge of a
+// ridge's normal cone it is 90) — it is the reference's normal at p. (The closest point is trusted to 1e-12 of the
 // reference's scale: a direction from p that differs from the reference's normal by less than
 // that over d is the normal, rounded, and the normal is used.)
 // Normal size: h_perp(d) = wall_normal_size(params, d) (wall_metric.h): h0 + (g - 1) d, so that
