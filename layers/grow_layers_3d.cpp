@@ -81,6 +81,9 @@ struct Part {
   // i = Q end), plane.
   std::vector<std::array<int, 3>> rim;
   std::vector<int> vertices;                          // local ids of vertex nodes
+  // Per node: the direction its column grew along when it descends from a fan direction (zero
+  // for the others; step 6), kept while it sees every face around the node.
+  std::vector<Vec> keep;
   std::size_t size() const { return ids.size(); }
   std::size_t nt() const { return tri_tag.size(); }
   std::size_t nq() const { return quad_tag.size(); }
@@ -182,6 +185,7 @@ class PartBuilder {
     }
     p.ids.assign(local.size(), -1);
     for (const auto& [id, l] : local) p.ids[static_cast<std::size_t>(l)] = id;
+    p.keep.assign(local.size(), Vec::Zero());
     finish_part(p, q_);
     rim(p, planes);
     return p;
@@ -318,6 +322,7 @@ struct PartLayer {
   std::array<std::vector<int>, 2> cell_face;  // per new cell: the old face whose neighbourhood shrinks if it fails
   std::vector<int> face_origin;               // per face of the new front: the same
   std::vector<NodeId> top;                    // per node of the new front
+  std::vector<Vec> keep;                      // per node of the new front: Part::keep
   std::shared_ptr<Part> next;                 // the new front's faces when fans changed them (else the old ones)
   std::vector<NodeId> sym_quads, sym_tris;    // symmetry facets, Gmsh order, facing the cells
   std::vector<int> sym_quad_tag, sym_tri_tag;
@@ -418,6 +423,20 @@ class PartLayerBuilder {
         const std::size_t f = static_cast<std::size_t>(part_.node_face[static_cast<std::size_t>(k)]);
         for (int v = 0; v < part_.face_vertices(f); ++v)
           if (static_cast<std::size_t>(part_.face(f)[v]) != l) to_nb.push_back(x_[static_cast<std::size_t>(part_.face(f)[v])] - x_[l]);
+      }
+      // A fan's column keeps its direction (radial from its ridge or corner) while every face
+      // around sees it at less than 80 degrees: the faces' average would lean the fan's end
+      // nodes into the fan and the corner patch's nodes toward its centre, a little every layer,
+      // until the end sectors and the patch's triangles collapse (measured on a box with 20
+      // degree fans: slivers at the corners by layer 5).
+      const Vec& kept = part_.keep[l];
+      if (!first_ && kept.squaredNorm() > 0) {
+        double worst = 1;
+        for (const Vec& f : fv) worst = std::min(worst, kept.dot(f));
+        if (worst > std::cos(80 * M_PI / 180)) {
+          nn_[l] = NodeNormal{kept, 1, worst, NodeClass::Smooth};
+          continue;
+        }
       }
       NodeNormal r = normal_at(l, fv, w, to_nb, corner_rad);
       // The first layer starts from the reference normal where the surface is smooth (Sec. II.B).
@@ -724,6 +743,7 @@ class PartLayerBuilder {
         out_.face_origin.push_back(fe.left);
       }
     nw->ids.assign(dirs_.size(), -1);
+    nw->keep.assign(dirs_.size(), Vec::Zero());
     nw->plane.resize(dirs_.size());
     for (std::size_t d = 0; d < dirs_.size(); ++d) nw->plane[d] = p.plane[static_cast<std::size_t>(dirs_[d].base)];
     nw->rim = p.rim;
@@ -899,6 +919,9 @@ class PartLayerBuilder {
     const std::size_t nd = dirs_.size();
     const std::size_t q = static_cast<std::size_t>(q_);
     col_.assign(nd * q, -1);
+    out_.keep.assign(nd, Vec::Zero());
+    for (std::size_t d = 0; d < nd; ++d)
+      if (fanned_ ? dirs_[d].fan : part_.keep[d].squaredNorm() > 0) out_.keep[d] = dirs_[d].d;
     out_.top.resize(nd);
     for (std::size_t d = 0; d < nd; ++d) out_.top[d] = at(static_cast<int>(d), q_);
     const Part& nw = next();
@@ -1128,6 +1151,7 @@ class SurfaceFronts final : public FrontGrower<3> {
   void accept(std::size_t part) override {
     if (pending_.next) parts_[part] = std::move(*pending_.next);
     parts_[part].ids = std::move(pending_.top);
+    parts_[part].keep = std::move(pending_.keep);
     sym_quads_.insert(sym_quads_.end(), pending_.sym_quads.begin(), pending_.sym_quads.end());
     sym_quad_tag_.insert(sym_quad_tag_.end(), pending_.sym_quad_tag.begin(), pending_.sym_quad_tag.end());
     sym_tris_.insert(sym_tris_.end(), pending_.sym_tris.begin(), pending_.sym_tris.end());
