@@ -7,7 +7,10 @@
 //  4. the prisms of each layer tile the volume between its fronts exactly (quadrature of det J
 //     against the divergence theorem on the curved fronts), every prism certified;
 //  5. two spheres too close for their layers: the collision test stops them without a crossing;
-//  6. an open surface whose rim is not on a plane is refused.
+//  6. an open surface whose rim is not on a plane is refused;
+//  7. a cube's ridge and corner fans: right-angled cells around every ridge and corner
+//     (measured), the fan counts, every cell certified, and the prisms and tetrahedra of the
+//     first k layers tiling the volume between the cube and the k-th outer front exactly.
 #include <doctest/doctest.h>
 
 #include <array>
@@ -243,6 +246,83 @@ std::vector<std::vector<Vector3d>> layer_top(const LayerResult<3>& r, const Curv
   return tris;
 }
 
+// The cube [0, 1]^3, each face n x n squares split in two, order q, facing outward; open_bottom
+// leaves out the face z = 0 and puts its rim on a symmetry plane (tag "sym").
+CurvedFront<3> cube(int n, int q, bool open_bottom = false) {
+  FrontBuilder b(q, 1.0);
+  b.f.tags = {{"wall", BoundaryKind::Wall}, {"sym", BoundaryKind::Symmetry}};
+  const Vector3d x = Vector3d::UnitX(), y = Vector3d::UnitY(), z = Vector3d::UnitZ();
+  // Origin and axes (e1 x e2 = the outward normal) of each face.
+  const std::array<std::array<Vector3d, 3>, 6> faces = {{{Vector3d::Zero(), y, x}, {z, x, y}, {Vector3d::Zero(), x, z},
+                                                          {y, z, x}, {Vector3d::Zero(), z, y}, {x, y, z}}};
+  for (const auto& [o, e1, e2] : faces) {
+    const Vector3d nrm = e1.cross(e2);
+    if (open_bottom && nrm.z() < -0.5) continue;
+    auto flat = [&](const Vector3d& p, Vector3d& out) {
+      out = nrm;
+      return p;
+    };
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const Vector3d p00 = o + (static_cast<double>(i) / n) * e1 + (static_cast<double>(j) / n) * e2;
+        const Vector3d p10 = p00 + e1 / n, p01 = p00 + e2 / n, p11 = p00 + (e1 + e2) / n;
+        b.triangle(p00, p10, p11, 0, flat);
+        b.triangle(p00, p11, p01, 0, flat);
+      }
+  }
+  if (open_bottom) {
+    Vector3d unused;
+    const std::array<Vector3d, 5> square = {Vector3d::Zero(), x, Vector3d(1, 1, 0), y, Vector3d::Zero()};
+    for (int side = 0; side < 4; ++side)
+      for (int i = 0; i < n; ++i) {
+        const Vector3d a = square[static_cast<std::size_t>(side)] + (static_cast<double>(i) / n) * (square[static_cast<std::size_t>(side) + 1] - square[static_cast<std::size_t>(side)]);
+        const Vector3d c = a + (square[static_cast<std::size_t>(side) + 1] - square[static_cast<std::size_t>(side)]) / n;
+        b.f.rim_edges.push_back(b.node(a, unused));
+        b.f.rim_edges.push_back(b.node(c, unused));
+        for (int k = 1; k < q; ++k) b.f.rim_edges.push_back(b.node(a + (static_cast<double>(k) / q) * (c - a), unused));
+        b.f.rim_tag.push_back(1);
+      }
+  }
+  return b.f;
+}
+
+// (1/3) of the integral of x . n dA over the outer front's curved triangles and quadrilaterals.
+double enclosed_volume(const LayerResult<3>& r) {
+  const int q = r.outer.order;
+  std::vector<std::vector<Vector3d>> tris;
+  for (std::size_t t = 0; t < r.outer.num_triangles(); ++t) {
+    std::vector<Vector3d> pts;
+    for (int k = 0; k < num_nodes(CellType::Triangle, q); ++k) pts.push_back(r.mesh.nodes[static_cast<std::size_t>(r.outer.triangle(t)[k])]);
+    tris.push_back(pts);
+  }
+  double v = enclosed_volume(tris, q);
+  const LagrangeElement& e = lagrange_element(CellType::Quadrilateral, q);
+  const std::size_t nq = static_cast<std::size_t>(e.size());
+  std::vector<double> phi(nq), dphi(2 * nq);
+  for (std::size_t f = 0; f < r.outer.num_quads(); ++f)
+    for (const auto& [u, wu] : gauss01(7))
+      for (const auto& [w, ww] : gauss01(7)) {
+        const double xi[2] = {u, w};
+        e.eval(xi, phi.data());
+        e.eval_grad(xi, dphi.data());
+        Vector3d p = Vector3d::Zero(), pu = Vector3d::Zero(), pw = Vector3d::Zero();
+        for (std::size_t k = 0; k < nq; ++k) {
+          const Vector3d& x = r.mesh.nodes[static_cast<std::size_t>(r.outer.quads[f * nq + k])];
+          p += phi[k] * x;
+          pu += dphi[2 * k] * x;
+          pw += dphi[2 * k + 1] * x;
+        }
+        v += wu * ww * p.dot(pu.cross(pw)) / 3;
+      }
+  return v;
+}
+
+std::size_t count_of(const LayerResult<3>& r, const std::string& name) {
+  for (const auto& [k, v] : r.counts)
+    if (k == name) return v;
+  return 0;
+}
+
 }  // namespace
 
 TEST_CASE("normals 3D: the visibility normal and the classes of ridges and corners") {
@@ -452,4 +532,146 @@ TEST_CASE("layers 3D: an open surface whose rim is not on a plane is refused") {
   f.triangle_tag = tags;
   const UniformMetricField<3> m(Metric<3>::isotropic(0.01));
   CHECK_THROWS_WITH_AS(grow_layers(f, m, LayerParams{}), doctest::Contains("not on a symmetry plane"), MesherError);
+}
+
+TEST_CASE("layers 3D: a cube's fans give right-angled cells around every ridge and corner") {
+  for (int q : {1, 2, 3}) {
+    CAPTURE(q);
+    const int n = 4;
+    const CurvedFront<3> f = cube(n, q);
+    const double h = 0.02;
+    const TestWallMetric m(h, 1.0, h, [](const Vector3d&) { return 0.0; }, [](const Vector3d&) { return Vector3d(Vector3d::UnitZ()); });
+    LayerParams p;
+    p.max_layers = 1;
+    const LayerResult<3> r = grow_layers(f, m, p);
+    REQUIRE(r.layers.size() == 1);
+    // 12 ridges of n edges, two 45-degree sectors each; 8 corners.
+    CHECK(count_of(r, "ridge_fans.edges") == 12 * n);
+    CHECK(count_of(r, "ridge_fans.sectors") == 24 * n);
+    CHECK(count_of(r, "corner_fans") == 8);
+    const CellBlock& prisms = r.mesh.cells[0];
+    const CellBlock& tets = r.mesh.cells[1];
+    const std::size_t walls = 12 * n * n;
+    REQUIRE(prisms.size() == walls + 24 * n);
+    REQUIRE(tets.size() == 8 * 6);  // per corner: 3 arcs x 2 sectors, one tetrahedron each
+    auto x = [&](const CellBlock& b, std::size_t c, int k) { return r.mesh.nodes[static_cast<std::size_t>(b.cell(c)[k])]; };
+    // Wall prisms: every column along its face's normal, h high, at the ridges and corners too.
+    double worst_column = 0;
+    for (std::size_t c = 0; c < walls; ++c) {
+      const Vector3d nrm = (x(prisms, c, 1) - x(prisms, c, 0)).cross(x(prisms, c, 2) - x(prisms, c, 0)).normalized();
+      for (int k = 0; k < 3; ++k) {
+        const Vector3d col = x(prisms, c, k + 3) - x(prisms, c, k);
+        worst_column = std::max(worst_column, std::acos(std::min(1.0, col.normalized().dot(nrm))));
+        CHECK(col.norm() == doctest::Approx(h).epsilon(1e-12));
+      }
+    }
+    // Fan prisms: both radial edges at right angles to the ridge, 45 degrees apart.
+    double worst_ridge = 0, widest = 0;
+    for (std::size_t c = walls; c < prisms.size(); ++c) {
+      const Vector3d ridge = (x(prisms, c, 3) - x(prisms, c, 0)).normalized();
+      const Vector3d r1 = x(prisms, c, 1) - x(prisms, c, 0), r2 = x(prisms, c, 2) - x(prisms, c, 0);
+      worst_ridge = std::max({worst_ridge, std::abs(r1.normalized().dot(ridge)), std::abs(r2.normalized().dot(ridge))});
+      widest = std::max(widest, std::acos(r1.normalized().dot(r2.normalized())) * 180 / M_PI);
+    }
+    // Corner tetrahedra: every radial edge inside the corner's octant (its normal cone), h long.
+    double outside = 0;
+    for (std::size_t c = 0; c < tets.size(); ++c) {
+      const Vector3d corner = x(tets, c, 0);
+      for (int k = 1; k < 4; ++k) {
+        const Vector3d e = x(tets, c, k) - corner;
+        CHECK(e.norm() == doctest::Approx(h).epsilon(1e-12));
+        for (int d = 0; d < 3; ++d) outside = std::max(outside, -(corner[d] > 0.5 ? 1 : -1) * e[d]);
+      }
+    }
+    MESSAGE("Q" << q << ": wall columns off their face normal by " << worst_column << " rad; fan radial edges |cos| to the ridge "
+                << worst_ridge << ", widest sector " << widest << " deg; corner edges outside the octant by " << outside);
+    CHECK(worst_column < 1e-9);
+    CHECK(worst_ridge < 1e-9);
+    CHECK(widest == doctest::Approx(45).epsilon(1e-9));
+    CHECK(outside < 1e-15);
+    // Every cell certified; the only open facets are the outer front's.
+    JacobianCertifier cert;
+    std::size_t invalid = 0;
+    for (const CellBlock* b : {&prisms, &tets}) {
+      std::vector<double> coords(static_cast<std::size_t>(3 * b->nodes_per_cell()));
+      for (std::size_t c = 0; c < b->size(); ++c) {
+        gather_coords<3>(r.mesh, *b, c, coords.data());
+        if (!cert.certify(b->type, q, coords.data()).valid) ++invalid;
+      }
+    }
+    CHECK(invalid == 0);
+    const ConformityReport cr = check_conformity<3>(r.mesh);
+    CHECK(cr.node_mismatches == 0);
+    CHECK(cr.overshared_facets == 0);
+    CHECK(cr.orientation_mismatches == 0);
+    CHECK(cr.open_facets == r.outer.num_triangles() + r.outer.num_quads());
+  }
+}
+
+TEST_CASE("layers 3D: with fans, the prisms and tetrahedra of the first k layers tile the volume up to the k-th front") {
+  for (int q : {2, 3}) {
+    CAPTURE(q);
+    const CurvedFront<3> f = cube(3, q);
+    // A wall law from the cube's surface (the distance to the box, the direction from it).
+    auto closest = [](const Vector3d& x) { return Vector3d(x.cwiseMax(0.0).cwiseMin(1.0)); };
+    const TestWallMetric m(
+        0.01, 1.3, 0.2, [closest](const Vector3d& x) { return (x - closest(x)).norm(); },
+        [closest](const Vector3d& x) {
+          const Vector3d d = x - closest(x);
+          return d.norm() > 1e-12 ? Vector3d(d.normalized()) : Vector3d(Vector3d::UnitZ());
+        });
+    for (int layers = 1; layers <= 4; ++layers) {
+      CAPTURE(layers);
+      LayerParams p;
+      p.max_layers = layers;
+      const LayerResult<3> r = grow_layers(f, m, p);
+      REQUIRE(static_cast<int>(r.layers.size()) == layers);
+      double cells = 0;
+      for (const CellBlock* b : {&r.mesh.cells[0], &r.mesh.cells[1]}) {
+        std::vector<double> coords(static_cast<std::size_t>(3 * b->nodes_per_cell()));
+        for (std::size_t c = 0; c < b->size(); ++c) {
+          gather_coords<3>(r.mesh, *b, c, coords.data());
+          cells += cell_measure(b->type, q, coords.data());
+        }
+      }
+      CHECK(cells == doctest::Approx(enclosed_volume(r) - 1.0).epsilon(1e-10));
+      CHECK(r.mesh.cells[1].size() > 0);
+      const ConformityReport cr = check_conformity<3>(r.mesh);
+      CHECK(cr.node_mismatches == 0);
+      CHECK(cr.open_facets == r.outer.num_triangles() + r.outer.num_quads());
+    }
+  }
+}
+
+TEST_CASE("layers 3D: fans whose ridges end on a symmetry plane close on it") {
+  for (int q : {1, 2}) {
+    CAPTURE(q);
+    const int n = 3;
+    const CurvedFront<3> f = cube(n, q, true);
+    const TestWallMetric m(0.02, 1.2, 0.2, [](const Vector3d&) { return 0.0; }, [](const Vector3d&) { return Vector3d(Vector3d::UnitZ()); });
+    LayerParams p;
+    p.max_layers = 3;
+    const LayerResult<3> r = grow_layers(f, m, p);
+    REQUIRE(r.layers.size() == 3);
+    // 8 ridges (4 on top, 4 vertical ones ending on the plane), 4 corners (the top ones).
+    CHECK(count_of(r, "ridge_fans.edges") == 8 * n);
+    CHECK(count_of(r, "corner_fans") == 4);
+    // Symmetry facets: on the plane z = 0, both the prisms' quadrilaterals and the fans' triangles.
+    std::size_t sym_tris = 0, sym_quads = 0;
+    double off = 0;
+    for (const CellBlock& b : r.mesh.boundary) {
+      if (r.mesh.tags[static_cast<std::size_t>(b.tag)].kind != BoundaryKind::Symmetry) continue;
+      (b.type == CellType::Triangle ? sym_tris : sym_quads) += b.size();
+      for (NodeId id : b.connectivity) off = std::max(off, std::abs(r.mesh.nodes[static_cast<std::size_t>(id)].z()));
+    }
+    CHECK(off == 0);
+    // Per layer: 4 n wall edges on the rim give quadrilaterals; the 4 vertical ridges end there
+    // with 2 sectors each: 2 fan triangles in the first layer, 2 x 2 split triangles later.
+    CHECK(sym_quads == 3 * 4 * n);
+    CHECK(sym_tris == 4 * 2 + 2 * 4 * 2 * 2);
+    const ConformityReport cr = check_conformity<3>(r.mesh);
+    CHECK(cr.node_mismatches == 0);
+    CHECK(cr.overshared_facets == 0);
+    CHECK(cr.open_facets == r.outer.num_triangles() + r.outer.num_quads());
+  }
 }
