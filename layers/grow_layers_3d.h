@@ -19,11 +19,24 @@
 //     triangle grows a straight top, and so does every triangle touching a concave node (as next
 //     to a 2D concave corner); the column nodes are uniform along base -> top, so every prism is
 //     linear along its height;
-//  5. collisions: the new front's linear sub-triangles may cross neither another part's front nor
-//     themselves (exact triangle-triangle tests on AABB-tree candidates, sub-triangles sharing a
-//     node skipped); heights are halved on the failing triangles and their neighbours.
-// Not yet: fans of extra normals at convex ridges and corners (convex features get the merged
-// normal), and isotropic_stop: node (stopped nodes would need pyramids or tetrahedra; the plugin
+//  5. collisions: the new front's linear sub-triangles (of triangles and quadrilaterals) may
+//     cross neither another part's front nor themselves (exact triangle-triangle tests on
+//     AABB-tree candidates, sub-triangles sharing a node skipped); heights are halved on the
+//     nodes of the failing faces' old faces and their neighbours;
+//  6. fans (first layer; Aubry & Loehner's ridge and corner fans, Sec. II.E leaving them open): a
+//     wall edge whose faces meet convexly at more than corner_angle_deg is a fan edge; fan edges
+//     chain between corners (3+ fan edges at a node), symmetry planes and closed loops (a chain
+//     ending elsewhere keeps the merged normal: the fan would have nowhere to close). Each wedge
+//     of faces between fan edges grows along its own normal; between the two wedges of a fan edge
+//     an arc of k sectors (at most fan_angle_deg each, one k per chain) gives one prism per
+//     sector and edge (cross section: the node and two sector directions, extruded along the
+//     ridge) whose top is a front quadrilateral, grown in later layers as a hexahedron split into
+//     two prisms along the ridge; at a corner a patch of triangles from the corner's merged
+//     normal to every arc sector gives tetrahedra, and its triangles grow as three tetrahedra in
+//     the rank order that matches the ridges' split diagonals. A fan's column keeps its
+//     direction (radial from its ridge or corner) while every face around sees it within 80
+//     degrees. Fan heights: the smallest metric height over the node's directions.
+// Not yet: isotropic_stop: node (stopped nodes would need pyramids or tetrahedra; the plugin
 // refuses it in 3D).
 #pragma once
 
@@ -34,10 +47,13 @@
 namespace plaf::layers {
 
 // Grows layers from the wall triangles of `front` (tags of kind Wall). The result's mesh holds the
-// prisms, the wall triangles as tagged boundary facets and the symmetry quadrilaterals; its outer
-// front is the last layer's top (tags as the wall's), its fill_front the outer front's linear
-// triangles (tag "layers_outer") followed by the non-wall triangles of the front. counts gives
-// the classes of the first layer's front nodes (normals_3d.h) and the concave merges.
+// prisms and the fans' tetrahedra, the wall triangles as tagged boundary facets and the symmetry
+// facets (quadrilaterals, and triangles where fans end on a plane); its outer front is the last
+// layer's top (tags as the wall's; triangles and the fans' quadrilaterals), its fill_front the
+// outer front's linear triangles (a quadrilateral as two; tag "layers_outer") followed by the
+// non-wall triangles of the front. counts gives the classes of the first layer's front nodes
+// (normals_3d.h), the concave merges and the fans (ridge_fans.edges, ridge_fans.sectors,
+// corner_fans).
 LayerResult<3> grow_layers(const CurvedFront<3>& front, const MetricField<3>& metric, const LayerParams& params);
 
 }  // namespace plaf::layers
