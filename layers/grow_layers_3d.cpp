@@ -358,6 +358,7 @@ class PartLayerBuilder {
     for (std::size_t l = 0; l < n; ++l) x_[l] = mesh_.nodes[static_cast<std::size_t>(part_.ids[l])];
     normals();
     if (first_ && part_.nq() == 0) fans();
+    check_cusps();
     if (!fanned_) {
       dirs_.resize(n);
       for (std::size_t l = 0; l < n; ++l)
@@ -438,12 +439,36 @@ class PartLayerBuilder {
           continue;
         }
       }
-      NodeNormal r = normal_at(l, fv, w, to_nb, corner_rad);
+      NodeNormal r;
+      try {
+        r = normal_at(l, fv, w, to_nb, corner_rad);
+      } catch (const MesherError& e) {
+        // A cusp (no direction sees every face) is an error unless a fan takes the node (a thin
+        // trailing edge): decided after the fans (check_cusps).
+        if (!first_) throw;
+        cusp_.emplace_back(l, e.what());
+        Vec m = Vec::Zero();
+        for (std::size_t k = 0; k < fv.size(); ++k) m += w[k] * fv[k];
+        r.n = m.norm() > 0 ? Vec(m.normalized()) : fv.front();
+        r.kind = NodeClass::ConvexRidge;
+      }
       // The first layer starts from the reference normal where the surface is smooth (Sec. II.B).
       const std::size_t id = static_cast<std::size_t>(part_.ids[l]);
       if (first_ && r.kind == NodeClass::Smooth && id < front0_.normals.size()) r.n = front0_.normals[id];
       r.n = in_plane(l, r.n);
       nn_[l] = r;
+    }
+  }
+
+  // A cusp node needs its own merged normal unless it is a fan vertex other than a corner (whose
+  // patch is centred on the merged normal) or a fan edge's high-order node.
+  void check_cusps() const {
+    for (const auto& [l, what] : cusp_) {
+      const bool fan = fanned_ && fan_node_[l] && !corner_node_.count(static_cast<int>(l));
+      if (fan) continue;
+      throw MesherError(what + (fanned_ && corner_node_.count(static_cast<int>(l))
+                                    ? std::string(" (a corner of fans: its patch needs that direction)")
+                                    : std::string(" (no fan there: a ridge's fan must run from corner to corner, plane or around)")));
     }
   }
 
@@ -693,6 +718,7 @@ class PartLayerBuilder {
     for (const auto& [v, c] : cnt) {
       if (c < 3) continue;
       ++corner_fans_;
+      corner_node_.insert(v);
       const int around0 = p.node_face[static_cast<std::size_t>(p.node_face_start[static_cast<std::size_t>(v)])];
       const int centre = add_dir(v, nn_[static_cast<std::size_t>(v)].n, 1, false, true);
       std::map<int, std::vector<int>> centre_edge;  // boundary direction -> the Q - 1 directions toward it
@@ -1073,6 +1099,8 @@ class PartLayerBuilder {
   std::vector<Vec> x_, top_;
   std::vector<double> h_, dh_;
   std::vector<NodeNormal> nn_;
+  std::vector<std::pair<std::size_t, std::string>> cusp_;  // nodes with no merged normal, and why
+  std::set<int> corner_node_;
   std::vector<int> ent_start_, ent_f_;  // per node: its sub-triangle normals, angles and faces
   std::vector<Vec> ent_n_;
   std::vector<double> ent_w_;

@@ -395,6 +395,17 @@ TEST_CASE("configs: 3D prism layers are certified, conforming and attenuate to a
       CHECK(gj.min_j > 0);
       CHECK(gj.worst_ratio == doctest::Approx(json_number(report, "min", report.find("\"scaled_jacobian\""))).epsilon(0.01));
     }
+    if (r.name == "wing_symmetry_layers") {
+      // The E387 wing between symmetry planes: a fan along the trailing edge from plane to plane;
+      // the front linear after 12 layers as in the paper's 2D run (Sec. IV.A), within one.
+      CHECK(json_number(report, "edges", report.find("\"ridge_fans\"")) > 0);
+      CHECK(json_value(report, "count", report.find("\"layers\": {")) == "40");
+      CHECK(std::abs(json_number(report, "linear_after", report.find("\"layers\": {")) - 12) <= 1);
+    }
+    if (r.name == "box_layers") {
+      CHECK(json_number(report, "corner_fans", report.find("\"layers\": {")) == 8);
+      CHECK(json_number(report, "edges", report.find("\"ridge_fans\"")) > 0);
+    }
     if (r.name == "sphere_layers") {
       // h0 = 1e-5 R: the first layer's aspect ratio is above 1e4.
       CHECK(json_number(report, "max", report.find("\"aspect_ratio\"")) > 1e4);
