@@ -8,28 +8,13 @@
 #include <limits>
 
 #include "modules/io/atomic_file.h"
+#include "modules/io/picture_canvas.h"
 #include "modules/base/error.h"
 
 namespace plaf {
 inline namespace io {
 
 namespace {
-
-struct View {
-  double x_min, y_min, scale, ox, oy, height;  // model -> pixel: ox + (x - x_min) * scale, ...
-  double px(double x) const { return ox + (x - x_min) * scale; }
-  double py(double y) const { return oy + height - (y - y_min) * scale; }
-};
-
-View fit(double x_min, double x_max, double y_min, double y_max, double ox, double oy, double w, double h) {
-  const double margin = 0.04;
-  const double dx = std::max(x_max - x_min, 1e-300), dy = std::max(y_max - y_min, 1e-300);
-  const double scale = std::min(w / dx, h / dy) * (1 - 2 * margin);
-  View v{x_min, y_min, scale, 0, 0, h};
-  v.ox = ox + 0.5 * (w - dx * scale);
-  v.oy = oy - 0.5 * (h - dy * scale);
-  return v;
-}
 
 // Point of cell `c` at reference xi.
 Eigen::Vector2d map_point(const HybridMesh<2>& mesh, const LagrangeElement& e, const NodeId* c, const double* xi,
@@ -123,12 +108,6 @@ void draw_mesh(cairo_t* cr, const View& v, const HybridMesh<2>& mesh, const std:
   }
 }
 
-// Collects the PNG bytes in memory (no exception may cross cairo's C frames).
-cairo_status_t write_chunk(void* closure, const unsigned char* data, unsigned int length) {
-  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
-  return CAIRO_STATUS_SUCCESS;
-}
-
 }  // namespace
 
 void write_png(const HybridMesh<2>& mesh, const std::vector<std::uint8_t>& valid, const std::filesystem::path& path,
@@ -177,12 +156,10 @@ void write_png(const HybridMesh<2>& mesh, const std::vector<std::uint8_t>& valid
     cairo_move_to(cr, 10, 24);
     cairo_show_text(cr, options.title.c_str());
   }
-  cairo_surface_flush(surface);
-  std::string png;
-  const cairo_status_t st = cairo_surface_write_to_png_stream(surface, write_chunk, &png);
+  const std::string png = png_bytes(surface);
   cairo_destroy(cr);
   cairo_surface_destroy(surface);
-  if (st != CAIRO_STATUS_SUCCESS) throw Error(path.string() + ": cannot encode the PNG picture");
+  if (png.empty()) throw Error(path.string() + ": cannot encode the PNG picture");
   AtomicFile file(path);
   file.write(png);
   file.commit();

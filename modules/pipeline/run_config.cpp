@@ -3,6 +3,7 @@
 #include "modules/pipeline/run_config.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "modules/pipeline/config.h"
 #include "modules/base/error.h"
@@ -22,16 +23,31 @@ namespace {
 // The output section (formats, pictures, histogram bins, and the 2D mesh options).
 void parse_output(const ConfigNode& o, RunConfig& r) {
   r.output.dir = o.get_string("dir", r.output.dir.string());
-  if (r.dim == 3) r.output.formats = {"msh", "vtu", "report"};
   r.output.formats = o.get_string_list("formats", r.output.formats, writer_registry<2>().names());
-  if (r.dim == 3 && r.output.wants("png"))
-    throw ConfigError(o.where("formats") + ": png pictures are 2D only (3D runs write msh, vtu, report)");
   r.output.histogram_bins = o.get_int("histogram_bins", r.output.histogram_bins, 2, 1000);
-  if (r.dim == 2) {  // pictures and the 2D mesh options (3D runs: unknown keys)
-    r.output.picture_width = o.get_int("picture_width", r.output.picture_width, 64, 16384);
-    r.output.picture_height = o.get_int("picture_height", r.output.picture_height, 64, 16384);
-    r.output.uniform_order = o.get_bool("uniform_order", r.output.uniform_order);
-    r.output.split_quads = o.get_bool("split_quads", r.output.split_quads);
+  r.output.picture_width = o.get_int("picture_width", r.output.picture_width, 64, 16384);
+  r.output.picture_height = o.get_int("picture_height", r.output.picture_height, 64, 16384);
+  auto vector3 = [](const ConfigNode& n, const std::string& key, std::array<double, 3> fallback, bool nonzero) {
+    const std::vector<double> v = n.get_double_list(key, {fallback[0], fallback[1], fallback[2]});
+    if (v.size() != 3 || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]) ||
+        (nonzero && v[0] == 0 && v[1] == 0 && v[2] == 0))
+      throw ConfigError(n.where(key) + ": expected [x, y, z]" + (nonzero ? std::string(", not all zero") : std::string()));
+    return std::array<double, 3>{v[0], v[1], v[2]};
+  };
+  if (r.dim == 3) {  // the 3D picture's plane and view (2D runs: unknown keys)
+    if (o.has("cut")) {
+      const ConfigNode c = o.child("cut");
+      r.output.has_cut = true;
+      r.output.cut_point = vector3(c, "point", r.output.cut_point, false);
+      r.output.cut_normal = vector3(c, "normal", r.output.cut_normal, true);
+    }
+    r.output.view = vector3(o, "view", r.output.view, true);
+  }
+  {
+    if (r.dim == 2) {  // the 2D mesh options (3D runs: unknown keys)
+      r.output.uniform_order = o.get_bool("uniform_order", r.output.uniform_order);
+      r.output.split_quads = o.get_bool("split_quads", r.output.split_quads);
+    }
     for (const ConfigNode& z : o.child_list("zooms")) {
       OutputParams::Zoom zoom;
       zoom.label = z.get_string("label", "");

@@ -27,8 +27,8 @@
 //     max_depth: <1..20>    subdivision depth limit               default: 12
 //   output:
 //     dir: <path>           output folder (plaf run --out wins)   default: out
-//     formats: [msh, vtu, report, png]                            default: all four (3D: no png)
-//     (2D only: picture_width, picture_height, uniform_order, split_quads, zooms)
+//     formats: [msh, vtu, report, png]                            default: all four
+//     (2D only: uniform_order, split_quads)
 //     picture_width: <px>   PNG width                             default: 1600
 //     picture_height: <px>  PNG height                            default: 1200
 //     histogram_bins: <n>   bins of the metric edge-length histogram  default: 12
@@ -38,7 +38,13 @@
 //                           (the paper's Fig. 12), along its shorter diagonal   default: false
 //     zooms:                inset panels of the picture, a list of maps:
 //       - label: <text>
-//         box: [x_min, x_max, y_min, y_max]
+//         box: [x_min, x_max, y_min, y_max]   (3D: in the cut plane's (u, v), picture3d.h)
+//     (3D only:)
+//     cut:                  the plane of the picture's cut       default: the first symmetry
+//       point: [x, y, z]      plane, else the bounding box's mid-plane across its shortest side
+//       normal: [x, y, z]
+//     view: [x, y, z]       the shaded view of the outer front looks along this
+//                                                                 default: [-1, -0.6, -0.8]
 #pragma once
 
 #include <array>
@@ -83,6 +89,11 @@ struct OutputParams {
     std::array<double, 4> box;  // x_min, x_max, y_min, y_max
   };
   std::vector<Zoom> zooms;
+  // 3D pictures (modules/io/picture3d.h): the cut plane (has_cut false: its default) and the
+  // shaded view's direction.
+  bool has_cut = false;
+  std::array<double, 3> cut_point{0, 0, 0}, cut_normal{0, 0, 1};
+  std::array<double, 3> view{-1, -0.6, -0.8};
   bool wants(const std::string& f) const;
 };
 

@@ -7,6 +7,7 @@
 #include "modules/io/atomic_file.h"
 #include "modules/io/msh_io.h"
 #include "modules/io/picture.h"
+#include "modules/io/picture3d.h"
 #include "modules/io/vtu_writer.h"
 
 namespace plaf {
@@ -47,6 +48,25 @@ void write_picture(const WriteJob<2>& j) {
   write_png(j.mesh, j.per_cell.valid, j.base.string() + ".png", po);
 }
 
+void write_picture_3d(const WriteJob<3>& j) {
+  Picture3Options po;
+  po.width = j.config.output.picture_width;
+  po.height = j.config.output.picture_height;
+  po.title = j.config.name + " (Q=" + std::to_string(j.config.order) + ")";
+  for (const auto& z : j.config.output.zooms) po.zooms.push_back({z.label, z.box[0], z.box[1], z.box[2], z.box[3]});
+  const auto& o = j.config.output;
+  if (o.has_cut) {
+    po.cut_point = Eigen::Vector3d(o.cut_point[0], o.cut_point[1], o.cut_point[2]);
+    po.cut_normal = Eigen::Vector3d(o.cut_normal[0], o.cut_normal[1], o.cut_normal[2]);
+  } else {
+    default_cut(j.mesh, po.cut_point, po.cut_normal);
+  }
+  po.view = Eigen::Vector3d(o.view[0], o.view[1], o.view[2]);
+  // A surface run's flags are its facets' (no cells): the picture draws them all valid.
+  const bool cells = j.per_cell.valid.size() == j.mesh.num_cells();
+  write_png(j.mesh, cells ? j.per_cell.valid : std::vector<std::uint8_t>{}, j.base.string() + ".png", po);
+}
+
 template <int Dim>
 void write_report(const WriteJob<Dim>& j) {
   AtomicFile f(j.base.string() + ".report.json");
@@ -75,6 +95,7 @@ WriterRegistry<3>& writer_registry<3>() {
     WriterRegistry<3> r("output format");
     r.add("msh", write_msh<3>);
     r.add("vtu", write_vtu_file<3>);
+    r.add("png", write_picture_3d);
     r.add("report", write_report<3>);
     return r;
   }();

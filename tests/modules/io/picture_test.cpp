@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "modules/io/picture.h"
+#include "modules/io/picture3d.h"
 
 #include <cairo.h>
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -14,6 +16,7 @@
 
 #include "modules/mesh/annulus.h"
 #include "modules/base/error.h"
+#include "tests/modules/mesh/spherical_shell.h"
 #include "tests/modules/mesh/structured_mesh.h"
 #include "tests/test_support.h"
 
@@ -203,4 +206,78 @@ TEST_CASE("picture: an unwritable path or a wrong flag count throws plaf::Error 
   auto entries = dir.entries();
   std::sort(entries.begin(), entries.end());
   CHECK(entries == std::vector<std::string>{"plain", "taken"});
+}
+
+// 3D pictures (picture3d.h) of the curved spherical shell (tests/modules/mesh/spherical_shell.h).
+TEST_CASE("picture 3D: the half shell's symmetry plane is the default cut, drawn filled, the outer front shaded") {
+  plaf::test::ShellOptions o;
+  o.base = plaf::test::ShellBase::Octahedron;
+  o.half = true;
+  o.order = 2;
+  const plaf::test::SphericalShell s = plaf::test::spherical_shell(o);
+  Eigen::Vector3d point, normal;
+  default_cut(s.mesh, point, normal);
+  CHECK(std::abs(point.z()) < 1e-12);
+  CHECK(std::abs(std::abs(normal.z()) - 1) < 1e-12);
+  TempDir dir("picture3d_half");
+  Picture3Options po;
+  po.width = 400;
+  po.height = 300;
+  po.cut_point = point;
+  po.cut_normal = normal;
+  // One invalid cell: its facet on the plane is red. The cut panel is the left 11/20.
+  std::vector<std::uint8_t> valid(s.mesh.num_cells(), 1);
+  const fs::path path = dir.path / "half.png";
+  write_png(s.mesh, valid, path, po);
+  const Image good(path);
+  CHECK(good.width == 400);
+  CHECK(good.height == 300);
+  std::size_t orange = 0, blue_shaded = 0, reds = 0;
+  for (int y = 0; y < 300; ++y)
+    for (int x = 0; x < 400; ++x) {
+      const Rgb c = good.at(x, y);
+      if (x < 220 && light_orange(c)) ++orange;  // the shell's curved side faces on the plane
+      if (x >= 220 && !white(c) && c.b > c.r + 20) ++blue_shaded;
+      reds += red(c) ? 1 : 0;
+    }
+  CHECK(orange > 100);
+  CHECK(blue_shaded > 1000);
+  CHECK(reds == 0);
+  valid.assign(valid.size(), 0);
+  write_png(s.mesh, valid, path, po);
+  const Image bad(path);
+  std::size_t red_cut = 0;
+  for (int y = 0; y < 300; ++y)
+    for (int x = 0; x < 220; ++x) red_cut += red(bad.at(x, y)) ? 1 : 0;
+  CHECK(red_cut > 100);
+}
+
+TEST_CASE("picture 3D: a plane across the closed shell cuts its cells into lines, bad flags throw, no file") {
+  plaf::test::ShellOptions o;
+  const plaf::test::SphericalShell s = plaf::test::spherical_shell(o);
+  Eigen::Vector3d point, normal;
+  default_cut(s.mesh, point, normal);  // no symmetry plane: the bounding box's mid-plane
+  CHECK(point.norm() < 1e-9);
+  TempDir dir("picture3d_closed");
+  Picture3Options po;
+  po.width = 400;
+  po.height = 300;
+  po.cut_point = point;
+  po.cut_normal = normal;
+  po.zooms = {{"wall", 0.9, 1.4, -0.25, 0.25}};
+  const fs::path path = dir.path / "closed.png";
+  write_png(s.mesh, {}, path, po);
+  const Image image(path);
+  // Dark cut lines on the left, both in the main panel and in the zoom (the lower third).
+  std::size_t dark_main = 0, dark_zoom = 0;
+  for (int y = 0; y < 300; ++y)
+    for (int x = 0; x < 220; ++x) {
+      const Rgb c = image.at(x, y);
+      if (c.r < 100 && c.g < 100 && c.b < 120) (y < 200 ? dark_main : dark_zoom) += 1;
+    }
+  CHECK(dark_main > 100);
+  CHECK(dark_zoom > 50);
+  const fs::path bad = dir.path / "bad.png";
+  CHECK_THROWS_AS(write_png(s.mesh, std::vector<std::uint8_t>(3, 1), bad, po), plaf::Error);
+  CHECK_FALSE(fs::exists(bad));
 }

@@ -331,7 +331,8 @@ TEST_CASE("run config: 3D geometries make a 3D run with its surface section, a 3
   CHECK(sp.iterations == 5);
   CHECK(sp.curvature_factor == doctest::Approx(0.3));
   CHECK(sp.curvature_h_min == 0);
-  CHECK(s.output.formats == std::vector<std::string>{"msh", "vtu", "report"});
+  CHECK(s.output.formats == std::vector<std::string>{"msh", "vtu", "report", "png"});
+  CHECK_FALSE(s.output.has_cut);
 
   const std::string wing = "geometry: {type: wing, file: e387.dat, span: 3, root: rounded, tip: symmetry}\n"
                            "metric: {type: uniform, sizes: [0.1, 0.2, 0.3]}\n";
@@ -380,7 +381,12 @@ TEST_CASE("run config: 3D keys are checked like the 2D ones") {
         doctest::Contains("three sizes"));
   CHECK(err("geometry: {type: sphere}\nmetric: {type: uniform, angle_deg: 3}\n") ==
         doctest::Contains("angle_deg"));
-  CHECK(err("geometry: {type: sphere}\noutput: {formats: [msh, png]}\n") == doctest::Contains("2D only"));
+  CHECK(err("geometry: {type: sphere}\noutput: {cut: {normal: [0, 0, 0]}}\n") ==
+        doctest::Contains("output.cut.normal: expected [x, y, z], not all zero"));
+  CHECK(err("geometry: {type: sphere}\noutput: {view: [1, 2]}\n") == doctest::Contains("output.view: expected [x, y, z]"));
+  CHECK(err("geometry: {type: sphere}\noutput: {cut: {point: [0, 0, 0], nromal: [0, 0, 1]}}\n") ==
+        doctest::Contains("nromal"));
+  CHECK(err("output: {view: [1, 0, 0]}\n") == doctest::Contains("output.view"));  // 2D: unknown
   CHECK(err("geometry: {type: sphere}\nsurface: {ridge_angle: 3}\n") == doctest::Contains("ridge_angle"));
   CHECK(err(one_body + "surface: {iterations: 3}\n") == doctest::Contains("for 3D geometries"));
   CHECK(err("geometry: {type: sphere}\nlayers: {isotropic_stop: node}\n") ==
@@ -390,6 +396,7 @@ TEST_CASE("run config: 3D keys are checked like the 2D ones") {
         doctest::Contains("normal is required"));
   CHECK(err("geometry: {type: wing, file: a.dat, corner_angle_deg: 180}\n") ==
         doctest::Contains("geometry.corner_angle_deg: must lie strictly between 0 and 180"));
-  CHECK(err("geometry: {type: sphere}\noutput: {zooms: []}\n") == doctest::Contains("output.zooms"));
+  CHECK(err("geometry: {type: sphere}\noutput: {zooms: [{label: a, box: [1, 0, 0, 1]}]}\n") ==
+        doctest::Contains("output.zooms"));
   CHECK(err("geometry: {type: sphere}\nsurface: {max_triangles: 0}\n") == doctest::Contains("surface.max_triangles"));
 }

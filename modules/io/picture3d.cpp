@@ -1,0 +1,413 @@
+// SPDX-License-Identifier: MIT
+// PNG pictures of 3D meshes (picture3d.h).
+#include "modules/io/picture3d.h"
+
+#include <cairo.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include <Eigen/Geometry>
+
+#include "modules/base/error.h"
+#include "modules/elements/lagrange.h"
+#include "modules/io/atomic_file.h"
+#include "modules/io/picture_canvas.h"
+
+namespace plaf {
+inline namespace io {
+
+namespace {
+
+using Vec = Eigen::Vector3d;
+using Vec2 = Eigen::Vector2d;
+
+// A curved facet of order q: its type and nodes (Gmsh order).
+struct Facet {
+  CellType type = CellType::Triangle;
+  int order = 1;
+  std::vector<Vec> x;
+};
+
+// Points of a facet on its n-sub-lattice, with the sub-triangles (indices into the points) and the
+// outline (indices, around the reference boundary).
+struct Sampled {
+  std::vector<Vec> p;
+  std::vector<std::array<int, 3>> tris;
+  std::vector<int> outline;
+};
+
+Sampled sample(const Facet& f, int n) {
+  const LagrangeElement& e = lagrange_element(f.type, f.order);
+  std::vector<double> phi(static_cast<std::size_t>(e.size()));
+  Sampled s;
+  const bool quad = f.type == CellType::Quadrilateral;
+  std::map<std::pair<int, int>, int> at;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= (quad ? n : n - j); ++i) {
+      const double xi[2] = {static_cast<double>(i) / n, static_cast<double>(j) / n};
+      e.eval(xi, phi.data());
+      Vec x = Vec::Zero();
+      for (int k = 0; k < e.size(); ++k) x += phi[static_cast<std::size_t>(k)] * f.x[static_cast<std::size_t>(k)];
+      at[{i, j}] = static_cast<int>(s.p.size());
+      s.p.push_back(x);
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < (quad ? n : n - j); ++i) {
+      s.tris.push_back({at[{i, j}], at[{i + 1, j}], at[{i, j + 1}]});
+      if (quad || i + j + 1 < n) s.tris.push_back({at[{i + 1, j}], quad ? at[{i + 1, j + 1}] : at[{i + 1, j + 1}], at[{i, j + 1}]});
+    }
+  for (int i = 0; i < n; ++i) s.outline.push_back(at[{i, 0}]);
+  if (quad) {
+    for (int j = 0; j < n; ++j) s.outline.push_back(at[{n, j}]);
+    for (int i = n; i > 0; --i) s.outline.push_back(at[{i, n}]);
+    for (int j = n; j > 0; --j) s.outline.push_back(at[{0, j}]);
+  } else {
+    for (int i = 0; i < n; ++i) s.outline.push_back(at[{n - i, i}]);
+    for (int j = n; j > 0; --j) s.outline.push_back(at[{0, j}]);
+  }
+  return s;
+}
+
+bool is_curved(const Facet& f) {
+  if (f.order == 1) return false;
+  const LagrangeElement& e = lagrange_element(f.type, f.order);
+  double size = 0;
+  for (const Vec& x : f.x) size = std::max(size, (x - f.x[0]).norm());
+  const int nv = f.type == CellType::Quadrilateral ? 4 : 3;
+  for (int k = nv; k < e.size(); ++k) {
+    const auto r = e.ref_node(k);
+    Vec lin;
+    if (nv == 3)
+      lin = (1 - r[0] - r[1]) * f.x[0] + r[0] * f.x[1] + r[1] * f.x[2];
+    else
+      lin = (1 - r[0]) * (1 - r[1]) * f.x[0] + r[0] * (1 - r[1]) * f.x[1] + r[0] * r[1] * f.x[2] + (1 - r[0]) * r[1] * f.x[3];
+    if ((lin - f.x[static_cast<std::size_t>(k)]).norm() > 1e-9 * size) return true;
+  }
+  return false;
+}
+
+// The plane's frame (picture3d.h): u, v in the plane, n its unit normal.
+struct Frame {
+  Vec p, n, u, v;
+  Frame(const Vec& point, const Vec& normal) : p(point) {
+    // u, v: the two coordinate axes least aligned with the normal, in x, y, z order, made
+    // orthonormal in the plane (the plane z = 0 gets u = x, v = y); n = u x v.
+    const Vec m = normal.normalized();
+    int skip = 0;
+    m.cwiseAbs().maxCoeff(&skip);
+    const int a = skip == 0 ? 1 : 0, b = skip == 2 ? 1 : 2;
+    u = (Vec::Unit(a) - Vec::Unit(a).dot(m) * m).normalized();
+    v = (Vec::Unit(b) - Vec::Unit(b).dot(m) * m - Vec::Unit(b).dot(u) * u).normalized();
+    n = u.cross(v);
+  }
+  Vec2 to2(const Vec& x) const { return Vec2(x.dot(u), x.dot(v)); }  // model coordinates in the plane
+  double dist(const Vec& x) const { return (x - p).dot(n); }
+};
+
+// What the cut panel draws, in plane coordinates.
+struct Cut {
+  struct Polygon {
+    std::vector<Vec2> p;
+    int colour;  // 0 straight, 1 curved, 2 invalid
+  };
+  struct Segment {
+    Vec2 a, b;
+    bool wall, invalid;
+  };
+  std::vector<Polygon> polygons;
+  std::vector<Segment> segments;
+  Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  void grow(const Vec2& x) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+};
+
+std::vector<NodeId> sorted_vertices(const NodeId* c, int nv) {
+  std::vector<NodeId> k(c, c + nv);
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+Cut cut_mesh(const HybridMesh<3>& mesh, const std::vector<std::uint8_t>& valid, const Frame& fr, double diag) {
+  // Wall facets (drawn thicker where cut).
+  std::map<std::vector<NodeId>, bool> wall;
+  for (const CellBlock& b : mesh.boundary)
+    if (b.tag >= 0 && mesh.tags[static_cast<std::size_t>(b.tag)].kind == BoundaryKind::Wall)
+      for (std::size_t i = 0; i < b.size(); ++i) wall[sorted_vertices(b.cell(i), num_vertices(b.type))] = true;
+  // Every cell facet once; a facet of an invalid cell is drawn invalid.
+  std::map<std::vector<NodeId>, std::pair<Facet, bool>> facets;
+  std::size_t index = 0;
+  for (const CellBlock& b : mesh.cells) {
+    const LagrangeElement& e = lagrange_element(b.type, b.order);
+    for (std::size_t i = 0; i < b.size(); ++i, ++index) {
+      const bool ok = valid.empty() || valid[index];
+      const NodeId* c = b.cell(i);
+      for (int f = 0; f < e.num_facets(); ++f) {
+        const std::vector<int>& fn = e.facet_nodes(f);
+        const bool quad = topology(b.type).faces[static_cast<std::size_t>(f)].size() == 4;
+        std::vector<NodeId> ids;
+        for (int k : fn) ids.push_back(c[k]);
+        const std::vector<NodeId> key = sorted_vertices(ids.data(), quad ? 4 : 3);
+        auto [it, added] = facets.emplace(key, std::make_pair(Facet{}, ok));
+        if (added) {
+          it->second.first.type = quad ? CellType::Quadrilateral : CellType::Triangle;
+          it->second.first.order = b.order;
+          for (NodeId id : ids) it->second.first.x.push_back(mesh.nodes[static_cast<std::size_t>(id)]);
+        } else {
+          it->second.second = it->second.second && ok;
+        }
+      }
+    }
+  }
+  // A surface alone (no cells): its facets are cut instead.
+  if (mesh.cells.empty())
+    for (const CellBlock& b : mesh.boundary) {
+      if (b.type != CellType::Triangle && b.type != CellType::Quadrilateral) continue;
+      for (std::size_t i = 0; i < b.size(); ++i) {
+        Facet f{b.type, b.order, {}};
+        for (int k = 0; k < b.nodes_per_cell(); ++k) f.x.push_back(mesh.nodes[static_cast<std::size_t>(b.cell(i)[k])]);
+        facets.emplace(sorted_vertices(b.cell(i), num_vertices(b.type)), std::make_pair(f, true));
+      }
+    }
+  Cut cut;
+  const double tol = 1e-9 * diag;
+  for (const auto& [key, fv] : facets) {
+    const Facet& f = fv.first;
+    double dmin = std::numeric_limits<double>::infinity(), dmax = -dmin, size = 0;
+    for (const Vec& x : f.x) {
+      dmin = std::min(dmin, fr.dist(x));
+      dmax = std::max(dmax, fr.dist(x));
+      size = std::max(size, (x - f.x[0]).norm());
+    }
+    const double margin = f.order == 1 ? tol : 0.25 * size;
+    if (dmin > margin || dmax < -margin) continue;
+    const int n = f.order == 1 ? 1 : 4 * f.order;
+    const Sampled s = sample(f, n);
+    if (std::max(std::abs(dmin), std::abs(dmax)) <= tol) {  // in the plane: drawn as a cell
+      Cut::Polygon poly;
+      for (int k : s.outline) poly.p.push_back(fr.to2(s.p[static_cast<std::size_t>(k)]));
+      for (const Vec2& x : poly.p) cut.grow(x);
+      poly.colour = !fv.second ? 2 : is_curved(f) ? 1 : 0;
+      cut.polygons.push_back(poly);
+      continue;
+    }
+    const bool on_wall = wall.count(key) > 0;
+    for (const auto& t : s.tris) {
+      Vec2 pts[3];
+      int np = 0;
+      for (int k = 0; k < 3 && np < 2; ++k) {
+        const Vec& a = s.p[static_cast<std::size_t>(t[static_cast<std::size_t>(k)])];
+        const Vec& b = s.p[static_cast<std::size_t>(t[static_cast<std::size_t>((k + 1) % 3)])];
+        const double da = fr.dist(a), db = fr.dist(b);
+        if ((da < 0) != (db < 0) && da != db) pts[np++] = fr.to2(a + (da / (da - db)) * (b - a));
+      }
+      if (np == 2) {
+        cut.segments.push_back({pts[0], pts[1], on_wall, !fv.second});
+        cut.grow(pts[0]);
+        cut.grow(pts[1]);
+      }
+    }
+  }
+  return cut;
+}
+
+void draw_cut(cairo_t* cr, const View& v, const Cut& cut, double lw) {
+  for (const Cut::Polygon& poly : cut.polygons) {
+    for (std::size_t k = 0; k < poly.p.size(); ++k)
+      (k == 0 ? cairo_move_to : cairo_line_to)(cr, v.px(poly.p[k].x()), v.py(poly.p[k].y()));
+    cairo_close_path(cr);
+    if (poly.colour == 2)
+      cairo_set_source_rgb(cr, 0.95, 0.1, 0.1);
+    else if (poly.colour == 1)
+      cairo_set_source_rgb(cr, 1.0, 0.85, 0.6);
+    else
+      cairo_set_source_rgb(cr, 0.78, 0.87, 0.97);
+    cairo_fill_preserve(cr);
+    cairo_set_source_rgb(cr, 0.15, 0.15, 0.2);
+    cairo_set_line_width(cr, lw);
+    cairo_stroke(cr);
+  }
+  for (int pass = 0; pass < 3; ++pass)  // cut facets, then wall facets, then invalid cells' on top
+    for (const Cut::Segment& s : cut.segments) {
+      const int kind = s.invalid ? 2 : s.wall ? 1 : 0;
+      if (kind != pass) continue;
+      if (kind == 2)
+        cairo_set_source_rgb(cr, 0.95, 0.1, 0.1);
+      else if (kind == 1)
+        cairo_set_source_rgb(cr, 0, 0, 0);
+      else
+        cairo_set_source_rgb(cr, 0.15, 0.15, 0.2);
+      cairo_set_line_width(cr, kind == 0 ? lw : 2.5 * lw);
+      cairo_move_to(cr, v.px(s.a.x()), v.py(s.a.y()));
+      cairo_line_to(cr, v.px(s.b.x()), v.py(s.b.y()));
+      cairo_stroke(cr);
+    }
+}
+
+// The shaded outer front (or wall) in the panel (ox, oy, w, h).
+void draw_shaded(cairo_t* cr, const HybridMesh<3>& mesh, const Vec& view, double ox, double oy, double w, double h,
+                 double lw) {
+  int outer = -1;
+  for (std::size_t t = 0; t < mesh.tags.size(); ++t)
+    if (mesh.tags[t].name == "layers_outer") outer = static_cast<int>(t);
+  const Vec d = view.normalized();
+  Vec up = Vec::UnitZ();
+  if (std::abs(up.dot(d)) > 0.95) up = Vec::UnitY();
+  const Vec right = d.cross(up).normalized();
+  const Vec up2 = right.cross(d);
+  const Vec light = (-d + 0.6 * up2 + 0.3 * right).normalized();
+  struct Tri {
+    std::array<Vec2, 3> p;
+    double depth, shade;
+  };
+  std::vector<Tri> tris;
+  Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  auto to2 = [&](const Vec& x) { return Vec2(x.dot(right), x.dot(up2)); };
+  for (const CellBlock& b : mesh.boundary) {
+    if (b.tag < 0) continue;
+    const bool take = outer >= 0 ? b.tag == outer : mesh.tags[static_cast<std::size_t>(b.tag)].kind == BoundaryKind::Wall;
+    if (!take) continue;
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      Facet f{b.type, b.order, {}};
+      for (int k = 0; k < b.nodes_per_cell(); ++k) f.x.push_back(mesh.nodes[static_cast<std::size_t>(b.cell(i)[k])]);
+      const Sampled s = sample(f, b.order == 1 ? 1 : 2 * b.order);
+      for (const auto& t : s.tris) {
+        const Vec& a = s.p[static_cast<std::size_t>(t[0])];
+        const Vec& bb = s.p[static_cast<std::size_t>(t[1])];
+        const Vec& c = s.p[static_cast<std::size_t>(t[2])];
+        const Vec nrm = (bb - a).cross(c - a);
+        const double len = nrm.norm();
+        const double shade = len > 0 ? 0.3 + 0.7 * std::abs(nrm.dot(light)) / len : 0.3;
+        tris.push_back({{to2(a), to2(bb), to2(c)}, (a + bb + c).dot(d) / 3, shade});
+      }
+      for (int k : s.outline) {
+        lo = lo.cwiseMin(to2(s.p[static_cast<std::size_t>(k)]));
+        hi = hi.cwiseMax(to2(s.p[static_cast<std::size_t>(k)]));
+      }
+    }
+  }
+  if (tris.empty()) return;
+  // Painter's order: the farthest first (depth grows along the view direction).
+  std::sort(tris.begin(), tris.end(), [](const Tri& a, const Tri& b) { return a.depth > b.depth; });
+  const View v = fit(lo.x(), hi.x(), lo.y(), hi.y(), ox, oy, w, h);
+  for (const Tri& t : tris) {
+    cairo_move_to(cr, v.px(t.p[0].x()), v.py(t.p[0].y()));
+    cairo_line_to(cr, v.px(t.p[1].x()), v.py(t.p[1].y()));
+    cairo_line_to(cr, v.px(t.p[2].x()), v.py(t.p[2].y()));
+    cairo_close_path(cr);
+    cairo_set_source_rgb(cr, 0.55 * t.shade, 0.7 * t.shade, 0.9 * t.shade);
+    cairo_fill_preserve(cr);
+    cairo_set_line_width(cr, 0.3 * lw);
+    cairo_stroke(cr);  // hides the seams between sub-triangles
+  }
+}
+
+}  // namespace
+
+void default_cut(const HybridMesh<3>& mesh, Vec& point, Vec& normal) {
+  // The plane of the first symmetry facet (its first three vertices; a tag may span two planes).
+  for (const CellBlock& b : mesh.boundary) {
+    if (b.tag < 0 || mesh.tags[static_cast<std::size_t>(b.tag)].kind != BoundaryKind::Symmetry || b.size() == 0) continue;
+    const NodeId* c = b.cell(0);
+    const Vec& x0 = mesh.nodes[static_cast<std::size_t>(c[0])];
+    const Vec nrm = (mesh.nodes[static_cast<std::size_t>(c[1])] - x0).cross(mesh.nodes[static_cast<std::size_t>(c[2])] - x0);
+    if (!(nrm.norm() > 0)) continue;
+    point = x0;
+    normal = nrm.normalized();
+    return;
+  }
+  Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Vec& x : mesh.nodes) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  if (mesh.nodes.empty()) lo = hi = Vec::Zero();
+  point = 0.5 * (lo + hi);
+  int axis = 0;
+  (hi - lo).minCoeff(&axis);
+  normal = Vec::Unit(axis);
+}
+
+void write_png(const HybridMesh<3>& mesh, const std::vector<std::uint8_t>& valid, const std::filesystem::path& path,
+               const Picture3Options& options) {
+  if (!valid.empty() && valid.size() != mesh.num_cells())
+    throw InputError(path.string() + ": " + std::to_string(valid.size()) + " validity flags for " +
+                     std::to_string(mesh.num_cells()) + " cells");
+  Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Vec& x : mesh.nodes) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const double diag = mesh.nodes.empty() ? 1.0 : (hi - lo).norm();
+  const Frame fr(options.cut_point, options.cut_normal);
+  const Cut cut = cut_mesh(mesh, valid, fr, diag);
+  const int w = options.width, h = options.height;
+  const int panels = static_cast<int>(options.zooms.size());
+  const int main_h = panels ? h * 2 / 3 : h;
+  const int cut_w = w * 11 / 20;
+  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
+  cairo_t* cr = cairo_create(surface);
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  const double lw = std::max(0.4, w / 2400.0);
+  if (!cut.polygons.empty() || !cut.segments.empty()) {
+    cairo_save(cr);
+    cairo_rectangle(cr, 0, 0, cut_w, main_h);
+    cairo_clip(cr);
+    draw_cut(cr, fit(cut.lo.x(), cut.hi.x(), cut.lo.y(), cut.hi.y(), 0, 0, cut_w, main_h), cut, lw);
+    cairo_restore(cr);
+  }
+  cairo_save(cr);
+  cairo_rectangle(cr, cut_w, 0, w - cut_w, main_h);
+  cairo_clip(cr);
+  draw_shaded(cr, mesh, options.view, cut_w, 0, w - cut_w, main_h, lw);
+  cairo_restore(cr);
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  cairo_set_font_size(cr, 16);
+  cairo_move_to(cr, cut_w + 8, 48);
+  cairo_show_text(cr, "outer front, shaded");
+  const std::string plane = "cut: plane through (" + std::to_string(fr.p.x()) + ", " + std::to_string(fr.p.y()) + ", " +
+                            std::to_string(fr.p.z()) + "), normal (" + std::to_string(fr.n.x()) + ", " +
+                            std::to_string(fr.n.y()) + ", " + std::to_string(fr.n.z()) + ")";
+  cairo_move_to(cr, 10, 48);
+  cairo_show_text(cr, plane.c_str());
+  for (int k = 0; k < panels; ++k) {
+    const ZoomBox& z = options.zooms[static_cast<std::size_t>(k)];
+    const double pw = static_cast<double>(w) / panels, ph = h - main_h;
+    cairo_save(cr);
+    cairo_rectangle(cr, k * pw, main_h, pw, ph);
+    cairo_clip(cr);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    draw_cut(cr, fit(z.x_min, z.x_max, z.y_min, z.y_max, k * pw, main_h, pw, ph), cut, lw);
+    cairo_restore(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 1.0);
+    cairo_rectangle(cr, k * pw + 0.5, main_h + 0.5, pw - 1, ph - 1);
+    cairo_stroke(cr);
+    cairo_move_to(cr, k * pw + 8, main_h + 20);
+    cairo_set_font_size(cr, 16);
+    cairo_show_text(cr, z.label.c_str());
+  }
+  if (!options.title.empty()) {
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_font_size(cr, 18);
+    cairo_move_to(cr, 10, 24);
+    cairo_show_text(cr, options.title.c_str());
+  }
+  const std::string png = png_bytes(surface);
+  cairo_destroy(cr);
+  cairo_surface_destroy(surface);
+  if (png.empty()) throw Error(path.string() + ": cannot encode the PNG picture");
+  AtomicFile file(path);
+  file.write(png);
+  file.commit();
+}
+
+}  // namespace io
+}  // namespace plaf

@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+// PNG pictures of 3D meshes (cairo), drawn like the 2D pictures (picture.h):
+//  - the cut: the mesh cut by a plane, in the plane's coordinates (u, v). Facets lying in the
+//    plane (a symmetry plane's) are drawn as the 2D pictures draw cells: curved outlines, filled
+//    light blue (straight), light orange (curved) or red (their cell invalid); every other facet
+//    crossing the plane is cut along its curved surface (sampled on a fine sub-lattice), so the
+//    cut cells' outlines show with their curvature; wall facets crossing it are drawn thicker.
+//  - zoom panels of the cut (boxes in (u, v)), below it;
+//  - a shaded view of the outer front (the facets tagged `layers_outer`, else the wall's): an
+//    orthographic view along `view`, each curved facet split into sub-triangles, painted back to
+//    front with Lambert shading, facet outlines drawn thin.
+// The plane's axes u, v: the two of x, y, z least aligned with its normal, in that order, made
+// orthonormal in the plane (the plane z = 0: u = x, v = y; y = 0: u = x, v = z).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "modules/io/picture.h"
+#include "modules/mesh/hybrid_mesh.h"
+
+namespace plaf {
+inline namespace io {
+
+struct Picture3Options {
+  int width = 1600;
+  int height = 1200;
+  std::string title;
+  Eigen::Vector3d cut_point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d cut_normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d view = Eigen::Vector3d(-1, -0.6, -0.8);  // the shaded view looks along this
+  std::vector<ZoomBox> zooms;                              // boxes in the cut plane's (u, v)
+};
+
+// The default cut of a mesh: the plane of its first symmetry facet, if any, else the plane through
+// the nodes' bounding-box centre normal to its shortest side.
+void default_cut(const HybridMesh<3>& mesh, Eigen::Vector3d& point, Eigen::Vector3d& normal);
+
+// valid: one flag per cell in block order (empty: all valid). Written atomically.
+void write_png(const HybridMesh<3>& mesh, const std::vector<std::uint8_t>& valid, const std::filesystem::path& path,
+               const Picture3Options& options);
+
+}  // namespace io
+}  // namespace plaf
