@@ -3,7 +3,8 @@
 //  1. node normals and classes at ridges and corners (the visibility normal, concave stretch);
 //  2. a flat plate between four symmetry planes grows exact geometric layers, its side faces on
 //     the planes, tagged;
-//  3. a sphere at scales 1e-6 and 1e6 gives the layers of scale 1, scaled;
+//  3. a sphere, and a cylinder between symmetry planes, at scales 1e-6 and 1e6 give the layers of
+//     scale 1, scaled;
 //  4. the prisms of each layer tile the volume between its fronts exactly (quadrature of det J
 //     against the divergence theorem on the curved fronts), every prism certified;
 //  5. two spheres too close for their layers: the collision test stops them without a crossing;
@@ -441,6 +442,79 @@ TEST_CASE("layers 3D: a sphere at scales 1e-6 and 1e6 gives the layers of scale 
   };
   const LayerResult<3> ref = grow(1);
   REQUIRE(ref.layers.size() == 18);
+  for (double s : {1e-6, 1e6}) {
+    CAPTURE(s);
+    const LayerResult<3> r = grow(s);
+    REQUIRE(r.mesh.nodes.size() == ref.mesh.nodes.size());
+    CHECK(r.linear_after == ref.linear_after);
+    CHECK(r.events == ref.events);
+    double worst = 0;
+    for (std::size_t i = 0; i < r.mesh.nodes.size(); ++i)
+      worst = std::max(worst, (r.mesh.nodes[i] / s - ref.mesh.nodes[i]).norm());
+    CHECK(worst < 1e-9);
+    for (std::size_t k = 0; k < r.layers.size(); ++k)
+      CHECK(r.layers[k].max_clipped_rel == doctest::Approx(ref.layers[k].max_clipped_rel).epsilon(1e-6));
+  }
+}
+
+// A cylinder of radius r about the z axis through c, from z = c.z to c.z + length, n_theta x n_z
+// quadrilaterals split in two, order q, its nodes on the cylinder, facing outward; its ends are
+// rims on the symmetry planes z = c.z ("z0") and z = c.z + length ("z1").
+CurvedFront<3> cylinder(double r, const Vector3d& c, double length, int n_theta, int n_z, int q) {
+  FrontBuilder b(q, r);
+  b.f.tags = {{"wall", BoundaryKind::Wall}, {"z0", BoundaryKind::Symmetry}, {"z1", BoundaryKind::Symmetry}};
+  auto at = [&](double theta, double z) { return Vector3d(c + Vector3d(r * std::cos(theta), r * std::sin(theta), z)); };
+  auto on_cylinder = [&](const Vector3d& x, Vector3d& nrm) {
+    Vector3d d = x - c;
+    d.z() = 0;
+    nrm = d.normalized();
+    return Vector3d(c + r * nrm + Vector3d(0, 0, x.z() - c.z()));
+  };
+  const double dt = 2 * M_PI / n_theta, dz = length / n_z;
+  for (int j = 0; j < n_z; ++j)
+    for (int i = 0; i < n_theta; ++i) {
+      const Vector3d p00 = at(i * dt, j * dz), p10 = at((i + 1) * dt, j * dz), p01 = at(i * dt, (j + 1) * dz),
+                     p11 = at((i + 1) * dt, (j + 1) * dz);
+      b.triangle(p00, p10, p11, 0, on_cylinder);
+      b.triangle(p00, p11, p01, 0, on_cylinder);
+    }
+  // The rims: the order-q circle arcs at both ends (lattice nodes as the triangles place them).
+  Vector3d unused;
+  for (int end = 0; end < 2; ++end)
+    for (int i = 0; i < n_theta; ++i) {
+      const double z = end * length;
+      b.f.rim_edges.push_back(b.node(at(i * dt, z), unused));
+      b.f.rim_edges.push_back(b.node(at((i + 1) * dt, z), unused));
+      for (int k = 1; k < q; ++k) {
+        const Vector3d lin = at(i * dt, z) + (static_cast<double>(k) / q) * (at((i + 1) * dt, z) - at(i * dt, z));
+        b.f.rim_edges.push_back(b.node(on_cylinder(lin, unused), unused));
+      }
+      b.f.rim_tag.push_back(1 + end);
+    }
+  return b.f;
+}
+
+TEST_CASE("layers 3D: a cylinder between symmetry planes at scales 1e-6 and 1e6 gives the layers of scale 1, scaled") {
+  auto grow = [](double s) {
+    const Vector3d c = s * Vector3d(-0.4, 0.25, 0.7);
+    const CurvedFront<3> f = cylinder(s, c, 0.8 * s, 16, 3, 3);
+    const TestWallMetric m(
+        1e-3 * s, 1.3, 0.3 * s,
+        [s, c](const Vector3d& x) { return std::hypot(x.x() - c.x(), x.y() - c.y()) - s; },
+        [c](const Vector3d& x) { return Vector3d(Vector3d(x.x() - c.x(), x.y() - c.y(), 0).normalized()); });
+    LayerParams p;
+    p.max_layers = 16;
+    return grow_layers(f, m, p);
+  };
+  const LayerResult<3> ref = grow(1);
+  REQUIRE(ref.layers.size() == 16);
+  CHECK(ref.linear_after > 1);
+  // Every node on or off the planes stays on them; the layers grow radially (a cylinder's
+  // columns are exact radial lines: no z drift).
+  for (std::size_t i = 0; i < ref.mesh.nodes.size(); ++i) {
+    const double z = ref.mesh.nodes[i].z() - 0.7;
+    CHECK((z > -1e-12 && z < 0.8 + 1e-12));
+  }
   for (double s : {1e-6, 1e6}) {
     CAPTURE(s);
     const LayerResult<3> r = grow(s);
