@@ -35,9 +35,10 @@ struct Plane {
 Vec in_planes(const Vec& d, const std::array<int, 2>& ids, const std::vector<Plane>& planes) {
   if (ids[0] < 0) return d;
   const Vec& a = planes[static_cast<std::size_t>(ids[0])].normal;
+  if (ids[1] < 0) return d - d.dot(a) * a;
   const Vec cross = a.cross(planes[static_cast<std::size_t>(ids[1])].normal);
   // Two (nearly) parallel planes through one node are one plane (two tags on it).
-  if (ids[1] < 0 || cross.norm() < 1e-9) return d - d.dot(a) * a;
+  if (cross.norm() < 1e-9) return d - d.dot(a) * a;
   const Vec line = cross.normalized();
   return d.dot(line) * line;
 }
@@ -357,7 +358,7 @@ class PartLayerBuilder {
     x_.resize(n);
     for (std::size_t l = 0; l < n; ++l) x_[l] = mesh_.nodes[static_cast<std::size_t>(part_.ids[l])];
     normals();
-    if (first_ && part_.nq() == 0) fans();
+    if (first_ && part_.nq() == 0 && std::isfinite(f_atten_)) fans();
     check_cusps();
     if (!fanned_) {
       dirs_.resize(n);
@@ -559,25 +560,35 @@ class PartLayerBuilder {
       if (convex && dev > corner_rad) fan.insert(ab);
     }
     auto on_rim = [&](int v) { return p.plane[static_cast<std::size_t>(v)][0] >= 0; };
+    // Pruning, as a worklist: a node is bad with a fan edge on two planes, with other than one on
+    // a plane, or with exactly one elsewhere; its fan edges go, and their other ends are checked
+    // again.
     std::map<int, int> cnt;
-    for (bool changed = true; changed;) {
-      changed = false;
-      cnt.clear();
-      for (const auto& ab : fan) ++cnt[ab.first], ++cnt[ab.second];
-      for (auto it = fan.begin(); it != fan.end();) {
-        bool bad = false;
-        for (int v : {it->first, it->second}) {
-          const int c = cnt[v];
-          bad = bad || p.plane[static_cast<std::size_t>(v)][1] >= 0 || (on_rim(v) ? c != 1 : c == 1);
-        }
-        if (bad) {
-          it = fan.erase(it);
-          changed = true;
-        } else {
-          ++it;
+    std::map<int, std::vector<std::pair<int, int>>> at_node;
+    for (const auto& ab : fan) {
+      ++cnt[ab.first], ++cnt[ab.second];
+      at_node[ab.first].push_back(ab);
+      at_node[ab.second].push_back(ab);
+    }
+    auto bad = [&](int v) {
+      const int c = cnt[v];
+      return c > 0 && (p.plane[static_cast<std::size_t>(v)][1] >= 0 || (on_rim(v) ? c != 1 : c == 1));
+    };
+    std::vector<int> work;
+    for (const auto& [v, c] : cnt) work.push_back(v);
+    while (!work.empty()) {
+      const int v = work.back();
+      work.pop_back();
+      if (!bad(v)) continue;
+      for (const auto& ab : at_node[v]) {
+        if (!fan.erase(ab)) continue;
+        for (int x : {ab.first, ab.second}) {
+          --cnt[x];
+          if (x != v) work.push_back(x);
         }
       }
     }
+    for (auto it = cnt.begin(); it != cnt.end();) it = it->second == 0 ? cnt.erase(it) : std::next(it);
     if (fan.empty()) return;
     fanned_ = true;
     const std::size_t n = p.size();
@@ -1123,6 +1134,7 @@ class SurfaceFronts final : public FrontGrower<3> {
                 std::vector<std::pair<std::string, std::size_t>>& counts)
       : mesh_(mesh), front0_(front0), metric_(metric), p_(p), q_(front0.order), counts_(counts) {
     parts_ = PartBuilder(front0).parts(planes_);
+    grown_.assign(parts_.size(), 0);
   }
 
   std::array<CellType, 2> cell_types() const override { return {CellType::Prism, CellType::Tetrahedron}; }
@@ -1138,11 +1150,15 @@ class SurfaceFronts final : public FrontGrower<3> {
   BuiltLayer build(std::size_t part, int layer, const std::vector<double>& scale, const std::vector<std::uint8_t>&,
                    double f_atten) override {
     pending_part_ = part;
+    // A part's first layer is its first accepted one (layer 1, or a closing layer after a failed
+    // layer 1); a closing layer (straight tops, f_atten infinite) grows no fans: they are curved.
+    (void)layer;
+    const bool first = !grown_[part];
     std::vector<std::pair<std::string, std::size_t>> counts;
-    pending_ = PartLayerBuilder(mesh_, metric_, p_, q_, front0_, parts_[part], planes_, layer == 1, scale, f_atten,
-                                layer == 1 ? &counts : nullptr)
+    pending_ = PartLayerBuilder(mesh_, metric_, p_, q_, front0_, parts_[part], planes_, first, scale, f_atten,
+                                first ? &counts : nullptr)
                    .build();
-    if (layer == 1) pending_counts_ = counts;
+    pending_counts_ = first ? counts : std::vector<std::pair<std::string, std::size_t>>{};
     return std::move(pending_.built);
   }
   const Part& pending_front() const { return pending_.next ? *pending_.next : parts_[pending_part_]; }
@@ -1177,6 +1193,7 @@ class SurfaceFronts final : public FrontGrower<3> {
       if (halve[l]) scale[l] *= 0.5;
   }
   void accept(std::size_t part) override {
+    grown_[part] = 1;
     if (pending_.next) parts_[part] = std::move(*pending_.next);
     parts_[part].ids = std::move(pending_.top);
     parts_[part].keep = std::move(pending_.keep);
@@ -1210,6 +1227,7 @@ class SurfaceFronts final : public FrontGrower<3> {
   std::vector<std::pair<std::string, std::size_t>>& counts_;
   std::vector<Plane> planes_;
   std::vector<Part> parts_;
+  std::vector<std::uint8_t> grown_;  // per part: a layer was accepted
   std::size_t pending_part_ = 0;
   PartLayer pending_;
   std::vector<std::pair<std::string, std::size_t>> pending_counts_;

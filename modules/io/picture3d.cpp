@@ -139,19 +139,35 @@ Cut cut_mesh(const HybridMesh<3>& mesh, const std::vector<std::uint8_t>& valid, 
   for (const CellBlock& b : mesh.boundary)
     if (b.tag >= 0 && mesh.tags[static_cast<std::size_t>(b.tag)].kind == BoundaryKind::Wall)
       for (std::size_t i = 0; i < b.size(); ++i) wall[sorted_vertices(b.cell(i), num_vertices(b.type))] = true;
-  // Every cell facet once; a facet of an invalid cell is drawn invalid.
+  // Every cell facet near the plane once (its nodes within a quarter of its size of it: a curved
+  // facet bulges less than that past its nodes); a facet of an invalid cell is drawn invalid.
+  // Only ids are kept, so memory follows the cut, not the mesh.
+  const double tol = 1e-6 * diag;  // in the plane: as the layers' symmetry planes are fitted
   std::map<std::vector<NodeId>, std::pair<Facet, bool>> facets;
+  auto near = [&](const std::vector<NodeId>& ids, int order) {
+    double dmin = std::numeric_limits<double>::infinity(), dmax = -dmin, size = 0;
+    const Vec& x0 = mesh.nodes[static_cast<std::size_t>(ids[0])];
+    for (NodeId id : ids) {
+      const Vec& x = mesh.nodes[static_cast<std::size_t>(id)];
+      dmin = std::min(dmin, fr.dist(x));
+      dmax = std::max(dmax, fr.dist(x));
+      size = std::max(size, (x - x0).norm());
+    }
+    const double margin = order == 1 ? tol : 0.25 * size + tol;
+    return !(dmin > margin || dmax < -margin);
+  };
   std::size_t index = 0;
+  std::vector<NodeId> ids;
   for (const CellBlock& b : mesh.cells) {
     const LagrangeElement& e = lagrange_element(b.type, b.order);
     for (std::size_t i = 0; i < b.size(); ++i, ++index) {
       const bool ok = valid.empty() || valid[index];
       const NodeId* c = b.cell(i);
       for (int f = 0; f < e.num_facets(); ++f) {
-        const std::vector<int>& fn = e.facet_nodes(f);
+        ids.clear();
+        for (int k : e.facet_nodes(f)) ids.push_back(c[k]);
+        if (!near(ids, b.order)) continue;
         const bool quad = topology(b.type).faces[static_cast<std::size_t>(f)].size() == 4;
-        std::vector<NodeId> ids;
-        for (int k : fn) ids.push_back(c[k]);
         const std::vector<NodeId> key = sorted_vertices(ids.data(), quad ? 4 : 3);
         auto [it, added] = facets.emplace(key, std::make_pair(Facet{}, ok));
         if (added) {
@@ -169,23 +185,21 @@ Cut cut_mesh(const HybridMesh<3>& mesh, const std::vector<std::uint8_t>& valid, 
     for (const CellBlock& b : mesh.boundary) {
       if (b.type != CellType::Triangle && b.type != CellType::Quadrilateral) continue;
       for (std::size_t i = 0; i < b.size(); ++i) {
+        ids.assign(b.cell(i), b.cell(i) + b.nodes_per_cell());
+        if (!near(ids, b.order)) continue;
         Facet f{b.type, b.order, {}};
-        for (int k = 0; k < b.nodes_per_cell(); ++k) f.x.push_back(mesh.nodes[static_cast<std::size_t>(b.cell(i)[k])]);
+        for (NodeId id : ids) f.x.push_back(mesh.nodes[static_cast<std::size_t>(id)]);
         facets.emplace(sorted_vertices(b.cell(i), num_vertices(b.type)), std::make_pair(f, true));
       }
     }
   Cut cut;
-  const double tol = 1e-9 * diag;
   for (const auto& [key, fv] : facets) {
     const Facet& f = fv.first;
-    double dmin = std::numeric_limits<double>::infinity(), dmax = -dmin, size = 0;
+    double dmin = std::numeric_limits<double>::infinity(), dmax = -dmin;
     for (const Vec& x : f.x) {
       dmin = std::min(dmin, fr.dist(x));
       dmax = std::max(dmax, fr.dist(x));
-      size = std::max(size, (x - f.x[0]).norm());
     }
-    const double margin = f.order == 1 ? tol : 0.25 * size;
-    if (dmin > margin || dmax < -margin) continue;
     const int n = f.order == 1 ? 1 : 4 * f.order;
     const Sampled s = sample(f, n);
     if (std::max(std::abs(dmin), std::abs(dmax)) <= tol) {  // in the plane: drawn as a cell
@@ -268,14 +282,18 @@ void draw_shaded(cairo_t* cr, const HybridMesh<3>& mesh, const Vec& view, double
   std::vector<Tri> tris;
   Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   auto to2 = [&](const Vec& x) { return Vec2(x.dot(right), x.dot(up2)); };
+  // Sub-triangles per facet: Q^2 (the node lattice), or 1 past two million in all.
+  std::size_t total = 0;
+  for (const CellBlock& b : mesh.boundary) total += b.size() * static_cast<std::size_t>(b.order * b.order);
+  const bool coarse = total > 2000000;
   for (const CellBlock& b : mesh.boundary) {
-    if (b.tag < 0) continue;
+    if (b.tag < 0 || (b.type != CellType::Triangle && b.type != CellType::Quadrilateral)) continue;
     const bool take = outer >= 0 ? b.tag == outer : mesh.tags[static_cast<std::size_t>(b.tag)].kind == BoundaryKind::Wall;
     if (!take) continue;
     for (std::size_t i = 0; i < b.size(); ++i) {
       Facet f{b.type, b.order, {}};
       for (int k = 0; k < b.nodes_per_cell(); ++k) f.x.push_back(mesh.nodes[static_cast<std::size_t>(b.cell(i)[k])]);
-      const Sampled s = sample(f, b.order == 1 ? 1 : 2 * b.order);
+      const Sampled s = sample(f, coarse ? 1 : b.order);
       for (const auto& t : s.tris) {
         const Vec& a = s.p[static_cast<std::size_t>(t[0])];
         const Vec& bb = s.p[static_cast<std::size_t>(t[1])];

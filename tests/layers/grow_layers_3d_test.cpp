@@ -640,12 +640,14 @@ TEST_CASE("layers 3D: a cube's fans give right-angled cells around every ridge a
       }
     }
     // Fan prisms: both radial edges at right angles to the ridge, 45 degrees apart.
-    double worst_ridge = 0, widest = 0;
+    double worst_ridge = 0, widest = 0, narrowest = 180;
     for (std::size_t c = walls; c < prisms.size(); ++c) {
       const Vector3d ridge = (x(prisms, c, 3) - x(prisms, c, 0)).normalized();
       const Vector3d r1 = x(prisms, c, 1) - x(prisms, c, 0), r2 = x(prisms, c, 2) - x(prisms, c, 0);
       worst_ridge = std::max({worst_ridge, std::abs(r1.normalized().dot(ridge)), std::abs(r2.normalized().dot(ridge))});
-      widest = std::max(widest, std::acos(r1.normalized().dot(r2.normalized())) * 180 / M_PI);
+      const double sector = std::acos(r1.normalized().dot(r2.normalized())) * 180 / M_PI;
+      widest = std::max(widest, sector);
+      narrowest = std::min(narrowest, sector);
     }
     // Corner tetrahedra: every radial edge inside the corner's octant (its normal cone), h long.
     double outside = 0;
@@ -662,6 +664,7 @@ TEST_CASE("layers 3D: a cube's fans give right-angled cells around every ridge a
     CHECK(worst_column < 1e-9);
     CHECK(worst_ridge < 1e-9);
     CHECK(widest == doctest::Approx(45).epsilon(1e-9));
+    CHECK(narrowest == doctest::Approx(45).epsilon(1e-9));
     CHECK(outside < 1e-15);
     // Every cell certified; the only open facets are the outer front's.
     JacobianCertifier cert;
@@ -712,6 +715,8 @@ TEST_CASE("layers 3D: with fans, the prisms and tetrahedra of the first k layers
       CHECK(r.mesh.cells[1].size() > 0);
       const ConformityReport cr = check_conformity<3>(r.mesh);
       CHECK(cr.node_mismatches == 0);
+      CHECK(cr.overshared_facets == 0);
+      CHECK(cr.orientation_mismatches == 0);
       CHECK(cr.open_facets == r.outer.num_triangles() + r.outer.num_quads());
     }
   }
@@ -746,6 +751,7 @@ TEST_CASE("layers 3D: fans whose ridges end on a symmetry plane close on it") {
     const ConformityReport cr = check_conformity<3>(r.mesh);
     CHECK(cr.node_mismatches == 0);
     CHECK(cr.overshared_facets == 0);
+    CHECK(cr.orientation_mismatches == 0);
     CHECK(cr.open_facets == r.outer.num_triangles() + r.outer.num_quads());
   }
 }
