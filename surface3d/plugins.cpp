@@ -2,6 +2,8 @@
 // The 3D surface stages (plugins.h): geometry, then the surface mesh, each reporting what it did.
 #include "surface3d/plugins.h"
 
+#include "surface3d/fidelity.h"
+
 #include <algorithm>
 #include <iostream>
 #include <limits>
@@ -88,6 +90,7 @@ SurfaceParams parse_surface_params(const ConfigNode& sf) {
   sp.curvature_factor = sf.get_in_range("curvature_factor", sp.curvature_factor, 0.0, 100.0);
   sp.curvature_h_min = sf.has("curvature_h_min") ? sf.get_positive("curvature_h_min", 1.0) : 0;
   sp.max_triangles = sf.get_int("max_triangles", sp.max_triangles, 1, 2000000000);
+  sp.fidelity_tol = sf.get_positive("fidelity_tol", sp.fidelity_tol);
   sp.curvature_h_min_where = sf.where("curvature_h_min");
   return sp;
 }
@@ -241,6 +244,8 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
         std::make_unique<CurvatureMetricField>(s.surface_base(), *s.reference, sp.curvature_factor, h_min);
   }
   const MetricField<3>& field = *s.measure();
+  // The body sampled before the remesher moves anything (fidelity.h).
+  const std::vector<Eigen::Vector3d> body = reference_samples(s.surface, *s.reference);
   RemeshReport rr;
   if (sp.remesh) {
     RemeshOptions ro;
@@ -268,6 +273,22 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   rep.line("high order: " + std::to_string(cr.triangles) + " triangles of order " + std::to_string(c.order) + ", " +
            std::to_string(cr.straightened) + " straightened, " + std::to_string(cr.invalid) + " invalid");
   report_surface(surface, c.order, kept, detected, rr, cr, rep);
+  const FidelityReport fr = measure_fidelity(surface, *s.reference, body);
+  std::ostringstream at, json, line, why;
+  at << "(" << fr.worst.x() << ", " << fr.worst.y() << ", " << fr.worst.z() << ")";
+  json << "{\"hausdorff\": " << json_number(fr.hausdorff) << ", \"relative\": " << json_number(fr.relative)
+       << ", \"tolerance\": " << json_number(sp.fidelity_tol) << ", \"to_reference\": " << json_number(fr.to_reference)
+       << ", \"to_mesh\": " << json_number(fr.to_mesh) << ", \"worst\": [" << json_number(fr.worst.x()) << ", "
+       << json_number(fr.worst.y()) << ", " << json_number(fr.worst.z()) << "], \"mesh_samples\": " << fr.mesh_samples
+       << ", \"reference_samples\": " << fr.reference_samples << "}";
+  rep.add_json("fidelity", json.str());
+  line << "fidelity: Hausdorff distance " << fr.hausdorff << " (" << fr.relative << " of the diagonal; mesh -> body "
+       << fr.to_reference << ", body -> mesh " << fr.to_mesh << ") at " << at.str();
+  rep.line(line.str());
+  const bool far = fr.relative > sp.fidelity_tol;
+  why << "the surface leaves the body: Hausdorff distance " << fr.hausdorff << " is " << fr.relative
+      << " of the diagonal, over surface.fidelity_tol " << sp.fidelity_tol << " (worst at " << at.str() << ")";
+  const std::string far_why = why.str();
   // A face turned against the surface is the surface's inverted element: the layers would grow
   // from it into the body. The mesh is written for inspection; the run fails.
   if (rr.folded_faces > 0)
@@ -275,6 +296,8 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
              " triangles face more than 60 degrees away from the reference surface (first: " + rr.first_folded + ")");
   else if (cr.invalid > 0)
     rep.fail("the surface has " + std::to_string(cr.invalid) + " invalid curved triangles");
+  else if (far)
+    rep.fail(far_why);
 }
 
 }  // namespace

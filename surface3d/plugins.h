@@ -29,6 +29,8 @@
 //     curvature_factor: <0..100>  sizes at most this x radius of curvature (0: off)   default: 0
 //     curvature_h_min: <>0, < the metric's size>  the smallest size curvature asks for   default: the metric's size / 20
 //     max_triangles: <n>    give up (an error) beyond this many triangles   default: 20000000
+//     fidelity_tol: <>0>    the run fails when the surface's two-sided distance to the body
+//                           (fidelity.h) exceeds this x the body's bounding-box diagonal   default: 1e-3
 // An analytic body gives its exact reference at the geometry stage and its initial
 // triangulation at the surface stage, at 1.5 times the metric's largest size there. The surface
 // follows the metric's sizes; a wall_power_law metric's sizes along the wall, its size normal to
@@ -76,6 +78,7 @@ struct SurfaceParams {
   double curvature_h_min = 0;  // 0: the metric's smallest size / 20
   std::string curvature_h_min_where;  // "file:line:col: surface.curvature_h_min", for the check
   int max_triangles = 20000000;
+  double fidelity_tol = 1e-3;
 };
 
 // The keys of a 3D geometry section of type `type` (ConfigError naming the key).

@@ -428,6 +428,12 @@ TEST_CASE("configs: 3D surfaces are metric-conforming, keep their features and t
     const std::size_t metric = report.find(layered ? "\"remesh\": {" : "\"metric\": {");
     REQUIRE(metric != std::string::npos);
     CHECK(json_number(report, "unit_fraction", metric) >= 0.9);
+    // The surface stays on the body: its measured two-sided distance within the run's tolerance.
+    const std::size_t fidelity = report.find("\"fidelity\": {");
+    REQUIRE(fidelity != std::string::npos);
+    CHECK(json_number(report, "relative", fidelity) <= json_number(report, "tolerance", fidelity));
+    CHECK(json_number(report, "mesh_samples", fidelity) > 0);
+    CHECK(json_number(report, "reference_samples", fidelity) > 0);
     CHECK(json_number(report, "min", report.find("\"scaled_jacobian\"")) > 0);
     const std::size_t detected = report.find("\"detected\": {");
     REQUIRE(detected != std::string::npos);
