@@ -54,10 +54,13 @@ void register_plugins() {
         p.close_linear = s.config.fill.enabled();
         s.layers = grow_layers(*s.front, *s.metric, p);
         for (const auto& [key, value] : s.layers->counts) rep.add(key, value);
-        if (s.layers->layers.empty())
+        if (s.layers->layers.empty()) {
+          const auto& ev = s.layers->events;
           throw MesherError("layers: not even the first layer could be grown (" +
-                            (s.layers->events.empty() ? std::string("no wall surface") : s.layers->events.back()) +
+                            (ev.empty() ? std::string("no wall surface")
+                                        : ev.size() == 1 ? ev.back() : "first: " + ev.front() + "; last: " + ev.back()) +
                             ")");
+        }
       };
     });
     return true;
