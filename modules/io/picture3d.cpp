@@ -394,37 +394,9 @@ void write_png(const HybridMesh<3>& mesh, const std::vector<std::uint8_t>& valid
                             std::to_string(fr.n.y()) + ", " + std::to_string(fr.n.z()) + ")";
   cairo_move_to(cr, 10, 48);
   cairo_show_text(cr, plane.c_str());
-  for (int k = 0; k < panels; ++k) {
-    const ZoomBox& z = options.zooms[static_cast<std::size_t>(k)];
-    const double pw = static_cast<double>(w) / panels, ph = h - main_h;
-    cairo_save(cr);
-    cairo_rectangle(cr, k * pw, main_h, pw, ph);
-    cairo_clip(cr);
-    cairo_set_source_rgb(cr, 1, 1, 1);
-    cairo_paint(cr);
-    draw_cut(cr, fit(z.x_min, z.x_max, z.y_min, z.y_max, k * pw, main_h, pw, ph), cut, lw);
-    cairo_restore(cr);
-    cairo_set_source_rgb(cr, 0, 0, 0);
-    cairo_set_line_width(cr, 1.0);
-    cairo_rectangle(cr, k * pw + 0.5, main_h + 0.5, pw - 1, ph - 1);
-    cairo_stroke(cr);
-    cairo_move_to(cr, k * pw + 8, main_h + 20);
-    cairo_set_font_size(cr, 16);
-    cairo_show_text(cr, z.label.c_str());
-  }
-  if (!options.title.empty()) {
-    cairo_set_source_rgb(cr, 0, 0, 0);
-    cairo_set_font_size(cr, 18);
-    cairo_move_to(cr, 10, 24);
-    cairo_show_text(cr, options.title.c_str());
-  }
-  const std::string png = png_bytes(surface);
-  cairo_destroy(cr);
-  cairo_surface_destroy(surface);
-  if (png.empty()) throw Error(path.string() + ": cannot encode the PNG picture");
-  AtomicFile file(path);
-  file.write(png);
-  file.commit();
+  zoom_panels(cr, options.zooms, w, h, main_h, [&](const View& v) { draw_cut(cr, v, cut, lw); });
+  draw_title(cr, options.title);
+  finish_png(cr, surface, path);
 }
 
 }  // namespace io

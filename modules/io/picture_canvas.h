@@ -6,7 +6,14 @@
 #include <cairo.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <functional>
 #include <string>
+#include <vector>
+
+#include "modules/base/error.h"
+#include "modules/io/atomic_file.h"
+#include "modules/io/picture.h"
 
 namespace plaf {
 inline namespace io {
@@ -41,6 +48,52 @@ inline std::string png_bytes(cairo_surface_t* surface) {
   };
   if (cairo_surface_write_to_png_stream(surface, chunk, &png) != CAIRO_STATUS_SUCCESS) return {};
   return png;
+}
+
+// The zoom panels below the main view (rows main_h .. h of a w-wide picture), each cleared,
+// drawn by draw(view of its box) inside its clip, framed and labelled.
+inline void zoom_panels(cairo_t* cr, const std::vector<ZoomBox>& zooms, int w, int h, int main_h,
+                        const std::function<void(const View&)>& draw) {
+  const int panels = static_cast<int>(zooms.size());
+  for (int k = 0; k < panels; ++k) {
+    const ZoomBox& z = zooms[static_cast<std::size_t>(k)];
+    const double pw = static_cast<double>(w) / panels, ph = h - main_h;
+    cairo_save(cr);
+    cairo_rectangle(cr, k * pw, main_h, pw, ph);
+    cairo_clip(cr);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    draw(fit(z.x_min, z.x_max, z.y_min, z.y_max, k * pw, main_h, pw, ph));
+    cairo_restore(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_line_width(cr, 1.0);
+    cairo_rectangle(cr, k * pw + 0.5, main_h + 0.5, pw - 1, ph - 1);
+    cairo_stroke(cr);
+    cairo_move_to(cr, k * pw + 8, main_h + 20);
+    cairo_set_font_size(cr, 16);
+    cairo_show_text(cr, z.label.c_str());
+  }
+}
+
+// The title at the top left (nothing for an empty one).
+inline void draw_title(cairo_t* cr, const std::string& title) {
+  if (title.empty()) return;
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  cairo_set_font_size(cr, 18);
+  cairo_move_to(cr, 10, 24);
+  cairo_show_text(cr, title.c_str());
+}
+
+// Encodes the picture, releases cairo's objects, and writes the file atomically (plaf::Error when
+// the encoding fails; the file is then not written).
+inline void finish_png(cairo_t* cr, cairo_surface_t* surface, const std::filesystem::path& path) {
+  const std::string png = png_bytes(surface);
+  cairo_destroy(cr);
+  cairo_surface_destroy(surface);
+  if (png.empty()) throw Error(path.string() + ": cannot encode the PNG picture");
+  AtomicFile file(path);
+  file.write(png);
+  file.commit();
 }
 
 }  // namespace io

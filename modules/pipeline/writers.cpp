@@ -39,21 +39,23 @@ void write_vtu_file(const WriteJob<Dim>& j) {
              {"aspect_ratio", finite(j.per_cell.aspect_ratio)}});
 }
 
-void write_picture(const WriteJob<2>& j) {
-  PictureOptions po;
+// The options both pictures share: size, title, zoom boxes.
+template <class Options, int Dim>
+Options picture_options(const WriteJob<Dim>& j) {
+  Options po;
   po.width = j.config.output.picture_width;
   po.height = j.config.output.picture_height;
   po.title = j.config.name + " (Q=" + std::to_string(j.config.order) + ")";
   for (const auto& z : j.config.output.zooms) po.zooms.push_back({z.label, z.box[0], z.box[1], z.box[2], z.box[3]});
-  write_png(j.mesh, j.per_cell.valid, j.base.string() + ".png", po);
+  return po;
+}
+
+void write_picture(const WriteJob<2>& j) {
+  write_png(j.mesh, j.per_cell.valid, j.base.string() + ".png", picture_options<PictureOptions>(j));
 }
 
 void write_picture_3d(const WriteJob<3>& j) {
-  Picture3Options po;
-  po.width = j.config.output.picture_width;
-  po.height = j.config.output.picture_height;
-  po.title = j.config.name + " (Q=" + std::to_string(j.config.order) + ")";
-  for (const auto& z : j.config.output.zooms) po.zooms.push_back({z.label, z.box[0], z.box[1], z.box[2], z.box[3]});
+  Picture3Options po = picture_options<Picture3Options>(j);
   const auto& o = j.config.output;
   if (o.has_cut) {
     po.cut_point = Eigen::Vector3d(o.cut_point[0], o.cut_point[1], o.cut_point[2]);

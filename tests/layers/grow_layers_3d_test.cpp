@@ -324,6 +324,24 @@ std::size_t count_of(const LayerResult<3>& r, const std::string& name) {
   return 0;
 }
 
+// The layers grown at scales 1e-6 and 1e6 are those of scale 1 (ref), scaled: the same nodes to
+// 1e-9 of the scale, events, linear-after and clipping.
+void check_scaled(const LayerResult<3>& ref, const std::function<LayerResult<3>(double)>& grow) {
+  for (double s : {1e-6, 1e6}) {
+    CAPTURE(s);
+    const LayerResult<3> r = grow(s);
+    REQUIRE(r.mesh.nodes.size() == ref.mesh.nodes.size());
+    CHECK(r.linear_after == ref.linear_after);
+    CHECK(r.events == ref.events);
+    double worst = 0;
+    for (std::size_t i = 0; i < r.mesh.nodes.size(); ++i)
+      worst = std::max(worst, (r.mesh.nodes[i] / s - ref.mesh.nodes[i]).norm());
+    CHECK(worst < 1e-9);
+    for (std::size_t k = 0; k < r.layers.size(); ++k)
+      CHECK(r.layers[k].max_clipped_rel == doctest::Approx(ref.layers[k].max_clipped_rel).epsilon(1e-6));
+  }
+}
+
 }  // namespace
 
 TEST_CASE("normals 3D: the visibility normal and the classes of ridges and corners") {
@@ -442,19 +460,7 @@ TEST_CASE("layers 3D: a sphere at scales 1e-6 and 1e6 gives the layers of scale 
   };
   const LayerResult<3> ref = grow(1);
   REQUIRE(ref.layers.size() == 18);
-  for (double s : {1e-6, 1e6}) {
-    CAPTURE(s);
-    const LayerResult<3> r = grow(s);
-    REQUIRE(r.mesh.nodes.size() == ref.mesh.nodes.size());
-    CHECK(r.linear_after == ref.linear_after);
-    CHECK(r.events == ref.events);
-    double worst = 0;
-    for (std::size_t i = 0; i < r.mesh.nodes.size(); ++i)
-      worst = std::max(worst, (r.mesh.nodes[i] / s - ref.mesh.nodes[i]).norm());
-    CHECK(worst < 1e-9);
-    for (std::size_t k = 0; k < r.layers.size(); ++k)
-      CHECK(r.layers[k].max_clipped_rel == doctest::Approx(ref.layers[k].max_clipped_rel).epsilon(1e-6));
-  }
+  check_scaled(ref, grow);
 }
 
 // A cylinder of radius r about the z axis through c, from z = c.z to c.z + length, n_theta x n_z
@@ -515,19 +521,7 @@ TEST_CASE("layers 3D: a cylinder between symmetry planes at scales 1e-6 and 1e6 
     const double z = ref.mesh.nodes[i].z() - 0.7;
     CHECK((z > -1e-12 && z < 0.8 + 1e-12));
   }
-  for (double s : {1e-6, 1e6}) {
-    CAPTURE(s);
-    const LayerResult<3> r = grow(s);
-    REQUIRE(r.mesh.nodes.size() == ref.mesh.nodes.size());
-    CHECK(r.linear_after == ref.linear_after);
-    CHECK(r.events == ref.events);
-    double worst = 0;
-    for (std::size_t i = 0; i < r.mesh.nodes.size(); ++i)
-      worst = std::max(worst, (r.mesh.nodes[i] / s - ref.mesh.nodes[i]).norm());
-    CHECK(worst < 1e-9);
-    for (std::size_t k = 0; k < r.layers.size(); ++k)
-      CHECK(r.layers[k].max_clipped_rel == doctest::Approx(ref.layers[k].max_clipped_rel).epsilon(1e-6));
-  }
+  check_scaled(ref, grow);
 }
 
 TEST_CASE("layers 3D: the prisms of each layer tile the volume between its fronts, all certified") {
