@@ -35,71 +35,150 @@ struct SubLattice {
 
 }  // namespace
 
-std::vector<Eigen::Vector3d> reference_samples(const TriSurface& input, const ReferenceGeometry<3>& reference) {
-  const SubLattice lat(4);
+std::vector<Eigen::Vector3d> reference_samples(const TriSurface& input, const ReferenceGeometry<3>& reference,
+                                               bool input_is_reference) {
   std::vector<Eigen::Vector3d> out;
-  for (const auto f : input.mesh.faces()) {
+  const TriMesh& m = input.mesh;
+  if (input_is_reference) {
+    // The input is the body: its vertices, edge midpoints and face centroids, each once.
+    for (const auto v : m.vertices()) out.push_back(m.point(v));
+    for (const auto e : m.edges()) {
+      const auto h = m.halfedge_handle(e, 0);
+      out.push_back(0.5 * (m.point(m.from_vertex_handle(h)) + m.point(m.to_vertex_handle(h))));
+    }
+    for (const auto f : m.faces()) {
+      const auto fv = input.face_vertices(f);
+      out.push_back((m.point(fv[0]) + m.point(fv[1]) + m.point(fv[2])) / 3);
+    }
+    return out;
+  }
+  // An analytic body's initial triangulation is coarse (1.5 x the largest size): its faces'
+  // 8-sub-lattice, projected onto the body.
+  const SubLattice lat(8);
+  for (const auto f : m.faces()) {
     const auto fv = input.face_vertices(f);
-    const Eigen::Vector3d a = input.mesh.point(fv[0]), b = input.mesh.point(fv[1]), c = input.mesh.point(fv[2]);
+    const Eigen::Vector3d a = m.point(fv[0]), b = m.point(fv[1]), c = m.point(fv[2]);
     for (const auto& x : lat.xi) out.push_back(reference.project(a + x[0] * (b - a) + x[1] * (c - a)));
   }
   return out;
 }
 
+namespace {
+
+// The closest point to p on the curved triangle `nodes` (order q), from reference point xi by
+// Gauss-Newton steps kept inside the triangle: its distance.
+double curved_distance(const LagrangeElement& e, const std::vector<Eigen::Vector3d>& nodes, const Eigen::Vector3d& p,
+                       std::array<double, 2> xi, std::vector<double>& phi, std::vector<double>& dphi) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int it = 0; it < 8; ++it) {
+    e.eval(xi.data(), phi.data());
+    e.eval_grad(xi.data(), dphi.data());
+    Eigen::Vector3d x = Eigen::Vector3d::Zero(), xu = Eigen::Vector3d::Zero(), xv = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      x += phi[k] * nodes[k];
+      xu += dphi[2 * k] * nodes[k];
+      xv += dphi[2 * k + 1] * nodes[k];
+    }
+    const Eigen::Vector3d r = p - x;
+    best = std::min(best, r.norm());
+    Eigen::Matrix2d jtj;
+    jtj << xu.dot(xu), xu.dot(xv), xu.dot(xv), xv.dot(xv);
+    const Eigen::Vector2d step = jtj.ldlt().solve(Eigen::Vector2d(xu.dot(r), xv.dot(r)));
+    if (!step.allFinite()) break;
+    xi[0] = std::max(0.0, xi[0] + step[0]);
+    xi[1] = std::max(0.0, xi[1] + step[1]);
+    if (xi[0] + xi[1] > 1) {
+      const double sum = xi[0] + xi[1];
+      xi[0] /= sum;
+      xi[1] /= sum;
+    }
+    if (step.norm() < 1e-12) break;
+  }
+  return best;
+}
+
+}  // namespace
+
 FidelityReport measure_fidelity(const TriSurface& surface, const ReferenceGeometry<3>& reference,
                                 const std::vector<Eigen::Vector3d>& samples) {
   FidelityReport r;
   const int q = std::max(1, surface.order);
-  const SubLattice lat(2 * q);
+  const SubLattice fine(2 * q), coarse(q);
   const LagrangeElement& e = lagrange_element(CellType::Triangle, q);
-  std::vector<double> phi(static_cast<std::size_t>(e.size()));
-  std::vector<std::vector<double>> basis;
-  for (const auto& x : lat.xi) {
-    e.eval(x.data(), phi.data());
-    basis.push_back(phi);
-  }
+  std::vector<double> phi(static_cast<std::size_t>(e.size())), dphi(static_cast<std::size_t>(2 * e.size()));
+  auto basis = [&](const SubLattice& lat) {
+    std::vector<std::vector<double>> out;
+    for (const auto& x : lat.xi) {
+      e.eval(x.data(), phi.data());
+      out.push_back(phi);
+    }
+    return out;
+  };
+  const std::vector<std::vector<double>> fine_basis = basis(fine), coarse_basis = basis(coarse);
+  auto at = [](const std::vector<double>& w, const std::vector<Eigen::Vector3d>& nodes) {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < nodes.size(); ++k) x += w[k] * nodes[k];
+    return x;
+  };
+  // Mesh -> body on the fine lattice, computed as it goes; the tree over the coarse lattice's
+  // sub-triangles (Q^2 per face), each knowing its face and its points' reference coordinates.
   std::vector<Eigen::Vector3d> points;
   std::vector<std::array<int, 3>> tris;
+  std::vector<int> tri_face;
+  std::vector<TriMesh::FaceHandle> faces;
   for (const auto f : surface.mesh.faces()) {
-    std::vector<Eigen::Vector3d> nodes = surface.triangle_nodes(f);
-    if (static_cast<int>(nodes.size()) != e.size()) {  // straight: its order-Q lattice
-      const Eigen::Vector3d a = nodes[0], b = nodes[1], c = nodes[2];
-      nodes.clear();
-      for (const Lattice& l : e.lattice())
-        nodes.push_back(a + (static_cast<double>(l[0]) / q) * (b - a) + (static_cast<double>(l[1]) / q) * (c - a));
-    }
-    const int first = static_cast<int>(points.size());
-    for (const auto& w : basis) {
-      Eigen::Vector3d x = Eigen::Vector3d::Zero();
-      for (std::size_t k = 0; k < nodes.size(); ++k) x += w[k] * nodes[k];
+    const std::vector<Eigen::Vector3d> nodes = surface.triangle_nodes(f);
+    if (static_cast<int>(nodes.size()) != e.size()) continue;  // (triangle_nodes gives order-Q nodes)
+    for (const auto& w : fine_basis) {
+      const Eigen::Vector3d x = at(w, nodes);
       const double d = (x - reference.project(x)).norm();
-      if (d > r.to_reference) {
+      ++r.mesh_samples;
+      if (d > r.to_reference || !(d == d)) {
         r.to_reference = d;
         r.worst_on_mesh = x;
       }
-      points.push_back(x);
     }
-    for (const auto& t : lat.tris) tris.push_back({first + t[0], first + t[1], first + t[2]});
+    const int first = static_cast<int>(points.size());
+    for (const auto& w : coarse_basis) points.push_back(at(w, nodes));
+    for (const auto& t : coarse.tris) {
+      tris.push_back({first + t[0], first + t[1], first + t[2]});
+      tri_face.push_back(static_cast<int>(faces.size()));
+    }
+    faces.push_back(f);
   }
-  r.mesh_samples = points.size();
   r.reference_samples = samples.size();
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  if (!tris.empty()) {
+  for (const Eigen::Vector3d& p : samples) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  r.diagonal = samples.empty() ? 0 : (hi - lo).norm();
+  if (!samples.empty() && tris.empty()) {  // a body and no mesh: as far as it gets
+    r.to_mesh = std::numeric_limits<double>::infinity();
+    r.worst_on_reference = samples.front();
+  } else if (!tris.empty()) {
     const TriangleTree tree(points, tris);
+    std::vector<Eigen::Vector3d> nodes;
     for (const Eigen::Vector3d& p : samples) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-      const double d = std::sqrt(tree.closest(p).distance2);
-      if (d > r.to_mesh) {
-        r.to_mesh = d;
+      const TriangleTree::Closest cl = tree.closest(p);
+      const std::size_t t = static_cast<std::size_t>(cl.triangle);
+      // The flat sub-triangle's closest point, refined on its curved face.
+      const auto& st = coarse.tris[t % coarse.tris.size()];
+      std::array<double, 2> xi{0, 0};
+      for (int k = 0; k < 3; ++k)
+        for (int d = 0; d < 2; ++d)
+          xi[static_cast<std::size_t>(d)] += cl.barycentric[k] * coarse.xi[static_cast<std::size_t>(st[static_cast<std::size_t>(k)])][static_cast<std::size_t>(d)];
+      nodes = surface.triangle_nodes(faces[static_cast<std::size_t>(tri_face[t])]);
+      const double dist = std::min(std::sqrt(cl.distance2), curved_distance(e, nodes, p, xi, phi, dphi));
+      if (dist > r.to_mesh) {
+        r.to_mesh = dist;
         r.worst_on_reference = p;
       }
     }
   }
-  r.diagonal = samples.empty() ? 0 : (hi - lo).norm();
   r.hausdorff = std::max(r.to_reference, r.to_mesh);
   r.worst = r.to_mesh >= r.to_reference ? r.worst_on_reference : r.worst_on_mesh;
-  r.relative = r.diagonal > 0 ? r.hausdorff / r.diagonal : 0;
+  r.relative = r.diagonal > 0 ? r.hausdorff / r.diagonal : (r.hausdorff > 0 ? std::numeric_limits<double>::infinity() : 0);
   return r;
 }
 

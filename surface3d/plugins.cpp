@@ -245,7 +245,7 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   }
   const MetricField<3>& field = *s.measure();
   // The body sampled before the remesher moves anything (fidelity.h).
-  const std::vector<Eigen::Vector3d> body = reference_samples(s.surface, *s.reference);
+  const std::vector<Eigen::Vector3d> body = reference_samples(s.surface, *s.reference, !s.build_body);
   RemeshReport rr;
   if (sp.remesh) {
     RemeshOptions ro;
@@ -285,7 +285,7 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   line << "fidelity: Hausdorff distance " << fr.hausdorff << " (" << fr.relative << " of the diagonal; mesh -> body "
        << fr.to_reference << ", body -> mesh " << fr.to_mesh << ") at " << at.str();
   rep.line(line.str());
-  const bool far = fr.relative > sp.fidelity_tol;
+  const bool far = !(fr.relative <= sp.fidelity_tol);
   why << "the surface leaves the body: Hausdorff distance " << fr.hausdorff << " is " << fr.relative
       << " of the diagonal, over surface.fidelity_tol " << sp.fidelity_tol << " (worst at " << at.str() << ")";
   const std::string far_why = why.str();

@@ -3,10 +3,6 @@
 // collapse, flip, tangential relaxation, sliver removal) and its rounds. What they measure
 // (lengths, alignment, quality, face checks) is in remesher_measures.cpp.
 #include "surface3d/remesh.h"
-#include <cstdio>
-
-#include <Eigen/Eigenvalues>
-#include <cstdlib>
 
 #include <algorithm>
 #include <chrono>
@@ -14,6 +10,8 @@
 #include <sstream>
 #include <utility>
 #include <vector>
+
+#include <Eigen/Eigenvalues>
 
 #include "modules/base/error.h"
 #include "surface3d/remesher.h"
@@ -110,7 +108,7 @@ bool Remesher::collapse_keeps_features(HH h) {
       const EH ee = m_.edge_handle(hh);
       if (ee == e || curve(ee) != curve(e)) continue;
       const Vec p0 = m_.point(v0), a = m_.point(v1), b = m_.point(m_.to_vertex_handle(hh));
-      const Eigen::Matrix3d m = vertex_metric(v0);
+      const double m = inverse_smallest_size(vertex_metric(v0));
       double gap = chord_gap(p0, a, b, m);
       for (const Vec& from : {a, b})
         for (double t : {0.25, 0.5, 0.75}) gap = std::max(gap, chord_gap(project_vertex(v0, from + t * (p0 - from)), a, b, m));
@@ -120,16 +118,21 @@ bool Remesher::collapse_keeps_features(HH h) {
   return true;
 }
 
-// The distance from x to the segment a - b over the smallest size of m: a chord's sag lies
+// The distance from x to the segment a - b over the smallest size (inv_size: its inverse, from
+// inverse_smallest_size of the metric): a chord's sag lies
 // along the surface's normal, where a surface metric keeps its coarse base size (curvature
 // refines the tangential sizes only), so m's own length of it would let a chord cut a nose of
 // the smallest size's scale (measured: the E387 wing's root nose cut back 0.013 at h_min 0.004).
-double Remesher::chord_gap(const Vec& x, const Vec& a, const Vec& b, const Eigen::Matrix3d& m) {
+double Remesher::chord_gap(const Vec& x, const Vec& a, const Vec& b, double inv_size) {
   const Vec ab = b - a;
   const double t = ab.squaredNorm() > 0 ? std::clamp((x - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+  return (a + t * ab - x).norm() * inv_size;
+}
+
+double Remesher::inverse_smallest_size(const Eigen::Matrix3d& m) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
   eig.computeDirect(m, Eigen::EigenvaluesOnly);
-  return (a + t * ab - x).norm() * std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
+  return std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
 }
 
 // A curve vertex v moving to p (relaxation): the curve between its two curve neighbours (its
@@ -145,7 +148,7 @@ bool Remesher::curve_move_keeps_shape(VH v, const Vec& p) {
     if (curve(m_.edge_handle(h)) == c) w.push_back(m_.point(m_.to_vertex_handle(h)));
   if (w.size() != 2) return true;
   const Vec p0 = m_.point(v);
-  const Eigen::Matrix3d m = vertex_metric(v);
+  const double m = inverse_smallest_size(vertex_metric(v));
   double before = 0, after = 0;
   for (const Vec& from : w)
     for (double t : {0.25, 0.5, 0.75}) {
@@ -411,7 +414,6 @@ RemeshReport Remesher::run() {
     flip_edges();
     for (int k = 0; k < 2; ++k) relax();
     ++rep_.rounds;
-
     // Converged: a round that split and collapsed nothing and flipped under 0.5 % of the edges
     // only relaxes further; the rounds stop (the final passes still run).
     if (rep_.splits + rep_.collapses == changes && rep_.flips - flips < m_.n_edges() / 200) break;

@@ -99,7 +99,8 @@ class Remesher {
   int vertex_curve(VH v) const;
   // A vertex that must stay where it is: a corner, or on a feature edge without a curve id.
   bool is_fixed(VH v) const;
-  static double chord_gap(const Vec& x, const Vec& a, const Vec& b, const Eigen::Matrix3d& m);
+  static double chord_gap(const Vec& x, const Vec& a, const Vec& b, double inv_size);
+  static double inverse_smallest_size(const Eigen::Matrix3d& m);
   bool curve_move_keeps_shape(VH v, const Vec& p);
   Vec project_vertex(VH v, const Vec& p) const {
     const int c = vertex_curve(v);

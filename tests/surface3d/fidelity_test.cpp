@@ -21,7 +21,7 @@ using namespace plaf;
 TEST_CASE("fidelity: a sphere's flat triangles sit their chord sag inside it, a pushed-in vertex is found") {
   AnalyticBody body = make_sphere(Eigen::Vector3d(0.3, -0.2, 0.1), 2.0, 0.4);
   TriSurface& s = body.initial;
-  const std::vector<Eigen::Vector3d> samples = reference_samples(s, *body.reference);
+  const std::vector<Eigen::Vector3d> samples = reference_samples(s, *body.reference, false);
   REQUIRE(!samples.empty());
   for (const Eigen::Vector3d& p : samples) CHECK(((p - Eigen::Vector3d(0.3, -0.2, 0.1)).norm() - 2.0) == doctest::Approx(0).scale(1));
   const FidelityReport clean = measure_fidelity(s, *body.reference, samples);
@@ -60,7 +60,7 @@ TEST_CASE("fidelity: the E387 half wing remeshed with the curvature metric keeps
   w.tip = WingEnd::Symmetry;
   w.corner_angle_deg = 70;
   AnalyticBody body = make_wing(w, 0.12);
-  const std::vector<Eigen::Vector3d> samples = reference_samples(body.initial, *body.reference);
+  const std::vector<Eigen::Vector3d> samples = reference_samples(body.initial, *body.reference, false);
   const UniformMetricField<3> base(Metric<3>::isotropic(0.08));
   const CurvatureMetricField field(base, *body.reference, 0.3, 0.004);
   const RemeshReport r = remesh_surface(body.initial, *body.reference, field, RemeshOptions{});
@@ -73,4 +73,14 @@ TEST_CASE("fidelity: the E387 half wing remeshed with the curvature metric keeps
   // Before the guards measured the curve's sag against the smallest size, the root nose was cut
   // back 0.013 (7e-3 of the diagonal).
   CHECK(f.relative < 1e-3);
+}
+
+TEST_CASE("fidelity: a body with no mesh is infinitely far, never within a tolerance") {
+  AnalyticBody body = make_sphere(Eigen::Vector3d::Zero(), 1.0, 0.5);
+  const std::vector<Eigen::Vector3d> samples = reference_samples(body.initial, *body.reference, false);
+  const FidelityReport f = measure_fidelity(TriSurface{}, *body.reference, samples);
+  CHECK(std::isinf(f.to_mesh));
+  CHECK(std::isinf(f.hausdorff));
+  CHECK_FALSE(f.relative <= 1.0);
+  CHECK(f.diagonal == doctest::Approx(2 * std::sqrt(3.0)).epsilon(0.05));
 }
