@@ -11,6 +11,10 @@
 // of times, so the whole detection is O(V + E + F).
 #include "surface3d/features.h"
 
+#include <memory>
+
+#include "modules/geometry/aabb_tree.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -68,6 +72,65 @@ EdgeFeature ridge_kind(const TriMesh& m, EdgeHandle e) {
   return sign_orient3d(a, b, c, d) >= 0 ? EdgeFeature::ConvexRidge : EdgeFeature::ConcaveRidge;
 }
 
+// The crest rule of features.h: the input's triangles in an AABB tree, for the normals at
+// distance r across an edge.
+class Crests {
+ public:
+  Crests(const TriMesh& m, double r, double ridge_rad) : m_(m), r_(r), ridge_rad_(ridge_rad) {
+    std::vector<Eigen::Vector3d> pts;
+    for (const VertexHandle v : m.vertices()) pts.push_back(m.point(v));
+    std::vector<std::array<int, 3>> tris;
+    for (const auto f : m.faces()) {
+      std::array<int, 3> t{};
+      int k = 0;
+      for (const VertexHandle v : m.fv_range(f)) t[static_cast<std::size_t>(k++)] = v.idx();
+      tris.push_back(t);
+      const Eigen::Vector3d n = (pts[idx(t[1])] - pts[idx(t[0])]).cross(pts[idx(t[2])] - pts[idx(t[0])]);
+      normals_.push_back(n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::Zero());
+    }
+    tree_ = TriangleTree(pts, tris);
+  }
+
+  bool is_crest(EdgeHandle e) const {
+    const HalfedgeHandle h = m_.halfedge_handle(e, 0);
+    const Eigen::Vector3d& a = m_.point(m_.from_vertex_handle(h));
+    const Eigen::Vector3d& b = m_.point(m_.to_vertex_handle(h));
+    const Eigen::Vector3d& c = m_.point(m_.to_vertex_handle(m_.next_halfedge_handle(h)));
+    const Eigen::Vector3d& d = m_.point(m_.to_vertex_handle(m_.next_halfedge_handle(m_.opposite_halfedge_handle(h))));
+    const Eigen::Vector3d u = b - a;
+    if (!(u.norm() > 0)) return false;
+    const Eigen::Vector3d n1 = u.cross(c - a), n2 = (a - b).cross(d - b);  // left (a, b, c), right (b, a, d)
+    if (!(n1.norm() > 0 && n2.norm() > 0)) return false;
+    // The edge carries a share of the turn (a cap of at most 8 such edges across).
+    if (angle_between(n1, n2) < ridge_rad_ / 8) return false;
+    const Eigen::Vector3d mid = 0.5 * (a + b);
+    // The surface normal r away from mid toward o (across the edge in that face's plane); zero
+    // when the surface is not within r / 2 of that point (it curled away: no normal to trust).
+    auto across = [&](const Eigen::Vector3d& o) {
+      Eigen::Vector3d t = (o - a) - (o - a).dot(u) / u.squaredNorm() * u;
+      if (!(t.norm() > 0)) return Eigen::Vector3d(Eigen::Vector3d::Zero());
+      const TriangleTree::Closest cl = tree_.closest(mid + r_ * t.normalized());
+      if (cl.distance2 > 0.25 * r_ * r_) return Eigen::Vector3d(Eigen::Vector3d::Zero());
+      return normals_[static_cast<std::size_t>(cl.triangle)];
+    };
+    const Eigen::Vector3d nl = across(c), nr = across(d);
+    if (nl.squaredNorm() == 0 || nr.squaredNorm() == 0 || angle_between(nl, nr) <= ridge_rad_) return false;
+    // Signed angles around the edge's axis, from n1: the far normals turn the way the edge does,
+    // and their bisector lies within [n1, n2).
+    const Eigen::Vector3d axis = u.normalized(), m1 = n1.normalized();
+    auto turn = [&](const Eigen::Vector3d& n) { return std::atan2(axis.dot(m1.cross(n)), m1.dot(n)); };
+    const double t2 = turn(n2), tb = turn(nl + nr), tl = turn(nl), tr = turn(nr);
+    if ((tr - tl) * t2 <= 0) return false;
+    return t2 > 0 ? (tb >= 0 && tb < t2) : (tb <= 0 && tb > t2);
+  }
+
+ private:
+  const TriMesh& m_;
+  double r_, ridge_rad_;
+  TriangleTree tree_;
+  std::vector<Eigen::Vector3d> normals_;
+};
+
 // The feature edges around one vertex.
 struct VertexEdges {
   int count = 0, convex = 0, concave = 0, boundary = 0;
@@ -119,6 +182,8 @@ VertexFeature corner_kind(const TriMesh& m, VertexHandle v, const VertexEdges& v
 int classify_edges(TriSurface& s, const FeatureOptions& options) {
   TriMesh& m = s.mesh;
   const double ridge_rad = radians(options.ridge_angle_deg);
+  std::unique_ptr<Crests> crest;
+  if (options.crest_scale > 0) crest = std::make_unique<Crests>(m, options.crest_scale, ridge_rad);
   int next_curve = 0;
   for (const EdgeHandle e : m.edges()) {
     EdgeFeature& f = m.property(s.edge_feature, e);
@@ -134,7 +199,7 @@ int classify_edges(TriSurface& s, const FeatureOptions& options) {
     curve = -1;
     if (m.is_boundary(e))
       f = EdgeFeature::Boundary;
-    else if (dihedral_departure(m, e) > ridge_rad)
+    else if (dihedral_departure(m, e) > ridge_rad || (crest && crest->is_crest(e)))
       f = ridge_kind(m, e);
     else
       f = EdgeFeature::Smooth;

@@ -7,6 +7,13 @@
 //   (the angle between the two face normals). Convex when the body is locally convex there
 //   (the far vertex of one face lies below the other face's plane, exact orient3d), else concave.
 //   Boundary edges (symmetry loops) are EdgeFeature::Boundary.
+// - Crest (crest_scale r > 0): a rounded edge narrower than the mesh will be (a trailing edge's
+//   cap of a few small turns, none above ridge_angle_deg) is one ridge, on its crest: an edge is
+//   a ridge when the surface's normals at distance r on both sides of it (the closest input
+//   triangles to the points r away from its midpoint, across it within each face's plane) turn
+//   by more than ridge_angle_deg and their bisector lies within the edge's own dihedral wedge
+//   (from its left face's normal, included, to its right one's). A smooth surface of radius R
+//   turns by about 2 r / R there, so only caps narrower than r / tan(ridge_angle / 2) are taken.
 // - Corner: a feature vertex with 1 or >= 3 feature edges, or 2 that turn by more than
 //   curve_turn_deg, or any vertex whose angle defect |2 pi - sum of angles| (interior vertices)
 //   exceeds corner_defect_deg. Classified by its ridges: all convex -> ConvexCorner, all concave ->
@@ -28,6 +35,7 @@ struct FeatureOptions {
   double corner_defect_deg = 60;
   double curve_turn_deg = 45;
   bool keep_existing = false;  // true: keep edges already marked (e.g. by an analytic body) as features
+  double crest_scale = 0;      // r of the crest rule above (0: off)
 };
 
 struct FeatureReport {
