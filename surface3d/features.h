@@ -8,12 +8,15 @@
 //   (the far vertex of one face lies below the other face's plane, exact orient3d), else concave.
 //   Boundary edges (symmetry loops) are EdgeFeature::Boundary.
 // - Crest (crest_scale r > 0): a rounded edge narrower than the mesh will be (a trailing edge's
-//   cap of a few small turns, none above ridge_angle_deg) is one ridge, on its crest: an edge is
-//   a ridge when the surface's normals at distance r on both sides of it (the closest input
-//   triangles to the points r away from its midpoint, across it within each face's plane) turn
-//   by more than ridge_angle_deg and their bisector lies within the edge's own dihedral wedge
-//   (from its left face's normal, included, to its right one's). A smooth surface of radius R
-//   turns by about 2 r / R there, so only caps narrower than r / tan(ridge_angle / 2) are taken.
+//   cap of a few small turns, none above ridge_angle_deg) becomes one ridge, on its crest. Cap
+//   edges: interior edges turning by 1/8 to 1 x ridge_angle_deg whose surface normals r across
+//   (the closest input triangles to the points r away from the edge's midpoint within each of
+//   its faces' planes) turn, the same way, by more than ridge_angle_deg. They form rows (chains,
+//   split where other than two meet), rows sharing a face form a cap, and in each cap the one
+//   row whose edges most often hold the far normals' bisector within their own dihedral wedge is
+//   the ridge: a whole row, so the crest cannot zigzag where the bisector falls near a row. A
+//   smooth surface of radius R turns by about 2 r / R over 2 r: only caps narrower than about
+//   r / tan(ridge_angle / 2) are taken.
 // - Corner: a feature vertex with 1 or >= 3 feature edges, or 2 that turn by more than
 //   curve_turn_deg, or any vertex whose angle defect |2 pi - sum of angles| (interior vertices)
 //   exceeds corner_defect_deg. Classified by its ridges: all convex -> ConvexCorner, all concave ->
