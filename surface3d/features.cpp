@@ -11,6 +11,12 @@
 // of times, so the whole detection is O(V + E + F).
 #include "surface3d/features.h"
 
+#include <functional>
+#include <map>
+#include <memory>
+
+#include "modules/geometry/aabb_tree.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -68,6 +74,138 @@ EdgeFeature ridge_kind(const TriMesh& m, EdgeHandle e) {
   return sign_orient3d(a, b, c, d) >= 0 ? EdgeFeature::ConvexRidge : EdgeFeature::ConcaveRidge;
 }
 
+// The crest rule of features.h: the input's triangles in an AABB tree, for the normals at
+// distance r across an edge.
+class Crests {
+ public:
+  Crests(const TriMesh& m, double r, double ridge_rad) : m_(m), r_(r), ridge_rad_(ridge_rad) {
+    std::vector<Eigen::Vector3d> pts;
+    for (const VertexHandle v : m.vertices()) pts.push_back(m.point(v));
+    std::vector<std::array<int, 3>> tris;
+    for (const auto f : m.faces()) {
+      std::array<int, 3> t{};
+      int k = 0;
+      for (const VertexHandle v : m.fv_range(f)) t[static_cast<std::size_t>(k++)] = v.idx();
+      tris.push_back(t);
+      const Eigen::Vector3d n = (pts[idx(t[1])] - pts[idx(t[0])]).cross(pts[idx(t[2])] - pts[idx(t[0])]);
+      normals_.push_back(n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::Zero());
+    }
+    tree_ = TriangleTree(pts, tris);
+  }
+
+  // The crest edges (features.h): every candidate cap edge (a share of the turn, the normals r
+  // across turning more than the ridge angle the same way), grouped into rows (candidates
+  // joined at vertices) and the rows into caps (rows sharing a face); in each cap the one row
+  // whose edges most often hold the far normals' bisector in their wedge. A whole row, so the
+  // crest cannot zigzag between rows where the bisector falls near a row.
+  std::vector<char> crest_edges() const {
+    const std::size_t ne = m_.n_edges();
+    std::vector<int> state(ne, 0);  // 0 not a candidate, 1 candidate, 2 candidate holding the bisector
+    for (const EdgeHandle e : m_.edges())
+      if (!m_.is_boundary(e)) state[static_cast<std::size_t>(e.idx())] = candidate(e);
+    // Rows: chains of candidate edges, split at junctions (a vertex with other than two
+    // candidate edges: where a trailing edge's rows meet a tip's); caps: rows joined through a
+    // face at a vertex of theirs that is no junction.
+    std::vector<int> count(m_.n_vertices(), 0);
+    for (const EdgeHandle e : m_.edges())
+      if (state[static_cast<std::size_t>(e.idx())]) {
+        const HalfedgeHandle h = m_.halfedge_handle(e, 0);
+        ++count[idx(m_.from_vertex_handle(h).idx())];
+        ++count[idx(m_.to_vertex_handle(h).idx())];
+      }
+    std::vector<int> root(ne);
+    for (std::size_t i = 0; i < ne; ++i) root[i] = static_cast<int>(i);
+    std::function<int(int)> find = [&](int x) { return root[idx(x)] == x ? x : root[idx(x)] = find(root[idx(x)]); };
+    std::vector<int> vertex_row(m_.n_vertices(), -1);  // a non-junction vertex's row (an edge id)
+    for (const EdgeHandle e : m_.edges()) {
+      if (!state[static_cast<std::size_t>(e.idx())]) continue;
+      const HalfedgeHandle h = m_.halfedge_handle(e, 0);
+      for (const VertexHandle v : {m_.from_vertex_handle(h), m_.to_vertex_handle(h)}) {
+        if (count[idx(v.idx())] != 2) continue;
+        int& r = vertex_row[idx(v.idx())];
+        if (r < 0) r = e.idx();
+        else root[idx(find(e.idx()))] = find(r);
+      }
+    }
+    std::vector<int> cap(ne);
+    for (std::size_t i = 0; i < ne; ++i) cap[i] = static_cast<int>(i);
+    std::function<int(int)> find_cap = [&](int x) { return cap[idx(x)] == x ? x : cap[idx(x)] = find_cap(cap[idx(x)]); };
+    for (const auto f : m_.faces()) {
+      int first = -1;
+      for (const VertexHandle v : m_.fv_range(f)) {
+        const int r = vertex_row[idx(v.idx())];
+        if (r < 0) continue;
+        if (first < 0) first = find(r);
+        else cap[idx(find_cap(find(r)))] = find_cap(first);
+      }
+    }
+    auto row_of_edge = [&](EdgeHandle e) { return find(e.idx()); };
+    // Per row: its edges holding the bisector, and its size; the best row of each cap.
+    std::map<int, std::pair<int, int>> score;  // row -> (holding, edges)
+    for (const EdgeHandle e : m_.edges()) {
+      const int st = state[static_cast<std::size_t>(e.idx())];
+      if (!st) continue;
+      auto& sc = score[row_of_edge(e)];
+      sc.first += st == 2;
+      sc.second += 1;
+    }
+    std::map<int, int> best;  // cap -> row
+    for (const auto& [row, sc] : score) {
+      if (sc.first == 0) continue;
+      const int c = find_cap(row);
+      const auto it = best.find(c);
+      if (it == best.end() || sc > score[it->second]) best[c] = row;
+    }
+    std::vector<char> crest(ne, 0);
+    for (const EdgeHandle e : m_.edges()) {
+      if (!state[static_cast<std::size_t>(e.idx())]) continue;
+      const int row = row_of_edge(e);
+      const auto it = best.find(find_cap(row));
+      crest[static_cast<std::size_t>(e.idx())] = it != best.end() && it->second == row;
+    }
+    return crest;
+  }
+
+  // 0: not a cap edge; 1: a cap edge; 2: a cap edge whose wedge holds the far normals' bisector.
+  int candidate(EdgeHandle e) const {
+    const HalfedgeHandle h = m_.halfedge_handle(e, 0);
+    const Eigen::Vector3d& a = m_.point(m_.from_vertex_handle(h));
+    const Eigen::Vector3d& b = m_.point(m_.to_vertex_handle(h));
+    const Eigen::Vector3d& c = m_.point(m_.to_vertex_handle(m_.next_halfedge_handle(h)));
+    const Eigen::Vector3d& d = m_.point(m_.to_vertex_handle(m_.next_halfedge_handle(m_.opposite_halfedge_handle(h))));
+    const Eigen::Vector3d u = b - a;
+    if (!(u.norm() > 0)) return 0;
+    const Eigen::Vector3d n1 = u.cross(c - a), n2 = (a - b).cross(d - b);  // left (a, b, c), right (b, a, d)
+    if (!(n1.norm() > 0 && n2.norm() > 0)) return 0;
+    // The edge carries a share of the turn (a cap of at most 8 such edges across).
+    const double own = angle_between(n1, n2);
+    if (own < ridge_rad_ / 8 || own > ridge_rad_) return 0;
+    const Eigen::Vector3d mid = 0.5 * (a + b);
+    // The surface normal r away from mid toward o (across the edge in that face's plane).
+    auto across = [&](const Eigen::Vector3d& o) {
+      Eigen::Vector3d t = (o - a) - (o - a).dot(u) / u.squaredNorm() * u;
+      if (!(t.norm() > 0)) return Eigen::Vector3d(Eigen::Vector3d::Zero());
+      const TriangleTree::Closest cl = tree_.closest(mid + r_ * t.normalized());
+      return normals_[static_cast<std::size_t>(cl.triangle)];
+    };
+    const Eigen::Vector3d nl = across(c), nr = across(d);
+    if (nl.squaredNorm() == 0 || nr.squaredNorm() == 0 || angle_between(nl, nr) <= ridge_rad_) return 0;
+    // Signed angles around the edge's axis, from n1: the far normals turn the way the edge does,
+    // and their bisector lies within [n1, n2).
+    const Eigen::Vector3d axis = u.normalized(), m1 = n1.normalized();
+    auto turn = [&](const Eigen::Vector3d& n) { return std::atan2(axis.dot(m1.cross(n)), m1.dot(n)); };
+    const double t2 = turn(n2), tb = turn(nl + nr), tl = turn(nl), tr = turn(nr);
+    if ((tr - tl) * t2 <= 0) return 0;
+    return (t2 > 0 ? (tb >= 0 && tb < t2) : (tb <= 0 && tb > t2)) ? 2 : 1;
+  }
+
+ private:
+  const TriMesh& m_;
+  double r_, ridge_rad_;
+  TriangleTree tree_;
+  std::vector<Eigen::Vector3d> normals_;
+};
+
 // The feature edges around one vertex.
 struct VertexEdges {
   int count = 0, convex = 0, concave = 0, boundary = 0;
@@ -119,6 +257,8 @@ VertexFeature corner_kind(const TriMesh& m, VertexHandle v, const VertexEdges& v
 int classify_edges(TriSurface& s, const FeatureOptions& options) {
   TriMesh& m = s.mesh;
   const double ridge_rad = radians(options.ridge_angle_deg);
+  std::vector<char> crest;
+  if (options.crest_scale > 0) crest = Crests(m, options.crest_scale, ridge_rad).crest_edges();
   int next_curve = 0;
   for (const EdgeHandle e : m.edges()) {
     EdgeFeature& f = m.property(s.edge_feature, e);
@@ -134,7 +274,7 @@ int classify_edges(TriSurface& s, const FeatureOptions& options) {
     curve = -1;
     if (m.is_boundary(e))
       f = EdgeFeature::Boundary;
-    else if (dihedral_departure(m, e) > ridge_rad)
+    else if (dihedral_departure(m, e) > ridge_rad || (!crest.empty() && crest[static_cast<std::size_t>(e.idx())]))
       f = ridge_kind(m, e);
     else
       f = EdgeFeature::Smooth;

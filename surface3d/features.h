@@ -7,6 +7,16 @@
 //   (the angle between the two face normals). Convex when the body is locally convex there
 //   (the far vertex of one face lies below the other face's plane, exact orient3d), else concave.
 //   Boundary edges (symmetry loops) are EdgeFeature::Boundary.
+// - Crest (crest_scale r > 0): a rounded edge narrower than the mesh will be (a trailing edge's
+//   cap of a few small turns, none above ridge_angle_deg) becomes one ridge, on its crest. Cap
+//   edges: interior edges turning by 1/8 to 1 x ridge_angle_deg whose surface normals r across
+//   (the closest input triangles to the points r away from the edge's midpoint within each of
+//   its faces' planes) turn, the same way, by more than ridge_angle_deg. They form rows (chains,
+//   split where other than two meet), rows sharing a face form a cap, and in each cap the one
+//   row whose edges most often hold the far normals' bisector within their own dihedral wedge is
+//   the ridge: a whole row, so the crest cannot zigzag where the bisector falls near a row. A
+//   smooth surface of radius R turns by about 2 r / R over 2 r: only caps narrower than about
+//   r / tan(ridge_angle / 2) are taken.
 // - Corner: a feature vertex with 1 or >= 3 feature edges, or 2 that turn by more than
 //   curve_turn_deg, or any vertex whose angle defect |2 pi - sum of angles| (interior vertices)
 //   exceeds corner_defect_deg. Classified by its ridges: all convex -> ConvexCorner, all concave ->
@@ -28,6 +38,7 @@ struct FeatureOptions {
   double corner_defect_deg = 60;
   double curve_turn_deg = 45;
   bool keep_existing = false;  // true: keep edges already marked (e.g. by an analytic body) as features
+  double crest_scale = 0;      // r of the crest rule above (0: off)
 };
 
 struct FeatureReport {

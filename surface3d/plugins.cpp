@@ -210,6 +210,15 @@ void report_surface(const TriSurface& surface, int order, const FeatureReport& k
            std::to_string(surface.euler_characteristic()) + ", area " + std::to_string(area));
 }
 
+// The smallest size the surface mesh asks for: curvature's floor when curvature sizes are on,
+// else the metric's smallest size at the surface's first vertex.
+double smallest_size(const SurfaceParams& sp, const RunState<3>& s) {
+  if (s.surface.mesh.n_vertices() == 0) return 0;
+  const double base_min = s.surface_base().evaluate(s.surface.mesh.point(*s.surface.mesh.vertices().begin())).min_size();
+  if (sp.curvature_factor <= 0) return base_min;
+  return sp.curvature_h_min > 0 ? sp.curvature_h_min : base_min / 20;
+}
+
 // The surface mesh: curvature-driven sizes (optional), remeshing with features kept, the features
 // detected again on the final mesh as a check, order-Q nodes on the reference, every triangle
 // certified.
@@ -223,13 +232,15 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
     rep.add("input_triangles", s.surface.mesh.n_faces());
     rep.line("initial triangulation: " + std::to_string(s.surface.mesh.n_faces()) + " triangles");
     rep.line("features (input): " + feature_line(count_features(s.surface)));
-  } else if (sp.ridge_angle_deg != SurfaceParams{}.ridge_angle_deg ||
-             sp.corner_defect_deg != SurfaceParams{}.corner_defect_deg ||
-             sp.curve_turn_deg != SurfaceParams{}.curve_turn_deg) {
-    // A surface file with the feature angles the surface section asks for, and its reference again.
-    const FeatureReport features = detect_features(s.surface, feature_options(sp));
+  } else {
+    // A surface file, its features found again with the section's angles and at the mesh's
+    // scale: a rounded edge narrower than half the smallest size is one ridge on its crest
+    // (features.h; the M6's trailing edge, a cap of radius 3.5e-4 turning 22 degrees per edge).
+    FeatureOptions fo = feature_options(sp);
+    fo.crest_scale = 0.5 * smallest_size(sp, s);
+    const FeatureReport features = detect_features(s.surface, fo);
     s.reference = make_discrete_reference(s.surface);
-    rep.line("features (input, the section's angles): " + feature_line(features));
+    rep.line("features (input, at the mesh's scale): " + feature_line(features));
   }
   rep.add_json("features.input", feature_json(count_features(s.surface)));
   TriSurface& surface = s.surface;
@@ -259,7 +270,9 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   }
   const FeatureReport kept = count_features(surface);
   TriSurface probe = surface;
-  const FeatureReport detected = detect_features(probe, feature_options(sp));
+  FeatureOptions final_options = feature_options(sp);
+  if (!s.build_body) final_options.crest_scale = 0.5 * smallest_size(sp, s);
+  const FeatureReport detected = detect_features(probe, final_options);
   rep.line("features (final): " + feature_line(kept));
   rep.line("features (detected on the final mesh): " + feature_line(detected));
 

@@ -389,5 +389,78 @@ TEST_CASE("features: bad options are rejected and an empty surface has no featur
   CHECK_THROWS_AS(feature_curves(s), MesherError);
 }
 
+
+TEST_CASE("features: a rounded edge narrower than the mesh's scale is one ridge on its crest") {
+  // A slab of thickness 2t with both long edges rounded (semicircles of 8 segments, 22.5 degrees
+  // each: none a ridge at 30), extruded along z over m cells and closed by flat caps.
+  const double t = 0.002, length = 0.5;
+  const int n = 10, m = 6;
+  std::vector<Eigen::Vector2d> profile;  // counter-clockwise seen from +z
+  for (int i = 0; i < n; ++i) profile.push_back({static_cast<double>(i) / n, -t});
+  for (int k = 0; k < 8; ++k) {
+    const double a = -M_PI / 2 + k * M_PI / 8;
+    profile.push_back({1 + t * std::cos(a), t * std::sin(a)});
+  }
+  for (int i = n; i > 0; --i) profile.push_back({static_cast<double>(i) / n, t});
+  for (int k = 0; k < 8; ++k) {
+    const double a = M_PI / 2 + k * M_PI / 8;
+    profile.push_back({t * std::cos(a), t * std::sin(a)});
+  }
+  const int np = static_cast<int>(profile.size());
+  TriangleSoup soup;
+  soup.source = "rounded slab";
+  for (int j = 0; j <= m; ++j)
+    for (const Eigen::Vector2d& p : profile) soup.points.push_back({p.x(), p.y(), length * j / m});
+  auto at = [&](int i, int j) { return j * np + (i % np); };
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < np; ++i) {
+      soup.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      soup.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  const int c0 = static_cast<int>(soup.points.size());
+  soup.points.push_back({0.5, 0, 0});
+  soup.points.push_back({0.5, 0, length});
+  for (int i = 0; i < np; ++i) {
+    soup.triangles.push_back({c0, at(i + 1, 0), at(i, 0)});
+    soup.triangles.push_back({c0 + 1, at(i, m), at(i + 1, m)});
+  }
+  // Spanwise ridge edges (not on the caps' rims), and whether they lie on a crest (y = 0).
+  auto spanwise = [&](const TriSurface& s, std::size_t& on_crest) {
+    std::size_t count = 0;
+    on_crest = 0;
+    for (const auto e : s.mesh.edges()) {
+      const EdgeFeature f = s.mesh.property(s.edge_feature, e);
+      if (f != EdgeFeature::ConvexRidge && f != EdgeFeature::ConcaveRidge) continue;
+      const auto h = s.mesh.halfedge_handle(e, 0);
+      const Eigen::Vector3d a = s.mesh.point(s.mesh.from_vertex_handle(h)), b = s.mesh.point(s.mesh.to_vertex_handle(h));
+      if (std::abs(a.z() - b.z()) < 1e-12) continue;  // a rim edge of a flat cap
+      ++count;
+      if (std::abs(a.y()) < 1e-12 && std::abs(b.y()) < 1e-12) ++on_crest;
+    }
+    return count;
+  };
+  std::size_t crest = 0;
+  TriSurface plain = surface_from_soup(soup);
+  detect_features(plain, {});
+  CHECK(spanwise(plain, crest) == 0);
+  for (double r : {0.01, 0.05}) {
+    CAPTURE(r);
+    TriSurface s = surface_from_soup(soup);
+    FeatureOptions o;
+    o.crest_scale = r;
+    const FeatureReport rep = detect_features(s, o);
+    // One row of m edges per rounded edge, on its crest.
+    CHECK(spanwise(s, crest) == static_cast<std::size_t>(2 * m));
+    CHECK(crest == static_cast<std::size_t>(2 * m));
+    CHECK(rep.ridges_concave == 0);
+  }
+  // A scale smaller than the cap sees no crest (the normals r across turn by under 30 degrees).
+  TriSurface fine = surface_from_soup(soup);
+  FeatureOptions o;
+  o.crest_scale = 0.0002;
+  detect_features(fine, o);
+  CHECK(spanwise(fine, crest) == 0);
+}
+
 }  // namespace
 }  // namespace plaf
