@@ -565,83 +565,110 @@ class PartLayerBuilder {
     // again.
     std::map<int, int> cnt;
     std::map<int, std::vector<std::pair<int, int>>> at_node;
-    for (const auto& ab : fan) {
-      ++cnt[ab.first], ++cnt[ab.second];
-      at_node[ab.first].push_back(ab);
-      at_node[ab.second].push_back(ab);
-    }
-    auto bad = [&](int v) {
-      const int c = cnt[v];
-      return c > 0 && (p.plane[static_cast<std::size_t>(v)][1] >= 0 || (on_rim(v) ? c != 1 : c == 1));
-    };
-    std::vector<int> work;
-    for (const auto& [v, c] : cnt) work.push_back(v);
-    while (!work.empty()) {
-      const int v = work.back();
-      work.pop_back();
-      if (!bad(v)) continue;
-      for (const auto& ab : at_node[v]) {
-        if (!fan.erase(ab)) continue;
-        for (int x : {ab.first, ab.second}) {
-          --cnt[x];
-          if (x != v) work.push_back(x);
-        }
-      }
-    }
-    for (auto it = cnt.begin(); it != cnt.end();) it = it->second == 0 ? cnt.erase(it) : std::next(it);
-    if (fan.empty()) return;
-    fanned_ = true;
     const std::size_t n = p.size();
-    fan_node_.assign(n, 0);
     std::unordered_map<std::uint64_t, int> side_dir;  // (fan node, triangle) -> its wedge's direction
     auto key = [&](int l, int t) { return static_cast<std::uint64_t>(l) * nt + static_cast<std::uint64_t>(t); };
-    // Wedges at fan vertices: the triangles around v joined across edges that are not fan edges.
-    std::vector<Vec> fv, to_nb;
-    std::vector<double> w;
-    for (const auto& [v, c] : cnt) {
-      fan_node_[static_cast<std::size_t>(v)] = 1;
-      std::vector<int> around, root;
-      for (int k = p.node_face_start[static_cast<std::size_t>(v)]; k < p.node_face_start[static_cast<std::size_t>(v) + 1]; ++k)
-        around.push_back(p.node_face[static_cast<std::size_t>(k)]);
-      for (std::size_t i = 0; i < around.size(); ++i) root.push_back(static_cast<int>(i));
-      std::function<int(int)> find = [&](int a) { return root[static_cast<std::size_t>(a)] == a ? a : root[static_cast<std::size_t>(a)] = find(root[static_cast<std::size_t>(a)]); };
-      std::map<int, int> by_other;  // the other vertex of an edge at v -> first triangle index there
-      for (std::size_t i = 0; i < around.size(); ++i)
-        for (int k = 0; k < 3; ++k) {
-          const int x = tri(static_cast<std::size_t>(around[i]))[k];
-          if (x == v || fan.count({std::min(v, x), std::max(v, x)})) continue;
-          const auto [it, added] = by_other.emplace(x, static_cast<int>(i));
-          if (!added) root[static_cast<std::size_t>(find(static_cast<int>(i)))] = find(it->second);
-        }
-      std::map<int, int> wedge_dir;
-      for (std::size_t i = 0; i < around.size(); ++i) {
-        const int r = find(static_cast<int>(i));
-        if (wedge_dir.count(r)) continue;
-        fv.clear();
-        w.clear();
-        to_nb.clear();
-        for (std::size_t j = 0; j < around.size(); ++j) {
-          if (find(static_cast<int>(j)) != r) continue;
-          for (std::size_t e = ent_begin(static_cast<std::size_t>(v)); e < ent_end(static_cast<std::size_t>(v)); ++e)
-            if (ent_f_[e] == around[j]) fv.push_back(ent_n_[e]), w.push_back(ent_w_[e]);
-          for (int k = 0; k < 3; ++k)
-            if (tri(static_cast<std::size_t>(around[j]))[k] != v) to_nb.push_back(x_[static_cast<std::size_t>(tri(static_cast<std::size_t>(around[j]))[k])] - x_[static_cast<std::size_t>(v)]);
-        }
-        const NodeNormal nn = normal_at(static_cast<std::size_t>(v), fv, w, to_nb, corner_rad);
-        wedge_dir[r] = add_dir(v, nn.n, nn.stretch, is_concave(nn.kind), true);
+    // Pruning and wedges, again without the fan edges about which their fan would not turn.
+    for (;;) {
+      cnt.clear();
+      at_node.clear();
+      side_dir.clear();
+      dirs_.clear();
+      for (const auto& ab : fan) {
+        ++cnt[ab.first], ++cnt[ab.second];
+        at_node[ab.first].push_back(ab);
+        at_node[ab.second].push_back(ab);
       }
-      for (std::size_t i = 0; i < around.size(); ++i) side_dir[key(v, around[i])] = wedge_dir[find(static_cast<int>(i))];
-    }
-    // High-order nodes of fan edges: one direction per side.
-    for (const auto& ab : fan) {
-      const Edge& E = edges.at(ab);
-      const std::vector<int>& en = te.edge_nodes(E.e[0]);
-      for (std::size_t k = 1; k + 1 < en.size(); ++k) {
-        const int l = tri(static_cast<std::size_t>(E.t[0]))[en[k]];
-        fan_node_[static_cast<std::size_t>(l)] = 1;
-        for (int s = 0; s < 2; ++s) side_dir[key(l, E.t[s])] = add_dir(l, side_normal(E.t[s], l), 1, false, true);
+      auto bad = [&](int v) {
+        const int c = cnt[v];
+        return c > 0 && (p.plane[static_cast<std::size_t>(v)][1] >= 0 || (on_rim(v) ? c != 1 : c == 1));
+      };
+      std::vector<int> work;
+      for (const auto& [v, c] : cnt) work.push_back(v);
+      while (!work.empty()) {
+        const int v = work.back();
+        work.pop_back();
+        if (!bad(v)) continue;
+        for (const auto& ab : at_node[v]) {
+          if (!fan.erase(ab)) continue;
+          for (int x : {ab.first, ab.second}) {
+            --cnt[x];
+            if (x != v) work.push_back(x);
+          }
+        }
       }
+      for (auto it = cnt.begin(); it != cnt.end();) it = it->second == 0 ? cnt.erase(it) : std::next(it);
+      if (fan.empty()) return;
+      fan_node_.assign(n, 0);
+      // Wedges at fan vertices: the triangles around v joined across edges that are not fan edges.
+      std::vector<Vec> fv, to_nb;
+      std::vector<double> w;
+      for (const auto& [v, c] : cnt) {
+        fan_node_[static_cast<std::size_t>(v)] = 1;
+        std::vector<int> around, root;
+        for (int k = p.node_face_start[static_cast<std::size_t>(v)]; k < p.node_face_start[static_cast<std::size_t>(v) + 1]; ++k)
+          around.push_back(p.node_face[static_cast<std::size_t>(k)]);
+        for (std::size_t i = 0; i < around.size(); ++i) root.push_back(static_cast<int>(i));
+        std::function<int(int)> find = [&](int a) { return root[static_cast<std::size_t>(a)] == a ? a : root[static_cast<std::size_t>(a)] = find(root[static_cast<std::size_t>(a)]); };
+        std::map<int, int> by_other;  // the other vertex of an edge at v -> first triangle index there
+        for (std::size_t i = 0; i < around.size(); ++i)
+          for (int k = 0; k < 3; ++k) {
+            const int x = tri(static_cast<std::size_t>(around[i]))[k];
+            if (x == v || fan.count({std::min(v, x), std::max(v, x)})) continue;
+            const auto [it, added] = by_other.emplace(x, static_cast<int>(i));
+            if (!added) root[static_cast<std::size_t>(find(static_cast<int>(i)))] = find(it->second);
+          }
+        std::map<int, int> wedge_dir;
+        for (std::size_t i = 0; i < around.size(); ++i) {
+          const int r = find(static_cast<int>(i));
+          if (wedge_dir.count(r)) continue;
+          fv.clear();
+          w.clear();
+          to_nb.clear();
+          for (std::size_t j = 0; j < around.size(); ++j) {
+            if (find(static_cast<int>(j)) != r) continue;
+            for (std::size_t e = ent_begin(static_cast<std::size_t>(v)); e < ent_end(static_cast<std::size_t>(v)); ++e)
+              if (ent_f_[e] == around[j]) fv.push_back(ent_n_[e]), w.push_back(ent_w_[e]);
+            for (int k = 0; k < 3; ++k)
+              if (tri(static_cast<std::size_t>(around[j]))[k] != v) to_nb.push_back(x_[static_cast<std::size_t>(tri(static_cast<std::size_t>(around[j]))[k])] - x_[static_cast<std::size_t>(v)]);
+          }
+          const NodeNormal nn = normal_at(static_cast<std::size_t>(v), fv, w, to_nb, corner_rad);
+          wedge_dir[r] = add_dir(v, nn.n, nn.stretch, is_concave(nn.kind), true);
+        }
+        for (std::size_t i = 0; i < around.size(); ++i) side_dir[key(v, around[i])] = wedge_dir[find(static_cast<int>(i))];
+      }
+      // High-order nodes of fan edges: one direction per side.
+      for (const auto& ab : fan) {
+        const Edge& E = edges.at(ab);
+        const std::vector<int>& en = te.edge_nodes(E.e[0]);
+        for (std::size_t k = 1; k + 1 < en.size(); ++k) {
+          const int l = tri(static_cast<std::size_t>(E.t[0]))[en[k]];
+          fan_node_[static_cast<std::size_t>(l)] = 1;
+          for (int s = 0; s < 2; ++s) side_dir[key(l, E.t[s])] = add_dir(l, side_normal(E.t[s], l), 1, false, true);
+        }
+      }
+      // A fan turns about its ridge: at both ends it opens by at least 5 degrees and the axis of
+      // its arc (right x left wedge direction) lies within 60 degrees of the edge. Where wedge normals lean along the ridge
+      // (a trailing edge meeting a wing tip's edges) the arc's plane nearly holds the edge and its
+      // sector prisms invert whatever their height; such edges keep the merged normal.
+      std::vector<std::pair<int, int>> twisted;
+      for (const auto& ab : fan) {
+        const Edge& E = edges.at(ab);
+        const Vec u = (x_[static_cast<std::size_t>(ab.second)] - x_[static_cast<std::size_t>(ab.first)]).normalized();
+        for (int v : {ab.first, ab.second}) {
+          const Vec axis = dirs_[static_cast<std::size_t>(side_dir.at(key(v, E.t[0])))].d.cross(
+              dirs_[static_cast<std::size_t>(side_dir.at(key(v, E.t[1])))].d);
+          // (|axis| is the sine of the fan's angle there: under 5 degrees its prisms are slivers.)
+          if (axis.norm() < std::sin(5 * M_PI / 180) || std::abs(axis.normalized().dot(u)) < 0.5) {
+            twisted.push_back(ab);
+            break;
+          }
+        }
+      }
+      if (twisted.empty()) break;
+      for (const auto& ab : twisted) fan.erase(ab);
     }
+    fanned_ = true;
     // Every other node keeps its one direction.
     std::vector<int> node_dir(n, -1);
     for (std::size_t l = 0; l < n; ++l)
