@@ -26,7 +26,9 @@
 //  6. fans (first layer; Aubry & Loehner's ridge and corner fans, Sec. II.E leaving them open): a
 //     wall edge whose faces meet convexly at more than corner_angle_deg is a fan edge; fan edges
 //     chain between corners (3+ fan edges at a node), symmetry planes and closed loops (a chain
-//     ending elsewhere keeps the merged normal: the fan would have nowhere to close). Each wedge
+//     ending elsewhere keeps the merged normal: the fan would have nowhere to close; so does a
+//     fan edge whose fan opens by under 5 degrees at an end or does not turn about it, its arc's
+//     axis more than 60 degrees off the edge, as where a trailing edge meets a tip). Each wedge
 //     of faces between fan edges grows along its own normal; between the two wedges of a fan edge
 //     an arc of k sectors (at most fan_angle_deg each, one k per chain) gives one prism per
 //     sector and edge (cross section: the node and two sector directions, extruded along the
