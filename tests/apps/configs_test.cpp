@@ -204,14 +204,13 @@ const double unit_lo = 1 / std::sqrt(2.0), unit_hi = std::sqrt(2.0);
 
 }  // namespace
 
-TEST_CASE("configs: every shipped config runs, writes msh, vtu, report (and png in 2D), and is valid and conforming") {
+TEST_CASE("configs: every shipped config runs, writes msh, vtu, report and png, and is valid and conforming") {
   const std::vector<Run>& runs = shipped_runs();
   REQUIRE_FALSE(runs.empty());
   for (const Run& r : runs) {
     INFO(r.config.string() << "\n" << r.err);
     CHECK(r.code == 0);
     for (const char* ext : {".msh", ".vtu", ".report.json", ".png"}) {
-      if (r.dim == 3 && std::string(ext) == ".png") continue;  // no pictures in 3D yet
       const fs::path p = r.out / (r.name + ext);
       CHECK_MESSAGE((fs::exists(p) && fs::file_size(p) > 0), p.string());
     }
