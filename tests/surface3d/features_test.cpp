@@ -391,39 +391,11 @@ TEST_CASE("features: bad options are rejected and an empty surface has no featur
 
 
 TEST_CASE("features: a rounded edge narrower than the mesh's scale is one ridge on its crest") {
-  // A slab of thickness 2t with both long edges rounded (semicircles of 8 segments, 22.5 degrees
-  // each: none a ridge at 30), extruded along z over m cells and closed by flat caps.
+  // A slab of thickness 2t with both long edges rounded (8 segments of 22.5 degrees: none a
+  // ridge at 30), extruded along z over m cells and closed by flat caps.
   const double t = 0.002, length = 0.5;
-  const int n = 10, m = 6;
-  std::vector<Eigen::Vector2d> profile;  // counter-clockwise seen from +z
-  for (int i = 0; i < n; ++i) profile.push_back({static_cast<double>(i) / n, -t});
-  for (int k = 0; k < 8; ++k) {
-    const double a = -M_PI / 2 + k * M_PI / 8;
-    profile.push_back({1 + t * std::cos(a), t * std::sin(a)});
-  }
-  for (int i = n; i > 0; --i) profile.push_back({static_cast<double>(i) / n, t});
-  for (int k = 0; k < 8; ++k) {
-    const double a = M_PI / 2 + k * M_PI / 8;
-    profile.push_back({t * std::cos(a), t * std::sin(a)});
-  }
-  const int np = static_cast<int>(profile.size());
-  TriangleSoup soup;
-  soup.source = "rounded slab";
-  for (int j = 0; j <= m; ++j)
-    for (const Eigen::Vector2d& p : profile) soup.points.push_back({p.x(), p.y(), length * j / m});
-  auto at = [&](int i, int j) { return j * np + (i % np); };
-  for (int j = 0; j < m; ++j)
-    for (int i = 0; i < np; ++i) {
-      soup.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-      soup.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-    }
-  const int c0 = static_cast<int>(soup.points.size());
-  soup.points.push_back({0.5, 0, 0});
-  soup.points.push_back({0.5, 0, length});
-  for (int i = 0; i < np; ++i) {
-    soup.triangles.push_back({c0, at(i + 1, 0), at(i, 0)});
-    soup.triangles.push_back({c0 + 1, at(i, m), at(i + 1, m)});
-  }
+  const int m = 6;
+  const TriangleSoup soup = test::rounded_slab_soup(t, length, 10, m);
   // Spanwise ridge edges (not on the caps' rims), and whether they lie on a crest (y = 0).
   auto spanwise = [&](const TriSurface& s, std::size_t& on_crest) {
     std::size_t count = 0;

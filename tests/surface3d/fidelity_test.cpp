@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 // The surface's distance to its body (surface3d/fidelity.h): the chord sag of a sphere's
 // triangulation measured as the analytic value, a notch (a vertex pushed into the body) caught
-// at its place on both sides, and the E387 half wing remeshed with the curvature metric keeping
-// its root and tip noses (the remesher's curve guards, remesh.cpp).
+// at its place on both sides, the E387 half wing remeshed with the curvature metric keeping its
+// root and tip noses (the remesher's curve guards, remesh.cpp), and a rounded edge narrower than
+// the mesh (as the M6's trailing edge) cut back unless kept as a crest (features.h).
 #include "surface3d/fidelity.h"
 
 #include <doctest/doctest.h>
@@ -13,8 +14,11 @@
 #include "modules/metric/metric.h"
 #include "surface3d/analytic.h"
 #include "surface3d/curvature_metric.h"
+#include "surface3d/discrete_reference.h"
+#include "surface3d/features.h"
 #include "surface3d/high_order.h"
 #include "surface3d/remesh.h"
+#include "tests/surface3d/test_surfaces.h"
 
 using namespace plaf;
 
@@ -83,4 +87,34 @@ TEST_CASE("fidelity: a body with no mesh is infinitely far, never within a toler
   CHECK(std::isinf(f.hausdorff));
   CHECK_FALSE(f.relative <= 1.0);
   CHECK(f.diagonal == doctest::Approx(2 * std::sqrt(3.0)).epsilon(0.05));
+}
+
+TEST_CASE("fidelity: a rounded edge narrower than the mesh is cut back unless kept as a crest, and the check says so") {
+  // A slab 1 x 0.5 with both long edges rounded (radius 0.002, 8 segments: no ridge at 30
+  // degrees), remeshed at 0.04: twenty times the edge's width, as the M6's trailing edge.
+  const TriangleSoup soup = test::rounded_slab_soup(0.002, 0.5, 10, 6);
+  const UniformMetricField<3> metric(Metric<3>::isotropic(0.04));
+  auto run = [&](double crest_scale) {
+    TriSurface s = surface_from_soup(soup);
+    FeatureOptions o;
+    o.crest_scale = crest_scale;
+    detect_features(s, o);
+    const auto reference = make_discrete_reference(s);
+    const std::vector<Eigen::Vector3d> body = reference_samples(s, *reference, true);
+    const RemeshReport r = remesh_surface(s, *reference, metric, RemeshOptions{});
+    CHECK(r.folded_faces == 0);
+    return measure_fidelity(s, *reference, body);
+  };
+  const FidelityReport kept = run(0.02), cut = run(0);
+  MESSAGE("rounded edges kept as crests: " << kept.relative << " of the diagonal; as smooth surface: " << cut.relative
+                                            << " at " << cut.worst.transpose());
+  // Kept: the mesh follows the edge to within its radius t = 0.002 (a sharp crest between two
+  // flat bands stands in for the semicircle); cut: over ten times that, far past the default
+  // tolerance (1e-3 of the diagonal) ...
+  CHECK(kept.hausdorff <= 0.002);
+  CHECK(cut.hausdorff > 10 * kept.hausdorff);
+  CHECK(cut.relative > 1e-3);
+  // ... on a rounded edge (x = 0 or 1), the body farther from the mesh than the mesh from it.
+  CHECK(std::min(std::abs(cut.worst.x()), std::abs(cut.worst.x() - 1)) < 0.01);
+  CHECK(cut.to_mesh > cut.to_reference);
 }

@@ -113,4 +113,40 @@ inline TriangleSoup voxel_soup(const std::vector<std::array<int, 3>>& voxels, in
   return soup;
 }
 
+// A slab of thickness 2t from x = 0 to 1, both long edges rounded (semicircles of 8 segments,
+// 22.5 degrees each), extruded along z over m cells of length / m and closed by flat caps fanned
+// from their centres; the straight sides in n segments. Outward.
+inline TriangleSoup rounded_slab_soup(double t, double length, int n, int m) {
+  std::vector<Eigen::Vector2d> profile;  // counter-clockwise seen from +z
+  for (int i = 0; i < n; ++i) profile.push_back({static_cast<double>(i) / n, -t});
+  for (int k = 0; k < 8; ++k) {
+    const double a = -M_PI / 2 + k * M_PI / 8;
+    profile.push_back({1 + t * std::cos(a), t * std::sin(a)});
+  }
+  for (int i = n; i > 0; --i) profile.push_back({static_cast<double>(i) / n, t});
+  for (int k = 0; k < 8; ++k) {
+    const double a = M_PI / 2 + k * M_PI / 8;
+    profile.push_back({t * std::cos(a), t * std::sin(a)});
+  }
+  const int np = static_cast<int>(profile.size());
+  TriangleSoup soup;
+  soup.source = "rounded slab";
+  for (int j = 0; j <= m; ++j)
+    for (const Eigen::Vector2d& p : profile) soup.points.push_back({p.x(), p.y(), length * j / m});
+  auto at = [&](int i, int j) { return j * np + (i % np); };
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < np; ++i) {
+      soup.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      soup.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  const int c0 = static_cast<int>(soup.points.size());
+  soup.points.push_back({0.5, 0, 0});
+  soup.points.push_back({0.5, 0, length});
+  for (int i = 0; i < np; ++i) {
+    soup.triangles.push_back({c0, at(i + 1, 0), at(i, 0)});
+    soup.triangles.push_back({c0 + 1, at(i, m), at(i + 1, m)});
+  }
+  return soup;
+}
+
 }  // namespace plaf::test
