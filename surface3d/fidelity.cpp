@@ -125,7 +125,8 @@ FidelityReport measure_fidelity(const TriSurface& surface, const ReferenceGeomet
   std::vector<Eigen::Vector3d> points;
   std::vector<std::array<int, 3>> tris;
   std::vector<int> tri_face;
-  std::vector<TriMesh::FaceHandle> faces;
+  std::vector<Eigen::Vector3d> face_nodes;  // e.size() per face, for the refinement
+  std::size_t nfaces = 0;
   for (const auto f : surface.mesh.faces()) {
     const std::vector<Eigen::Vector3d> nodes = surface.triangle_nodes(f);
     if (static_cast<int>(nodes.size()) != e.size()) continue;  // (triangle_nodes gives order-Q nodes)
@@ -142,9 +143,10 @@ FidelityReport measure_fidelity(const TriSurface& surface, const ReferenceGeomet
     for (const auto& w : coarse_basis) points.push_back(at(w, nodes));
     for (const auto& t : coarse.tris) {
       tris.push_back({first + t[0], first + t[1], first + t[2]});
-      tri_face.push_back(static_cast<int>(faces.size()));
+      tri_face.push_back(static_cast<int>(nfaces));
     }
-    faces.push_back(f);
+    face_nodes.insert(face_nodes.end(), nodes.begin(), nodes.end());
+    ++nfaces;
   }
   r.reference_samples = samples.size();
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
@@ -158,7 +160,7 @@ FidelityReport measure_fidelity(const TriSurface& surface, const ReferenceGeomet
     r.worst_on_reference = samples.front();
   } else if (!tris.empty()) {
     const TriangleTree tree(points, tris);
-    std::vector<Eigen::Vector3d> nodes;
+    std::vector<Eigen::Vector3d> nodes(static_cast<std::size_t>(e.size()));
     for (const Eigen::Vector3d& p : samples) {
       const TriangleTree::Closest cl = tree.closest(p);
       const std::size_t t = static_cast<std::size_t>(cl.triangle);
@@ -168,7 +170,8 @@ FidelityReport measure_fidelity(const TriSurface& surface, const ReferenceGeomet
       for (int k = 0; k < 3; ++k)
         for (int d = 0; d < 2; ++d)
           xi[static_cast<std::size_t>(d)] += cl.barycentric[k] * coarse.xi[static_cast<std::size_t>(st[static_cast<std::size_t>(k)])][static_cast<std::size_t>(d)];
-      nodes = surface.triangle_nodes(faces[static_cast<std::size_t>(tri_face[t])]);
+      const auto first = face_nodes.begin() + static_cast<std::ptrdiff_t>(tri_face[t]) * e.size();
+      std::copy(first, first + e.size(), nodes.begin());
       const double dist = std::min(std::sqrt(cl.distance2), curved_distance(e, nodes, p, xi, phi, dphi));
       if (dist > r.to_mesh) {
         r.to_mesh = dist;
