@@ -168,9 +168,10 @@ TEST_CASE("surface cli: an inward surface is repaired and meshed, an open half w
   {
     const TempDir d("surface_cli_m6");
     // At h = 0.2 (a quarter of the chord) the surface cannot follow the wing within the default
-    // fidelity tolerance (1e-3 of the diagonal); this case checks the repairs and the tags.
+    // fidelity tolerance (1e-3 of the diagonal; measured: 0.031); this case checks the repairs and
+    // the tags, and bounds the distance at 0.05.
     std::string config = surface(data + "onera_m6_small.fmt", "  symmetry_planes: [{normal: [0, 0, 1]}]\n");
-    config.replace(config.find("surface: {iterations: 2}"), 24, "surface: {iterations: 2, fidelity_tol: 0.2}");
+    config.replace(config.find("surface: {iterations: 2}"), 24, "surface: {iterations: 2, fidelity_tol: 0.05}");
     const PlafResult r = run_config(d, config);
     INFO(r.err);
     CHECK(r.code == 0);
