@@ -56,16 +56,7 @@ void draw_mesh(cairo_t* cr, const View& v, const HybridMesh<2>& mesh, const std:
     for (std::size_t i = 0; i < b.size(); ++i, ++index) {
       outline(cr, v, mesh, b, i, phi);
       const bool ok = valid.empty() || valid[index];
-      if (!ok)
-        cairo_set_source_rgb(cr, 0.95, 0.1, 0.1);
-      else if (is_curved(mesh, b, i))
-        cairo_set_source_rgb(cr, 1.0, 0.85, 0.6);
-      else
-        cairo_set_source_rgb(cr, 0.78, 0.87, 0.97);
-      cairo_fill_preserve(cr);
-      cairo_set_source_rgb(cr, 0.15, 0.15, 0.2);
-      cairo_set_line_width(cr, line_width);
-      cairo_stroke(cr);
+      fill_cell(cr, ok, ok && is_curved(mesh, b, i), line_width);
     }
   // Boundary facets, thicker, one colour per kind.
   for (const CellBlock& b : mesh.boundary) {

@@ -235,16 +235,7 @@ void draw_cut(cairo_t* cr, const View& v, const Cut& cut, double lw) {
     for (std::size_t k = 0; k < poly.p.size(); ++k)
       (k == 0 ? cairo_move_to : cairo_line_to)(cr, v.px(poly.p[k].x()), v.py(poly.p[k].y()));
     cairo_close_path(cr);
-    if (poly.colour == 2)
-      cairo_set_source_rgb(cr, 0.95, 0.1, 0.1);
-    else if (poly.colour == 1)
-      cairo_set_source_rgb(cr, 1.0, 0.85, 0.6);
-    else
-      cairo_set_source_rgb(cr, 0.78, 0.87, 0.97);
-    cairo_fill_preserve(cr);
-    cairo_set_source_rgb(cr, 0.15, 0.15, 0.2);
-    cairo_set_line_width(cr, lw);
-    cairo_stroke(cr);
+    fill_cell(cr, poly.colour != 2, poly.colour == 1, lw);
   }
   for (int pass = 0; pass < 3; ++pass)  // cut facets, then wall facets, then invalid cells' on top
     for (const Cut::Segment& s : cut.segments) {

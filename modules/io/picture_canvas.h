@@ -50,6 +50,21 @@ inline std::string png_bytes(cairo_surface_t* surface) {
   return png;
 }
 
+// Fills the current path in the cell colours of the pictures (invalid red, curved light orange,
+// straight light blue) and strokes its outline dark, line width lw.
+inline void fill_cell(cairo_t* cr, bool valid, bool curved, double lw) {
+  if (!valid)
+    cairo_set_source_rgb(cr, 0.95, 0.1, 0.1);
+  else if (curved)
+    cairo_set_source_rgb(cr, 1.0, 0.85, 0.6);
+  else
+    cairo_set_source_rgb(cr, 0.78, 0.87, 0.97);
+  cairo_fill_preserve(cr);
+  cairo_set_source_rgb(cr, 0.15, 0.15, 0.2);
+  cairo_set_line_width(cr, lw);
+  cairo_stroke(cr);
+}
+
 // The zoom panels below the main view (rows main_h .. h of a w-wide picture), each cleared,
 // drawn by draw(view of its box) inside its clip, framed and labelled.
 inline void zoom_panels(cairo_t* cr, const std::vector<ZoomBox>& zooms, int w, int h, int main_h,
