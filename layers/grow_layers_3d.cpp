@@ -350,7 +350,7 @@ class PartLayerBuilder {
                    const CurvedFront<3>& front0, const Part& part, const std::vector<Plane>& planes, bool first_layer,
                    const std::vector<double>& scale, double f_atten, std::vector<std::pair<std::string, std::size_t>>* counts)
       : mesh_(mesh), metric_(metric), p_(p), q_(q), np_(num_nodes(CellType::Triangle, q)),
-        nqn_(num_nodes(CellType::Quadrilateral, q)), front0_(front0), part_(part), planes_(planes), first_(first_layer),
+        front0_(front0), part_(part), planes_(planes), first_(first_layer),
         scale_(scale), f_atten_(f_atten), counts_(counts) {}
 
   PartLayer build() {
@@ -1126,7 +1126,7 @@ class PartLayerBuilder {
   HybridMesh<3>& mesh_;
   const MetricField<3>& metric_;
   const LayerParams& p_;
-  const int q_, np_, nqn_;
+  const int q_, np_;
   const CurvedFront<3>& front0_;
   const Part& part_;
   const std::vector<Plane>& planes_;
@@ -1174,12 +1174,11 @@ class SurfaceFronts final : public FrontGrower<3> {
     for (int l : parts_[part].vertices) v.push_back(mesh_.nodes[static_cast<std::size_t>(parts_[part].ids[static_cast<std::size_t>(l)])]);
     return v;
   }
-  BuiltLayer build(std::size_t part, int layer, const std::vector<double>& scale, const std::vector<std::uint8_t>&,
-                   double f_atten) override {
+  BuiltLayer build(std::size_t part, int /*layer*/, const std::vector<double>& scale,
+                   const std::vector<std::uint8_t>&, double f_atten) override {
     pending_part_ = part;
     // A part's first layer is its first accepted one (layer 1, or a closing layer after a failed
     // layer 1); a closing layer (straight tops, f_atten infinite) grows no fans: they are curved.
-    (void)layer;
     const bool first = !grown_[part];
     std::vector<std::pair<std::string, std::size_t>> counts;
     pending_ = PartLayerBuilder(mesh_, metric_, p_, q_, front0_, parts_[part], planes_, first, scale, f_atten,
