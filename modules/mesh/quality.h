@@ -67,6 +67,7 @@ struct QualityReport {
   std::size_t cells_unproven = 0;  // undecided at the depth limit (counted invalid too)
   std::string first_invalid;       // "<type> cell <i> of block <b> at (x, y[, z])" of the first invalid cell
   double scaled_jacobian_min = 0;
+  std::string scaled_jacobian_worst;  // the cell with the smallest one, described as first_invalid
   double aspect_ratio_max = 0;
   bool has_metric = false;
   EdgeLengthStats metric;

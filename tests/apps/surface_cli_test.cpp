@@ -192,6 +192,29 @@ TEST_CASE("surface cli: a curvature size not below the metric's stops the run be
   CHECK(plaf::test::count_files(d / "out") == 0);
 }
 
+TEST_CASE("surface cli: gradation is reported when curvature sizes are on, and a beta not above 1 is refused") {
+  {
+    const TempDir d("surface_cli_gradation_bad");
+    const PlafResult r = run_config(d, "geometry: {type: sphere}\nmetric: {type: uniform, h: 0.3}\n"
+                                   "surface: {curvature_factor: 0.3, gradation: 0.8}\n");
+    CHECK(r.code == 1);
+    CHECK(last_line(r.err).find("surface.gradation") != std::string::npos);
+    CHECK(last_line(r.err).find("must exceed 1") != std::string::npos);
+    CHECK(plaf::test::count_files(d / "out") == 0);
+  }
+  {
+    // An ellipsoid's tips ask for finer sizes than its flanks: the H-correction spreads them.
+    const TempDir d("surface_cli_gradation");
+    const PlafResult r = run_config(d, "geometry: {type: ellipsoid, semi_axes: [3, 1, 1]}\n"
+                                   "metric: {type: uniform, h: 0.5}\nsurface: {curvature_factor: 0.3}\n");
+    REQUIRE(r.code == 0);
+    const std::string report = read_text(d / "out" / "case.report.json");
+    const std::size_t at = report.find("\"corrected_points\": ");
+    REQUIRE(at != std::string::npos);
+    CHECK(std::strtod(report.c_str() + at + 20, nullptr) > 0);
+  }
+}
+
 TEST_CASE("surface cli: a wall_power_law metric meshes the surface at its sizes along the wall") {
   // The number after "key": at or after `from` in the report.
   const auto number = [](const std::string& json, const std::string& key, std::size_t from) {
