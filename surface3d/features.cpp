@@ -74,6 +74,47 @@ EdgeFeature ridge_kind(const TriMesh& m, EdgeHandle e) {
   return sign_orient3d(a, b, c, d) >= 0 ? EdgeFeature::ConvexRidge : EdgeFeature::ConcaveRidge;
 }
 
+// Per edge: the reference's feature curve it runs along, or -1 (FeatureOptions::reference). Each
+// vertex is tested against every curve once; an edge only against the curves both its ends are
+// on.
+std::vector<int> body_curves(const TriMesh& m, const ReferenceGeometry<3>& ref) {
+  const double tol = 1e-6 * ref.scale();
+  std::vector<std::vector<int>> curves_at(m.n_vertices());
+  for (const VertexHandle v : m.vertices()) {
+    const Eigen::Vector3d x = m.point(v);
+    for (int c = 0; c < ref.num_curves(); ++c)
+      if ((ref.project_to_curve(x, c) - x).norm() <= tol) curves_at[idx(v.idx())].push_back(c);
+  }
+  std::vector<int> along(m.n_edges(), -1);
+  for (const EdgeHandle e : m.edges()) {
+    const HalfedgeHandle h = m.halfedge_handle(e, 0);
+    const VertexHandle a = m.from_vertex_handle(h), b = m.to_vertex_handle(h);
+    const Eigen::Vector3d mid = 0.5 * (m.point(a) + m.point(b));
+    const double len = (m.point(b) - m.point(a)).norm();
+    const auto& cb = curves_at[idx(b.idx())];
+    for (int c : curves_at[idx(a.idx())])
+      if (std::find(cb.begin(), cb.end(), c) != cb.end() && (ref.project_to_curve(mid, c) - mid).norm() <= 0.25 * len + tol) {
+        along[static_cast<std::size_t>(e.idx())] = c;
+        break;
+      }
+  }
+  return along;
+}
+
+// The kind of a ridge judged on the reference: convex when the body's normal, from the closest
+// point of one face's centroid to the other's, turns the way one travels ((p1 - p0).(n1 - n0) >= 0,
+// as on a sphere), so a nearly flat stretch of a mesh along a convex crest is not called concave.
+EdgeFeature body_ridge_kind(const TriMesh& m, EdgeHandle e, const ReferenceGeometry<3>& ref) {
+  Eigen::Vector3d p[2], n[2];
+  for (int i = 0; i < 2; ++i) {
+    const FaceHandle f = m.face_handle(m.halfedge_handle(e, static_cast<unsigned>(i)));
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (const VertexHandle v : m.fv_range(f)) c += m.point(v) / 3.0;
+    p[i] = ref.project(c, n[i]);
+  }
+  return (p[1] - p[0]).dot(n[1] - n[0]) >= 0 ? EdgeFeature::ConvexRidge : EdgeFeature::ConcaveRidge;
+}
+
 // The crest rule of features.h: the input's triangles in an AABB tree, for the normals at
 // distance r across an edge.
 class Crests {
@@ -254,11 +295,11 @@ VertexFeature corner_kind(const TriMesh& m, VertexHandle v, const VertexEdges& v
 // keep their kind and curve id; a kept interior edge marked only by its curve id (or wrongly as
 // Boundary) gets its ridge kind from the geometry whatever its angle, and an open edge is always
 // Boundary. Returns the first curve id not taken by a kept edge.
-int classify_edges(TriSurface& s, const FeatureOptions& options) {
+int classify_edges(TriSurface& s, const FeatureOptions& options, const std::vector<int>& body_curve) {
   TriMesh& m = s.mesh;
   const double ridge_rad = radians(options.ridge_angle_deg);
   std::vector<char> crest;
-  if (options.crest_scale > 0) crest = Crests(m, options.crest_scale, ridge_rad).crest_edges();
+  if (options.crest_scale > 0 && !options.reference) crest = Crests(m, options.crest_scale, ridge_rad).crest_edges();
   int next_curve = 0;
   for (const EdgeHandle e : m.edges()) {
     EdgeFeature& f = m.property(s.edge_feature, e);
@@ -274,6 +315,8 @@ int classify_edges(TriSurface& s, const FeatureOptions& options) {
     curve = -1;
     if (m.is_boundary(e))
       f = EdgeFeature::Boundary;
+    else if (options.reference)
+      f = body_curve[static_cast<std::size_t>(e.idx())] >= 0 ? body_ridge_kind(m, e, *options.reference) : EdgeFeature::Smooth;
     else if (dihedral_departure(m, e) > ridge_rad || (!crest.empty() && crest[static_cast<std::size_t>(e.idx())]))
       f = ridge_kind(m, e);
     else
@@ -320,7 +363,7 @@ std::vector<double> angle_sums(const TriSurface& s) {
 // Pass 2: each vertex a corner of its kind, Curve or Smooth, from its feature edges and angle
 // defect. Returns which vertices are corners.
 std::vector<char> classify_vertices(TriSurface& s, const FeatureOptions& options,
-                                    const std::vector<VertexEdges>& around) {
+                                    const std::vector<VertexEdges>& around, const std::vector<int>& body_curve) {
   TriMesh& m = s.mesh;
   const double turn_rad = radians(options.curve_turn_deg);
   const double defect_rad = radians(options.corner_defect_deg);
@@ -336,7 +379,15 @@ std::vector<char> classify_vertices(TriSurface& s, const FeatureOptions& options
       continue;
     }
     bool is_a_corner = ve.count == 1 || ve.count >= 3 || std::abs(defect) > defect_rad;
-    if (ve.count == 2) {
+    if (options.reference) {
+      // Judged on the body: a vertex on two feature edges is a corner where the body's curves
+      // change (or a ridge meets the boundary), not where the mesh turns or its angles add up
+      // to a defect.
+      is_a_corner = ve.count == 1 || ve.count >= 3;
+      if (ve.count == 2)
+        is_a_corner = ve.boundary == 1 || body_curve[static_cast<std::size_t>(m.edge_handle(ve.out[0]).idx())] !=
+                                              body_curve[static_cast<std::size_t>(m.edge_handle(ve.out[1]).idx())];
+    } else if (ve.count == 2) {
       const EdgeHandle e0 = m.edge_handle(ve.out[0]), e1 = m.edge_handle(ve.out[1]);
       // A chain never mixes boundary and ridge edges, and kept curves end where another begins.
       is_a_corner = is_a_corner || ve.boundary == 1 || m.property(s.edge_curve, e0) != m.property(s.edge_curve, e1);
@@ -389,10 +440,11 @@ void number_curves(TriSurface& s, const std::vector<VertexEdges>& around, const 
 FeatureReport detect_features(TriSurface& s, const FeatureOptions& options) {
   check_options(options);
   // 1. Edges.
-  const int next_curve = classify_edges(s, options);
+  const std::vector<int> body_curve = options.reference ? body_curves(s.mesh, *options.reference) : std::vector<int>();
+  const int next_curve = classify_edges(s, options, body_curve);
   // 2. Vertices: their feature edges, then the angle sums for the defects.
   const std::vector<VertexEdges> around = feature_edges_around(s);
-  const std::vector<char> corner = classify_vertices(s, options, around);
+  const std::vector<char> corner = classify_vertices(s, options, around, body_curve);
   // 3. Curves.
   number_curves(s, around, corner, next_curve);
   return count_features(s);

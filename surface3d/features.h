@@ -29,6 +29,7 @@
 
 #include <vector>
 
+#include "modules/geometry/reference.h"
 #include "modules/geometry/tri_surface.h"
 
 namespace plaf {
@@ -39,6 +40,12 @@ struct FeatureOptions {
   double curve_turn_deg = 45;
   bool keep_existing = false;  // true: keep edges already marked (e.g. by an analytic body) as features
   double crest_scale = 0;      // r of the crest rule above (0: off)
+  // Judged on a reference (a final mesh checked against its body): an interior edge is a ridge
+  // when it runs along one of the reference's feature curves (its ends within 1e-6 of the
+  // reference's scale of the curve, its midpoint within 25 % of its length: a chord of a tightly
+  // curved feature), whatever its dihedral, convex or concave as the body bends across it; the mesh's dihedral and the crest rule are not used. So a
+  // ridge is found only where the body has one, not where small triangles bend at a rounded edge.
+  const ReferenceGeometry<3>* reference = nullptr;
 };
 
 struct FeatureReport {

@@ -304,8 +304,10 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   }
   const FeatureReport kept = count_features(surface);
   TriSurface probe = surface;
+  // The final mesh's features judged on the body (features.h: edges along the reference's feature
+  // curves), not on the bend of its small triangles at rounded edges.
   FeatureOptions final_options = feature_options(sp);
-  if (!s.build_body) final_options.crest_scale = 0.5 * smallest_size(sp, s);
+  final_options.reference = s.reference.get();
   const FeatureReport detected = detect_features(probe, final_options);
   rep.line("features (final): " + feature_line(kept));
   rep.line("features (detected on the final mesh): " + feature_line(detected));

@@ -443,6 +443,10 @@ TEST_CASE("configs: 3D surfaces are metric-conforming, keep their features and t
     REQUIRE(final_features != std::string::npos);
     for (const char* key : {"curves", "corners_convex", "corners_concave", "corners_saddle", "corners_boundary"})
       CHECK_MESSAGE(json_value(report, key, input) == json_value(report, key, final_features), key);
+    // Judged on the body, the final mesh's features are the kept ones (issue 13): no ridge where
+    // small triangles bend at a rounded edge, no kept curve off the body's features.
+    for (const char* key : {"curves", "corners_convex", "corners_concave", "corners_saddle", "corners_boundary"})
+      CHECK_MESSAGE(json_value(report, key, detected) == json_value(report, key, final_features), key);
     CHECK(json_value(report, "folded_faces") == "0");
     const std::string msh = read_text(r.out / (r.name + ".msh"));
     if (r.name == "box_surface") {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "modules/base/error.h"
+#include "surface3d/analytic.h"
 #include "tests/surface3d/feature_checks.h"
 #include "tests/surface3d/test_surfaces.h"
 
@@ -432,6 +433,28 @@ TEST_CASE("features: a rounded edge narrower than the mesh's scale is one ridge 
   o.crest_scale = 0.0002;
   detect_features(fine, o);
   CHECK(spanwise(fine, crest) == 0);
+}
+
+TEST_CASE("features: judged on the body, a coarse sphere has none and a box its 12 ridges and 8 corners") {
+  // Eight facets around: the latitude edges bend by 45 degrees, ridges by the mesh's dihedral.
+  TriSurface coarse = surface_from_soup(revolution_soup(sphere_profile(4), 8));
+  CHECK(detect_features(coarse, {}).ridges_convex > 0);
+  const AnalyticBody sphere = make_sphere(Eigen::Vector3d::Zero(), 1.0, 0.5);
+  FeatureOptions judged;
+  judged.reference = sphere.reference.get();
+  const FeatureReport on_sphere = detect_features(coarse, judged);
+  CHECK(on_sphere.ridges_convex + on_sphere.ridges_concave == 0);
+  CHECK(on_sphere.corners_convex + on_sphere.corners_concave + on_sphere.corners_saddle == 0);  // no defect rule
+  CHECK(on_sphere.curves == 0);
+
+  AnalyticBody box = make_box(Eigen::Vector3d(-1, -2, -0.5), Eigen::Vector3d(1, 2, 0.5), 0.3);
+  judged.reference = box.reference.get();
+  const FeatureReport on_box = detect_features(box.initial, judged);
+  CHECK(on_box.ridges_concave == 0);
+  CHECK(on_box.curves == 12);
+  CHECK(on_box.corners_convex == 8);
+  check_box_features(box.initial);
+  check_consistent(box.initial, on_box);
 }
 
 }  // namespace
