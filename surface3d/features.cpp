@@ -101,9 +101,11 @@ std::vector<int> body_curves(const TriMesh& m, const ReferenceGeometry<3>& ref) 
   return along;
 }
 
-// The kind of a ridge judged on the reference: convex when the body's normal, from the closest
-// point of one face's centroid to the other's, turns the way one travels ((p1 - p0).(n1 - n0) >= 0,
-// as on a sphere), so a nearly flat stretch of a mesh along a convex crest is not called concave.
+// The kind of a ridge judged on the reference where the mesh's faces meet nearly flat (within the
+// ridge angle; a clear bend is classified exactly from the mesh, ridge_kind): convex when the
+// body's normal, from the closest point of one face's centroid to the other's, turns the way one
+// travels ((p1 - p0).(n1 - n0) >= 0, as on a sphere), so a nearly flat stretch of a mesh along a
+// convex crest is not called concave.
 EdgeFeature body_ridge_kind(const TriMesh& m, EdgeHandle e, const ReferenceGeometry<3>& ref) {
   Eigen::Vector3d p[2], n[2];
   for (int i = 0; i < 2; ++i) {
@@ -316,7 +318,9 @@ int classify_edges(TriSurface& s, const FeatureOptions& options, const std::vect
     if (m.is_boundary(e))
       f = EdgeFeature::Boundary;
     else if (options.reference)
-      f = body_curve[static_cast<std::size_t>(e.idx())] >= 0 ? body_ridge_kind(m, e, *options.reference) : EdgeFeature::Smooth;
+      f = body_curve[static_cast<std::size_t>(e.idx())] < 0 ? EdgeFeature::Smooth
+          : dihedral_departure(m, e) > ridge_rad           ? ridge_kind(m, e)
+                                                           : body_ridge_kind(m, e, *options.reference);
     else if (dihedral_departure(m, e) > ridge_rad || (!crest.empty() && crest[static_cast<std::size_t>(e.idx())]))
       f = ridge_kind(m, e);
     else

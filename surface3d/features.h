@@ -43,8 +43,11 @@ struct FeatureOptions {
   // Judged on a reference (a final mesh checked against its body): an interior edge is a ridge
   // when it runs along one of the reference's feature curves (its ends within 1e-6 of the
   // reference's scale of the curve, its midpoint within 25 % of its length: a chord of a tightly
-  // curved feature), whatever its dihedral, convex or concave as the body bends across it; the mesh's dihedral and the crest rule are not used. So a
-  // ridge is found only where the body has one, not where small triangles bend at a rounded edge.
+  // curved feature), whatever its dihedral; convex or concave as the mesh bends across it, or as
+  // the body does where the mesh is nearly flat there. The crest rule is not used. So a ridge is
+  // found only where the body has one, not where small triangles bend at a rounded edge; a
+  // corner only where two feature curves meet (or a ridge meets the boundary), not where the
+  // mesh's angles add up to a defect.
   const ReferenceGeometry<3>* reference = nullptr;
 };
 
