@@ -13,6 +13,7 @@
 
 #include <functional>
 #include <map>
+#include <set>
 #include <memory>
 
 #include "modules/geometry/aabb_tree.h"
@@ -92,8 +93,21 @@ std::vector<int> body_curves(const TriMesh& m, const ReferenceGeometry<3>& ref) 
     const Eigen::Vector3d mid = 0.5 * (m.point(a) + m.point(b));
     const double len = (m.point(b) - m.point(a)).norm();
     const auto& cb = curves_at[idx(b.idx())];
+    // (Not a chord over another vertex of the curve: a flat triangle with three vertices on a
+    // feature has one edge that skips the middle one.)
+    const auto skips = [&](int c) {
+      for (int i = 0; i < 2; ++i) {
+        const HalfedgeHandle hi = m.halfedge_handle(e, static_cast<unsigned>(i));
+        if (m.is_boundary(hi)) continue;
+        const VertexHandle o = m.to_vertex_handle(m.next_halfedge_handle(hi));
+        const auto& co = curves_at[idx(o.idx())];
+        if (std::find(co.begin(), co.end(), c) != co.end() && (m.point(o) - mid).norm() < 0.5 * len) return true;
+      }
+      return false;
+    };
     for (int c : curves_at[idx(a.idx())])
-      if (std::find(cb.begin(), cb.end(), c) != cb.end() && (ref.project_to_curve(mid, c) - mid).norm() <= 0.25 * len + tol) {
+      if (std::find(cb.begin(), cb.end(), c) != cb.end() && (ref.project_to_curve(mid, c) - mid).norm() <= 0.25 * len + tol &&
+          !skips(c)) {
         along[static_cast<std::size_t>(e.idx())] = c;
         break;
       }
@@ -439,6 +453,34 @@ void number_curves(TriSurface& s, const std::vector<VertexEdges>& around, const 
     if (unassigned_feature(e)) walk(m.halfedge_handle(e, 0), next_curve++);
 }
 
+// FeatureOptions::min_curve_length: ridge curves shorter than it lose their edges (Smooth), and
+// the vertices and curves are classified again without them.
+void drop_short_curves(TriSurface& s, const FeatureOptions& options, const std::vector<int>& body_curve) {
+  TriMesh& m = s.mesh;
+  std::map<int, double> length;
+  std::set<int> has_boundary;
+  for (const EdgeHandle e : m.edges()) {
+    const int c = m.property(s.edge_curve, e);
+    if (c < 0) continue;
+    const HalfedgeHandle h = m.halfedge_handle(e, 0);
+    length[c] += (m.point(m.to_vertex_handle(h)) - m.point(m.from_vertex_handle(h))).norm();
+    if (m.property(s.edge_feature, e) == EdgeFeature::Boundary) has_boundary.insert(c);
+  }
+  bool dropped = false;
+  for (const EdgeHandle e : m.edges()) {
+    const int c = m.property(s.edge_curve, e);
+    if (c >= 0 && !has_boundary.count(c) && length[c] < options.min_curve_length) {
+      m.property(s.edge_feature, e) = EdgeFeature::Smooth;
+      dropped = true;
+    }
+  }
+  if (!dropped) return;
+  for (const EdgeHandle e : m.edges()) m.property(s.edge_curve, e) = -1;
+  const std::vector<VertexEdges> around = feature_edges_around(s);
+  const std::vector<char> corner = classify_vertices(s, options, around, body_curve);
+  number_curves(s, around, corner, 0);
+}
+
 }  // namespace
 
 FeatureReport detect_features(TriSurface& s, const FeatureOptions& options) {
@@ -451,6 +493,7 @@ FeatureReport detect_features(TriSurface& s, const FeatureOptions& options) {
   const std::vector<char> corner = classify_vertices(s, options, around, body_curve);
   // 3. Curves.
   number_curves(s, around, corner, next_curve);
+  if (options.min_curve_length > 0 && !options.keep_existing) drop_short_curves(s, options, body_curve);
   return count_features(s);
 }
 

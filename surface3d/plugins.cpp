@@ -243,6 +243,7 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
     // (features.h; the M6's trailing edge, a cap of radius 3.5e-4 turning 22 degrees per edge).
     FeatureOptions fo = feature_options(sp);
     fo.crest_scale = 0.5 * smallest_size(sp, s);
+    fo.min_curve_length = 0.5 * smallest_size(sp, s);
     const FeatureReport features = detect_features(s.surface, fo);
     s.reference = make_discrete_reference(s.surface);
     rep.line("features (input, at the mesh's scale): " + feature_line(features));

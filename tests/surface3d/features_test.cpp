@@ -435,6 +435,24 @@ TEST_CASE("features: a rounded edge narrower than the mesh's scale is one ridge 
   CHECK(spanwise(fine, crest) == 0);
 }
 
+TEST_CASE("features: ridge curves shorter than min_curve_length are dropped, the corners found again") {
+  // A plate 1 x 1 x 0.01: four ridges 0.01 long join its top and bottom faces' edges.
+  AnalyticBody plate = make_box(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 1, 0.01), 0.3);
+  TriSurface all = plate.initial;
+  const FeatureReport every = detect_features(all, {});
+  CHECK(every.curves == 12);
+  CHECK(every.corners_convex == 8);
+  FeatureOptions o;
+  o.min_curve_length = 0.05;
+  const FeatureReport kept = detect_features(plate.initial, o);
+  CHECK(kept.curves == 8);
+  CHECK(kept.ridges_convex == every.ridges_convex - 4);
+  CHECK(kept.corners_convex == 8);  // the long edges turn by 90 degrees there
+  check_consistent(plate.initial, kept);
+  for (const auto& path : feature_curves(plate.initial))
+    CHECK((plate.initial.mesh.point(path.front()) - plate.initial.mesh.point(path.back())).norm() == doctest::Approx(1.0));
+}
+
 TEST_CASE("features: judged on the body, a coarse sphere has none and a box its 12 ridges and 8 corners") {
   // Eight facets around: the latitude edges bend by 45 degrees, ridges by the mesh's dihedral.
   TriSurface coarse = surface_from_soup(revolution_soup(sphere_profile(4), 8));
