@@ -33,6 +33,7 @@ struct VertexTop {
   std::vector<Vec> normals;                  // fan normals n_0 (left panel) .. n_m (right panel); one otherwise
   std::vector<Vec> tops;                     // P_k
   std::vector<std::vector<NodeId>> columns;  // Q node ids (j = 1..Q) per top
+  double h = 0;                              // its metric height before scaling (HighOrderHeights)
 };
 
 // One built layer of one loop: the generic part, the new front and, per cell and per new front
@@ -150,7 +151,8 @@ class LoopLayerBuilder {
         // panels' layers keep the height h — the intersection of the two offset panels.
         v.kind = VertexTop::Kind::Concave;
         const Vec m = (n_left + n_right).normalized();
-        const double h = height(c, m) * scale_[i];
+        v.h = height(c, m);
+        const double h = v.h * scale_[i];
         v.normals = {m};
         v.tops = {c + h / std::max(m.dot(n_left), 0.1) * m};
       } else if (turning_[i] < -corner_rad_) {
@@ -162,7 +164,8 @@ class LoopLayerBuilder {
         // the corner point itself the metric's frame belongs to one side only (the wall normal is
         // one-sided there), so the size along the other side's normal can be the size along the
         // wall. Every fan normal takes the smaller of the two sides' heights.
-        const double h_corner = std::min(height(c, n_left), height(c, n_right)) * scale_[i];
+        v.h = std::min(height(c, n_left), height(c, n_right));
+        const double h_corner = v.h * scale_[i];
         for (int k = 0; k <= m; ++k) {
           const Vec nk = rotate(n_left, turning_[i] * k / m);
           v.normals.push_back(nk);
@@ -170,7 +173,8 @@ class LoopLayerBuilder {
         }
       } else {
         v.normals = {normal_[i]};
-        v.tops = {c + height(c, normal_[i]) * scale_[i] * normal_[i]};
+        v.h = height(c, normal_[i]);
+        v.tops = {c + v.h * scale_[i] * normal_[i]};
       }
       for (const Vec& t : v.tops) v.columns.push_back(column(c, t));
     }
@@ -286,7 +290,11 @@ class LoopLayerBuilder {
     std::vector<double> heights(static_cast<std::size_t>(q_ + 1), 0.0);
     for (int k = 1; k < q_; ++k) {
       const std::size_t i = iv + k;
-      heights[static_cast<std::size_t>(k)] = height(at(i), normal_[i]) * scale_[i];
+      const double s = static_cast<double>(k) / q_;
+      heights[static_cast<std::size_t>(k)] =
+          (p_.high_order_heights == layers::HighOrderHeights::Interpolated ? (1 - s) * vt_[e].h + s * vt_[(e + 1) % ne_].h
+                                                                           : height(at(i), normal_[i])) *
+          scale_[i];
       tops[static_cast<std::size_t>(k)] = at(i) + heights[static_cast<std::size_t>(k)] * normal_[i];
     }
     // A straight element grows a straight top: its high-order tops are the linear interpolation

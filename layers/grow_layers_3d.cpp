@@ -881,7 +881,8 @@ class PartLayerBuilder {
     h_.resize(n);
     // The metric's height at the vertices (at a fan node the smallest over its directions: the
     // wall's normal size, whichever face the metric measures from); a high-order node takes the
-    // interpolation of its face's vertex heights (the attenuation's recipe). Its own metric height
+    // interpolation of its face's vertex heights (the attenuation's recipe; high_order_heights:
+    // own gives it its own, as 2D does by default, except on fan edges). Its own metric height
     // would feed back: a node the attenuation pulled toward the chord lies nearer the wall, gets a
     // smaller height from a wall law, and falls further behind every layer (measured on a sphere:
     // the front's sag grew from 0.005 to 0.012 in 30 layers instead of vanishing).
@@ -893,8 +894,11 @@ class PartLayerBuilder {
         const std::size_t l = static_cast<std::size_t>(r.base);
         if (part_.is_vertex[l] && fan_node_[l]) h_[l] = std::min(h_[l], layer_height<3>(metric_, x_[l], r.d, p_.integrate_height));
       }
+    const bool own = p_.high_order_heights == HighOrderHeights::Own;
     for (std::size_t l = 0; l < n; ++l)
-      if (!part_.is_vertex[l]) {
+      if (!part_.is_vertex[l] && own && !(fanned_ && fan_node_[l])) {
+        h_[l] = layer_height<3>(metric_, x_[l], nn_[l].n, p_.integrate_height);
+      } else if (!part_.is_vertex[l]) {
         double h = 0;
         for (int k = 0; k < 4; ++k) h += part_.tw[l][static_cast<std::size_t>(k)] * h_[static_cast<std::size_t>(part_.tv[l][static_cast<std::size_t>(k)])];
         h_[l] = h;

@@ -39,6 +39,12 @@ namespace plaf::layers {
 // node (All) or at any node (Any), or never (Off).
 enum class IsotropicStop { Off, Node, Any, All };
 
+// The height of a high-order front node: its own metric height along its own normal (Own), or the
+// interpolation of its element's vertex heights (Interpolated: a node the attenuation pulled
+// toward its chord does not feed back a smaller wall-law height); Default is Own in 2D and
+// Interpolated in 3D. A 2D section and its extrusion grow the same layers when both use the same.
+enum class HighOrderHeights { Default, Own, Interpolated };
+
 struct LayerParams {
   int max_layers = 24;
   bool stop_when_linear = false;
@@ -48,6 +54,7 @@ struct LayerParams {
   bool integrate_height = false;   // unit metric length along the normal instead of the size
   bool smooth_normals = false;     // one Laplacian pass over the normals of each new layer
   IsotropicStop isotropic_stop = IsotropicStop::Off;
+  HighOrderHeights high_order_heights = HighOrderHeights::Default;
   int shrink_attempts = 4;
   // End with a linear front (for the fill): a part whose front is still curved when it stops
   // gets a closing layer with straight tops.

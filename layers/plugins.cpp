@@ -23,6 +23,10 @@ LayerParams parse_layer_params(const ConfigNode& l) {
                      : stop == "any" ? IsotropicStop::Any
                      : stop == "all" ? IsotropicStop::All
                                      : IsotropicStop::Off;
+  const std::string hh = l.get_choice("high_order_heights", "default", {"default", "own", "interpolated"});
+  p.high_order_heights = hh == "own"            ? HighOrderHeights::Own
+                         : hh == "interpolated" ? HighOrderHeights::Interpolated
+                                                : HighOrderHeights::Default;
   return p;
 }
 
