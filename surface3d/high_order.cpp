@@ -200,7 +200,7 @@ JacobianBounds certify_face(const TriSurface& s, JacobianCertifier& certifier, F
 }  // namespace
 
 CurvingReport curve_surface(TriSurface& s, const ReferenceGeometry<3>& reference, int order,
-                            const ValidityOptions& validity) {
+                            const ValidityOptions& validity, double min_scaled_jacobian) {
   check_order(order);
   TriMesh& m = s.mesh;
   s.order = order;
@@ -210,9 +210,14 @@ CurvingReport curve_surface(TriSurface& s, const ReferenceGeometry<3>& reference
 
   if (order > 1) {
     Curving curving(s, reference, order);
+    // Good: valid, its scaled Jacobian at least the floor asked for.
+    const auto good = [&](FaceHandle f) {
+      const JacobianBounds jb = certify_face(s, certifier, f);
+      return jb.valid && jb.scaled_lower() >= min_scaled_jacobian;
+    };
     std::deque<FaceHandle> work;
     for (const FaceHandle f : m.faces())
-      if (!certify_face(s, certifier, f).valid) {
+      if (!good(f)) {
         work.push_back(f);
         was_invalid[static_cast<std::size_t>(f.idx())] = 1;
       }
@@ -221,7 +226,7 @@ CurvingReport curve_surface(TriSurface& s, const ReferenceGeometry<3>& reference
     while (!work.empty()) {
       const FaceHandle f = work.front();
       work.pop_front();
-      if (certify_face(s, certifier, f).valid) continue;  // a neighbour's straightening fixed it
+      if (good(f)) continue;  // a neighbour's straightening fixed it
       was_invalid[static_cast<std::size_t>(f.idx())] = 1;
       const auto hs = face_halfedges(m, f);
       std::array<bool, 3> moved{false, false, false};
@@ -233,7 +238,7 @@ CurvingReport curve_surface(TriSurface& s, const ReferenceGeometry<3>& reference
             const EdgeHandle e = m.edge_handle(hs[static_cast<std::size_t>(i)]);
             if (phase == 1 || !curving.is_feature(e)) moved[static_cast<std::size_t>(i)] |= curving.pull_edge(e, t);
           }
-          if (certify_face(s, certifier, f).valid) {
+          if (good(f)) {
             valid = true;
             break;
           }

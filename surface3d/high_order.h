@@ -26,7 +26,8 @@ namespace plaf {
 struct CurvingReport {
   std::size_t triangles = 0;
   std::size_t invalid = 0;       // still invalid after straightening (the run fails)
-  std::size_t straightened = 0;  // triangles whose nodes were pulled back to become valid
+  std::size_t straightened = 0;  // triangles whose nodes were pulled back to become valid (or
+                                 // to reach the scaled-Jacobian floor)
   double min_scaled_jacobian = 0;
 };
 
@@ -34,8 +35,10 @@ struct CurvingReport {
 // still certified). Curve edges (edge_curve >= 0) project onto reference.project_to_curve; a curve
 // number the reference does not have throws MesherError. min_scaled_jacobian is the smallest
 // certified lower bound of min det J / max det J over the final triangles.
+// Triangles below min_scaled_jacobian (valid or not) are straightened like invalid ones, until
+// they reach it (a flat triangle has 1).
 CurvingReport curve_surface(TriSurface& s, const ReferenceGeometry<3>& reference, int order,
-                            const ValidityOptions& validity = {});
+                            const ValidityOptions& validity = {}, double min_scaled_jacobian = 0);
 
 // certify_surface_triangle(certifier, order, nodes) (validity.h, included here) certifies one
 // curved surface triangle (nodes in Gmsh order) relative to its flat triangle; it lives in core so

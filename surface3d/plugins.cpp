@@ -93,6 +93,7 @@ SurfaceParams parse_surface_params(const ConfigNode& sf) {
   sp.max_triangles = sf.get_int("max_triangles", sp.max_triangles, 1, 2000000000);
   sp.fidelity_tol = sf.get_positive("fidelity_tol", sp.fidelity_tol);
   sp.gradation = sf.get_in_range("gradation", sp.gradation, 0.0, 100.0);
+  sp.min_scaled_jacobian = sf.get_in_range("min_scaled_jacobian", sp.min_scaled_jacobian, 0.0, 0.9);
   if (sp.gradation != 0 && !(sp.gradation > 1))
     throw ConfigError(sf.where("gradation") + ": " + std::to_string(sp.gradation) +
                       " must exceed 1 (the growth of sizes between neighbours) or be 0 (off)");
@@ -316,7 +317,7 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   ValidityOptions vo;
   vo.rel_tol = c.validity.rel_tol;
   vo.max_depth = c.validity.max_depth;
-  const CurvingReport cr = curve_surface(surface, *s.reference, c.order, vo);
+  const CurvingReport cr = curve_surface(surface, *s.reference, c.order, vo, sp.min_scaled_jacobian);
   s.mesh = surface_to_mesh(surface);
   s.mesh_done = true;
   s.front = surface_front(s.mesh, *s.reference);

@@ -30,6 +30,8 @@
 //     curvature_h_min: <>0, < the metric's size>  the smallest size curvature asks for   default: the metric's size / 20
 //     gradation: <0 or >1> how fast curvature sizes may grow between neighbours (graded_metric.h:
 //                           beta; sizes change by at most 1 + ln beta per unit edge); 0: off   default: 1.5
+//     min_scaled_jacobian: <0..0.9>  a curved triangle below it has its high-order nodes pulled
+//                           toward its flat triangle until it reaches it (high_order.h)   default: 0.1
 //     max_triangles: <n>    give up (an error) beyond this many triangles   default: 20000000
 //     fidelity_tol: <>0>    the run fails when the surface's two-sided distance to the body
 //                           (fidelity.h) exceeds this x the body's bounding-box diagonal   default: 1e-3
@@ -82,6 +84,7 @@ struct SurfaceParams {
   int max_triangles = 20000000;
   double fidelity_tol = 1e-3;
   double gradation = 1.5;  // beta of graded_metric.h; 0: off (applies to curvature sizes)
+  double min_scaled_jacobian = 0.1;  // curved triangles below it are straightened toward flat
 };
 
 // The keys of a 3D geometry section of type `type` (ConfigError naming the key).

@@ -488,6 +488,8 @@ TEST_CASE("configs: 3D surfaces are metric-conforming, keep their features and t
     CHECK(json_number(report, "mesh_samples", fidelity) > 0);
     CHECK(json_number(report, "reference_samples", fidelity) > 0);
     CHECK(json_number(report, "min", report.find("\"scaled_jacobian\"")) > 0);
+    // Issue 13: no curved surface triangle below 0.05 (surface.min_scaled_jacobian, 0.1 by default).
+    if (!layered) CHECK(json_number(report, "min", report.find("\"scaled_jacobian\"")) >= 0.05);
     const std::size_t detected = report.find("\"detected\": {");
     REQUIRE(detected != std::string::npos);
     // The remeshing kept every feature curve and corner of the input (or of the analytic body).

@@ -173,6 +173,28 @@ TEST_CASE("high_order: icosphere area converges to 4 pi at rate about Q + 1, eve
   MESSAGE(table.str());
 }
 
+TEST_CASE("high_order: a scaled-Jacobian floor straightens the triangles below it, and only those") {
+  // The 20-triangle icosphere at order 3: curved triangles around 0.3-0.5 (the test above).
+  const SphereReference reference;
+  TriSurface free_ = sphere(true, 0);
+  const CurvingReport loose = curve_surface(free_, reference, 3);
+  REQUIRE(loose.min_scaled_jacobian < 0.9);
+  for (const double floor : {0.5 * loose.min_scaled_jacobian, 0.9}) {
+    CAPTURE(floor);
+    TriSurface s = sphere(true, 0);
+    const CurvingReport r = curve_surface(s, reference, 3, {}, floor);
+    CHECK(r.invalid == 0);
+    CHECK(r.min_scaled_jacobian >= floor);
+    // Below the loose minimum nothing moves; at 0.9 every triangle is pulled toward flat, and the
+    // surface is no longer on the sphere at its pulled nodes.
+    CHECK(r.straightened == (floor < loose.min_scaled_jacobian ? 0u : r.triangles));
+    double off = 0;
+    for (const auto f : s.mesh.faces())
+      for (const Eigen::Vector3d& x : s.triangle_nodes(f)) off = std::max(off, std::abs(x.norm() - 1));
+    CHECK((floor < loose.min_scaled_jacobian ? off < 1e-12 : off > 1e-3));
+  }
+}
+
 TEST_CASE("high_order: nodes lie on the sphere in Gmsh order and order 1 clears them") {
   const SphereReference reference;
   TriSurface s = sphere(true, 1);
