@@ -2,6 +2,11 @@
 // The dimension-generic layer core (see layer_core.h for the steps and the paper's sections).
 #include "layers/layer_core.h"
 
+#include <memory>
+#include <stdexcept>
+
+#include "modules/base/parallel.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -77,14 +82,24 @@ class LayerAttempts {
       std::string why = "invalid cells";
       Eigen::Matrix<double, Dim, 1> where = Eigen::Matrix<double, Dim, 1>::Zero();
       for (int b = 0; b < 2; ++b) {
-        const int npc = num_nodes(types[static_cast<std::size_t>(b)], q_);
+        const CellType type = types[static_cast<std::size_t>(b)];
+        const std::size_t npc = static_cast<std::size_t>(num_nodes(type, q_));
         const std::vector<NodeId>& cells = built.cells[static_cast<std::size_t>(b)];
-        coords_.resize(static_cast<std::size_t>(npc * Dim));
-        for (std::size_t c = 0; c * npc < cells.size(); ++c) {
-          for (int k = 0; k < npc; ++k)
-            for (int d = 0; d < Dim; ++d)
-              coords_[static_cast<std::size_t>(Dim * k + d)] = r_.mesh.nodes[cells[c * npc + k]][d];
-          if (certifier_.certify(types[static_cast<std::size_t>(b)], q_, coords_.data()).valid) continue;
+        const std::size_t n = cells.size() / npc;
+        valid_.assign(n, 0);
+        // Certified on worker threads (modules/base/parallel.h), one certifier each.
+        parallel_chunks(n, 256, [&](unsigned w, std::size_t begin, std::size_t end) {
+          if (w >= certifiers_.size()) throw std::logic_error("layers: more workers than certifiers");
+          std::vector<double>& coords = coords_[w];
+          coords.resize(npc * Dim);
+          for (std::size_t c = begin; c < end; ++c) {
+            for (std::size_t k = 0; k < npc; ++k)
+              for (int d = 0; d < Dim; ++d) coords[Dim * k + static_cast<std::size_t>(d)] = r_.mesh.nodes[cells[c * npc + k]][d];
+            valid_[c] = certifiers_[w]->certify(type, q_, coords.data()).valid ? 1 : 0;
+          }
+        });
+        for (std::size_t c = 0; c < n; ++c) {
+          if (valid_[c]) continue;
           if (failures.empty()) where = r_.mesh.nodes[cells[c * npc]];
           failures.push_back({b, c});
         }
@@ -117,8 +132,16 @@ class LayerAttempts {
   LayerResult<Dim>& r_;
   // The sign only (the quality stage bounds the scaled Jacobian): refinement stops once det J > 0
   // is proven, which spares most subdivisions of thin curved cells.
-  JacobianCertifier certifier_{ValidityOptions{std::numeric_limits<double>::infinity(), ValidityOptions{}.max_depth}};
-  std::vector<double> coords_;
+  // One per worker thread (modules/base/parallel.h).
+  std::vector<std::unique_ptr<JacobianCertifier>> certifiers_ = [] {
+    std::vector<std::unique_ptr<JacobianCertifier>> v;
+    for (unsigned w = 0; w < worker_threads(); ++w)
+      v.push_back(std::make_unique<JacobianCertifier>(
+          ValidityOptions{std::numeric_limits<double>::infinity(), ValidityOptions{}.max_depth}));
+    return v;
+  }();
+  std::vector<std::vector<double>> coords_ = std::vector<std::vector<double>>(certifiers_.size());
+  std::vector<std::uint8_t> valid_;
 };
 
 void append(std::array<CellBlock, 2>& blocks, const BuiltLayer& built) {

@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "modules/mesh/quality.h"
 
+#include <memory>
+
+#include "modules/base/parallel.h"
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -111,39 +115,57 @@ void measure_edges(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& bl
   EdgeLengthAccumulator acc_all(all, bins);
   std::optional<EdgeLengthAccumulator> acc_tri;
   if (triangles) acc_tri.emplace(*triangles, bins);
-  // Per distinct edge: its length, and whether a triangle has counted it.
-  std::unordered_map<std::uint64_t, std::pair<double, bool>> seen;
-  std::vector<double> edge;
-  for (const CellBlock& b : blocks) {
+  // The distinct edges in order of first appearance (block, cell, local edge), then their
+  // lengths on worker threads (modules/base/parallel.h; the metric fields are read-only), then
+  // the statistics in that order, so the result does not depend on the workers.
+  struct EdgeRef {
+    std::uint32_t block, k;
+    std::size_t cell;
+  };
+  std::unordered_map<std::uint64_t, std::size_t> index;
+  std::vector<EdgeRef> refs;
+  std::vector<std::uint8_t> in_triangle;
+  for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
+    const CellBlock& b = blocks[bi];
     const bool triangle = triangles && b.type == CellType::Triangle;
-    const LagrangeElement& e = lagrange_element(b.type, b.order);
     const CellTopology& topo = topology(b.type);
-    edge.resize(static_cast<std::size_t>(b.order + 1) * Dim);
     for (std::size_t i = 0; i < b.size(); ++i) {
       const NodeId* c = b.cell(i);
       for (std::size_t k = 0; k < topo.edges.size(); ++k) {
         const NodeId v0 = c[topo.edges[k][0]], v1 = c[topo.edges[k][1]];
         const std::uint64_t key =
             (static_cast<std::uint64_t>(std::min(v0, v1)) << 32) | static_cast<std::uint32_t>(std::max(v0, v1));
-        auto [it, fresh] = seen.try_emplace(key, 0.0, false);
+        const auto [it, fresh] = index.try_emplace(key, refs.size());
         if (fresh) {
-          // Gmsh line order: the two ends, then the interior nodes.
-          const auto& en = e.edge_nodes(static_cast<int>(k));
-          for (int d = 0; d < Dim; ++d) {
-            edge[d] = mesh.nodes[c[en.front()]][d];
-            edge[Dim + d] = mesh.nodes[c[en.back()]][d];
-          }
-          for (int s = 1; s < b.order; ++s)
-            for (int d = 0; d < Dim; ++d) edge[(s + 1) * Dim + d] = mesh.nodes[c[en[s]]][d];
-          it->second.first = metric_length_curved<Dim>(metric, edge.data(), b.order);
-          acc_all.add(it->second.first);
+          refs.push_back({static_cast<std::uint32_t>(bi), static_cast<std::uint32_t>(k), i});
+          in_triangle.push_back(0);
         }
-        if (triangle && !it->second.second) {
-          it->second.second = true;
-          acc_tri->add(it->second.first);
-        }
+        if (triangle) in_triangle[it->second] = 1;
       }
     }
+  }
+  std::vector<double> length(refs.size());
+  parallel_chunks(refs.size(), 1024, [&](unsigned, std::size_t begin, std::size_t end) {
+    std::vector<double> edge;
+    for (std::size_t r = begin; r < end; ++r) {
+      const CellBlock& b = blocks[refs[r].block];
+      const LagrangeElement& e = lagrange_element(b.type, b.order);
+      const NodeId* c = b.cell(refs[r].cell);
+      edge.resize(static_cast<std::size_t>(b.order + 1) * Dim);
+      // Gmsh line order: the two ends, then the interior nodes.
+      const auto& en = e.edge_nodes(static_cast<int>(refs[r].k));
+      for (int d = 0; d < Dim; ++d) {
+        edge[d] = mesh.nodes[c[en.front()]][d];
+        edge[Dim + d] = mesh.nodes[c[en.back()]][d];
+      }
+      for (int s = 1; s < b.order; ++s)
+        for (int d = 0; d < Dim; ++d) edge[(s + 1) * Dim + d] = mesh.nodes[c[en[s]]][d];
+      length[r] = metric_length_curved<Dim>(metric, edge.data(), b.order);
+    }
+  });
+  for (std::size_t r = 0; r < refs.size(); ++r) {
+    acc_all.add(length[r]);
+    if (acc_tri && in_triangle[r]) acc_tri->add(length[r]);
   }
   acc_all.finish();
   if (acc_tri) acc_tri->finish();
@@ -239,6 +261,8 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
                              CellQuality* per_cell) {
   QualityReport r;
   JacobianCertifier certifier(options.validity);
+  std::vector<std::unique_ptr<JacobianCertifier>> extra;  // workers 1.. (parallel.h)
+  for (unsigned w = 1; w < worker_threads(); ++w) extra.push_back(std::make_unique<JacobianCertifier>(options.validity));
   r.scaled_jacobian_min = std::numeric_limits<double>::infinity();
   std::vector<double> coords, grad;
   if (per_cell) *per_cell = CellQuality{};
@@ -254,11 +278,22 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
     grad.resize(static_cast<std::size_t>(e.size()) * Dim);
     r.cells_by_type[type_key(b)] += b.size();
     r.cells_total += b.size();
+    // Certified on worker threads (modules/base/parallel.h), recorded in order.
+    std::vector<JacobianBounds> bounds(b.size());
+    std::vector<double> ratios(b.size());
+    parallel_chunks(b.size(), 256, [&](unsigned w, std::size_t begin, std::size_t end) {
+      JacobianCertifier& cert = w == 0 ? certifier : *extra.at(w - 1);
+      std::vector<double> xs(static_cast<std::size_t>(e.size()) * Dim), gs(xs.size());
+      for (std::size_t i = begin; i < end; ++i) {
+        gather_coords(mesh, b, i, xs.data());
+        bounds[i] = cert.certify(b.type, b.order, xs.data());
+        ratios[i] = aspect_ratio<Dim>(e, xs.data(), gs.data());
+      }
+    });
     for (std::size_t i = 0; i < b.size(); ++i) {
-      gather_coords(mesh, b, i, coords.data());
-      const JacobianBounds jb = certifier.certify(b.type, b.order, coords.data());
+      const JacobianBounds& jb = bounds[i];
       const double sj = jb.scaled_lower();
-      const double ar = aspect_ratio<Dim>(e, coords.data(), grad.data());
+      const double ar = ratios[i];
       record_cell(jb, sj, ar, r, per_cell, [&] {
         std::ostringstream w;
         w << cell_name(b.type) << " cell " << i << " of block " << (&b - mesh.cells.data()) << " at (";
