@@ -42,7 +42,9 @@ enum class IsotropicStop { Off, Node, Any, All };
 // The height of a high-order front node: its own metric height along its own normal (Own), or the
 // interpolation of its element's vertex heights (Interpolated: a node the attenuation pulled
 // toward its chord does not feed back a smaller wall-law height); Default is Own in 2D and
-// Interpolated in 3D. A 2D section and its extrusion grow the same layers when both use the same.
+// Interpolated in 3D. A smooth 2D section and its extrusion grow the same layers when both use
+// Interpolated (tests/layers/extrusion_match_test.cpp); with Own, 3D's high-order nodes off the
+// section's edges differ.
 enum class HighOrderHeights { Default, Own, Interpolated };
 
 struct LayerParams {

@@ -26,11 +26,13 @@ Metric<3> GradedMetricField::grown(const Metric<3>& m, const Eigen::Vector3d& d,
   return Metric<3>::from_matrix(m.matrix() / (eta * eta));
 }
 
-GradedMetricField::GradedMetricField(std::unique_ptr<MetricField<3>> raw, const std::vector<Eigen::Vector3d>& points,
+GradedMetricField::GradedMetricField(std::unique_ptr<MetricField<3>>&& raw, const std::vector<Eigen::Vector3d>& points,
                                      const std::vector<std::array<int, 3>>& triangles, double beta)
-    : raw_(std::move(raw)), points_(points), triangles_(triangles), ln_beta_(std::log(beta)) {
+    : points_(points), triangles_(triangles), ln_beta_(std::log(beta)) {
+  // (Checked before the raw field is taken: a caller whose arguments are refused keeps it.)
   if (!(beta > 1)) throw ConfigError("gradation: beta must exceed 1");
   if (points_.empty() || triangles_.empty()) throw MesherError("gradation: the support has no triangles");
+  raw_ = std::move(raw);
   const std::size_t n = points_.size();
   corrected_metrics_.reserve(n);
   for (const Eigen::Vector3d& p : points_) corrected_metrics_.push_back(raw_->evaluate(p));

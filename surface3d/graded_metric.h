@@ -33,7 +33,7 @@ namespace plaf {
 class GradedMetricField final : public MetricField<3> {
  public:
   // beta > 1. The raw field is owned (the graded field replaces it in the run's state).
-  GradedMetricField(std::unique_ptr<MetricField<3>> raw, const std::vector<Eigen::Vector3d>& points,
+  GradedMetricField(std::unique_ptr<MetricField<3>>&& raw, const std::vector<Eigen::Vector3d>& points,
                     const std::vector<std::array<int, 3>>& triangles, double beta);
   Metric<3> evaluate(const Point& x) const override;
 

@@ -221,8 +221,8 @@ CurvingReport curve_surface(TriSurface& s, const ReferenceGeometry<3>& reference
         work.push_back(f);
         was_invalid[static_cast<std::size_t>(f.idx())] = 1;
       }
-    // Straighten until no face is invalid or nothing more can move. Every straightening lowers
-    // at least one factor among finitely many values, so the loop ends.
+    // Straighten until no face is invalid or below the floor, or nothing more can move. Every
+    // straightening lowers at least one factor among finitely many values, so the loop ends.
     while (!work.empty()) {
       const FaceHandle f = work.front();
       work.pop_front();

@@ -7,8 +7,8 @@
 // displacement of the edges (so interior nodes follow curved edges), then projected. A triangle
 // is valid when its Jacobian relative to its flat triangle, J = det of the curved map's
 // derivative expressed in the flat triangle's plane frame, is positive everywhere: certified by
-// the Bezier test of validity.h on the nodes written in that frame. Invalid triangles are
-// straightened step by step: their non-vertex nodes are moved toward the flat positions (to
+// the Bezier test of validity.h on the nodes written in that frame. Invalid triangles (and those
+// below the scaled-Jacobian floor, when one is asked for) are straightened step by step: their non-vertex nodes are moved toward the flat positions (to
 // 0.75, 0.5, 0.25, 0 of their displacement), face and smooth-edge nodes first, feature-curve edge
 // nodes only if that is not enough; an edge's nodes are shared, so the neighbours across the
 // moved edges are certified again (and straightened in turn if they broke).

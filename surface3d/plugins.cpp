@@ -261,7 +261,7 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
     s.surface_metric =
         std::make_unique<CurvatureMetricField>(s.surface_base(), *s.reference, sp.curvature_factor, h_min);
   }
-  const MetricField<3>& field = *s.measure();  // (the curvature field; graded below)
+  const MetricField<3>& field = *s.measure();  // (with curvature sizes: the raw field, graded below)
   // The body sampled before the remesher moves anything (fidelity.h).
   const std::vector<Eigen::Vector3d> body = reference_samples(s.surface, *s.reference, !s.build_body);
   RemeshReport rr;
@@ -276,11 +276,11 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
       // Gradation (graded_metric.h): the raw curvature sizes H-corrected on the mesh they gave,
       // then the input remeshed on the graded field, which the run measures from here on (a second
       // pass over the first one's result instead would lose 4 % of the unit edges on the E387 wing).
-      std::vector<Eigen::Vector3d> points;
+      std::vector<Eigen::Vector3d> points(surface.mesh.n_vertices());
       std::vector<std::array<int, 3>> tris;
       for (const auto v : surface.mesh.vertices()) {
         const auto& q = surface.mesh.point(v);
-        points.emplace_back(q[0], q[1], q[2]);
+        points[static_cast<std::size_t>(v.idx())] = Eigen::Vector3d(q[0], q[1], q[2]);
       }
       for (const auto f : surface.mesh.faces()) {
         std::array<int, 3> t{};

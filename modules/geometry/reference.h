@@ -18,6 +18,9 @@
 namespace plaf {
 inline namespace geometry {
 
+// Its queries are called from several threads at once (through metric fields that measure
+// distances to it, on the quality stage's worker threads): an implementation keeps no mutable
+// state.
 template <int Dim>
 class ReferenceGeometry {
  public:

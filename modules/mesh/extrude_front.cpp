@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "modules/mesh/extrude_front.h"
 
+#include <array>
 #include <map>
-#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "modules/base/error.h"
 #include "modules/elements/lagrange.h"

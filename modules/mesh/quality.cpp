@@ -264,7 +264,6 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
   std::vector<std::unique_ptr<JacobianCertifier>> extra;  // workers 1.. (parallel.h)
   for (unsigned w = 1; w < worker_threads(); ++w) extra.push_back(std::make_unique<JacobianCertifier>(options.validity));
   r.scaled_jacobian_min = std::numeric_limits<double>::infinity();
-  std::vector<double> coords, grad;
   if (per_cell) *per_cell = CellQuality{};
 
   // 1. Cells: certified validity, scaled Jacobian and aspect ratio.
@@ -274,8 +273,6 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
   if (r.surface) assess_surface(mesh, certifier, r, per_cell);
   for (const CellBlock& b : mesh.cells) {
     const LagrangeElement& e = lagrange_element(b.type, b.order);
-    coords.resize(static_cast<std::size_t>(e.size()) * Dim);
-    grad.resize(static_cast<std::size_t>(e.size()) * Dim);
     r.cells_by_type[type_key(b)] += b.size();
     r.cells_total += b.size();
     // Certified on worker threads (modules/base/parallel.h), recorded in order.

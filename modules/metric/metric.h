@@ -69,7 +69,9 @@ Metric<Dim> intersect(const Metric<Dim>& a, const Metric<Dim>& b);
 enum class MetricMean { LogEuclidean, AffineInvariant };
 MetricMean parse_metric_mean(const std::string& name);  // "log_euclidean" | "affine_invariant"
 
-// A metric at every point of space.
+// A metric at every point of space. evaluate() is called from several threads at once (the
+// quality stage measures edges on worker threads, modules/base/parallel.h): an implementation
+// keeps no mutable state (no caches without their own locking).
 template <int Dim>
 class MetricField {
  public:

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -200,18 +201,43 @@ std::string runs_stamp() {
   return s.str();
 }
 
+// The lock file of the runs' folder, held for the life of the object (closed on every path out,
+// exceptions included; not inherited by the plaf children).
+class RunsLock {
+ public:
+  explicit RunsLock(const fs::path& file) : fd_(::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644)) {}
+  ~RunsLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  RunsLock(const RunsLock&) = delete;
+  RunsLock& operator=(const RunsLock&) = delete;
+  bool lock(int how) {
+    int rc;
+    do rc = ::flock(fd_, how);
+    while (rc != 0 && errno == EINTR);
+    return fd_ >= 0 && rc == 0;
+  }
+
+ private:
+  int fd_;
+};
+
 // Every configs/*.yaml, run once per build: each test case is its own process under ctest, so the
 // runs go to a fixed folder of the build tree (PLAF_CONFIG_RUNS) with a stamp of what they depend
-// on; a process finding the stamp current reads the results, else runs everything again. A lock
-// file keeps two test processes (ctest -j) from running them at once.
+// on (runs_stamp, and the version of the run command below); a process finding the stamp current
+// reads the results, else runs everything again. Only a set of runs without a crash (every exit
+// code below 128) is stamped, so a killed run is not kept. The lock is exclusive while the runs
+// are checked or made, then shared for the life of the process, so no other test process
+// replaces the outputs under a reader.
 struct ShippedRuns {
   std::vector<Run> runs;
+  RunsLock lock{[] {
+    fs::create_directories(PLAF_CONFIG_RUNS);
+    return fs::path(PLAF_CONFIG_RUNS) / "lock";
+  }()};
   ShippedRuns() {
     const fs::path dir = PLAF_CONFIG_RUNS;
-    fs::create_directories(dir);
-    const int lock = ::open((dir / "lock").c_str(), O_RDWR | O_CREAT, 0644);
-    REQUIRE(lock >= 0);
-    REQUIRE(::flock(lock, LOCK_EX) == 0);
+    REQUIRE(lock.lock(LOCK_EX));
     std::vector<fs::path> configs;
     for (const auto& e : fs::directory_iterator(PLAF_CONFIGS))
       if (e.path().extension() == ".yaml") configs.push_back(e.path());
@@ -220,7 +246,7 @@ struct ShippedRuns {
       const plaf::RunConfig rc = plaf::load_run_config(c);
       runs.push_back({c, dir / "out" / c.stem(), rc.name, rc.geometry.type == "airfoils", rc.dim, -1, ""});
     }
-    const std::string stamp = runs_stamp();
+    const std::string stamp = "run command v1: plaf run CONFIG --out DIR\n" + runs_stamp();
     const fs::path stamp_file = dir / "stamp";
     if (fs::exists(stamp_file) && read_text(stamp_file.string()) == stamp) {
       for (std::size_t i = 0; i < runs.size(); ++i) {
@@ -234,10 +260,10 @@ struct ShippedRuns {
       fs::remove_all(dir / "status");
       fs::create_directories(dir / "status");
       run_all(runs, dir / "status");
-      std::ofstream(stamp_file) << stamp;
+      const bool crashed = std::any_of(runs.begin(), runs.end(), [](const Run& r) { return r.code < 0 || r.code >= 128; });
+      if (!crashed) std::ofstream(stamp_file) << stamp;
     }
-    ::flock(lock, LOCK_UN);
-    ::close(lock);
+    REQUIRE(lock.lock(LOCK_SH));
   }
 };
 

@@ -30,6 +30,8 @@ struct Match {
   Vector2d worst_at = Vector2d::Zero();
   int linear_2d = 0, linear_3d = 0;
   std::size_t layers_2d = 0, layers_3d = 0;
+  double worst_back = 0;  // the same from the 3D mid-span nodes to the 2D ones
+  bool same_count = false;
   std::size_t compared = 0;
 };
 
@@ -49,6 +51,22 @@ Match grow_both(const CurvedFront<2>& section, const MetricField<2>& metric, lay
   for (NodeId id : r3.outer.triangles) {
     const Vector3d& x = r3.mesh.nodes[static_cast<std::size_t>(id)];
     if (std::abs(x.z() - 0.5 * span) <= 1e-12 * span) mid.push_back(x);
+  }
+  // Both ways: every mid-span 3D node is a 2D node too, and their numbers agree.
+  std::vector<Vector2d> flat;
+  for (const FrontLoop& l : r2.outer.loops)
+    for (NodeId id : l.elements) flat.push_back(r2.mesh.nodes[static_cast<std::size_t>(id)]);
+  std::sort(mid.begin(), mid.end(), [](const Vector3d& a, const Vector3d& b) { return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3); });
+  mid.erase(std::unique(mid.begin(), mid.end()), mid.end());
+  std::sort(flat.begin(), flat.end(), [](const Vector2d& a, const Vector2d& b) { return std::lexicographical_compare(a.data(), a.data() + 2, b.data(), b.data() + 2); });
+  flat.erase(std::unique(flat.begin(), flat.end()), flat.end());
+  m.same_count = mid.size() == flat.size();
+  for (const Vector3d& x3 : mid) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const Vector2d& x2 : flat) best = std::min(best, (x3.head<2>() - x2).norm());
+    double wall = std::numeric_limits<double>::infinity();
+    for (const Vector2d& w : section.nodes) wall = std::min(wall, (w - x3.head<2>()).norm());
+    m.worst_back = std::max(m.worst_back, best / wall);
   }
   for (const FrontLoop& l : r2.outer.loops)
     for (NodeId id : l.elements) {
@@ -96,6 +114,8 @@ TEST_CASE("extruded layers: an ellipse's wing grows the ellipse's layers at mid-
     CHECK(m.layers_2d == 30);
     CHECK(m.layers_3d == 30);
     CHECK(m.compared > 0);
+    CHECK(m.same_count);
+    CHECK(m.worst_back <= 1e-9);
     CHECK(m.worst_rel <= 1e-9);  // measured: 2e-14 (Q = 1), 3e-14 (Q = 2), 6e-13 (Q = 3)
     CHECK(m.linear_2d == m.linear_3d);
     CHECK(m.linear_2d == (q == 1 ? 1 : 10));  // a linear front grows linear tops
