@@ -277,6 +277,9 @@ void check_options(const FeatureOptions& o) {
     throw ConfigError("features: curve_turn_deg = " + std::to_string(o.curve_turn_deg) + " is not in (0, 180)");
   if (!in_range(o.corner_defect_deg, 0, 360))
     throw ConfigError("features: corner_defect_deg = " + std::to_string(o.corner_defect_deg) + " is not in (0, 360)");
+  // Kept edges carry no body curve: judged on a reference, their corners would be misread.
+  if (o.reference && o.keep_existing) throw ConfigError("features: reference and keep_existing exclude each other");
+  if (!(o.min_curve_length >= 0)) throw ConfigError("features: min_curve_length must not be negative");
 }
 
 // A corner without ridges (a cone point). A positive defect is positive Gaussian curvature: convex

@@ -48,7 +48,7 @@ struct FeatureOptions {
   // found only where the body has one, not where small triangles bend at a rounded edge; a
   // corner only where two feature curves meet (or a ridge meets the boundary), not where the
   // mesh's angles add up to a defect.
-  const ReferenceGeometry<3>* reference = nullptr;
+  const ReferenceGeometry<3>* reference = nullptr;  // (not with keep_existing: a ConfigError)
   // Ridge curves shorter than this are dropped (their edges smooth, the corners found again
   // without them): a cluster of tiny curves where a rounded trailing edge meets a rounded tip is
   // no feature a mesh of this scale can follow (0: keep every curve; not with keep_existing).

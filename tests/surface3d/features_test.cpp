@@ -380,6 +380,9 @@ TEST_CASE("features: bad options are rejected and an empty surface has no featur
   CHECK_THROWS_AS(detect_features(s, {.ridge_angle_deg = std::nan("")}), ConfigError);
   CHECK_THROWS_AS(detect_features(s, {.corner_defect_deg = 400}), ConfigError);
   CHECK_THROWS_AS(detect_features(s, {.curve_turn_deg = -1}), ConfigError);
+  CHECK_THROWS_AS(detect_features(s, {.min_curve_length = -1}), ConfigError);
+  const AnalyticBody box = make_box(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), 0.5);
+  CHECK_THROWS_AS(detect_features(s, {.keep_existing = true, .reference = box.reference.get()}), ConfigError);
   TriSurface empty = surface_from_soup(TriangleSoup{});
   const FeatureReport r = detect_features(empty, {});
   CHECK(r.curves == 0);
