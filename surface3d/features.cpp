@@ -458,7 +458,8 @@ void number_curves(TriSurface& s, const std::vector<VertexEdges>& around, const 
 
 // FeatureOptions::min_curve_length: ridge curves shorter than it lose their edges (Smooth), and
 // the vertices and curves are classified again without them.
-void drop_short_curves(TriSurface& s, const FeatureOptions& options, const std::vector<int>& body_curve) {
+// Returns the number of curves dropped.
+std::size_t drop_short_curves(TriSurface& s, const FeatureOptions& options, const std::vector<int>& body_curve) {
   TriMesh& m = s.mesh;
   std::map<int, double> length;
   std::set<int> has_boundary;
@@ -469,19 +470,20 @@ void drop_short_curves(TriSurface& s, const FeatureOptions& options, const std::
     length[c] += (m.point(m.to_vertex_handle(h)) - m.point(m.from_vertex_handle(h))).norm();
     if (m.property(s.edge_feature, e) == EdgeFeature::Boundary) has_boundary.insert(c);
   }
-  bool dropped = false;
+  std::set<int> dropped;
   for (const EdgeHandle e : m.edges()) {
     const int c = m.property(s.edge_curve, e);
     if (c >= 0 && !has_boundary.count(c) && length[c] < options.min_curve_length) {
       m.property(s.edge_feature, e) = EdgeFeature::Smooth;
-      dropped = true;
+      dropped.insert(c);
     }
   }
-  if (!dropped) return;
+  if (dropped.empty()) return 0;
   for (const EdgeHandle e : m.edges()) m.property(s.edge_curve, e) = -1;
   const std::vector<VertexEdges> around = feature_edges_around(s);
   const std::vector<char> corner = classify_vertices(s, options, around, body_curve);
   number_curves(s, around, corner, 0);
+  return dropped.size();
 }
 
 }  // namespace
@@ -496,8 +498,11 @@ FeatureReport detect_features(TriSurface& s, const FeatureOptions& options) {
   const std::vector<char> corner = classify_vertices(s, options, around, body_curve);
   // 3. Curves.
   number_curves(s, around, corner, next_curve);
-  if (options.min_curve_length > 0 && !options.keep_existing) drop_short_curves(s, options, body_curve);
-  return count_features(s);
+  const std::size_t dropped =
+      options.min_curve_length > 0 && !options.keep_existing ? drop_short_curves(s, options, body_curve) : 0;
+  FeatureReport r = count_features(s);
+  r.dropped_curves = dropped;
+  return r;
 }
 
 FeatureReport count_features(const TriSurface& s) {

@@ -59,6 +59,7 @@ struct FeatureReport {
   std::size_t ridges_convex = 0, ridges_concave = 0, boundary_edges = 0;  // edges
   std::size_t corners_convex = 0, corners_concave = 0, corners_saddle = 0, corners_boundary = 0;
   std::size_t curves = 0;
+  std::size_t dropped_curves = 0;  // detect_features: curves shorter than min_curve_length
 };
 
 FeatureReport detect_features(TriSurface& s, const FeatureOptions& options);

@@ -247,7 +247,11 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
     fo.min_curve_length = 0.5 * smallest_size(sp, s);
     const FeatureReport features = detect_features(s.surface, fo);
     s.reference = make_discrete_reference(s.surface);
-    rep.line("features (input, at the mesh's scale): " + feature_line(features));
+    rep.line("features (input, at the mesh's scale): " + feature_line(features) +
+             (features.dropped_curves ? ", " + std::to_string(features.dropped_curves) +
+                                            " curves shorter than half the smallest size dropped"
+                                      : std::string()));
+    rep.add("features.dropped_short_curves", features.dropped_curves);
   }
   rep.add_json("features.input", feature_json(count_features(s.surface)));
   TriSurface& surface = s.surface;

@@ -449,6 +449,8 @@ TEST_CASE("features: ridge curves shorter than min_curve_length are dropped, the
   o.min_curve_length = 0.05;
   const FeatureReport kept = detect_features(plate.initial, o);
   CHECK(kept.curves == 8);
+  CHECK(kept.dropped_curves == 4);
+  CHECK(every.dropped_curves == 0);
   CHECK(kept.ridges_convex == every.ridges_convex - 4);
   CHECK(kept.corners_convex == 8);  // the long edges turn by 90 degrees there
   check_consistent(plate.initial, kept);
