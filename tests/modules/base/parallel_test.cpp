@@ -9,6 +9,7 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace plaf {
@@ -40,8 +41,19 @@ TEST_CASE("parallel: chunks cover every index once, workers stay in range, error
     } catch (const std::runtime_error& e) {
       CHECK(std::string(e.what()) == "chunk 30");
     }
+  // PLAF_THREADS=1 runs everything on the caller's thread, as one chunk.
+  ::setenv("PLAF_THREADS", "1", 1);
+  const std::thread::id caller = std::this_thread::get_id();
+  int calls = 0;
+  parallel_chunks(10000, 16, [&](unsigned w, std::size_t b, std::size_t e) {
+    ++calls;
+    CHECK(w == 0);
+    CHECK(b == 0);
+    CHECK(e == 10000);
+    CHECK(std::this_thread::get_id() == caller);
+  });
+  CHECK(calls == 1);
   ::unsetenv("PLAF_THREADS");
-  CHECK(worker_threads() >= 1);
 }
 
 }  // namespace
