@@ -315,6 +315,7 @@ struct Dir {
   double stretch = 1;    // height factor (concave merges)
   bool concave = false;
   bool fan = false;      // a direction of a fan node: its top stays on the fan (no attenuation)
+  bool normal = false;   // a fan node's wedge direction or kite normal n_s (the fan's height is theirs)
 };
 
 // The pending build of one part.
@@ -507,6 +508,9 @@ class PartLayerBuilder {
     dirs_.push_back({base, in_plane(static_cast<std::size_t>(base), d.normalized()), stretch, concave, fan});
     return static_cast<int>(dirs_.size()) - 1;
   }
+  // A fan direction by its top per unit height (its direction and stretch), and back.
+  int add_unit_h(int base, const Vec& v) { return add_dir(base, v, v.norm(), false, true); }
+  Vec unit_h(int d) const { return dirs_[static_cast<std::size_t>(d)].stretch * dirs_[static_cast<std::size_t>(d)].d; }
 
   // 6. Fans at convex ridges and corners, on the first layer (Aubry & Loehner's ridge and corner
   // fans; the prism/tetrahedron variant). A wall edge is a fan edge when its two faces
@@ -516,12 +520,13 @@ class PartLayerBuilder {
   // merged normal, as a node on two planes or with two chains on a plane does: the fan would
   // have nowhere to close (the robust choice; Sec. II.E leaves ridges open).
   // At a fan node the faces around it form wedges (separated by fan edges), each growing along
-  // its own normal; between the two wedges of a fan edge an arc of k Q + 1 directions (k sectors
-  // of at most fan_angle_deg, the same k along the chain) gives in this layer one prism per
-  // sector and ridge edge (cross section: the node and two sector directions; extruded along the
-  // ridge) and a quadrilateral on the new front; at a corner, a patch of triangles from the
-  // corner's merged normal to every arc sector gives tetrahedra (node + patch triangle) and
-  // front triangles that grow as three tetrahedra in later layers. The quadrilaterals grow as
+  // its own normal; between the two wedges of a fan edge an arc of 2 k Q + 1 directions (k
+  // kites of at most fan_angle_deg, the same k along the chain; two straight kite edges each)
+  // gives in this layer two prisms per kite and ridge edge (cross sections: the node, P_s, X_s
+  // and the node, X_s, P_s+1; extruded along the ridge) and two quadrilaterals on the new front;
+  // at a corner, a flat patch of triangles from the corner's merged normal to every kite edge
+  // gives tetrahedra (node + patch triangle) and front triangles that grow as three tetrahedra
+  // in later layers. The quadrilaterals grow as
   // hexahedra split into two prisms along the ridge; their lattice runs i along the chain and j
   // across the arc from the right wedge to the left one (so i x j faces the domain), so the
   // split diagonals of neighbouring hexahedra coincide along a chain and, at a corner, give the
@@ -634,6 +639,7 @@ class PartLayerBuilder {
           }
           const NodeNormal nn = normal_at(static_cast<std::size_t>(v), fv, w, to_nb, corner_rad);
           wedge_dir[r] = add_dir(v, nn.n, nn.stretch, is_concave(nn.kind), true);
+          dirs_.back().normal = true;
         }
         for (std::size_t i = 0; i < around.size(); ++i) side_dir[key(v, around[i])] = wedge_dir[find(static_cast<int>(i))];
       }
@@ -656,10 +662,13 @@ class PartLayerBuilder {
         const Edge& E = edges.at(ab);
         const Vec u = (x_[static_cast<std::size_t>(ab.second)] - x_[static_cast<std::size_t>(ab.first)]).normalized();
         for (int v : {ab.first, ab.second}) {
-          const Vec axis = dirs_[static_cast<std::size_t>(side_dir.at(key(v, E.t[0])))].d.cross(
-              dirs_[static_cast<std::size_t>(side_dir.at(key(v, E.t[1])))].d);
-          // (|axis| is the sine of the fan's angle there: under 5 degrees its prisms are slivers.)
-          if (axis.norm() < std::sin(5 * M_PI / 180) || std::abs(axis.normalized().dot(u)) < 0.5) {
+          const Vec& d0 = dirs_[static_cast<std::size_t>(side_dir.at(key(v, E.t[0])))].d;
+          const Vec& d1 = dirs_[static_cast<std::size_t>(side_dir.at(key(v, E.t[1])))].d;
+          const Vec axis = d0.cross(d1);
+          // Under 5 degrees of opening its cells are slivers. (The angle, not |axis|: a thin
+          // trailing edge opens by 175 degrees, whose sine is that of 5.)
+          const double opening = std::atan2(axis.norm(), d0.dot(d1));
+          if (opening < 5 * M_PI / 180 || !(axis.norm() > 1e-9) || std::abs(axis.normalized().dot(u)) < 0.5) {
             twisted.push_back(ab);
             break;
           }
@@ -730,11 +739,33 @@ class PartLayerBuilder {
           const int dr = dir_of(l, fe.right), dl = dir_of(l, fe.left);
           const auto [it, added] = arc_of.emplace(std::make_pair(dr, dl), static_cast<int>(arcs_.size()));
           if (added) {
-            std::vector<int> arc(static_cast<std::size_t>(k * q_ + 1));
+            // The kites of Fig. 4 (the 2D fan, grow_layers_2d.cpp), k per node: normals n_s
+            // dividing the angle between the wedge directions equally, the kite of sector s
+            // (node, P_s, X_s, P_s+1) with P_s = x + h n_s and X_s where the perpendiculars to
+            // n_s at P_s and to n_s+1 at P_s+1 meet, h (n_s + n_s+1) / (1 + n_s . n_s+1). The
+            // arc runs P_0 X_0 P_1 ... P_k straight between them: 2 k Q + 1 directions, each
+            // with the stretch that puts its top on the kites' edges (heights per unit h).
+            std::vector<int> arc(static_cast<std::size_t>(2 * k * q_ + 1));
             arc.front() = dr;
             arc.back() = dl;
             const Vec d0 = dirs_[static_cast<std::size_t>(dr)].d, d1 = dirs_[static_cast<std::size_t>(dl)].d;
-            for (int m = 1; m < k * q_; ++m) arc[static_cast<std::size_t>(m)] = add_dir(l, slerp(d0, d1, static_cast<double>(m) / (k * q_)), 1, false, true);
+            std::vector<Vec> pts;  // P_0 X_0 P_1 ... P_k per unit height
+            for (int s = 0; s <= k; ++s) {
+              const Vec ns = slerp(d0, d1, static_cast<double>(s) / k);
+              if (s > 0) {
+                const Vec& np = pts.back();
+                pts.push_back((np + ns) / (1 + np.dot(ns)));
+              }
+              pts.push_back(ns);
+            }
+            pts.front() = unit_h(dr);
+            pts.back() = unit_h(dl);
+            for (int m = 1; m < 2 * k * q_; ++m) {
+              const std::size_t j = static_cast<std::size_t>(m / q_);
+              const double t = static_cast<double>(m % q_) / q_;
+              arc[static_cast<std::size_t>(m)] = add_unit_h(l, pts[j] + t * (pts[j + 1] - pts[j]));
+              if (m % (2 * q_) == 0) dirs_.back().normal = true;  // n_s
+            }
             arcs_.push_back(arc);
           }
           fe.arcs.push_back(it->second);
@@ -759,12 +790,13 @@ class PartLayerBuilder {
       corner_node_.insert(v);
       const int around0 = p.node_face[static_cast<std::size_t>(p.node_face_start[static_cast<std::size_t>(v)])];
       const int centre = add_dir(v, nn_[static_cast<std::size_t>(v)].n, 1, false, true);
+      dirs_.back().normal = true;
       std::map<int, std::vector<int>> centre_edge;  // boundary direction -> the Q - 1 directions toward it
       auto towards = [&](int d, int m) {
         auto [it, added] = centre_edge.emplace(d, std::vector<int>());
         if (added)
           for (int j = 1; j < q_; ++j)
-            it->second.push_back(add_dir(v, (q_ - j) * dirs_[static_cast<std::size_t>(centre)].d + j * dirs_[static_cast<std::size_t>(d)].d, 1, false, true));
+            it->second.push_back(add_unit_h(v, ((q_ - j) * unit_h(centre) + j * unit_h(d)) / q_));
         return it->second[static_cast<std::size_t>(m - 1)];
       };
       for (const FanEdge& fe : fan_edges_) {
@@ -773,11 +805,9 @@ class PartLayerBuilder {
         if (fe.nodes.back() == v) end = q_;
         if (end < 0) continue;
         const std::vector<int>& arc = arcs_[static_cast<std::size_t>(fe.arcs[static_cast<std::size_t>(end)])];
-        for (int s = 0; s < fe.k; ++s) {
+        for (int s = 0; s < 2 * fe.k; ++s) {
           const int a = arc[static_cast<std::size_t>(s * q_)], b = arc[static_cast<std::size_t>((s + 1) * q_)];
-          const Vec& dc = dirs_[static_cast<std::size_t>(centre)].d;
-          const Vec& da = dirs_[static_cast<std::size_t>(a)].d;
-          const Vec& db = dirs_[static_cast<std::size_t>(b)].d;
+          const Vec dc = unit_h(centre), da = unit_h(a), db = unit_h(b);
           const bool ab = (da - dc).cross(db - dc).dot(dc) > 0;  // (centre, a, b) counter-clockwise from outside
           for (const Lattice& lat : te.lattice()) {
             const int w1 = lat[0], w2 = lat[1], w0 = q_ - w1 - w2;
@@ -787,7 +817,7 @@ class PartLayerBuilder {
             else if (w0 == 0) d = arc[static_cast<std::size_t>(s * q_ + wb)];
             else if (wa == 0) d = towards(b, wb);
             else if (wb == 0) d = towards(a, wa);
-            else d = add_dir(v, w0 * dc + wa * da + wb * db, 1, false, true);
+            else d = add_unit_h(v, (w0 * dc + wa * da + wb * db) / q_);
             nw->tri.push_back(d);
           }
           nw->tri_tag.push_back(p.tri_tag[static_cast<std::size_t>(around0)]);
@@ -800,7 +830,7 @@ class PartLayerBuilder {
     // The ridges' quadrilaterals.
     const LagrangeElement& qe = lagrange_element(CellType::Quadrilateral, q_);
     for (const FanEdge& fe : fan_edges_)
-      for (int s = 0; s < fe.k; ++s) {
+      for (int s = 0; s < 2 * fe.k; ++s) {
         for (const Lattice& lat : qe.lattice())
           nw->quad.push_back(arcs_[static_cast<std::size_t>(fe.arcs[static_cast<std::size_t>(lat[0])])][static_cast<std::size_t>(s * q_ + lat[1])]);
         nw->quad_tag.push_back(p.tri_tag[static_cast<std::size_t>(fe.left)]);
@@ -813,7 +843,7 @@ class PartLayerBuilder {
     nw->rim = p.rim;
     std::size_t qf = nw->nt();
     for (const FanEdge& fe : fan_edges_)
-      for (int s = 0; s < fe.k; ++s, ++qf)
+      for (int s = 0; s < 2 * fe.k; ++s, ++qf)
         for (int end = 0; end < 2; ++end)
           if (fe.plane[end] >= 0) nw->rim.push_back({static_cast<int>(qf), end, fe.plane[end]});
     finish_part(*nw, q_);
@@ -879,8 +909,11 @@ class PartLayerBuilder {
     const std::size_t n = part_.size();
     const Part& nw = next();
     h_.resize(n);
-    // The metric's height at the vertices (at a fan node the smallest over its directions: the
-    // wall's normal size, whichever face the metric measures from); a high-order node takes the
+    // The metric's height at the vertices (at a fan node the smallest over its normals -- wedge
+    // directions, kite normals n_s, a corner's centre -- not over the kites' X_s: the wall's
+    // normal size, whichever direction the metric takes for the normal on the ridge itself, one
+    // face's or the bisector as a wing's trailing edge reports; over the sides alone a bisector
+    // gives h0 / cos 87 degrees = 20 h0); a high-order node takes the
     // interpolation of its face's vertex heights (the attenuation's recipe; high_order_heights:
     // own gives it its own, as 2D does by default, except on fan edges). Its own metric height
     // would feed back: a node the attenuation pulled toward the chord lies nearer the wall, gets a
@@ -892,7 +925,8 @@ class PartLayerBuilder {
     if (fanned_)
       for (const Dir& r : dirs_) {
         const std::size_t l = static_cast<std::size_t>(r.base);
-        if (part_.is_vertex[l] && fan_node_[l]) h_[l] = std::min(h_[l], layer_height<3>(metric_, x_[l], r.d, p_.integrate_height));
+        if (part_.is_vertex[l] && fan_node_[l] && r.normal)
+          h_[l] = std::min(h_[l], layer_height<3>(metric_, x_[l], r.d, p_.integrate_height));
       }
     const bool own = p_.high_order_heights == HighOrderHeights::Own;
     for (std::size_t l = 0; l < n; ++l)
@@ -936,14 +970,14 @@ class PartLayerBuilder {
         linear += part_.tw[l][static_cast<std::size_t>(k)] * x_[v];
         size = std::max(size, (x_[v] - x_[l]).norm());
       }
-      if (straight[d] || (x_[l] - linear).norm() <= 1e-12 * size) {
+      if (straight[d] || (x_[l] - linear).norm() <= kStraightTolerance * size) {
         top_[d] = target;
         continue;
       }
       clipped_max = std::max(clipped_max, attenuate<3>(&top_[d], &target, &dh_[d], 1, f_atten_));
     }
     out_.built.max_clipped_rel = clipped_max;
-    out_.built.linear = clipped_max == 0 && !fanned_;
+    out_.built.linear = clipped_max == 0;
   }
 
   // Node `level` (0..Q) of direction d's column; the inner ones are made when a cell first asks
@@ -959,22 +993,17 @@ class PartLayerBuilder {
     return id;
   }
 
-  // A node of the first layer's fan cells off the columns: sum of w_k (k over directions of one
-  // base node, sum w = level < Q) at level/Q of the interpolated column length along the
-  // normalised weighted direction; one node per weight set, shared by every cell that has it.
+  // A node of the first layer's fan cells off the columns: x + sum_k (w_k / Q) (top_k - x) (k
+  // over directions of one base node x, sum w = level < Q), the fans' cells being straight-sided
+  // (kites and flat corner patches); one node per weight set, shared by every cell that has it.
   NodeId fan_point(std::vector<std::pair<int, int>> weights) {
     std::sort(weights.begin(), weights.end());
     const auto it = fan_points_.find(weights);
     if (it != fan_points_.end()) return it->second;
     const std::size_t base = static_cast<std::size_t>(dirs_[static_cast<std::size_t>(weights[0].first)].base);
-    Vec d = Vec::Zero();
-    double len = 0, level = 0;
-    for (const auto& [dir, w] : weights) {
-      d += w * dirs_[static_cast<std::size_t>(dir)].d;
-      len += w * (top_[static_cast<std::size_t>(dir)] - x_[base]).norm();
-      level += w;
-    }
-    mesh_.nodes.push_back(x_[base] + (level / q_) * (len / level) * d.normalized());
+    Vec x = x_[base];
+    for (const auto& [dir, w] : weights) x += (static_cast<double>(w) / q_) * (top_[static_cast<std::size_t>(dir)] - x_[base]);
+    mesh_.nodes.push_back(x);
     const NodeId id = static_cast<NodeId>(mesh_.nodes.size() - 1);
     fan_points_.emplace(weights, id);
     return id;
@@ -989,7 +1018,8 @@ class PartLayerBuilder {
     col_.assign(nd * q, -1);
     out_.keep.assign(nd, Vec::Zero());
     for (std::size_t d = 0; d < nd; ++d)
-      if (fanned_ ? dirs_[d].fan : part_.keep[d].squaredNorm() > 0) out_.keep[d] = dirs_[d].d;
+      if (fanned_ ? dirs_[d].fan && corner_node_.count(dirs_[d].base) : part_.keep[d].squaredNorm() > 0)
+        out_.keep[d] = dirs_[d].d;
     out_.top.resize(nd);
     for (std::size_t d = 0; d < nd; ++d) out_.top[d] = at(static_cast<int>(d), q_);
     const Part& nw = next();
@@ -1071,15 +1101,15 @@ class PartLayerBuilder {
     }
   }
 
-  // The first layer's ridge fan prisms (cross section: the edge node, sector direction s + 1,
-  // sector direction s; extruded along the chain) and corner tetrahedra (corner node + patch
+  // The first layer's ridge fan prisms (cross section: the edge node and the ends of kite edge s
+  // of the arc, s + 1's first; extruded along the chain) and corner tetrahedra (corner node + patch
   // triangle), and their symmetry triangles at chain ends on a plane.
   void fan_cells() {
     const LagrangeElement& te = lagrange_element(CellType::Triangle, q_);
     const LagrangeElement& pe = lagrange_element(CellType::Prism, q_);
     const LagrangeElement& tet = lagrange_element(CellType::Tetrahedron, q_);
     for (const FanEdge& fe : fan_edges_)
-      for (int s = 0; s < fe.k; ++s) {
+      for (int s = 0; s < 2 * fe.k; ++s) {
         auto node = [&](int a, int b, int c) {
           const std::vector<int>& arc = arcs_[static_cast<std::size_t>(fe.arcs[static_cast<std::size_t>(c)])];
           const int d0 = arc[static_cast<std::size_t>(s * q_)], d1 = arc[static_cast<std::size_t>((s + 1) * q_)];

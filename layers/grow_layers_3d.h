@@ -30,14 +30,22 @@
 //     fan edge whose fan opens by under 5 degrees at an end or does not turn about it, its arc's
 //     axis more than 60 degrees off the edge, as where a trailing edge meets a tip). Each wedge
 //     of faces between fan edges grows along its own normal; between the two wedges of a fan edge
-//     an arc of k sectors (at most fan_angle_deg each, one k per chain) gives one prism per
-//     sector and edge (cross section: the node and two sector directions, extruded along the
-//     ridge) whose top is a front quadrilateral, grown in later layers as a hexahedron split into
-//     two prisms along the ridge; at a corner a patch of triangles from the corner's merged
-//     normal to every arc sector gives tetrahedra, and its triangles grow as three tetrahedra in
-//     the rank order that matches the ridges' split diagonals. A fan's column keeps its
-//     direction (radial from its ridge or corner) while every face around sees it within 80
-//     degrees. Fan heights: the smallest metric height over the node's directions.
+//     k sectors (at most fan_angle_deg each, one k per chain) are the 2D fan's kites (Fig. 4,
+//     grow_layers_2d.h): normals n_s dividing the angle equally, the kite (node, P_s, X_s,
+//     P_s+1) with P_s one height along n_s and X_s where the perpendiculars at P_s and P_s+1
+//     meet; extruded along the ridge each kite is split along node-X_s into two prisms, and its
+//     outer edges P_s X_s, X_s P_s+1 become two front quadrilaterals, grown in later layers as
+//     hexahedra split into two prisms along the ridge. So the cross section of a ridge fan is the
+//     2D fan, and an extruded section grows the 2D layers at mid-span
+//     (tests/layers/extrusion_match_test.cpp). At a corner a flat patch of triangles from the
+//     corner's merged normal to every kite edge of its arcs gives tetrahedra (node + patch
+//     triangle), and its triangles grow as three tetrahedra in the rank order that matches the
+//     ridges' split diagonals. Every fan cell is straight-sided. A corner's columns keep their
+//     direction (radial from the corner) while every face around sees it within 80 degrees;
+//     a ridge fan's nodes take the faces' average afterwards, as 2D's do. Fan heights: the
+//     smallest metric height over the node's normals (wedge directions, kite normals, a
+//     corner's centre; 2D takes the two sides, the same where the metric's normal at the ridge
+//     is one side's).
 // Not yet: isotropic_stop: node (stopped nodes would need pyramids or tetrahedra; the plugin
 // refuses it in 3D).
 #pragma once

@@ -34,14 +34,15 @@ WallPowerLawField3::Sizes WallPowerLawField3::sizes(const Eigen::Vector3d& x) co
   s.distance = offset.norm();
   s.normal_direction = wall_normal;
   const double scale = wall_->scale();
-  // Out of the body: the offset within 120 degrees of the reported normal. At a convex ridge or
-  // corner the closest point's normal is one face's, and a point in the fan (the ridge's normal
-  // cone) may lie at up to the dihedral deviation from it: along the other face's normal exactly
-  // (offset . n = 0) on a box's edge. Inside points have offset . n = -d. A sharper wedge than
-  // 60 degrees (a deviation over 120) falls back to the reported normal beyond it.
-  if (s.distance > kOnWallRel * scale && offset.dot(wall_normal) > -0.5 * s.distance) {
+  // The metric depends on the normal's line only (n n^T), so the offset's direction serves
+  // outside the body (the closest point's normal cone: one face's normal on a face, anything
+  // between the faces' normals behind a ridge or corner, up to 175 degrees from the reported
+  // normal behind a thin trailing edge) and inside it alike (-n under a face). Only where the
+  // offset is within the closest point's accuracy of the normal's line is the normal used.
+  if (s.distance > kOnWallRel * scale) {
     const Eigen::Vector3d u = offset / s.distance;
-    if ((u - wall_normal).norm() > kClosestPointRel * scale / s.distance) s.normal_direction = u;
+    const double tol = kClosestPointRel * scale / s.distance;
+    if ((u - wall_normal).norm() > tol && (u + wall_normal).norm() > tol) s.normal_direction = u;
   }
   // 2. Sizes, as in 2D (wall_metric.h).
   s.normal = normal_size(s.distance);

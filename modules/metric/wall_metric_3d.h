@@ -5,14 +5,15 @@
 // file.
 //
 // Distance and normal. d = |x - p| with p = project(x), the closest wall point. The normal
-// direction is the direction from p to x: the reference's normal at a smooth closest point, and
-// across an edge's or a corner's fan (a box's edges, a wing's trailing edge) the direction from
-// the edge or corner, as the 2D field does at corners. Where that direction is undefined or does
-// not point out of the body — x within 1e-9 x the reference's scale of the wall, or x inside
-// the body (x - p more than 120 degrees from the reference's normal at p; on the edge of a
-// ridge's normal cone it is 90) — it is the reference's normal at p. (The closest point is trusted to 1e-12 of the
-// reference's scale: a direction from p that differs from the reference's normal by less than
-// that over d is the normal, rounded, and the normal is used.)
+// direction is the direction from p to x: the reference's normal (or its opposite, inside the
+// body) at a smooth closest point, and across an edge's or a corner's fan (a box's edges, a
+// wing's trailing edge, however thin) the direction from the edge or corner, as the 2D field
+// does at corners. Only the normal's line matters to the metric, so no inside/outside test is
+// needed (an earlier one, the offset within 120 degrees of the reference's normal at p, took the
+// far side of a thin trailing edge's fan for the inside and gave its layers the size along the
+// wall). Where the direction is undefined -- x within 1e-9 x the reference's scale of the wall --
+// or within the closest point's accuracy (1e-12 of the reference's scale over d) of the normal's
+// line, it is the reference's normal at p.
 // Normal size: h_perp(d) = wall_normal_size(params, d) (wall_metric.h): h0 + (g - 1) d, so that
 // layer k is h0 g^k thick, or h0 g^(d/delta); capped at h_max.
 // Tangential size: both directions along the wall get wall_tangential_size(params, h_wall_max,

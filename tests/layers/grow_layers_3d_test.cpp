@@ -620,8 +620,10 @@ TEST_CASE("layers 3D: a cube's fans give right-angled cells around every ridge a
     const CellBlock& prisms = r.mesh.cells[0];
     const CellBlock& tets = r.mesh.cells[1];
     const std::size_t walls = 12 * n * n;
-    REQUIRE(prisms.size() == walls + 24 * n);
-    REQUIRE(tets.size() == 8 * 6);  // per corner: 3 arcs x 2 sectors, one tetrahedron each
+    // A sector is a kite (ridge node C, P_s, X_s, P_s+1; Fig. 4), extruded along the ridge and
+    // split along C X_s into two prisms.
+    REQUIRE(prisms.size() == walls + 2 * 24 * n);
+    REQUIRE(tets.size() == 8 * 12);  // per corner: 3 arcs x 2 sectors x 2 kite halves
     auto x = [&](const CellBlock& b, std::size_t c, int k) { return r.mesh.nodes[static_cast<std::size_t>(b.cell(c)[k])]; };
     // Wall prisms: every column along its face's normal, h high, at the ridges and corners too.
     double worst_column = 0;
@@ -633,8 +635,11 @@ TEST_CASE("layers 3D: a cube's fans give right-angled cells around every ridge a
         CHECK(col.norm() == doctest::Approx(h).epsilon(1e-12));
       }
     }
-    // Fan prisms: both radial edges at right angles to the ridge, 45 degrees apart.
-    double worst_ridge = 0, widest = 0, narrowest = 180;
+    // Fan prisms (C, then a P_s and an X_s in either order): both radial edges at right angles
+    // to the ridge, 22.5 degrees apart, C P_s = h, C X_s = h / cos 22.5 degrees, and the kite's
+    // right angle at P_s.
+    const double half = 22.5 * M_PI / 180;
+    double worst_ridge = 0, widest = 0, narrowest = 180, worst_length = 0, worst_right = 0;
     for (std::size_t c = walls; c < prisms.size(); ++c) {
       const Vector3d ridge = (x(prisms, c, 3) - x(prisms, c, 0)).normalized();
       const Vector3d r1 = x(prisms, c, 1) - x(prisms, c, 0), r2 = x(prisms, c, 2) - x(prisms, c, 0);
@@ -642,23 +647,31 @@ TEST_CASE("layers 3D: a cube's fans give right-angled cells around every ridge a
       const double sector = std::acos(r1.normalized().dot(r2.normalized())) * 180 / M_PI;
       widest = std::max(widest, sector);
       narrowest = std::min(narrowest, sector);
+      const Vector3d& ps = r1.norm() < r2.norm() ? r1 : r2;
+      const Vector3d& xs = r1.norm() < r2.norm() ? r2 : r1;
+      worst_length = std::max({worst_length, std::abs(ps.norm() - h), std::abs(xs.norm() - h / std::cos(half))});
+      worst_right = std::max(worst_right, std::abs(ps.normalized().dot((xs - ps).normalized())));
     }
-    // Corner tetrahedra: every radial edge inside the corner's octant (its normal cone), h long.
+    // Corner tetrahedra: every radial edge inside the corner's octant (its normal cone), h long
+    // to the corner's centre and the P_s, h / cos 22.5 degrees to the X_s.
     double outside = 0;
     for (std::size_t c = 0; c < tets.size(); ++c) {
       const Vector3d corner = x(tets, c, 0);
       for (int k = 1; k < 4; ++k) {
         const Vector3d e = x(tets, c, k) - corner;
-        CHECK(e.norm() == doctest::Approx(h).epsilon(1e-12));
+        worst_length = std::max(worst_length, std::min(std::abs(e.norm() - h), std::abs(e.norm() - h / std::cos(half))));
         for (int d = 0; d < 3; ++d) outside = std::max(outside, -(corner[d] > 0.5 ? 1 : -1) * e[d]);
       }
     }
     MESSAGE("Q" << q << ": wall columns off their face normal by " << worst_column << " rad; fan radial edges |cos| to the ridge "
-                << worst_ridge << ", widest sector " << widest << " deg; corner edges outside the octant by " << outside);
+                << worst_ridge << ", widest half sector " << widest << " deg; kite right angles off by |cos| " << worst_right
+                << "; corner edges outside the octant by " << outside);
     CHECK(worst_column < 1e-9);
     CHECK(worst_ridge < 1e-9);
-    CHECK(widest == doctest::Approx(45).epsilon(1e-9));
-    CHECK(narrowest == doctest::Approx(45).epsilon(1e-9));
+    CHECK(widest == doctest::Approx(22.5).epsilon(1e-9));
+    CHECK(narrowest == doctest::Approx(22.5).epsilon(1e-9));
+    CHECK(worst_length < 1e-12 * (1 + h));
+    CHECK(worst_right < 1e-9);
     CHECK(outside < 1e-15);
     // Every cell certified; the only open facets are the outer front's.
     JacobianCertifier cert;
@@ -739,9 +752,10 @@ TEST_CASE("layers 3D: fans whose ridges end on a symmetry plane close on it") {
     }
     CHECK(off == 0);
     // Per layer: 4 n wall edges on the rim give quadrilaterals; the 4 vertical ridges end there
-    // with 2 sectors each: 2 fan triangles in the first layer, 2 x 2 split triangles later.
+    // with 2 sectors each, two kite halves per sector: 4 fan triangles in the first layer, then
+    // 4 quadrilaterals' hexahedra split in 2 triangles each.
     CHECK(sym_quads == 3 * 4 * n);
-    CHECK(sym_tris == 4 * 2 + 2 * 4 * 2 * 2);
+    CHECK(sym_tris == 4 * 4 + 2 * 4 * 4 * 2);
     const ConformityReport cr = check_conformity<3>(r.mesh);
     CHECK(cr.node_mismatches == 0);
     CHECK(cr.overshared_facets == 0);

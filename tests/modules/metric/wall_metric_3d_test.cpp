@@ -184,3 +184,36 @@ TEST_CASE("wall metric 3D: the body and every length scaled by 1e-8 .. 1e8 give 
 TEST_CASE("wall metric 3D: no wall is an error") {
   CHECK_THROWS_AS(WallPowerLawField3(nullptr, params()), MesherError);
 }
+
+TEST_CASE("wall metric 3D: behind a thin trailing edge the normal is the direction from the edge, across its whole fan") {
+  // The E387's trailing edge turns by 175 degrees: the fan behind it reaches from the upper
+  // side's normal to the lower side's, and the reference reports one side's normal at the edge.
+  WingParams wp;
+  wp.file = PLAF_DATA "/airfoils/e387.dat";
+  wp.root = WingEnd::Symmetry;
+  wp.tip = WingEnd::Symmetry;
+  wp.span = 0.2;
+  wp.corner_angle_deg = 70;
+  const std::shared_ptr<const ReferenceGeometry<3>> wing = make_wing(wp, 0.05).reference;
+  const WallPowerLawField3 f(wing, params());
+  Vector3d n_edge;
+  const Vector3d te = wing->project(Vector3d(1.5, 0, 0.1), n_edge);
+  REQUIRE(te.x() == doctest::Approx(1.0).epsilon(1e-6));
+  // Directions in the section plane from the upper side's normal (a little beyond the
+  // perpendicular to the chord) round the back to the lower side's.
+  int checked = 0;
+  for (int k = 0; k <= 16; ++k) {
+    const double phi = (85.0 - 170.0 * k / 16) * M_PI / 180;
+    const Vector3d u(std::cos(phi), std::sin(phi), 0);
+    for (double d : {1e-4, 0.01, 0.1}) {
+      const Vector3d x = te + d * u;
+      if ((wing->project(x) - te).norm() > 1e-9) continue;  // closest to a side, not the edge
+      INFO("phi " << phi * 180 / M_PI << " deg, d " << d);
+      const WallPowerLawField3::Sizes s = f.sizes(x);
+      CHECK(std::abs(s.normal_direction.dot(u)) == doctest::Approx(1.0).epsilon(1e-9));
+      check_metric(f.evaluate(x), u, law(d), law_tangential(d));
+      ++checked;
+    }
+  }
+  CHECK(checked >= 40);
+}
