@@ -63,7 +63,8 @@ void assemble(RunState<2>& s, StageReport& rep) {
 void assemble(RunState<3>& s, StageReport&) {
   if (s.layers) {
     // The layer mesh moves into the run's mesh (the layer table needs only its stats after).
-    s.mesh = assemble_hybrid_3d(std::move(s.layers->mesh), s.layers->outer);
+    s.mesh = s.fill ? assemble_hybrid_3d(std::move(s.layers->mesh), s.layers->outer, *s.fill)
+                    : assemble_hybrid_3d(std::move(s.layers->mesh), s.layers->outer);
     return;
   }
   if (!s.mesh_done) throw MesherError("assembly: the surface stage gave no mesh");

@@ -4,6 +4,24 @@
 //                           bodies without layers) and the farfield, with linear cells
 //     type: advancing_front 2D: the metric advancing front (advancing_front_2d.h)   default type
 //     max_triangles: <n>    give up (an error) beyond this many triangles   default: 20000000
+//     type: tetgen          3D: TetGen's tetrahedra between the layers' linear outer front and a
+//                           farfield (tetgen_fill.h, farfield3d.h), the default 3D type; needs a
+//                           layers section (whose front it closes linear); the layers' insides
+//                           are holes (a point inside a prism under each connected outer front)
+//     max_radius_edge: <0 or >= 1.1>  TetGen's quality bound q (0: off)           default: 1.5
+//     max_volume: <>= 0>    TetGen's volume bound a (0: none)                        default: 0
+//     farfield:
+//       shape: sphere | box                                                          default: sphere
+//       radius: <>= 0>      sphere (0: 10 x the layers' bounding-box diagonal)       default: 0
+//       size: [a, b, c]     box edge lengths (0: 20 x that diagonal)                 default: [0, 0, 0]
+//       center: [x, y, z]   default: the layers' bounding-box centre
+//       h: <>= 0>           farfield triangle size (0: the metric's largest size
+//                           there, at most a quarter of the radius or half size)     default: 0
+//     Sizes: TetGen's m with, at each front node, the mean length of its front edges and, at
+//     the farfield, h; TetGen grades between them. Tagged `farfield` (kind farfield); the
+//     layers' outer front becomes interior (its order-Q nodes shared by the tetrahedra,
+//     assemble_hybrid_3d). Not yet: ridge fans' quadrilaterals on the outer front (an error
+//     naming them), symmetry planes.
 #pragma once
 
 namespace plaf::volume {

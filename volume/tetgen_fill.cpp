@@ -284,7 +284,8 @@ PlcNumbering number_used_nodes(const LinearFront<3>& front) {
 // The piecewise linear complex: the used nodes, one facet per triangle with its tag + 1 as marker,
 // and the hole points. tetgenio owns and delete[]s every list below, hence the bare new[] (tetgen.h
 // deinitialize); it comes back behind a pointer because its implicit copy is shallow.
-std::unique_ptr<tetgenio> build_plc(const LinearFront<3>& front, const PlcNumbering& ids) {
+std::unique_ptr<tetgenio> build_plc(const LinearFront<3>& front, const PlcNumbering& ids,
+                                    const std::vector<double>& node_sizes) {
   const int n_used = static_cast<int>(ids.front_id.size());
   const std::size_t n_tri = front.triangles.size();
   auto in = std::make_unique<tetgenio>();
@@ -293,6 +294,11 @@ std::unique_ptr<tetgenio> build_plc(const LinearFront<3>& front, const PlcNumber
   in->pointlist = new REAL[3 * static_cast<std::size_t>(n_used)];
   for (int i = 0; i < n_used; ++i)
     for (int d = 0; d < 3; ++d) in->pointlist[3 * i + d] = front.nodes[ids.front_id[i]][d];
+  if (!node_sizes.empty()) {
+    in->numberofpointmtrs = 1;
+    in->pointmtrlist = new REAL[static_cast<std::size_t>(n_used)];
+    for (int i = 0; i < n_used; ++i) in->pointmtrlist[i] = node_sizes[static_cast<std::size_t>(ids.front_id[i])];
+  }
   in->facetlist = new tetgenio::facet[n_tri];
   for (std::size_t f = 0; f < n_tri; ++f) tetgenio::init(&in->facetlist[f]);
   in->numberoffacets = static_cast<int>(n_tri);
@@ -323,6 +329,7 @@ std::string tetgen_switches(const TetFillParams& params) {
   sw << "pYQzJ";
   if (params.max_radius_edge > 0) sw << 'q' << params.max_radius_edge;
   if (params.max_volume > 0) sw << 'a' << params.max_volume;
+  if (!params.node_sizes.empty()) sw << 'm';
   return sw.str();
 }
 
@@ -472,11 +479,20 @@ TetFillStats measure_fill(const TetFillResult& fill, std::size_t n_front) {
 TetFillResult tetgen_fill(const LinearFront<3>& front, const TetFillParams& params) {
   // 1. The front, checked at entry; its triangles by sorted face, for step 5.
   const FaceIndex front_faces = check_front(front);
+  if (!params.node_sizes.empty()) {
+    if (params.node_sizes.size() != front.nodes.size())
+      throw InputError("tetgen fill: " + std::to_string(params.node_sizes.size()) + " node sizes for " +
+                       std::to_string(front.nodes.size()) + " front nodes");
+    for (const std::array<NodeId, 3>& t : front.triangles)
+      for (NodeId v : t)
+        if (!(params.node_sizes[static_cast<std::size_t>(v)] > 0) || !std::isfinite(params.node_sizes[static_cast<std::size_t>(v)]))
+          throw InputError("tetgen fill: the size at front node " + std::to_string(v) + " is not a positive number");
+  }
 
   // 2. The piecewise linear complex: the points the triangles use, one facet per triangle with its
   //    tag + 1 as marker, and the hole points.
   const PlcNumbering ids = number_used_nodes(front);
-  const std::unique_ptr<tetgenio> plc = build_plc(front, ids);
+  const std::unique_ptr<tetgenio> plc = build_plc(front, ids, params.node_sizes);
 
   // 3. Tetrahedralize, in a child process.
   TetFillResult result;

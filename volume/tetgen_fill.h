@@ -36,6 +36,10 @@ namespace plaf::volume {
 struct TetFillParams {
   double max_radius_edge = 1.5;  // quality bound (switch q): circumradius / shortest edge; 0 disables refinement
   double max_volume = 0;         // volume bound (switch a), in the front's length unit cubed; 0: none
+  // Edge length wanted at each front node (one per front.nodes entry, the unused ones ignored;
+  // switch m): TetGen refines until its tets' edges are under the sizes it interpolates from
+  // these over its first tetrahedralisation. Empty: no sizing (the front's sizes grade alone).
+  std::vector<double> node_sizes;
 };
 
 // Measured on the returned tets, not taken from TetGen's log.
@@ -56,7 +60,8 @@ struct TetFillResult : FillResult<3> {
 // Fills the region bounded by `front` (linear_front.h: closed, non-crossing surfaces, normals into
 // the region, one hole point inside every body). Throws InputError at entry for a node id out of
 // range, a triangle repeating a node, fewer than 4 triangles, a non-finite coordinate or hole
-// point, a triangle_tag out of range of tags, or a triangle listed twice; MesherError (with
+// point, a triangle_tag out of range of tags, a triangle listed twice, or node_sizes of the wrong
+// count or not positive at a used node; MesherError (with
 // TetGen's code or signal, its switches and its last printed lines) if TetGen fails or a front triangle is a face of no tet; InputError
 // if one is a face of two tets or of one tet behind it (the contract above).
 TetFillResult tetgen_fill(const LinearFront<3>& front, const TetFillParams& params = {});

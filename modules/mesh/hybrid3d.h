@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: MIT
 // Assembly of the 3D hybrid mesh (PLAF Sec. II.E): the layer mesh (curved prisms, the wall
 // triangles, the symmetry quadrilaterals) and, without a fill, its outer front as the boundary
-// tagged `layers_outer`. The TetGen fill joins here next (issue 15).
+// tagged `layers_outer`; with a fill (the TetGen tetrahedra, issue 15), the fill's tetrahedra at
+// the layers' order instead, straight-sided, on the outer front's own nodes there (its high-order
+// nodes are the prisms' top nodes), and the fill's boundary facets (the farfield) at that order.
 #pragma once
 
 #include "modules/mesh/hybrid_mesh.h"
 #include "modules/mesh/layer_mesh.h"
+#include "modules/mesh/linear_front.h"
 
 namespace plaf {
 inline namespace mesh {
@@ -14,6 +17,13 @@ inline namespace mesh {
 // node of the run) plus the outer front's triangles (order Q) in a boundary block tagged
 // `layers_outer` (kind Named).
 HybridMesh<3> assemble_hybrid_3d(HybridMesh<3> layer_mesh, const CurvedFront<3>& outer);
+
+// The layer mesh and a fill of its outer front (FillResult's contract, linear_front.h: the layer
+// mesh's nodes first). Every node of an order-Q tetrahedron or boundary triangle is identified by
+// its weights on the linear vertices, so edges and faces are shared with each other and with the
+// outer front's triangles (whose nodes are taken as they are). Throws MesherError when the fill
+// breaks the node contract or the outer front holds quadrilaterals (a linear fill meets triangles).
+HybridMesh<3> assemble_hybrid_3d(HybridMesh<3> layer_mesh, const CurvedFront<3>& outer, const FillResult<3>& fill);
 
 }  // namespace mesh
 }  // namespace plaf

@@ -58,10 +58,15 @@ struct LinearFront<3> {
 
 // What a fill returns (the contract above): front.nodes first, same ids, then the new nodes; its
 // linear simplices (2D counter-clockwise triangles, 3D tetrahedra of positive volume).
+// A fill may also close the domain with boundary facets of its own (3D: the farfield surface the
+// TetGen plugin adds): linear, on `nodes`, each with a tag of its own `tags` (2D: none).
 template <int Dim>
 struct FillResult {
   std::vector<Eigen::Matrix<double, Dim, 1>> nodes;
   std::vector<std::array<NodeId, Dim + 1>> simplices;
+  std::vector<std::array<NodeId, Dim>> boundary;
+  std::vector<int> boundary_tag;  // per boundary facet: index into tags
+  std::vector<BoundaryTag> tags;
 };
 
 }  // namespace mesh

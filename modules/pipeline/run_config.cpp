@@ -120,10 +120,8 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     plan(kind, type, s, out);
   };
   plan_section(StageKind::Layers, "extrude", "layers need a spline geometry (type airfoils)", r.layers);
-  plan_section(StageKind::Fill, "advancing_front",
-               r.dim == 3 ? "there is no 3D fill yet (the TetGen fill is planned): leave the fill section out"
-                          : "the fill needs a spline geometry (type airfoils)",
-               r.fill);
+  plan_section(StageKind::Fill, r.dim == 3 ? "tetgen" : "advancing_front",
+               r.dim == 3 ? "a 3D fill is type tetgen" : "the fill needs a spline geometry (type airfoils)", r.fill);
 
   const ConfigNode v = c.child("validity");
   r.validity.rel_tol = v.get_in_range("rel_tol", r.validity.rel_tol, 1e-6, 1.0);
@@ -135,8 +133,10 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   // Checked after the keys, so an unknown key is reported first.
   if (r.layers.enabled() && r.dim == 2 && r.geometry.type != "airfoils")
     throw ConfigError(r.layers.section + ": layers need a spline geometry (type airfoils) or a 3D body");
-  if (r.fill.enabled() && r.geometry.type != "airfoils")
+  if (r.fill.enabled() && r.dim == 2 && r.geometry.type != "airfoils")
     throw ConfigError(r.fill.section + ": the fill needs a spline geometry (type airfoils)");
+  if (r.fill.enabled() && r.dim == 3 && !r.layers.enabled())
+    throw ConfigError(r.fill.section + ": the TetGen fill starts from the layers' outer front; add a layers section");
   return r;
 }
 

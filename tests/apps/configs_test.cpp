@@ -485,6 +485,13 @@ TEST_CASE("configs: 3D prism layers are certified, conforming and attenuate to a
       CHECK(json_number(report, "corner_fans", report.find("\"layers\": {")) == 8);
       CHECK(json_number(report, "edges", report.find("\"ridge_fans\"")) > 0);
     }
+    if (r.name == "sphere_hybrid") {
+      // The layers, then TetGen's tetrahedra out to the farfield sphere, written at order 2.
+      CHECK(json_number(report, "tets", report.find("\"fill\": {")) > 1000);
+      CHECK(json_number(report, "tetrahedron_Q2", report.find("\"by_type\"")) == json_number(report, "tets", report.find("\"fill\": {")));
+      CHECK(json_number(report, "min_dihedral_deg", report.find("\"fill\": {")) > 1);
+      CHECK(read_text(r.out / (r.name + ".msh")).find("\"farfield\"") != std::string::npos);
+    }
     if (r.name == "sphere_layers") {
       // h0 = 1e-5 R: the first layer's aspect ratio is above 1e4.
       CHECK(json_number(report, "max", report.find("\"aspect_ratio\"")) > 1e4);
