@@ -821,31 +821,51 @@ class PartLayerBuilder {
             nw->tri.push_back(d);
           }
           nw->tri_tag.push_back(p.tri_tag[static_cast<std::size_t>(around0)]);
-          nw->split.push_back({0, ab ? 1 : 2, ab ? 2 : 1});
+          nw->split.push_back(kPrism);
           out_.face_origin.push_back(around0);
           corner_tets_.push_back({v, static_cast<int>(nw->tri_tag.size()) - 1});
         }
       }
     }
-    // The ridges' quadrilaterals.
-    const LagrangeElement& qe = lagrange_element(CellType::Quadrilateral, q_);
-    for (const FanEdge& fe : fan_edges_)
-      for (int s = 0; s < 2 * fe.k; ++s) {
-        for (const Lattice& lat : qe.lattice())
-          nw->quad.push_back(arcs_[static_cast<std::size_t>(fe.arcs[static_cast<std::size_t>(lat[0])])][static_cast<std::size_t>(s * q_ + lat[1])]);
-        nw->quad_tag.push_back(p.tri_tag[static_cast<std::size_t>(fe.left)]);
-        out_.face_origin.push_back(fe.left);
-      }
+    // The kites' outer faces: per kite edge and ridge edge a quadrilateral (lattice i along the
+    // chain, j along the arc), cut into two triangles along the diagonal the first layer's
+    // tetrahedra cut it (column_order), each grown as a prism in later layers.
     nw->ids.assign(dirs_.size(), -1);
     nw->keep.assign(dirs_.size(), Vec::Zero());
     nw->plane.resize(dirs_.size());
     for (std::size_t d = 0; d < dirs_.size(); ++d) nw->plane[d] = p.plane[static_cast<std::size_t>(dirs_[d].base)];
     nw->rim = p.rim;
-    std::size_t qf = nw->nt();
     for (const FanEdge& fe : fan_edges_)
-      for (int s = 0; s < 2 * fe.k; ++s, ++qf)
-        for (int end = 0; end < 2; ++end)
-          if (fe.plane[end] >= 0) nw->rim.push_back({static_cast<int>(qf), end, fe.plane[end]});
+      for (int s = 0; s < 2 * fe.k; ++s) {
+        auto dir = [&](int i, int j) {
+          return arcs_[static_cast<std::size_t>(fe.arcs[static_cast<std::size_t>(i)])][static_cast<std::size_t>(s * q_ + j)];
+        };
+        const long r00 = top_rank(dir(0, 0)), rq0 = top_rank(dir(q_, 0)), rqq = top_rank(dir(q_, q_)), r0q = top_rank(dir(0, q_));
+        const long lo = std::min(std::min(r00, rq0), std::min(rqq, r0q));
+        const std::array<std::array<int, 2>, 3> halves[2][2] = {
+            {{{{0, 0}, {q_, 0}, {q_, q_}}}, {{{0, 0}, {q_, q_}, {0, q_}}}},
+            {{{{0, 0}, {q_, 0}, {0, q_}}}, {{{q_, 0}, {q_, q_}, {0, q_}}}}};
+        for (const auto& h : halves[lo == r00 || lo == rqq ? 0 : 1]) {
+          for (const Lattice& lat : te.lattice()) {
+            const int w[3] = {q_ - lat[0] - lat[1], lat[0], lat[1]};
+            int i = 0, j = 0;
+            for (int k = 0; k < 3; ++k) i += w[k] * h[static_cast<std::size_t>(k)][0], j += w[k] * h[static_cast<std::size_t>(k)][1];
+            nw->tri.push_back(dir(i / q_, j / q_));
+          }
+          nw->tri_tag.push_back(p.tri_tag[static_cast<std::size_t>(fe.left)]);
+          nw->split.push_back(kPrism);
+          out_.face_origin.push_back(fe.left);
+          // Its edge on a symmetry plane (the chain's end there): both ends at i = 0 or at i = Q.
+          for (int end = 0; end < 2; ++end) {
+            if (fe.plane[end] < 0) continue;
+            for (int e = 0; e < 3; ++e) {
+              const int i0 = h[static_cast<std::size_t>(e)][0], i1 = h[static_cast<std::size_t>((e + 1) % 3)][0];
+              if (i0 == end * q_ && i1 == end * q_)
+                nw->rim.push_back({static_cast<int>(nw->tri_tag.size()) - 1, e, fe.plane[end]});
+            }
+          }
+        }
+      }
     finish_part(*nw, q_);
     out_.next = nw;
   }
@@ -1039,6 +1059,15 @@ class PartLayerBuilder {
           for (const auto& ijw : hex[static_cast<std::size_t>(h)]) prisms.push_back(at(fl[qe.find({ijw[0], ijw[1], 0})], ijw[2]));
           out_.cell_face[0].push_back(static_cast<int>(f));
         }
+      } else if (fanned_) {
+        // The first layer of a part with fans is all tetrahedra (grow_layers_3d.h, step 6).
+        std::array<long, 6> rank{};
+        for (int k = 0; k < 3; ++k) {
+          rank[static_cast<std::size_t>(k)] = base_rank(dirs_[static_cast<std::size_t>(fl[k])].base);
+          rank[static_cast<std::size_t>(k + 3)] = top_rank(fl[k]);
+        }
+        split_tets(fl, column_order(rank), tets);
+        for (int k = 0; k < 3; ++k) out_.cell_face[1].push_back(static_cast<int>(f));
       } else if (nw.split[f][0] < 0) {
         for (int k = 0; k < pe.size(); ++k)
           prisms.push_back(at(fl[tri_of_prism_node[static_cast<std::size_t>(k)]], pe.lattice()[static_cast<std::size_t>(k)][2]));
@@ -1057,7 +1086,31 @@ class PartLayerBuilder {
       if (f >= grown) continue;
       const int* fl = nw.face(f);
       const int tag = planes_[static_cast<std::size_t>(re[2])].tag;
-      if (f < nw.nt()) {
+      if (f < nw.nt() && fanned_) {
+        // The side of a first-layer prism cut into tetrahedra: the two triangles of its cut
+        // (column_order's rule on the quadrilateral (u from the edge's second vertex to its first,
+        // v up the layer)).
+        const std::vector<int>& en = te.edge_nodes(re[1]);
+        auto node = [&](int u, int v) { return at(fl[en[static_cast<std::size_t>(q_ - u)]], v); };
+        const int d0 = fl[en[static_cast<std::size_t>(q_)]], d1 = fl[en[0]];  // u = 0 and u = Q
+        const long r00 = base_rank(dirs_[static_cast<std::size_t>(d0)].base), rq0 = base_rank(dirs_[static_cast<std::size_t>(d1)].base);
+        const long rqq = top_rank(d1), r0q = top_rank(d0);
+        const long lo = std::min(std::min(r00, rq0), std::min(rqq, r0q));
+        // Corners (u, v) of the two triangles, counter-clockwise as the quadrilateral.
+        const std::array<std::array<int, 2>, 3> halves[2][2] = {
+            {{{{0, 0}, {q_, 0}, {q_, q_}}}, {{{0, 0}, {q_, q_}, {0, q_}}}},  // cut (0, 0)-(Q, Q)
+            {{{{0, 0}, {q_, 0}, {0, q_}}}, {{{q_, 0}, {q_, q_}, {0, q_}}}}};  // cut (Q, 0)-(0, Q)
+        const int cut = lo == r00 || lo == rqq ? 0 : 1;
+        for (const auto& h : halves[cut]) {
+          for (const Lattice& lat : te.lattice()) {
+            const int w[3] = {q_ - lat[0] - lat[1], lat[0], lat[1]};
+            int u = 0, v = 0;
+            for (int k = 0; k < 3; ++k) u += w[k] * h[static_cast<std::size_t>(k)][0], v += w[k] * h[static_cast<std::size_t>(k)][1];
+            out_.sym_tris.push_back(node(u / q_, v / q_));
+          }
+          out_.sym_tri_tag.push_back(tag);
+        }
+      } else if (f < nw.nt()) {
         const std::vector<int>& en = te.edge_nodes(re[1]);
         for (const Lattice& lat : qe.lattice()) out_.sym_quads.push_back(at(fl[en[static_cast<std::size_t>(q_ - lat[0])]], lat[1]));
         out_.sym_quad_tag.push_back(tag);
@@ -1075,9 +1128,32 @@ class PartLayerBuilder {
     }
   }
 
-  // The three tetrahedra of the prism over triangle fl with rank order r (Part::split).
-  void split_tets(const int* fl, const std::array<int, 3>& r, std::vector<NodeId>& tets) {
-    const LagrangeElement& te = lagrange_element(CellType::Triangle, q_);
+  // The column order (s, m, t) of a prism from its vertices' ranks (0-2 the bottom, 3-5 the top):
+  // every quadrilateral face is cut along the diagonal through its vertex of smallest rank, the
+  // rule of Dompierre et al. ("How to subdivide pyramids, prisms and hexahedra into tetrahedra",
+  // 1999), which never closes a cycle on a prism; a cut from the bottom of column x to the top of
+  // column y puts x before y. Cells sharing a quadrilateral cut it alike, whatever their kind.
+  static std::array<int, 3> column_order(const std::array<long, 6>& rank) {
+    int wins[3] = {0, 0, 0};
+    for (int x = 0; x < 3; ++x)
+      for (int y = x + 1; y < 3; ++y) {
+        const long lo = std::min(std::min(rank[static_cast<std::size_t>(x)], rank[static_cast<std::size_t>(y)]),
+                                 std::min(rank[static_cast<std::size_t>(x + 3)], rank[static_cast<std::size_t>(y + 3)]));
+        const bool x_first = lo == rank[static_cast<std::size_t>(x)] || lo == rank[static_cast<std::size_t>(y + 3)];
+        ++wins[x_first ? x : y];
+      }
+    std::array<int, 3> r{};
+    for (int k = 0; k < 3; ++k) r[static_cast<std::size_t>(2 - wins[k])] = k;
+    if (wins[0] + wins[1] + wins[2] != 3 || wins[r[0]] != 2 || wins[r[2]] != 0)
+      throw MesherError("layers: a prism's diagonals close a cycle (equal ranks)");
+    return r;
+  }
+
+  // The three tetrahedra of a prism with column order r: node(a, b, c) is its lattice node (a, b
+  // on the triangle as in the prism's Gmsh lattice, c the level); the diagonals run from the
+  // bottom of the earlier column to the top of the later (acyclic, so they fill the prism).
+  template <class NodeAt>
+  void prism_tets(const NodeAt& node, const std::array<int, 3>& r, std::vector<NodeId>& tets) const {
     const LagrangeElement& tet = lagrange_element(CellType::Tetrahedron, q_);
     const int s = r[0], m = r[1], t = r[2];
     const std::array<std::array<int, 2>, 4> cells[3] = {{{{s, 0}, {m, 0}, {t, 0}, {t, 1}}},
@@ -1096,17 +1172,27 @@ class PartLayerBuilder {
         Eigen::Vector3i pt = Eigen::Vector3i::Zero();
         for (int k = 0; k < 4; ++k) pt += w[k] * lat_of(c[static_cast<std::size_t>(k)]);
         pt /= q_;
-        tets.push_back(at(fl[te.find({pt[0], pt[1], 0})], pt[2]));
+        tets.push_back(node(pt[0], pt[1], pt[2]));
       }
     }
   }
+
+  // The three tetrahedra of the prism over triangle fl with rank order r (Part::split).
+  void split_tets(const int* fl, const std::array<int, 3>& r, std::vector<NodeId>& tets) {
+    const LagrangeElement& te = lagrange_element(CellType::Triangle, q_);
+    prism_tets([&](int a, int b, int c) { return at(fl[te.find({a, b, 0})], c); }, r, tets);
+  }
+
+  // Ranks of the first layer's prism vertices (column_order): an old node by its local id, the
+  // top of direction d after every old node.
+  long base_rank(int l) const { return l; }
+  long top_rank(int d) const { return static_cast<long>(part_.size()) + d; }
 
   // The first layer's ridge fan prisms (cross section: the edge node and the ends of kite edge s
   // of the arc, s + 1's first; extruded along the chain) and corner tetrahedra (corner node + patch
   // triangle), and their symmetry triangles at chain ends on a plane.
   void fan_cells() {
     const LagrangeElement& te = lagrange_element(CellType::Triangle, q_);
-    const LagrangeElement& pe = lagrange_element(CellType::Prism, q_);
     const LagrangeElement& tet = lagrange_element(CellType::Tetrahedron, q_);
     for (const FanEdge& fe : fan_edges_)
       for (int s = 0; s < 2 * fe.k; ++s) {
@@ -1119,8 +1205,13 @@ class PartLayerBuilder {
           if (a == 0) return at(d0, b);
           return fan_point({{d0, b}, {d1, a}});
         };
-        for (const Lattice& lat : pe.lattice()) out_.built.cells[0].push_back(node(lat[0], lat[1], lat[2]));
-        out_.cell_face[0].push_back(fe.left);
+        const std::vector<int>& arc0 = arcs_[static_cast<std::size_t>(fe.arcs.front())];
+        const std::vector<int>& arc1 = arcs_[static_cast<std::size_t>(fe.arcs.back())];
+        const std::size_t a_at = static_cast<std::size_t>((s + 1) * q_), b_at = static_cast<std::size_t>(s * q_);
+        const std::array<long, 6> rank = {base_rank(fe.nodes.front()), top_rank(arc0[a_at]), top_rank(arc0[b_at]),
+                                          base_rank(fe.nodes.back()),  top_rank(arc1[a_at]), top_rank(arc1[b_at])};
+        prism_tets(node, column_order(rank), out_.built.cells[1]);
+        for (int k = 0; k < 3; ++k) out_.cell_face[1].push_back(fe.left);
         for (int end = 0; end < 2; ++end) {
           if (fe.plane[end] < 0) continue;
           for (const Lattice& lat : te.lattice())

@@ -34,13 +34,20 @@
 //     grow_layers_2d.h): normals n_s dividing the angle equally, the kite (node, P_s, X_s,
 //     P_s+1) with P_s one height along n_s and X_s where the perpendiculars at P_s and P_s+1
 //     meet; extruded along the ridge each kite is split along node-X_s into two prisms, and its
-//     outer edges P_s X_s, X_s P_s+1 become two front quadrilaterals, grown in later layers as
-//     hexahedra split into two prisms along the ridge. So the cross section of a ridge fan is the
-//     2D fan, and an extruded section grows the 2D layers at mid-span
+//     outer edges P_s X_s, X_s P_s+1 become front quadrilaterals. So the cross section of a ridge
+//     fan is the 2D fan, and an extruded section grows the 2D layers at mid-span
 //     (tests/layers/extrusion_match_test.cpp). At a corner a flat patch of triangles from the
 //     corner's merged normal to every kite edge of its arcs gives tetrahedra (node + patch
-//     triangle), and its triangles grow as three tetrahedra in the rank order that matches the
-//     ridges' split diagonals. Every fan cell is straight-sided. A corner's columns keep their
+//     triangle). Every fan cell is straight-sided. The whole first layer of such a part is
+//     tetrahedra: every prism (over a wall triangle, or a kite half) is cut into three by
+//     Dompierre et al.'s rule (each quadrilateral face along the diagonal through its vertex of
+//     smallest rank: old nodes by local id, then the tops by direction), which cuts a face that
+//     two cells share alike and never closes a cycle on a prism; the kites' quadrilaterals join
+//     the new front as the two triangles their tetrahedra cut them into. So the front is all
+//     triangles after the first layer and every later layer is prisms (a prism layer ending on a
+//     quadrilateral could meet neither the next layer's cut nor a tetrahedral fill without
+//     pyramids, and a tetrahedral first layer is the one place the cut can start: its bottom is
+//     the wall's triangles). A corner's columns keep their
 //     direction (radial from the corner) while every face around sees it within 80 degrees;
 //     a ridge fan's nodes take the faces' average afterwards, as 2D's do. Fan heights: the
 //     smallest metric height over the node's normals (wedge directions, kite normals, a
@@ -57,11 +64,11 @@
 namespace plaf::layers {
 
 // Grows layers from the wall triangles of `front` (tags of kind Wall). The result's mesh holds the
-// prisms and the fans' tetrahedra, the wall triangles as tagged boundary facets and the symmetry
-// facets (quadrilaterals, and triangles where fans end on a plane); its outer front is the last
-// layer's top (tags as the wall's; triangles and the fans' quadrilaterals), its fill_front the
-// outer front's linear triangles (a quadrilateral as two; tag "layers_outer") followed by the
-// non-wall triangles of the front. counts gives the classes of the first layer's front nodes
+// prisms (cells[0]) and the tetrahedra of first layers with fans (cells[1]), the wall triangles
+// as tagged boundary facets and the symmetry facets (quadrilaterals of prisms, triangles of
+// tetrahedra); its outer front is the last layer's top (triangles, tags as the wall's), its
+// fill_front the outer front's linear triangles (tag "layers_outer") followed by the non-wall
+// triangles of the front. counts gives the classes of the first layer's front nodes
 // (normals_3d.h), the concave merges and the fans (ridge_fans.edges, ridge_fans.sectors,
 // corner_fans).
 LayerResult<3> grow_layers(const CurvedFront<3>& front, const MetricField<3>& metric, const LayerParams& params);

@@ -165,6 +165,7 @@ class Growth {
       LayerStats st;
       st.layer = layer;
       st.first_cell = blocks_[0].size();
+      st.first_transition_cell = blocks_[1].size();
       bool any = false, all_linear = true;
       for (std::size_t part = 0; part < parts_; ++part) {
         if (!growing_[part]) continue;
@@ -208,6 +209,7 @@ class Growth {
     LayerStats st;
     st.layer = static_cast<int>(r_.layers.size()) + 1;
     st.first_cell = blocks_[0].size();
+    st.first_transition_cell = blocks_[1].size();
     bool any = false;
     for (std::size_t part = 0; part < parts_; ++part) {
       if (linear_[part]) continue;
@@ -241,10 +243,12 @@ class Growth {
     if (st.linear && r_.linear_after < 0) r_.linear_after = st.layer;
   }
 
-  // The new cells into the mesh, main block first.
+  // The new cells into the mesh: the main block first (cells[0], even when empty: a 3D first layer
+  // with fans is all tetrahedra), then the transition block (cells[1]) when it has cells.
   void finish() {
-    for (CellBlock& b : blocks_)
-      if (!b.connectivity.empty()) r_.mesh.cells.push_back(std::move(b));
+    if (blocks_[0].connectivity.empty() && blocks_[1].connectivity.empty()) return;
+    r_.mesh.cells.push_back(std::move(blocks_[0]));
+    if (!blocks_[1].connectivity.empty()) r_.mesh.cells.push_back(std::move(blocks_[1]));
   }
 
  private:

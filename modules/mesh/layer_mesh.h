@@ -18,7 +18,10 @@ inline namespace mesh {
 struct LayerStats {
   int layer = 0;                     // 1-based
   std::size_t cells = 0;             // main cells (2D quadrilaterals, 3D prisms)
-  std::size_t transition_cells = 0;  // cells next to stopped nodes (isotropic_stop: node)
+  // Cells of the transition block (LayerResult::mesh.cells[1]): 2D the triangles next to stopped
+  // nodes (isotropic_stop: node); 3D the tetrahedra (a first layer with fans, corner fans).
+  std::size_t transition_cells = 0;
+  std::size_t first_transition_cell = 0;  // this layer's cells in the transition block
   double max_clipped_rel = 0;        // largest attenuation move still needed / height (0 if linear)
   bool linear = false;               // the new front is linear
   std::size_t shrinks = 0;           // invalid cells and front crossings that made heights halve

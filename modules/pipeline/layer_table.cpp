@@ -22,6 +22,13 @@ void report_layer_table(const LayerResult<Dim>& lr, const HybridMesh<Dim>& mesh,
       min_sj = std::min(min_sj, pc.scaled_jacobian[c]);
       max_ar = std::max(max_ar, pc.aspect_ratio[c]);
     }
+    // The transition block follows the main one in the mesh's cell numbering.
+    const std::size_t offset = mesh.cells.empty() ? 0 : mesh.cells[0].size();
+    for (std::size_t c = st.first_transition_cell; c < st.first_transition_cell + st.transition_cells; ++c) {
+      if (is_curved(mesh, mesh.cells[1], c)) ++curved;
+      min_sj = std::min(min_sj, pc.scaled_jacobian[offset + c]);
+      max_ar = std::max(max_ar, pc.aspect_ratio[offset + c]);
+    }
     rows.push_back("{\"layer\": " + std::to_string(st.layer) + ", \"cells\": " + std::to_string(st.cells) +
                    ", \"curved_cells\": " + std::to_string(curved) +
                    ", \"max_clipped_over_height\": " + json_number(st.max_clipped_rel) +

@@ -617,61 +617,53 @@ TEST_CASE("layers 3D: a cube's fans give right-angled cells around every ridge a
     CHECK(count_of(r, "ridge_fans.edges") == 12 * n);
     CHECK(count_of(r, "ridge_fans.sectors") == 24 * n);
     CHECK(count_of(r, "corner_fans") == 8);
+    // The first layer of a part with fans is all tetrahedra: three per wall prism and per kite
+    // half (a sector's kite, extruded along the ridge and split along node-X_s into two prisms),
+    // one per corner patch triangle (3 arcs x 2 sectors x 2 kite halves per corner).
     const CellBlock& prisms = r.mesh.cells[0];
     const CellBlock& tets = r.mesh.cells[1];
-    const std::size_t walls = 12 * n * n;
-    // A sector is a kite (ridge node C, P_s, X_s, P_s+1; Fig. 4), extruded along the ridge and
-    // split along C X_s into two prisms.
-    REQUIRE(prisms.size() == walls + 2 * 24 * n);
-    REQUIRE(tets.size() == 8 * 12);  // per corner: 3 arcs x 2 sectors x 2 kite halves
-    auto x = [&](const CellBlock& b, std::size_t c, int k) { return r.mesh.nodes[static_cast<std::size_t>(b.cell(c)[k])]; };
-    // Wall prisms: every column along its face's normal, h high, at the ridges and corners too.
-    double worst_column = 0;
-    for (std::size_t c = 0; c < walls; ++c) {
-      const Vector3d nrm = (x(prisms, c, 1) - x(prisms, c, 0)).cross(x(prisms, c, 2) - x(prisms, c, 0)).normalized();
-      for (int k = 0; k < 3; ++k) {
-        const Vector3d col = x(prisms, c, k + 3) - x(prisms, c, k);
-        worst_column = std::max(worst_column, std::acos(std::min(1.0, col.normalized().dot(nrm))));
-        CHECK(col.norm() == doctest::Approx(h).epsilon(1e-12));
-      }
-    }
-    // Fan prisms (C, then a P_s and an X_s in either order): both radial edges at right angles
-    // to the ridge, 22.5 degrees apart, C P_s = h, C X_s = h / cos 22.5 degrees, and the kite's
-    // right angle at P_s.
+    CHECK(prisms.size() == 0);
+    REQUIRE(tets.size() == 3 * 12 * n * n + 3 * 2 * 24 * n + 8 * 12);
+    // The outer front's vertices from the cube: over a face one height h along its normal; over
+    // a ridge at right angles to it, in directions k 22.5 degrees from a face's normal, h long
+    // for even k (the kites' P_s) and h / cos 22.5 degrees for odd k (X_s); over a corner in its
+    // octant at one of those lengths. So every kite has its right angles at P_s.
     const double half = 22.5 * M_PI / 180;
-    double worst_ridge = 0, widest = 0, narrowest = 180, worst_length = 0, worst_right = 0;
-    for (std::size_t c = walls; c < prisms.size(); ++c) {
-      const Vector3d ridge = (x(prisms, c, 3) - x(prisms, c, 0)).normalized();
-      const Vector3d r1 = x(prisms, c, 1) - x(prisms, c, 0), r2 = x(prisms, c, 2) - x(prisms, c, 0);
-      worst_ridge = std::max({worst_ridge, std::abs(r1.normalized().dot(ridge)), std::abs(r2.normalized().dot(ridge))});
-      const double sector = std::acos(r1.normalized().dot(r2.normalized())) * 180 / M_PI;
-      widest = std::max(widest, sector);
-      narrowest = std::min(narrowest, sector);
-      const Vector3d& ps = r1.norm() < r2.norm() ? r1 : r2;
-      const Vector3d& xs = r1.norm() < r2.norm() ? r2 : r1;
-      worst_length = std::max({worst_length, std::abs(ps.norm() - h), std::abs(xs.norm() - h / std::cos(half))});
-      worst_right = std::max(worst_right, std::abs(ps.normalized().dot((xs - ps).normalized())));
-    }
-    // Corner tetrahedra: every radial edge inside the corner's octant (its normal cone), h long
-    // to the corner's centre and the P_s, h / cos 22.5 degrees to the X_s.
-    double outside = 0;
-    for (std::size_t c = 0; c < tets.size(); ++c) {
-      const Vector3d corner = x(tets, c, 0);
-      for (int k = 1; k < 4; ++k) {
-        const Vector3d e = x(tets, c, k) - corner;
-        worst_length = std::max(worst_length, std::min(std::abs(e.norm() - h), std::abs(e.norm() - h / std::cos(half))));
-        for (int d = 0; d < 3; ++d) outside = std::max(outside, -(corner[d] > 0.5 ? 1 : -1) * e[d]);
+    double worst_face = 0, worst_ridge = 0, worst_kite = 0, outside = 0;
+    std::size_t over_ridges = 0;
+    for (std::size_t t = 0; t < 3 * r.outer.num_triangles(); ++t) {
+      const Vector3d x = r.mesh.nodes[static_cast<std::size_t>(r.outer.triangle(t / 3)[t % 3])];  // the vertices
+      const Vector3d c = x.cwiseMax(0.0).cwiseMin(1.0);
+      int on = 0;  // coordinates clamped: 1 face, 2 ridge, 3 corner
+      for (int d = 0; d < 3; ++d) on += x[d] < 0 || x[d] > 1 ? 1 : 0;
+      const Vector3d u = x - c;
+      if (on == 1) {
+        worst_face = std::max(worst_face, std::abs(u.norm() - h));
+        continue;
       }
+      const double len = u.norm();
+      if (on == 2) {
+        ++over_ridges;
+        int axis = 0;  // the ridge's direction: the coordinate not clamped
+        for (int d = 0; d < 3; ++d)
+          if (x[d] >= 0 && x[d] <= 1) axis = d;
+        worst_ridge = std::max(worst_ridge, std::abs(u[axis]) / len);
+        const int a = (axis + 1) % 3;  // angle from face normal e_a
+        const double k = std::acos(std::min(1.0, std::abs(u[a]) / len)) / half;
+        const long kk = std::lround(k);
+        worst_kite = std::max({worst_kite, std::abs(k - static_cast<double>(kk)),
+                               std::abs(len - (kk % 2 == 0 ? h : h / std::cos(half))) / h});
+      } else {
+        worst_kite = std::max(worst_kite, std::min(std::abs(len - h), std::abs(len - h / std::cos(half))) / h);
+      }
+      for (int d = 0; d < 3; ++d) outside = std::max(outside, -(c[d] > 0.5 ? 1 : -1) * u[d]);
     }
-    MESSAGE("Q" << q << ": wall columns off their face normal by " << worst_column << " rad; fan radial edges |cos| to the ridge "
-                << worst_ridge << ", widest half sector " << widest << " deg; kite right angles off by |cos| " << worst_right
-                << "; corner edges outside the octant by " << outside);
-    CHECK(worst_column < 1e-9);
+    MESSAGE("Q" << q << ": face nodes off h by " << worst_face << "; ridge nodes |cos| to the ridge " << worst_ridge
+                << ", off the kites' angles or lengths by " << worst_kite << "; outside the octants by " << outside);
+    CHECK(over_ridges > 0);
+    CHECK(worst_face < 1e-12);
     CHECK(worst_ridge < 1e-9);
-    CHECK(widest == doctest::Approx(22.5).epsilon(1e-9));
-    CHECK(narrowest == doctest::Approx(22.5).epsilon(1e-9));
-    CHECK(worst_length < 1e-12 * (1 + h));
-    CHECK(worst_right < 1e-9);
+    CHECK(worst_kite < 1e-9);
     CHECK(outside < 1e-15);
     // Every cell certified; the only open facets are the outer front's.
     JacobianCertifier cert;
@@ -751,11 +743,12 @@ TEST_CASE("layers 3D: fans whose ridges end on a symmetry plane close on it") {
       for (NodeId id : b.connectivity) off = std::max(off, std::abs(r.mesh.nodes[static_cast<std::size_t>(id)].z()));
     }
     CHECK(off == 0);
-    // Per layer: 4 n wall edges on the rim give quadrilaterals; the 4 vertical ridges end there
-    // with 2 sectors each, two kite halves per sector: 4 fan triangles in the first layer, then
-    // 4 quadrilaterals' hexahedra split in 2 triangles each.
-    CHECK(sym_quads == 3 * 4 * n);
-    CHECK(sym_tris == 4 * 4 + 2 * 4 * 4 * 2);
+    // The first layer (tetrahedra): the 4 n wall edges on the rim give two triangles each, and the
+    // 4 vertical ridges end there with 2 sectors of two kite halves: 4 cross-section triangles
+    // each. Later layers (prisms): a quadrilateral per rim edge, the wall's 4 n and per vertical
+    // ridge its 4 kite edges' (the kites' outer faces cut into triangles, one of each on the rim).
+    CHECK(sym_quads == 2 * (4 * n + 4 * 4));
+    CHECK(sym_tris == 2 * 4 * n + 4 * 4);
     const ConformityReport cr = check_conformity<3>(r.mesh);
     CHECK(cr.node_mismatches == 0);
     CHECK(cr.overshared_facets == 0);
