@@ -79,7 +79,7 @@ void sphere(FarfieldMesh3& m, const Vec& c, double r, double h) {
       }
 }
 
-void box(FarfieldMesh3& m, const Vec& lo, const Vec& hi, double h) {
+void box(FarfieldMesh3& m, const Vec& lo, const Vec& hi, double h, const std::vector<FarfieldParams3::Cut>& cuts) {
   std::array<int, 3> n{};
   for (int d = 0; d < 3; ++d) n[static_cast<std::size_t>(d)] = std::max(1, static_cast<int>(std::ceil((hi[d] - lo[d]) / h)));
   NodeSet nodes(m);
@@ -93,18 +93,33 @@ void box(FarfieldMesh3& m, const Vec& lo, const Vec& hi, double h) {
   };
   // Face d = axis, side s: a grid over the two other axes (a, b) with a x b = +axis; inward
   // normals are -axis on the high side and +axis on the low side.
+  m.cut_loops.assign(cuts.size(), {});
   for (int d = 0; d < 3; ++d)
     for (int s = 0; s < 2; ++s) {
       const int a = (d + 1) % 3, b = (d + 2) % 3;
+      auto face_node = [&](int ii, int jj) {
+        std::array<long, 3> k{};
+        k[static_cast<std::size_t>(d)] = s == 0 ? 0 : n[static_cast<std::size_t>(d)];
+        k[static_cast<std::size_t>(a)] = ii;
+        k[static_cast<std::size_t>(b)] = jj;
+        return at(k);
+      };
+      bool cut = false;
+      for (std::size_t c = 0; c < cuts.size(); ++c) {
+        // The face on the plane: the side of the box away from the bodies.
+        if (cuts[c].axis != d || (cuts[c].side > 0) != (s == 0)) continue;
+        cut = true;
+        std::vector<int>& loop = m.cut_loops[c];
+        const int na = n[static_cast<std::size_t>(a)], nb = n[static_cast<std::size_t>(b)];
+        for (int i = 0; i < na; ++i) loop.push_back(face_node(i, 0));
+        for (int j = 0; j < nb; ++j) loop.push_back(face_node(na, j));
+        for (int i = na; i > 0; --i) loop.push_back(face_node(i, nb));
+        for (int j = nb; j > 0; --j) loop.push_back(face_node(0, j));
+      }
+      if (cut) continue;
       for (int i = 0; i < n[static_cast<std::size_t>(a)]; ++i)
         for (int j = 0; j < n[static_cast<std::size_t>(b)]; ++j) {
-          auto p = [&](int ii, int jj) {
-            std::array<long, 3> k{};
-            k[static_cast<std::size_t>(d)] = s == 0 ? 0 : n[static_cast<std::size_t>(d)];
-            k[static_cast<std::size_t>(a)] = ii;
-            k[static_cast<std::size_t>(b)] = jj;
-            return at(k);
-          };
+          auto p = [&](int ii, int jj) { return face_node(ii, jj); };
           const int p00 = p(i, j), p10 = p(i + 1, j), p11 = p(i + 1, j + 1), p01 = p(i, j + 1);
           if (s == 0) {  // normal +axis: (a, b) counter-clockwise
             m.triangles.push_back({p00, p10, p11});
@@ -128,6 +143,8 @@ FarfieldMesh3 make_farfield(const FarfieldParams3& p, const Eigen::Vector3d& lo,
   const double diag = (hi - lo).norm();
   const Vec c = farfield_center(p, lo, hi);
   FarfieldMesh3 m;
+  if (p.shape == "sphere" && !p.cuts.empty())
+    throw ConfigError("fill.farfield.shape: a sphere is not cut by the symmetry planes; use box");
   if (p.shape == "sphere") {
     const double r = p.radius > 0 ? p.radius : 10 * diag;
     // Every body corner inside, with room for a farfield triangle's sag and the layers.
@@ -149,13 +166,18 @@ FarfieldMesh3 make_farfield(const FarfieldParams3& p, const Eigen::Vector3d& lo,
   } else {
     Vec half;
     for (int d = 0; d < 3; ++d) half[d] = 0.5 * (p.size[static_cast<std::size_t>(d)] > 0 ? p.size[static_cast<std::size_t>(d)] : 20 * diag);
-    const Vec blo = c - half, bhi = c + half;
-    for (int d = 0; d < 3; ++d)
-      if (!(blo[d] + 0.05 * half[d] < lo[d] && hi[d] < bhi[d] - 0.05 * half[d]))
+    Vec blo = c - half, bhi = c + half;
+    for (const FarfieldParams3::Cut& cut : p.cuts) (cut.side > 0 ? blo : bhi)[cut.axis] = cut.offset;
+    for (int d = 0; d < 3; ++d) {
+      bool cut_lo = false, cut_hi = false;  // a symmetry plane bounds the box there
+      for (const FarfieldParams3::Cut& cut : p.cuts)
+        if (cut.axis == d) (cut.side > 0 ? cut_lo : cut_hi) = true;
+      if (!((cut_lo || blo[d] + 0.05 * half[d] < lo[d]) && (cut_hi || hi[d] < bhi[d] - 0.05 * half[d])))
         throw ConfigError("fill.farfield.size: the box [" + num(blo[d]) + ", " + num(bhi[d]) + "] along axis " +
                           std::to_string(d) + " does not enclose the bodies' [" + num(lo[d]) + ", " + num(hi[d]) +
                           "] with a margin of 5 % of its half size");
-    box(m, blo, bhi, p.h);
+    }
+    box(m, blo, bhi, p.h, p.cuts);
   }
   return m;
 }

@@ -23,11 +23,21 @@ struct FarfieldParams3 {
   bool has_center = false;           // else the bodies' bounding-box centre
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   double h = 0;                      // largest edge; 0: from the metric at the farfield (plugin)
+  // Symmetry planes x[axis] = offset (box only): the box's face on each is left out (the plane's
+  // own triangles close the domain there) and the box is cut to the bodies' side of it.
+  struct Cut {
+    int axis = 0;
+    double offset = 0;
+    int side = 1;  // +1: the bodies lie at x[axis] > offset
+  };
+  std::vector<Cut> cuts;
 };
 
 struct FarfieldMesh3 {
   std::vector<Eigen::Vector3d> nodes;
   std::vector<std::array<int, 3>> triangles;  // normals inward
+  // Per cut (FarfieldParams3::cuts, same order): the node ids around the left-out face, in order.
+  std::vector<std::vector<int>> cut_loops;
 };
 
 // The farfield surface for bodies in [lo, hi] (params' zeros resolved against them; h > 0

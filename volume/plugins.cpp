@@ -5,14 +5,10 @@
 #include "modules/pipeline/run_state.h"
 #include "modules/pipeline/stages.h"
 #include "volume/advancing_front_2d.h"
-#include "volume/farfield3d.h"
-#include "volume/tetgen_fill.h"
+#include "volume/hybrid_fill3d.h"
 
 #include <algorithm>
 #include <limits>
-#include <map>
-#include <numeric>
-#include <unordered_map>
 
 namespace plaf::volume {
 
@@ -45,51 +41,6 @@ TetgenPlan parse_tetgen(const ConfigNode& section) {
   return p;
 }
 
-// One point inside the layers of every connected part of their outer front (TetGen's holes:
-// the bodies and their layers are not filled): the centroid of the vertices of a last-layer
-// prism under a triangle of the part.
-std::vector<Eigen::Vector3d> layer_holes(const LayerResult<3>& lr) {
-  const LinearFront<3>& ff = lr.fill_front;
-  const std::size_t n = ff.nodes.size();
-  std::vector<std::size_t> root(n);
-  std::iota(root.begin(), root.end(), std::size_t{0});
-  auto find = [&](std::size_t a) {
-    while (root[a] != a) a = root[a] = root[root[a]];
-    return a;
-  };
-  std::vector<std::size_t> outer;  // the layers' outer triangles
-  for (std::size_t t = 0; t < ff.triangles.size(); ++t) {
-    if (ff.tags[static_cast<std::size_t>(ff.triangle_tag[t])].name != "layers_outer") continue;
-    outer.push_back(t);
-    const auto& tri = ff.triangles[t];
-    root[find(static_cast<std::size_t>(tri[1]))] = find(static_cast<std::size_t>(tri[0]));
-    root[find(static_cast<std::size_t>(tri[2]))] = find(static_cast<std::size_t>(tri[0]));
-  }
-  // Prisms by their top vertices (lattice nodes 3, 4, 5 in Gmsh order), sorted.
-  std::map<std::array<NodeId, 3>, std::size_t> by_top;
-  const CellBlock& prisms = lr.mesh.cells.at(0);
-  for (std::size_t c = 0; c < prisms.size(); ++c) {
-    std::array<NodeId, 3> top = {prisms.cell(c)[3], prisms.cell(c)[4], prisms.cell(c)[5]};
-    std::sort(top.begin(), top.end());
-    by_top.emplace(top, c);
-  }
-  std::map<std::size_t, Eigen::Vector3d> hole;
-  for (std::size_t t : outer) {
-    const std::size_t r = find(static_cast<std::size_t>(ff.triangles[t][0]));
-    if (hole.count(r)) continue;
-    std::array<NodeId, 3> key = ff.triangles[t];
-    std::sort(key.begin(), key.end());
-    const auto it = by_top.find(key);
-    if (it == by_top.end()) continue;
-    Eigen::Vector3d x = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 6; ++k) x += lr.mesh.nodes[static_cast<std::size_t>(prisms.cell(it->second)[k])] / 6;
-    hole.emplace(r, x);
-  }
-  std::vector<Eigen::Vector3d> out;
-  for (const auto& [r, x] : hole) out.push_back(x);
-  return out;
-}
-
 }  // namespace
 
 void register_plugins() {
@@ -116,60 +67,17 @@ void register_plugins() {
     stage_registry<3>(StageKind::Fill).add("tetgen", [](const ConfigNode& section) -> Stage<3> {
       const TetgenPlan plan = parse_tetgen(section);
       return [plan](RunState<3>& s, StageReport& rep) {
-        if (!s.layers || s.layers->layers.empty())
-          throw MesherError("fill: tetgen fills around prism layers; the layer stage grew none");
-        const LayerResult<3>& lr = *s.layers;
-        if (lr.linear_after < 0)
-          throw MesherError("fill: the layers' outer front is still curved (see layers.events); TetGen fills from a linear front");
-        if (lr.outer.num_quads() > 0)
-          throw MesherError("fill: the layers' outer front has " + std::to_string(lr.outer.num_quads()) +
-                            " ridge-fan quadrilaterals; the TetGen fill meets triangles only so far (a run without ridge fans: "
-                            "layers.corner_angle_deg above the body's sharpest ridge)");
-        LinearFront<3> front = lr.fill_front;
-        Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-        for (const auto& t : front.triangles)
-          for (NodeId id : t) {
-            lo = lo.cwiseMin(front.nodes[static_cast<std::size_t>(id)]);
-            hi = hi.cwiseMax(front.nodes[static_cast<std::size_t>(id)]);
-          }
-        FarfieldParams3 fp = plan.farfield;
-        if (fp.h <= 0) {
-          // The metric's largest size at the farfield, at most a quarter of its extent.
-          const Eigen::Vector3d c = farfield_center(fp, lo, hi);
-          const double extent = fp.shape == "sphere" ? (fp.radius > 0 ? fp.radius : 10 * (hi - lo).norm())
-                                                     : 0.5 * (fp.size[0] > 0 ? *std::min_element(fp.size.begin(), fp.size.end())
-                                                                             : 20 * (hi - lo).norm());
-          fp.h = std::min(s.metric->evaluate(c + extent * Eigen::Vector3d::UnitX()).max_size(), extent / 4);
-        }
-        const FarfieldMesh3 far = make_farfield(fp, lo, hi);
-        const NodeId base = static_cast<NodeId>(front.nodes.size());
-        front.nodes.insert(front.nodes.end(), far.nodes.begin(), far.nodes.end());
-        const int tag = static_cast<int>(front.tags.size());
-        front.tags.push_back({"farfield", BoundaryKind::Farfield});
-        for (const auto& t : far.triangles) {
-          front.triangles.push_back({base + t[0], base + t[1], base + t[2]});
-          front.triangle_tag.push_back(tag);
-        }
-        front.holes = layer_holes(lr);
-        // Sizes (TetGen's m): at a front node the mean length of its front edges, at the farfield
-        // its h; TetGen grades between them.
-        TetFillParams tp = plan.tet;
-        tp.node_sizes.assign(front.nodes.size(), 0.0);
-        std::vector<int> edges(front.nodes.size(), 0);
-        for (const auto& t : front.triangles)
-          for (int k = 0; k < 3; ++k) {
-            const NodeId a = t[static_cast<std::size_t>(k)], b = t[static_cast<std::size_t>((k + 1) % 3)];
-            const double len = (front.nodes[static_cast<std::size_t>(a)] - front.nodes[static_cast<std::size_t>(b)]).norm();
-            for (NodeId v : {a, b}) tp.node_sizes[static_cast<std::size_t>(v)] += len, ++edges[static_cast<std::size_t>(v)];
-          }
-        for (std::size_t v = 0; v < front.nodes.size(); ++v)
-          if (edges[v] > 0) tp.node_sizes[v] /= edges[v];
-        TetFillResult fill = tetgen_fill(front, tp);
+        if (!s.layers) throw MesherError("fill: tetgen fills around prism layers; the layer stage grew none");
+        HybridFillParams hp;
+        hp.farfield = plan.farfield;
+        hp.tet = plan.tet;
+        HybridFill fill = fill_around_layers(*s.layers, *s.metric, hp);
         const TetFillStats& st = fill.stats;
-        rep.add("farfield.shape", fp.shape);
-        rep.add("farfield.h", fp.h);
-        rep.add("farfield.triangles", far.triangles.size());
-        rep.add("holes", front.holes.size());
+        rep.add("farfield.shape", fill.farfield.shape);
+        rep.add("farfield.h", fill.farfield.h);
+        rep.add("farfield.triangles", fill.farfield_triangles);
+        rep.add("symmetry_triangles", fill.plane_triangles);
+        rep.add("holes", fill.holes);
         rep.add("tets", st.tets);
         rep.add("new_points", st.new_points);
         rep.add("min_dihedral_deg", st.min_dihedral_deg);
@@ -177,13 +85,7 @@ void register_plugins() {
         rep.add("switches", st.switches);
         rep.line("fill: " + std::to_string(st.tets) + " tetrahedra, " + std::to_string(st.new_points) +
                  " new points, min dihedral " + std::to_string(st.min_dihedral_deg) + " deg (TetGen -" + st.switches + ")");
-        FillResult<3> out = static_cast<FillResult<3>&&>(std::move(fill));
-        out.tags = {{"farfield", BoundaryKind::Farfield}};
-        for (const auto& t : far.triangles) {
-          out.boundary.push_back({base + t[0], base + t[1], base + t[2]});
-          out.boundary_tag.push_back(0);
-        }
-        s.fill = std::move(out);
+        s.fill = std::move(fill.fill);
       };
     });
     return true;

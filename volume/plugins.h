@@ -5,9 +5,9 @@
 //     type: advancing_front 2D: the metric advancing front (advancing_front_2d.h)   default type
 //     max_triangles: <n>    give up (an error) beyond this many triangles   default: 20000000
 //     type: tetgen          3D: TetGen's tetrahedra between the layers' linear outer front and a
-//                           farfield (tetgen_fill.h, farfield3d.h), the default 3D type; needs a
-//                           layers section (whose front it closes linear); the layers' insides
-//                           are holes (a point inside a prism under each connected outer front)
+//                           farfield, with the symmetry planes' regions meshed (hybrid_fill3d.h),
+//                           the default 3D type; needs a layers section (whose front it closes
+//                           linear); the layers' insides are holes
 //     max_radius_edge: <0 or >= 1.1>  TetGen's quality bound q (0: off)           default: 1.5
 //     max_volume: <>= 0>    TetGen's volume bound a (0: none)                        default: 0
 //     farfield:
@@ -20,8 +20,8 @@
 //     Sizes: TetGen's m with, at each front node, the mean length of its front edges and, at
 //     the farfield, h; TetGen grades between them. Tagged `farfield` (kind farfield); the
 //     layers' outer front becomes interior (its order-Q nodes shared by the tetrahedra,
-//     assemble_hybrid_3d). Not yet: ridge fans' quadrilaterals on the outer front (an error
-//     naming them), symmetry planes.
+//     assemble_hybrid_3d). With symmetry planes (axis-aligned) the farfield must be a box; its
+//     size along a plane's axis is then the bodies' side of the plane (or the slab between two).
 #pragma once
 
 namespace plaf::volume {

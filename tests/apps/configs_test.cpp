@@ -485,12 +485,16 @@ TEST_CASE("configs: 3D prism layers are certified, conforming and attenuate to a
       CHECK(json_number(report, "corner_fans", report.find("\"layers\": {")) == 8);
       CHECK(json_number(report, "edges", report.find("\"ridge_fans\"")) > 0);
     }
-    if (r.name == "sphere_hybrid") {
-      // The layers, then TetGen's tetrahedra out to the farfield sphere, written at order 2.
-      CHECK(json_number(report, "tets", report.find("\"fill\": {")) > 1000);
-      CHECK(json_number(report, "tetrahedron_Q2", report.find("\"by_type\"")) == json_number(report, "tets", report.find("\"fill\": {")));
-      CHECK(json_number(report, "min_dihedral_deg", report.find("\"fill\": {")) > 1);
+    if (report.find("\"fill\": {") != std::string::npos) {
+      // The hybrids: the layers, then TetGen's tetrahedra out to the farfield, written at order 2
+      // (and the first layer's tetrahedra where fans are); every boundary face tagged.
+      const std::size_t fill = report.find("\"fill\": {");
+      CHECK(json_number(report, "tets", fill) > 1000);
+      CHECK(json_number(report, "tetrahedron_Q2", report.find("\"by_type\"")) >= json_number(report, "tets", fill));
+      CHECK(json_number(report, "min_dihedral_deg", fill) > 1);
+      CHECK(json_number(report, "open_facets", report.find("\"conformity\": {")) == 0);
       CHECK(read_text(r.out / (r.name + ".msh")).find("\"farfield\"") != std::string::npos);
+      if (r.name == "wing_symmetry_hybrid") CHECK(json_number(report, "symmetry_triangles", fill) > 100);
     }
     if (r.name == "sphere_layers") {
       // h0 = 1e-5 R: the first layer's aspect ratio is above 1e4.

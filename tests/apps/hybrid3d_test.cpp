@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: MIT
+// The complete 3D hybrid mesh through `plaf run` (issue 15): prism layers, TetGen's tetrahedra to
+// a farfield, symmetry planes. A sphere in a box: closed and conforming, its cells' volumes sum
+// to the box minus the volume inside the order-Q wall. A wing section between two symmetry
+// planes: no node off the slab, every face on the planes tagged, the planes' area covered.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "modules/elements/cell_measure.h"
+#include "modules/elements/lagrange.h"
+#include "modules/io/msh_io.h"
+#include "modules/mesh/hybrid_mesh.h"
+#include "modules/metric/metric.h"
+#include "tests/test_support.h"
+
+using namespace plaf;
+using plaf::test::PlafResult;
+using plaf::test::run_plaf;
+using plaf::test::TempDir;
+using plaf::test::write_text;
+using Eigen::Vector3d;
+
+namespace {
+
+// One third of the flux of x through the boundary facets (triangles and quadrilaterals) tagged
+// `tag`, along the normals they are written with: the volume they enclose when closed and facing
+// out of it. Gauss-Legendre on the square (collapsed onto the triangle, Duffy), exact to degree
+// 2n - 2.
+double enclosed(const HybridMesh<3>& m, const std::string& tag) {
+  const int n = 8;
+  double gs[n], gw[n];
+  gauss_legendre_01(n, gs, gw);
+  double v = 0;
+  for (const CellBlock& b : m.boundary) {
+    if (m.tags[static_cast<std::size_t>(b.tag)].name != tag) continue;
+    const bool tri = b.type == CellType::Triangle;
+    const LagrangeElement& e = lagrange_element(b.type, b.order);
+    std::vector<double> phi(static_cast<std::size_t>(e.size())), dphi(static_cast<std::size_t>(2 * e.size()));
+    for (std::size_t c = 0; c < b.size(); ++c)
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          const double s = gs[i], t = gs[j];
+          const double xi[2] = {s, tri ? (1 - s) * t : t};
+          e.eval(xi, phi.data());
+          e.eval_grad(xi, dphi.data());
+          Vector3d x = Vector3d::Zero(), xu = Vector3d::Zero(), xv = Vector3d::Zero();
+          for (int k = 0; k < e.size(); ++k) {
+            const Vector3d& p = m.nodes[static_cast<std::size_t>(b.cell(c)[k])];
+            x += phi[static_cast<std::size_t>(k)] * p;
+            xu += dphi[static_cast<std::size_t>(2 * k)] * p;
+            xv += dphi[static_cast<std::size_t>(2 * k + 1)] * p;
+          }
+          v += gw[i] * gw[j] * (tri ? 1 - s : 1.0) * x.dot(xu.cross(xv)) / 3;
+        }
+  }
+  return v;
+}
+
+double cells_volume(const HybridMesh<3>& m) {
+  double v = 0;
+  for (const CellBlock& b : m.cells) {
+    std::vector<double> coords(static_cast<std::size_t>(3 * b.nodes_per_cell()));
+    for (std::size_t c = 0; c < b.size(); ++c) {
+      gather_coords<3>(m, b, c, coords.data());
+      v += cell_measure(b.type, b.order, coords.data());
+    }
+  }
+  return v;
+}
+
+std::size_t count(const HybridMesh<3>& m, CellType t) {
+  std::size_t n = 0;
+  for (const CellBlock& b : m.cells)
+    if (b.type == t) n += b.size();
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("hybrid 3D: a sphere in a box is closed and conforming, its cells fill the box minus the ball") {
+  const TempDir d("hybrid_sphere_box");
+  const std::string cfg =
+      "name: case\norder: 2\ngeometry: {type: sphere, center: [0, 0, 0], radius: 1}\n"
+      "metric: {type: wall_power_law, h0: 0.001, growth: 1.3, h_max: 2.0, h_wall_max: 0.3}\n"
+      "layers: {max: 8}\n"
+      "fill: {type: tetgen, farfield: {shape: box, size: [8, 8, 8]}}\n";
+  const PlafResult r = run_plaf("run " + write_text(d / "case.yaml", cfg).string() + " --out " + (d / "out").string(), d);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const HybridMesh<3> m = read_msh41(d / "out" / "case.msh").mesh3;
+  CHECK(count(m, CellType::Prism) > 0);
+  CHECK(count(m, CellType::Tetrahedron) > 0);
+  const std::string report = plaf::test::read_text(d / "out" / "case.report.json");
+  CHECK(report.find("\"open_facets\": 0") != std::string::npos);
+  CHECK(report.find("\"invalid\": 0") != std::string::npos);
+  // Boundary faces face the domain: out of the ball (the wall's flux is its volume), into the
+  // box (the farfield's is minus the box's).
+  const double ball = enclosed(m, "wall");
+  const double box = 512;
+  const double cells = cells_volume(m);
+  MESSAGE("cells " << cells << ", box - wall " << box - ball << ", wall encloses " << ball << " (ball " << 4 * M_PI / 3 << ")");
+  CHECK(cells == doctest::Approx(box - ball).epsilon(1e-10));
+  CHECK(ball == doctest::Approx(4 * M_PI / 3).epsilon(2e-4));  // the order-2 wall's geometric error
+  CHECK(enclosed(m, "farfield") == doctest::Approx(-box).epsilon(1e-12));
+}
+
+TEST_CASE("hybrid 3D: a wing between two symmetry planes stays between them, every face on them tagged") {
+  const TempDir d("hybrid_wing_planes");
+  const std::string cfg = "name: case\norder: 2\n"
+                          "geometry: {type: wing, file: " PLAF_DATA "/airfoils/naca0012.dat, chord: 1, span: 0.3, "
+                          "root: symmetry, tip: symmetry}\n"
+                          "metric: {type: wall_power_law, h0: 0.0005, growth: 1.25, h_max: 2.0, h_wall_max: 0.1}\n"
+                          "surface: {curvature_factor: 0.1, curvature_h_min: 0.005}\n"
+                          "layers: {max: 15}\n"
+                          "fill: {type: tetgen, farfield: {shape: box, size: [12, 12, 0]}}\n";
+  const PlafResult r = run_plaf("run " + write_text(d / "case.yaml", cfg).string() + " --out " + (d / "out").string(), d);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const HybridMesh<3> m = read_msh41(d / "out" / "case.msh").mesh3;
+  double below = 0, above = 0;
+  for (const Vector3d& x : m.nodes) below = std::max(below, -x.z()), above = std::max(above, x.z() - 0.3);
+  CHECK(below <= 1e-15);  // the planes' rounding (0.3 is not a binary fraction)
+  CHECK(above <= 1e-15);
+  const std::string report = plaf::test::read_text(d / "out" / "case.report.json");
+  CHECK(report.find("\"open_facets\": 0") != std::string::npos);  // every boundary face tagged
+  CHECK(report.find("\"invalid\": 0") != std::string::npos);
+  // The symmetry faces cover each plane but the wing's section: the flux of x through them is
+  // the slab's end caps' part of the volume; with the farfield and wall fluxes it closes to the
+  // cells' volume.
+  std::set<std::string> names;
+  for (const BoundaryTag& t : m.tags) names.insert(t.name);
+  double flux = 0;
+  for (const std::string& name : names) flux += enclosed(m, name);
+  CHECK(-flux == doctest::Approx(cells_volume(m)).epsilon(1e-9));
+}

@@ -1,0 +1,305 @@
+// SPDX-License-Identifier: MIT
+// The 3D fill around prism layers (hybrid_fill3d.h).
+#include "volume/hybrid_fill3d.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <sstream>
+
+#include "modules/base/error.h"
+#include "volume/advancing_front_2d.h"
+
+namespace plaf::volume {
+
+namespace {
+
+using Vec = Eigen::Vector3d;
+
+std::string num(double v) {
+  std::ostringstream o;
+  o << v;
+  return o.str();
+}
+
+// One point inside the layers of every connected part of their outer front (TetGen's holes):
+// the centroid of the vertices of a last-layer prism under a triangle of the part.
+std::vector<Vec> layer_holes(const LayerResult<3>& lr, int outer_tag) {
+  const LinearFront<3>& ff = lr.fill_front;
+  std::vector<std::size_t> root(ff.nodes.size());
+  std::iota(root.begin(), root.end(), std::size_t{0});
+  auto find = [&](std::size_t a) {
+    while (root[a] != a) a = root[a] = root[root[a]];
+    return a;
+  };
+  std::vector<std::size_t> outer;
+  for (std::size_t t = 0; t < ff.triangles.size(); ++t) {
+    if (ff.triangle_tag[t] != outer_tag) continue;
+    outer.push_back(t);
+    const auto& tri = ff.triangles[t];
+    root[find(static_cast<std::size_t>(tri[1]))] = find(static_cast<std::size_t>(tri[0]));
+    root[find(static_cast<std::size_t>(tri[2]))] = find(static_cast<std::size_t>(tri[0]));
+  }
+  std::map<std::array<NodeId, 3>, std::size_t> by_top;  // prisms by their sorted top vertices (Gmsh 3, 4, 5)
+  if (!lr.mesh.cells.empty()) {
+    const CellBlock& prisms = lr.mesh.cells[0];
+    for (std::size_t c = 0; c < prisms.size(); ++c) {
+      std::array<NodeId, 3> top = {prisms.cell(c)[3], prisms.cell(c)[4], prisms.cell(c)[5]};
+      std::sort(top.begin(), top.end());
+      by_top.emplace(top, c);
+    }
+  }
+  std::map<std::size_t, Vec> hole;
+  for (std::size_t t : outer) {
+    const std::size_t r = find(static_cast<std::size_t>(ff.triangles[t][0]));
+    if (hole.count(r)) continue;
+    std::array<NodeId, 3> key = ff.triangles[t];
+    std::sort(key.begin(), key.end());
+    const auto it = by_top.find(key);
+    if (it == by_top.end()) continue;
+    Vec x = Vec::Zero();
+    for (int k = 0; k < 6; ++k) x += lr.mesh.nodes[static_cast<std::size_t>(lr.mesh.cells[0].cell(it->second)[k])] / 6;
+    hole.emplace(r, x);
+  }
+  std::vector<Vec> out;
+  for (const auto& [r, x] : hole) out.push_back(x);
+  return out;
+}
+
+// A symmetry plane x[axis] = offset of the layer mesh, with the tag its facets carry.
+struct Plane {
+  int axis = 0;
+  double offset = 0;
+  std::string tag;
+};
+
+std::vector<Plane> symmetry_planes(const HybridMesh<3>& mesh, double scale) {
+  std::vector<Plane> planes;
+  for (const CellBlock& b : mesh.boundary) {
+    const BoundaryTag& tag = mesh.tags[static_cast<std::size_t>(b.tag)];
+    if (tag.kind != BoundaryKind::Symmetry) continue;
+    // Every facet: one tag may lie on several planes (a wing's root and tip).
+    for (std::size_t c = 0; c < b.size(); ++c) {
+      const NodeId* f = b.cell(c);
+      const Vec &a = mesh.nodes[static_cast<std::size_t>(f[0])], &c1 = mesh.nodes[static_cast<std::size_t>(f[1])],
+                &c2 = mesh.nodes[static_cast<std::size_t>(f[2])];
+      const Vec n = (c1 - a).cross(c2 - a).normalized();
+      int axis = 0;
+      for (int d = 1; d < 3; ++d)
+        if (std::abs(n[d]) > std::abs(n[axis])) axis = d;
+      if (!(std::abs(n[axis]) > 1 - 1e-9))
+        throw MesherError("fill: the symmetry plane of tag " + tag.name + " is not axis-aligned (normal " + num(n.x()) + ", " +
+                          num(n.y()) + ", " + num(n.z()) + "); the farfield box is cut by axis-aligned planes only");
+      const bool known = std::any_of(planes.begin(), planes.end(), [&](const Plane& p) {
+        return p.axis == axis && std::abs(p.offset - a[axis]) <= 1e-9 * scale;
+      });
+      if (!known) planes.push_back({axis, a[axis], tag.name});
+    }
+  }
+  return planes;
+}
+
+// Sizes growing from the nodes of a plane's loops: min(cap, min_i s_i + g |x - p_i|).
+class GradedSizes final : public MetricField<2> {
+ public:
+  GradedSizes(std::vector<Eigen::Vector2d> p, std::vector<double> s, double g, double cap)
+      : p_(std::move(p)), s_(std::move(s)), g_(g), cap_(cap) {}
+  Metric<2> evaluate(const Eigen::Vector2d& x) const override { return Metric<2>::isotropic(size(x)); }
+  double size(const Eigen::Vector2d& x) const {
+    double h = cap_;
+    for (std::size_t i = 0; i < p_.size(); ++i) h = std::min(h, s_[i] + g_ * (x - p_[i]).norm());
+    return h;
+  }
+
+ private:
+  std::vector<Eigen::Vector2d> p_;
+  std::vector<double> s_;
+  double g_, cap_;
+};
+
+double signed_area(const std::vector<Eigen::Vector2d>& pts) {
+  double a = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Eigen::Vector2d& p = pts[i];
+    const Eigen::Vector2d& q = pts[(i + 1) % pts.size()];
+    a += p.x() * q.y() - q.x() * p.y();
+  }
+  return a / 2;
+}
+
+}  // namespace
+
+HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& metric, const HybridFillParams& params) {
+  if (lr.layers.empty()) throw MesherError("fill: tetgen fills around prism layers; the layer stage grew none");
+  if (lr.linear_after < 0)
+    throw MesherError("fill: the layers' outer front is still curved (see layers.events); TetGen fills from a linear front");
+  if (lr.outer.num_quads() > 0)
+    throw MesherError("fill: the layers' outer front has " + std::to_string(lr.outer.num_quads()) +
+                      " quadrilaterals; the TetGen fill meets triangles only");
+  HybridFill r;
+  LinearFront<3> front = lr.fill_front;
+  int outer_tag = -1;
+  for (std::size_t k = 0; k < front.tags.size(); ++k)
+    if (front.tags[k].name == "layers_outer") outer_tag = static_cast<int>(k);
+  Vec lo = Vec::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const auto& t : front.triangles)
+    for (NodeId id : t) {
+      lo = lo.cwiseMin(front.nodes[static_cast<std::size_t>(id)]);
+      hi = hi.cwiseMax(front.nodes[static_cast<std::size_t>(id)]);
+    }
+  const double scale = (hi - lo).norm();
+
+  // 2. Symmetry planes, the bodies' side of each, and the rim edges on each.
+  const std::vector<Plane> planes = symmetry_planes(lr.mesh, scale);
+  const Vec mid = 0.5 * (lo + hi);
+  FarfieldParams3 fp = params.farfield;
+  for (const Plane& p : planes) fp.cuts.push_back({p.axis, p.offset, mid[p.axis] > p.offset ? 1 : -1});
+  std::map<std::pair<NodeId, NodeId>, int> edge_count;
+  for (std::size_t t = 0; t < front.triangles.size(); ++t) {
+    if (front.triangle_tag[t] != outer_tag) continue;
+    for (int k = 0; k < 3; ++k) {
+      const NodeId a = front.triangles[t][static_cast<std::size_t>(k)], b = front.triangles[t][static_cast<std::size_t>((k + 1) % 3)];
+      ++edge_count[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  std::vector<std::map<NodeId, NodeId>> rim_next(planes.size());  // per plane: directed rim edges a -> b
+  for (std::size_t t = 0; t < front.triangles.size(); ++t) {
+    if (front.triangle_tag[t] != outer_tag) continue;
+    for (int k = 0; k < 3; ++k) {
+      const NodeId a = front.triangles[t][static_cast<std::size_t>(k)], b = front.triangles[t][static_cast<std::size_t>((k + 1) % 3)];
+      if (edge_count.at({std::min(a, b), std::max(a, b)}) != 1) continue;
+      const Vec &xa = front.nodes[static_cast<std::size_t>(a)], &xb = front.nodes[static_cast<std::size_t>(b)];
+      std::size_t on = planes.size();
+      for (std::size_t p = 0; p < planes.size(); ++p)
+        if (std::abs(xa[planes[p].axis] - planes[p].offset) <= 1e-9 * scale &&
+            std::abs(xb[planes[p].axis] - planes[p].offset) <= 1e-9 * scale)
+          on = p;
+      if (on == planes.size())
+        throw MesherError("fill: the layers' outer front is open at (" + num(xa.x()) + ", " + num(xa.y()) + ", " + num(xa.z()) +
+                          ") off every symmetry plane");
+      rim_next[on][a] = b;
+    }
+  }
+
+  // The farfield, its h from the metric unless given.
+  if (fp.h <= 0) {
+    const Vec c = farfield_center(fp, lo, hi);
+    // The sphere's radius, or the box's smallest half size across no symmetry plane.
+    double extent = fp.radius > 0 ? fp.radius : 10 * scale;
+    if (fp.shape == "box") {
+      extent = std::numeric_limits<double>::infinity();
+      for (int d = 0; d < 3; ++d) {
+        const bool cut = std::any_of(fp.cuts.begin(), fp.cuts.end(), [d](const FarfieldParams3::Cut& k) { return k.axis == d; });
+        if (!cut) extent = std::min(extent, 0.5 * (fp.size[static_cast<std::size_t>(d)] > 0 ? fp.size[static_cast<std::size_t>(d)] : 20 * scale));
+      }
+      if (!std::isfinite(extent)) extent = 10 * scale;
+    }
+    fp.h = std::min(metric.evaluate(c + extent * Vec::UnitX()).max_size(), extent / 4);
+  }
+  const FarfieldMesh3 far = make_farfield(fp, lo, hi);
+  const NodeId base = static_cast<NodeId>(front.nodes.size());
+  front.nodes.insert(front.nodes.end(), far.nodes.begin(), far.nodes.end());
+  r.fill.tags.push_back({"farfield", BoundaryKind::Farfield});
+  const int far_tag = static_cast<int>(front.tags.size());
+  front.tags.push_back(r.fill.tags.back());
+  for (const auto& t : far.triangles) {
+    front.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+    front.triangle_tag.push_back(far_tag);
+    r.fill.boundary.push_back(front.triangles.back());
+    r.fill.boundary_tag.push_back(0);
+  }
+  r.farfield_triangles = far.triangles.size();
+
+  // 3. Each plane's region: the farfield's cut loop and the rim loops, by the 2D advancing front.
+  for (std::size_t p = 0; p < planes.size(); ++p) {
+    const int a = planes[p].axis, u = (a + 1) % 3, v = (a + 2) % 3;
+    auto flat = [&](NodeId id) { return Eigen::Vector2d(front.nodes[static_cast<std::size_t>(id)][u], front.nodes[static_cast<std::size_t>(id)][v]); };
+    std::vector<std::vector<NodeId>> loops;
+    std::vector<NodeId> cut;
+    for (int id : far.cut_loops[p]) cut.push_back(base + id);
+    loops.push_back(cut);
+    std::map<NodeId, NodeId> next = rim_next[p];
+    while (!next.empty()) {
+      std::vector<NodeId> loop;
+      NodeId at = next.begin()->first;
+      while (next.count(at)) {
+        loop.push_back(at);
+        const NodeId b = next.at(at);
+        next.erase(at);
+        at = b;
+      }
+      if (at != loop.front()) throw MesherError("fill: the layers' rim on symmetry plane " + planes[p].tag + " is not closed");
+      loops.push_back(loop);
+    }
+    LinearFront<2> plane;
+    std::vector<NodeId> id3;  // plane node -> front node
+    std::vector<double> sizes;
+    for (std::size_t l = 0; l < loops.size(); ++l) {
+      std::vector<Eigen::Vector2d> pts;
+      for (NodeId id : loops[l]) pts.push_back(flat(id));
+      // The region on the left: the farfield's loop counter-clockwise, the rims clockwise.
+      if ((signed_area(pts) > 0) != (l == 0)) std::reverse(loops[l].begin(), loops[l].end());
+      LinearLoop loop;
+      loop.tag = planes[p].tag;
+      loop.kind = l == 0 ? BoundaryKind::Farfield : BoundaryKind::Wall;
+      const std::size_t n = loops[l].size();
+      for (std::size_t k = 0; k < n; ++k) {
+        const NodeId id = loops[l][k];
+        loop.nodes.push_back(static_cast<NodeId>(plane.nodes.size()));
+        plane.nodes.push_back(flat(id));
+        id3.push_back(id);
+        sizes.push_back(0.5 * ((flat(loops[l][(k + 1) % n]) - flat(id)).norm() + (flat(loops[l][(k + n - 1) % n]) - flat(id)).norm()));
+      }
+      plane.loops.push_back(loop);
+    }
+    const GradedSizes field(plane.nodes, sizes, params.grading, fp.h);
+    const AdvancingFrontResult af = advancing_front_fill(plane, field);
+    for (std::size_t k = plane.nodes.size(); k < af.nodes.size(); ++k) {
+      Vec x;
+      x[a] = planes[p].offset;
+      x[u] = af.nodes[k].x();
+      x[v] = af.nodes[k].y();
+      id3.push_back(static_cast<NodeId>(front.nodes.size()));
+      front.nodes.push_back(x);
+    }
+    // Counter-clockwise in (u, v) faces +axis; the fill lies on the bodies' side.
+    const bool flip = fp.cuts[p].side < 0;
+    const int tag = static_cast<int>(front.tags.size());
+    front.tags.push_back({planes[p].tag, BoundaryKind::Symmetry});
+    r.fill.tags.push_back(front.tags.back());
+    for (const auto& t : af.simplices) {
+      std::array<NodeId, 3> tri = {id3[static_cast<std::size_t>(t[0])], id3[static_cast<std::size_t>(t[1])], id3[static_cast<std::size_t>(t[2])]};
+      if (flip) std::swap(tri[1], tri[2]);
+      front.triangles.push_back(tri);
+      front.triangle_tag.push_back(tag);
+      r.fill.boundary.push_back(tri);
+      r.fill.boundary_tag.push_back(static_cast<int>(r.fill.tags.size()) - 1);
+    }
+    r.plane_triangles += af.simplices.size();
+  }
+
+  // 4. Holes and sizes, then TetGen.
+  front.holes = layer_holes(lr, outer_tag);
+  r.holes = front.holes.size();
+  TetFillParams tp = params.tet;
+  tp.node_sizes.assign(front.nodes.size(), 0.0);
+  std::vector<int> edges(front.nodes.size(), 0);
+  for (const auto& t : front.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const NodeId ea = t[static_cast<std::size_t>(k)], eb = t[static_cast<std::size_t>((k + 1) % 3)];
+      const double len = (front.nodes[static_cast<std::size_t>(ea)] - front.nodes[static_cast<std::size_t>(eb)]).norm();
+      for (NodeId x : {ea, eb}) tp.node_sizes[static_cast<std::size_t>(x)] += len, ++edges[static_cast<std::size_t>(x)];
+    }
+  for (std::size_t x = 0; x < front.nodes.size(); ++x)
+    if (edges[x] > 0) tp.node_sizes[x] /= edges[x];
+  TetFillResult tets = tetgen_fill(front, tp);
+  r.stats = tets.stats;
+  r.fill.nodes = std::move(tets.nodes);
+  r.fill.simplices = std::move(tets.simplices);
+  r.farfield = fp;
+  return r;
+}
+
+}  // namespace plaf::volume
