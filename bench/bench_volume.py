@@ -48,9 +48,23 @@ Run by hand after building (Debian's gmsh and python3-gmsh):
         [--layers 30] [--h0 1e-5] [--growth 1.25] [--radius 20] [--algo3d hxt|delaunay]
         [--gmsh-threads 1]
 
-Measured on 2026-11-24, this machine (2 cores, 24 GiB; load 0.5-2 from other agents), plaf
-Release build of 1aa061b+, Gmsh 4.8.4, default options (HXT, 1 Gmsh thread):
-MEASURED_PLACEHOLDER
+Measured on 2026-11-24, this machine (2 cores, 24 GiB; load 0.8-1.7 from other agents, so
++-10 %), plaf Release build of 1aa061b+ (binary built 11:25), Gmsh 4.8.4, default options
+(two runs, the second printed):
+                   wall tris   prisms    tets    cells surface s layers s  fill s  mesh s total s  cells/s
+plaf Q2 (TetGen)       19770   593100   94414   687514     0.471    3.773   1.397   0.167   5.807   118386
+gmsh Q1 (HXT)          19552   586560  105257   691817     0.503    0.967   0.285       -   1.756   394024
+   plaf/gmsh cells/s: 0.30 (goal >= 1: not met); by stage: prisms/s 0.26, tets/s 0.18
+   plaf layers/fill time: 2.70 (goal <= 1: not met); gmsh layers/volume time: 3.39
+   plaf: 30 layers, farfield 720 triangles (h 4.75), 0 invalid, min scaled Jacobian 0.729;
+     quality stage 9.54 s, process 15.4 s, peak RSS 511 MiB
+   gmsh: wall size 0.0397, farfield 626 triangles, 1 thread(s), peak RSS 328 MiB (this process)
+  The first run: plaf total 6.01 s (114,409 cells/s, layers/fill 2.60), Gmsh 1.81 s (382,556
+  cells/s): 0.30. The whole script 18 s. With --algo3d delaunay Gmsh's volume stage is 2.13 s for
+  55,444 tets (Gmsh total 3.63 s, 176,723 cells/s): plaf/Gmsh 0.64, tets/s 2.29 (TetGen 5.6x
+  slower per tet than HXT, 2.3x faster than Gmsh's Delaunay). --gmsh-threads 2 changes little
+  (HXT 0.24 s, plaf/Gmsh 0.31). Neither goal is met: plaf's layers cost 2.6-2.7x its fill, and
+  its total rate is 0.30 of Gmsh's (the layer stage alone, 3.8 s, is 2.1x Gmsh's whole 1.76 s).
 """
 import argparse
 import json

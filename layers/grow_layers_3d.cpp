@@ -1144,8 +1144,8 @@ class PartLayerBuilder {
       }
     std::array<int, 3> r{};
     for (int k = 0; k < 3; ++k) r[static_cast<std::size_t>(2 - wins[k])] = k;
-    if (wins[0] + wins[1] + wins[2] != 3 || wins[r[0]] != 2 || wins[r[2]] != 0)
-      throw MesherError("layers: a prism's diagonals close a cycle (equal ranks)");
+    if (wins[r[0]] != 2 || wins[r[2]] != 0)  // only with ranks that are not distinct
+      throw MesherError("layers: a prism's diagonals close a cycle (its vertices' ranks are not distinct)");
     return r;
   }
 

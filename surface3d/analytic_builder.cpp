@@ -16,12 +16,6 @@ constexpr double kMaxTriangles = 2e7;
 
 }  // namespace
 
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
 void check_h(const std::string& body, double h, double size) {
   if (!(h > 0) || !std::isfinite(h))
     throw ConfigError(body + ": the mesh size h must be positive and finite, got " + num(h));

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "modules/base/format.h"
 #include "modules/geometry/tri_surface.h"
 
 namespace plaf::analytic_detail {
@@ -26,8 +27,8 @@ namespace plaf::analytic_detail {
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 inline constexpr double kEps = std::numeric_limits<double>::epsilon();
 
-// A number as the error messages print it.
-std::string num(double v);
+// A number as the error messages print it: plaf::num (modules/base/format.h).
+using plaf::num;
 
 // Refuses h <= 0, non-finite h, and an h so small for a body of the given size that the initial
 // mesh would be enormous (surely a unit mistake).

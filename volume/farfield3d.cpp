@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "modules/base/error.h"
+#include "modules/base/format.h"
 
 namespace plaf::volume {
 
@@ -15,11 +16,6 @@ namespace {
 
 using Vec = Eigen::Vector3d;
 
-std::string num(double v) {
-  std::ostringstream o;
-  o << v;
-  return o.str();
-}
 
 // Node ids shared along edges: a point is identified by its rounded integer lattice coordinates.
 class NodeSet {
@@ -140,6 +136,13 @@ Eigen::Vector3d farfield_center(const FarfieldParams3& p, const Eigen::Vector3d&
 
 FarfieldMesh3 make_farfield(const FarfieldParams3& p, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   if (!(p.h > 0)) throw ConfigError("fill.farfield.h: must be positive, got " + num(p.h));
+  // At most a few million farfield triangles (an h far too small for the farfield's extent
+  // would overflow the grid counts or exhaust the memory).
+  auto too_fine = [&](double triangles) {
+    if (triangles > 4e6)
+      throw ConfigError("fill.farfield.h: " + num(p.h) + " makes about " + num(triangles) +
+                        " farfield triangles (at most 4e6); give a larger h");
+  };
   const double diag = (hi - lo).norm();
   const Vec c = farfield_center(p, lo, hi);
   FarfieldMesh3 m;
@@ -150,6 +153,7 @@ FarfieldMesh3 make_farfield(const FarfieldParams3& p, const Eigen::Vector3d& lo,
     // Every body corner inside, with room for a farfield triangle's sag and the layers.
     double far = 0;
     for (int k = 0; k < 8; ++k) far = std::max(far, (Vec(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z()) - c).norm());
+    too_fine(20 * std::pow(1.0515 * 1.25 * r / p.h + 1, 2));
     sphere(m, c, r, p.h);
     // The inscribed polyhedron's inradius (its faces' closest distance to the centre) must clear
     // every body corner by 5 %.
@@ -177,6 +181,8 @@ FarfieldMesh3 make_farfield(const FarfieldParams3& p, const Eigen::Vector3d& lo,
                           std::to_string(d) + " does not enclose the bodies' [" + num(lo[d]) + ", " + num(hi[d]) +
                           "] with a margin of 5 % of its half size");
     }
+    const Vec e = (bhi - blo) / p.h + Vec::Ones();
+    too_fine(4 * (e.x() * e.y() + e.y() * e.z() + e.z() * e.x()));
     box(m, blo, bhi, p.h, p.cuts);
   }
   return m;

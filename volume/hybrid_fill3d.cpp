@@ -10,6 +10,8 @@
 #include <sstream>
 
 #include "modules/base/error.h"
+#include "modules/base/format.h"
+#include "modules/elements/lagrange.h"
 #include "volume/advancing_front_2d.h"
 
 namespace plaf::volume {
@@ -18,14 +20,11 @@ namespace {
 
 using Vec = Eigen::Vector3d;
 
-std::string num(double v) {
-  std::ostringstream o;
-  o << v;
-  return o.str();
-}
 
-// One point inside the layers of every connected part of their outer front (TetGen's holes):
-// the centroid of the vertices of a last-layer prism under a triangle of the part.
+// One point inside the layers of every connected part of their outer front (TetGen's holes:
+// the bodies and their layers are not filled): the centroid of the vertices of a last-layer cell
+// under a triangle of the part, a prism's (by its top face) or a tetrahedron's (by a face; a
+// first layer with fans is tetrahedra). MesherError when a part has none.
 std::vector<Vec> layer_holes(const LayerResult<3>& lr, int outer_tag) {
   const LinearFront<3>& ff = lr.fill_front;
   std::vector<std::size_t> root(ff.nodes.size());
@@ -42,13 +41,20 @@ std::vector<Vec> layer_holes(const LayerResult<3>& lr, int outer_tag) {
     root[find(static_cast<std::size_t>(tri[1]))] = find(static_cast<std::size_t>(tri[0]));
     root[find(static_cast<std::size_t>(tri[2]))] = find(static_cast<std::size_t>(tri[0]));
   }
-  std::map<std::array<NodeId, 3>, std::size_t> by_top;  // prisms by their sorted top vertices (Gmsh 3, 4, 5)
-  if (!lr.mesh.cells.empty()) {
-    const CellBlock& prisms = lr.mesh.cells[0];
-    for (std::size_t c = 0; c < prisms.size(); ++c) {
-      std::array<NodeId, 3> top = {prisms.cell(c)[3], prisms.cell(c)[4], prisms.cell(c)[5]};
-      std::sort(top.begin(), top.end());
-      by_top.emplace(top, c);
+  // Cells by their sorted faces that can be on the outer front, with their vertex count.
+  std::map<std::array<NodeId, 3>, std::pair<std::size_t, std::size_t>> by_face;  // -> (block, cell)
+  for (std::size_t b = 0; b < lr.mesh.cells.size(); ++b) {
+    const CellBlock& cb = lr.mesh.cells[b];
+    const bool prism = cb.type == CellType::Prism;
+    for (std::size_t c = 0; c < cb.size(); ++c) {
+      const NodeId* v = cb.cell(c);
+      const std::array<std::array<int, 3>, 4> faces = prism ? std::array<std::array<int, 3>, 4>{{{3, 4, 5}, {3, 4, 5}, {3, 4, 5}, {3, 4, 5}}}
+                                                            : std::array<std::array<int, 3>, 4>{{{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}}};
+      for (const auto& f : faces) {
+        std::array<NodeId, 3> key = {v[f[0]], v[f[1]], v[f[2]]};
+        std::sort(key.begin(), key.end());
+        by_face.emplace(key, std::make_pair(b, c));
+      }
     }
   }
   std::map<std::size_t, Vec> hole;
@@ -57,13 +63,22 @@ std::vector<Vec> layer_holes(const LayerResult<3>& lr, int outer_tag) {
     if (hole.count(r)) continue;
     std::array<NodeId, 3> key = ff.triangles[t];
     std::sort(key.begin(), key.end());
-    const auto it = by_top.find(key);
-    if (it == by_top.end()) continue;
+    const auto it = by_face.find(key);
+    if (it == by_face.end()) continue;
+    const CellBlock& cb = lr.mesh.cells[it->second.first];
+    const int nv = cb.type == CellType::Prism ? 6 : 4;
     Vec x = Vec::Zero();
-    for (int k = 0; k < 6; ++k) x += lr.mesh.nodes[static_cast<std::size_t>(lr.mesh.cells[0].cell(it->second)[k])] / 6;
+    for (int k = 0; k < nv; ++k) x += lr.mesh.nodes[static_cast<std::size_t>(cb.cell(it->second.second)[k])] / nv;
     hole.emplace(r, x);
   }
   std::vector<Vec> out;
+  for (std::size_t t : outer) {
+    const std::size_t r = find(static_cast<std::size_t>(ff.triangles[t][0]));
+    if (hole.count(r)) continue;
+    const Vec& x = ff.nodes[static_cast<std::size_t>(ff.triangles[t][0])];
+    throw MesherError("fill: no layer cell under the outer front at (" + num(x.x()) + ", " + num(x.y()) + ", " + num(x.z()) +
+                      ") to put the hole point of its body in");
+  }
   for (const auto& [r, x] : hole) out.push_back(x);
   return out;
 }
@@ -133,8 +148,25 @@ double signed_area(const std::vector<Eigen::Vector2d>& pts) {
 
 HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& metric, const HybridFillParams& params) {
   if (lr.layers.empty()) throw MesherError("fill: tetgen fills around prism layers; the layer stage grew none");
-  if (lr.linear_after < 0)
-    throw MesherError("fill: the layers' outer front is still curved (see layers.events); TetGen fills from a linear front");
+  // The outer front itself must be straight (linear_after speaks for the parts that grew last).
+  {
+    const int q = lr.outer.order;
+    const LagrangeElement& te = lagrange_element(CellType::Triangle, q);
+    for (std::size_t t = 0; t < lr.outer.num_triangles(); ++t) {
+      const NodeId* n = lr.outer.triangle(t);
+      const Vec &a = lr.mesh.nodes[static_cast<std::size_t>(n[0])], &b = lr.mesh.nodes[static_cast<std::size_t>(n[1])],
+                &c = lr.mesh.nodes[static_cast<std::size_t>(n[2])];
+      const double size = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+      for (int k = 3; k < te.size(); ++k) {
+        const Lattice& l = te.lattice()[static_cast<std::size_t>(k)];
+        const Vec lin = ((q - l[0] - l[1]) * a + l[0] * b + l[1] * c) / q;
+        const Vec& x = lr.mesh.nodes[static_cast<std::size_t>(n[k])];
+        if ((x - lin).norm() > kStraightTolerance * size)
+          throw MesherError("fill: the layers' outer front is still curved at (" + num(x.x()) + ", " + num(x.y()) + ", " +
+                            num(x.z()) + ") (see layers.events); TetGen fills from a linear front");
+      }
+    }
+  }
   if (lr.outer.num_quads() > 0)
     throw MesherError("fill: the layers' outer front has " + std::to_string(lr.outer.num_quads()) +
                       " quadrilaterals; the TetGen fill meets triangles only");
@@ -155,6 +187,7 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
   const std::vector<Plane> planes = symmetry_planes(lr.mesh, scale);
   const Vec mid = 0.5 * (lo + hi);
   FarfieldParams3 fp = params.farfield;
+  fp.cuts.clear();  // one per plane, in the planes' order
   for (const Plane& p : planes) fp.cuts.push_back({p.axis, p.offset, mid[p.axis] > p.offset ? 1 : -1});
   std::map<std::pair<NodeId, NodeId>, int> edge_count;
   for (std::size_t t = 0; t < front.triangles.size(); ++t) {
@@ -196,7 +229,10 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
       }
       if (!std::isfinite(extent)) extent = 10 * scale;
     }
-    fp.h = std::min(metric.evaluate(c + extent * Vec::UnitX()).max_size(), extent / 4);
+    int free_axis = 0;  // a farfield point off the symmetry planes
+    while (free_axis < 2 && std::any_of(fp.cuts.begin(), fp.cuts.end(), [free_axis](const FarfieldParams3::Cut& k) { return k.axis == free_axis; }))
+      ++free_axis;
+    fp.h = std::min(metric.evaluate(c + extent * Vec::Unit(free_axis)).max_size(), extent / 4);
   }
   const FarfieldMesh3 far = make_farfield(fp, lo, hi);
   const NodeId base = static_cast<NodeId>(front.nodes.size());

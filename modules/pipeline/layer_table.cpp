@@ -13,7 +13,7 @@ template <int Dim>
 void report_layer_table(const LayerResult<Dim>& lr, const HybridMesh<Dim>& mesh, const CellQuality& pc,
                         StageReport& report) {
   std::vector<std::string> rows;
-  report.line("layer  cells  curved  max_clip/h  min_scaled_J  max_aspect");
+  report.line("layer  cells  trans  curved  max_clip/h  min_scaled_J  max_aspect");
   for (const LayerStats& st : lr.layers) {
     std::size_t curved = 0;
     double min_sj = std::numeric_limits<double>::infinity(), max_ar = 0;
@@ -22,9 +22,13 @@ void report_layer_table(const LayerResult<Dim>& lr, const HybridMesh<Dim>& mesh,
       min_sj = std::min(min_sj, pc.scaled_jacobian[c]);
       max_ar = std::max(max_ar, pc.aspect_ratio[c]);
     }
-    // The transition block follows the main one in the mesh's cell numbering.
+    // The transition block follows the main one in the mesh's cell numbering (when the assembly
+    // kept them apart: a 2D split_quads merges the triangles into one block, then they are not
+    // counted here).
     const std::size_t offset = mesh.cells.empty() ? 0 : mesh.cells[0].size();
-    for (std::size_t c = st.first_transition_cell; c < st.first_transition_cell + st.transition_cells; ++c) {
+    const bool apart = mesh.cells.size() > 1 && st.first_transition_cell + st.transition_cells <= mesh.cells[1].size() &&
+                       offset + mesh.cells[1].size() <= pc.scaled_jacobian.size();
+    for (std::size_t c = st.first_transition_cell; apart && c < st.first_transition_cell + st.transition_cells; ++c) {
       if (is_curved(mesh, mesh.cells[1], c)) ++curved;
       min_sj = std::min(min_sj, pc.scaled_jacobian[offset + c]);
       max_ar = std::max(max_ar, pc.aspect_ratio[offset + c]);
@@ -37,7 +41,7 @@ void report_layer_table(const LayerResult<Dim>& lr, const HybridMesh<Dim>& mesh,
                    ", \"shrinks\": " + std::to_string(st.shrinks) +
                    ", \"transition_cells\": " + std::to_string(st.transition_cells) + "}");
     std::ostringstream o;
-    o << std::setw(5) << st.layer << std::setw(7) << st.cells << std::setw(8) << curved << std::setw(12)
+    o << std::setw(5) << st.layer << std::setw(7) << st.cells << std::setw(7) << st.transition_cells << std::setw(8) << curved << std::setw(12)
       << std::setprecision(3) << st.max_clipped_rel << std::setw(14) << min_sj << std::setw(12) << max_ar;
     report.line(o.str());
   }

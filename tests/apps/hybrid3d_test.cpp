@@ -137,3 +137,36 @@ TEST_CASE("hybrid 3D: a wing between two symmetry planes stays between them, eve
   for (const std::string& name : names) flux += enclosed(m, name);
   CHECK(-flux == doctest::Approx(cells_volume(m)).epsilon(1e-9));
 }
+
+TEST_CASE("hybrid 3D: a box whose only layer is the fans' tetrahedra still gets its hole point") {
+  // Regression: the hole point was looked for under prisms only, so TetGen filled the box too.
+  const TempDir d("hybrid_box_one_layer");
+  const std::string cfg = "name: case\norder: 2\ngeometry: {type: box, lo: [0, 0, 0], hi: [2, 1, 0.5]}\n"
+                          "metric: {type: wall_power_law, h0: 0.01, growth: 1.2, h_max: 2.0, h_wall_max: 0.2}\n"
+                          "layers: {max: 1}\n"
+                          "fill: {type: tetgen, farfield: {shape: box, size: [6, 6, 6]}}\n";
+  const PlafResult r = run_plaf("run " + write_text(d / "case.yaml", cfg).string() + " --out " + (d / "out").string(), d);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const HybridMesh<3> m = read_msh41(d / "out" / "case.msh").mesh3;
+  CHECK(count(m, CellType::Prism) == 0);
+  CHECK(cells_volume(m) == doctest::Approx(216 - 1).epsilon(1e-10));  // the box farfield minus the body
+}
+
+TEST_CASE("layers table: a 2D run with transition triangles and split_quads reports without reading past the blocks") {
+  // Regression: the per-layer table read the transition block as mesh.cells[1], which split_quads
+  // merges away (an out-of-range block, "geometry order 0").
+  const TempDir d("table_split_quads");
+  const std::string cfg = "name: case\norder: 3\n"
+                          "geometry: {type: airfoils, bodies: [{file: " PLAF_DATA "/airfoils/naca0012_sharp.dat}], "
+                          "farfield: {shape: circle, radius: 20}}\n"
+                          "metric: {type: wall_power_law, h0: 0.01, growth: 1.5, h_max: 2.0, h_wall_max: 0.04, "
+                          "curvature_factor: 0.3, h_corner: 0.005}\n"
+                          "layers: {max: 40, stop_when_linear: true, isotropic_stop: node}\nfill: {}\n"
+                          "output: {split_quads: true}\n";
+  const PlafResult r = run_plaf("run " + write_text(d / "case.yaml", cfg).string() + " --out " + (d / "out").string(), d);
+  INFO(r.err);
+  CHECK(r.code == 0);
+  const std::string report = plaf::test::read_text(d / "out" / "case.report.json");
+  CHECK(report.find("\"transition_cells\": ") != std::string::npos);
+}

@@ -97,3 +97,40 @@ TEST_CASE("farfield 3D: a farfield that does not enclose the bodies, or a bad si
   CHECK_THROWS_WITH_AS(make_farfield(p, Vector3d(-1, -1, -1), Vector3d(1, 1, 1)), doctest::Contains("fill.farfield.h"),
                        ConfigError);
 }
+
+TEST_CASE("farfield 3D: a box cut by two planes leaves both faces out, its cut loops closed on the planes") {
+  FarfieldParams3 p;
+  p.shape = "box";
+  p.size = {6, 6, 0};
+  p.h = 1;
+  p.cuts = {{2, 0.0, 1}, {2, 0.5, -1}};
+  const FarfieldMesh3 m = make_farfield(p, Vector3d(-1, -1, 0), Vector3d(1, 1, 0.5));
+  REQUIRE(m.cut_loops.size() == 2);
+  for (std::size_t c = 0; c < 2; ++c) {
+    CAPTURE(c);
+    const std::vector<int>& loop = m.cut_loops[c];
+    CHECK(loop.size() == 24);  // 6 x 6 grid: 4 sides of 6 edges
+    std::set<int> distinct(loop.begin(), loop.end());
+    CHECK(distinct.size() == loop.size());
+    for (int id : loop) CHECK(m.nodes[static_cast<std::size_t>(id)].z() == p.cuts[c].offset);
+    // Every loop edge is an open edge of the box's triangles (the plane's region closes it).
+    std::map<std::pair<int, int>, int> edges;
+    for (const auto& t : m.triangles)
+      for (int k = 0; k < 3; ++k) ++edges[{std::min(t[static_cast<std::size_t>(k)], t[static_cast<std::size_t>((k + 1) % 3)]),
+                                          std::max(t[static_cast<std::size_t>(k)], t[static_cast<std::size_t>((k + 1) % 3)])}];
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      const int a = loop[k], b = loop[(k + 1) % loop.size()];
+      CHECK(edges[{std::min(a, b), std::max(a, b)}] == 1);
+    }
+  }
+  // No triangle on either plane.
+  for (const auto& t : m.triangles) {
+    bool all0 = true, all1 = true;
+    for (int id : t) all0 = all0 && m.nodes[static_cast<std::size_t>(id)].z() == 0, all1 = all1 && m.nodes[static_cast<std::size_t>(id)].z() == 0.5;
+    CHECK_FALSE(all0);
+    CHECK_FALSE(all1);
+  }
+  FarfieldParams3 fine = p;
+  fine.h = 1e-4;
+  CHECK_THROWS_WITH_AS(make_farfield(fine, Vector3d(-1, -1, 0), Vector3d(1, 1, 0.5)), doctest::Contains("fill.farfield.h"), ConfigError);
+}
