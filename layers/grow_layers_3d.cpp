@@ -57,20 +57,14 @@ Vec onto_planes(const Vec& x, const std::array<int, 2>& ids, const std::vector<P
 }
 
 // A front of one part with a fixed local numbering of its nodes (step 1): the wall triangles at
-// first; after a first layer with fans also the corner fans' triangles (grown as tetrahedra) and
-// the ridge fans' quadrilaterals (each grown as two prisms split along the ridge). Faces are
-// numbered triangles first, then quadrilaterals.
+// first; after a first layer with fans also the corner patches' triangles and the two triangles
+// of every kite edge's quadrilateral (step 6). Every face is a triangle, grown as a prism (or, in
+// a first layer with fans, three tetrahedra).
 struct Part {
   std::string name;
-  int np = 3, nqn = 4;                  // nodes per triangle, per quadrilateral
+  int np = 3;                           // nodes per triangle
   std::vector<int> tri;                 // np local node ids per triangle, Gmsh order
   std::vector<int> tri_tag;             // per triangle: index into the front's tags
-  // Per triangle: {-1, -1, -1} grows a prism; else its local vertices in rank order (s, m, t):
-  // three tetrahedra whose quadrilateral diagonals run from the bottom of the lower rank to the
-  // top of the higher (acyclic, so the three tetrahedra fill the prism; step 6).
-  std::vector<std::array<int, 3>> split;
-  std::vector<int> quad;                // nqn local ids per quadrilateral, Gmsh order, lattice i along the ridge
-  std::vector<int> quad_tag;
   std::vector<NodeId> ids;              // current mesh node id of each local node
   std::vector<std::uint8_t> is_vertex;  // a vertex of some face (else high-order)
   // The attenuation target of node l: sum_k w[l][k] * top of local vertex v[l][k] (k < 4).
@@ -78,8 +72,7 @@ struct Part {
   std::vector<std::array<double, 4>> tw;
   std::vector<std::array<int, 2>> plane;             // per node: the planes it lies on (-1: none)
   std::vector<int> node_face_start, node_face;       // CSR: the faces around each node
-  // Per rim edge: face, edge (a triangle's edge 0-2; a quadrilateral's 0: its i = 0 end, 1: its
-  // i = Q end), plane.
+  // Per rim edge: face, edge (0-2, Gmsh's triangle edges), plane.
   std::vector<std::array<int, 3>> rim;
   std::vector<int> vertices;                          // local ids of vertex nodes
   // Per node: the direction its column grew along when it descends from a fan direction (zero
@@ -87,45 +80,29 @@ struct Part {
   std::vector<Vec> keep;
   std::size_t size() const { return ids.size(); }
   std::size_t nt() const { return tri_tag.size(); }
-  std::size_t nq() const { return quad_tag.size(); }
-  std::size_t num_faces() const { return nt() + nq(); }
-  const int* face(std::size_t f) const {
-    return f < nt() ? tri.data() + f * static_cast<std::size_t>(np) : quad.data() + (f - nt()) * static_cast<std::size_t>(nqn);
-  }
-  int face_size(std::size_t f) const { return f < nt() ? np : nqn; }
-  int face_vertices(std::size_t f) const { return f < nt() ? 3 : 4; }
-  int face_tag(std::size_t f) const { return f < nt() ? tri_tag[f] : quad_tag[f - nt()]; }
+  std::size_t num_faces() const { return nt(); }
+  const int* face(std::size_t f) const { return tri.data() + f * static_cast<std::size_t>(np); }
+  int face_size(std::size_t) const { return np; }
+  int face_vertices(std::size_t) const { return 3; }
+  int face_tag(std::size_t f) const { return tri_tag[f]; }
 };
 
-constexpr std::array<int, 3> kPrism = {-1, -1, -1};
-
 // The derived arrays of a part from its faces: vertex flags, attenuation recipes (barycentric on
-// triangles, bilinear on quadrilaterals), the faces around each node.
+// the triangles), the faces around each node.
 void finish_part(Part& p, int q) {
   const std::size_t n = p.size();
   p.is_vertex.assign(n, 0);
   p.tv.assign(n, {0, 0, 0, 0});
   p.tw.assign(n, {0, 0, 0, 0});
   const LagrangeElement& te = lagrange_element(CellType::Triangle, q);
-  const LagrangeElement& qe = lagrange_element(CellType::Quadrilateral, q);
   for (std::size_t f = 0; f < p.num_faces(); ++f) {
     const int* fl = p.face(f);
-    const bool quad = f >= p.nt();
-    const LagrangeElement& e = quad ? qe : te;
     for (int k = 0; k < p.face_size(f); ++k) {
-      const Lattice& lat = e.lattice()[static_cast<std::size_t>(k)];
+      const Lattice& lat = te.lattice()[static_cast<std::size_t>(k)];
       const double u = static_cast<double>(lat[0]) / q, v = static_cast<double>(lat[1]) / q;
       const std::size_t l = static_cast<std::size_t>(fl[k]);
-      if (quad) {
-        p.tv[l] = {fl[0], fl[1], fl[2], fl[3]};
-        for (int m = 0; m < 4; ++m) {
-          const Lattice& c = qe.lattice()[static_cast<std::size_t>(m)];
-          p.tw[l][static_cast<std::size_t>(m)] = (c[0] == 0 ? 1 - u : u) * (c[1] == 0 ? 1 - v : v);
-        }
-      } else {
-        p.tv[l] = {fl[0], fl[1], fl[2], fl[0]};
-        p.tw[l] = {1 - u - v, u, v, 0};
-      }
+      p.tv[l] = {fl[0], fl[1], fl[2], fl[0]};
+      p.tw[l] = {1 - u - v, u, v, 0};
       if (k < p.face_vertices(f)) p.is_vertex[l] = 1;
     }
   }
@@ -175,14 +152,12 @@ class PartBuilder {
   Part part(const std::vector<int>& tris, std::vector<Plane>& planes) {
     Part p;
     p.np = np_;
-    p.nqn = (q_ + 1) * (q_ + 1);
     std::unordered_map<NodeId, int> local;
     p.name = f_.tags[static_cast<std::size_t>(f_.triangle_tag[static_cast<std::size_t>(tris[0])])].name;
     for (int t : tris) {
       const NodeId* n = f_.triangle(static_cast<std::size_t>(t));
       for (int k = 0; k < np_; ++k) p.tri.push_back(local.emplace(n[k], static_cast<int>(local.size())).first->second);
       p.tri_tag.push_back(f_.triangle_tag[static_cast<std::size_t>(t)]);
-      p.split.push_back(kPrism);
     }
     p.ids.assign(local.size(), -1);
     for (const auto& [id, l] : local) p.ids[static_cast<std::size_t>(l)] = id;
@@ -330,20 +305,6 @@ struct PartLayer {
   std::vector<int> sym_quad_tag, sym_tri_tag;
 };
 
-// The cells of a hexahedron (quadrilateral base, lattice (i, j) with i along the ridge, levels w
-// up the layer) split along the ridge into the prisms {v >= w} and {v <= w} of its (v, w) cross
-// sections: per prism node, (i, j, w) of the hexahedron.
-std::array<std::vector<std::array<int, 3>>, 2> hex_prisms(int q) {
-  const LagrangeElement& pe = lagrange_element(CellType::Prism, q);
-  std::array<std::vector<std::array<int, 3>>, 2> r;
-  for (const Lattice& lat : pe.lattice()) {
-    const int a = lat[0], b = lat[1], c = lat[2];
-    r[0].push_back({c, a + b, b});
-    r[1].push_back({c, a, a + b});
-  }
-  return r;
-}
-
 // Builds one layer on one part (steps 2-6).
 class PartLayerBuilder {
  public:
@@ -359,7 +320,7 @@ class PartLayerBuilder {
     x_.resize(n);
     for (std::size_t l = 0; l < n; ++l) x_[l] = mesh_.nodes[static_cast<std::size_t>(part_.ids[l])];
     normals();
-    if (first_ && part_.nq() == 0 && std::isfinite(f_atten_)) fans();
+    if (first_ && std::isfinite(f_atten_)) fans();
     check_cusps();
     if (!fanned_) {
       dirs_.resize(n);
@@ -383,10 +344,10 @@ class PartLayerBuilder {
   // 2. Normals: per node, the sub-triangle normals around it with their angles there and faces.
   void normals() {
     const std::size_t n = part_.size();
-    const std::vector<std::array<int, 3>> subs[2] = {sub_triangles(q_), sub_quad_triangles(q_)};
+    const std::vector<std::array<int, 3>> subs = sub_triangles(q_);
     ent_start_.assign(n + 1, 0);
     for (std::size_t f = 0; f < part_.num_faces(); ++f)
-      for (const auto& s : subs[f >= part_.nt() ? 1 : 0])
+      for (const auto& s : subs)
         for (int k : s) ++ent_start_[static_cast<std::size_t>(part_.face(f)[k]) + 1];
     for (std::size_t l = 0; l < n; ++l) ent_start_[l + 1] += ent_start_[l];
     ent_n_.resize(static_cast<std::size_t>(ent_start_[n]));
@@ -394,7 +355,7 @@ class PartLayerBuilder {
     ent_f_.resize(ent_n_.size());
     std::vector<int> fill(ent_start_.begin(), ent_start_.end() - 1);
     for (std::size_t f = 0; f < part_.num_faces(); ++f)
-      for (const auto& s : subs[f >= part_.nt() ? 1 : 0]) {
+      for (const auto& s : subs) {
         const int* fl = part_.face(f);
         const Vec a = x_[static_cast<std::size_t>(fl[s[0]])], b = x_[static_cast<std::size_t>(fl[s[1]])],
                   c = x_[static_cast<std::size_t>(fl[s[2]])];
@@ -427,11 +388,11 @@ class PartLayerBuilder {
         for (int v = 0; v < part_.face_vertices(f); ++v)
           if (static_cast<std::size_t>(part_.face(f)[v]) != l) to_nb.push_back(x_[static_cast<std::size_t>(part_.face(f)[v])] - x_[l]);
       }
-      // A fan's column keeps its direction (radial from its ridge or corner) while every face
-      // around sees it at less than 80 degrees: the faces' average would lean the fan's end
-      // nodes into the fan and the corner patch's nodes toward its centre, a little every layer,
-      // until the end sectors and the patch's triangles collapse (measured on a box with 20
-      // degree fans: slivers at the corners by layer 5).
+      // A corner's columns keep their direction (radial from the corner) while every face around
+      // sees it at less than 80 degrees: the faces' average would lean the corner patch's nodes
+      // toward its centre, a little every layer, until the patch's triangles collapse (measured
+      // on a box with 20-degree fans: slivers at the corners by layer 5). A ridge's kites take
+      // the faces' average, as the 2D kites do.
       const Vec& kept = part_.keep[l];
       if (!first_ && kept.squaredNorm() > 0) {
         double worst = 1;
@@ -523,14 +484,12 @@ class PartLayerBuilder {
   // its own normal; between the two wedges of a fan edge an arc of 2 k Q + 1 directions (k
   // kites of at most fan_angle_deg, the same k along the chain; two straight kite edges each)
   // gives in this layer two prisms per kite and ridge edge (cross sections: the node, P_s, X_s
-  // and the node, X_s, P_s+1; extruded along the ridge) and two quadrilaterals on the new front;
-  // at a corner, a flat patch of triangles from the corner's merged normal to every kite edge
-  // gives tetrahedra (node + patch triangle) and front triangles that grow as three tetrahedra
-  // in later layers. The quadrilaterals grow as
-  // hexahedra split into two prisms along the ridge; their lattice runs i along the chain and j
-  // across the arc from the right wedge to the left one (so i x j faces the domain), so the
-  // split diagonals of neighbouring hexahedra coincide along a chain and, at a corner, give the
-  // rank order of the patch triangles' tetrahedra.
+  // and the node, X_s, P_s+1; extruded along the ridge), each cut into three tetrahedra like
+  // every prism of this layer (column_order), and two quadrilaterals whose cut triangles join the
+  // new front (lattice i along the chain, j across the arc from the right wedge to the left one,
+  // so i x j faces the domain); at a corner, a flat patch of triangles from the corner's merged
+  // normal to every kite edge gives tetrahedra (node + patch triangle) and front triangles. Every
+  // face of the new front grows as a prism in later layers.
   void fans() {
     const Part& p = part_;
     const std::size_t nt = p.nt();
@@ -777,11 +736,9 @@ class PartLayerBuilder {
     auto nw = std::make_shared<Part>();
     nw->name = p.name;
     nw->np = p.np;
-    nw->nqn = p.nqn;
     for (std::size_t t = 0; t < nt; ++t) {
       for (int k = 0; k < np_; ++k) nw->tri.push_back(dir_of(tri(t)[k], static_cast<int>(t)));
       nw->tri_tag.push_back(p.tri_tag[t]);
-      nw->split.push_back(kPrism);
       out_.face_origin.push_back(static_cast<int>(t));
     }
     for (const auto& [v, c] : cnt) {
@@ -821,8 +778,7 @@ class PartLayerBuilder {
             nw->tri.push_back(d);
           }
           nw->tri_tag.push_back(p.tri_tag[static_cast<std::size_t>(around0)]);
-          nw->split.push_back(kPrism);
-          out_.face_origin.push_back(around0);
+              out_.face_origin.push_back(around0);
           corner_tets_.push_back({v, static_cast<int>(nw->tri_tag.size()) - 1});
         }
       }
@@ -853,8 +809,7 @@ class PartLayerBuilder {
             nw->tri.push_back(dir(i / q_, j / q_));
           }
           nw->tri_tag.push_back(p.tri_tag[static_cast<std::size_t>(fe.left)]);
-          nw->split.push_back(kPrism);
-          out_.face_origin.push_back(fe.left);
+              out_.face_origin.push_back(fe.left);
           // Its edge on a symmetry plane (the chain's end there): both ends at i = 0 or at i = Q.
           for (int end = 0; end < 2; ++end) {
             if (fe.plane[end] < 0) continue;
@@ -1030,8 +985,8 @@ class PartLayerBuilder {
   }
 
   // 5-6. Columns of Q nodes per direction; per face of the new front grown from an old face a
-  // prism (triangle), three tetrahedra (corner triangle) or two prisms (quadrilateral); the
-  // first layer's fan cells; the symmetry facets.
+  // prism, or three tetrahedra in a first layer with fans; the first layer's fan cells; the
+  // symmetry facets.
   void columns_and_cells() {
     const std::size_t nd = dirs_.size();
     const std::size_t q = static_cast<std::size_t>(q_);
@@ -1048,18 +1003,12 @@ class PartLayerBuilder {
     const LagrangeElement& pe = lagrange_element(CellType::Prism, q_);
     std::vector<int> tri_of_prism_node;
     for (const Lattice& lat : pe.lattice()) tri_of_prism_node.push_back(te.find({lat[0], lat[1], 0}));
-    const auto hex = hex_prisms(q_);
     std::vector<NodeId>& prisms = out_.built.cells[0];
     std::vector<NodeId>& tets = out_.built.cells[1];
     const std::size_t grown = fanned_ ? part_.nt() : nw.num_faces();  // faces grown from an old face
     for (std::size_t f = 0; f < grown; ++f) {
       const int* fl = nw.face(f);
-      if (f >= nw.nt()) {
-        for (int h = 0; h < 2; ++h) {
-          for (const auto& ijw : hex[static_cast<std::size_t>(h)]) prisms.push_back(at(fl[qe.find({ijw[0], ijw[1], 0})], ijw[2]));
-          out_.cell_face[0].push_back(static_cast<int>(f));
-        }
-      } else if (fanned_) {
+      if (fanned_) {
         // The first layer of a part with fans is all tetrahedra (grow_layers_3d.h, step 6).
         std::array<long, 6> rank{};
         for (int k = 0; k < 3; ++k) {
@@ -1068,25 +1017,22 @@ class PartLayerBuilder {
         }
         split_tets(fl, column_order(rank), tets);
         for (int k = 0; k < 3; ++k) out_.cell_face[1].push_back(static_cast<int>(f));
-      } else if (nw.split[f][0] < 0) {
+      } else {
         for (int k = 0; k < pe.size(); ++k)
           prisms.push_back(at(fl[tri_of_prism_node[static_cast<std::size_t>(k)]], pe.lattice()[static_cast<std::size_t>(k)][2]));
         out_.cell_face[0].push_back(static_cast<int>(f));
-      } else {
-        split_tets(fl, nw.split[f], tets);
-        for (int k = 0; k < 3; ++k) out_.cell_face[1].push_back(static_cast<int>(f));
       }
     }
     if (fanned_) fan_cells();
     // Symmetry facets of the grown faces: a triangle's rim edge gives a quadrilateral (u from the
-    // edge's second vertex to its first, v up the layer: facing the cells, as the wall does); a
-    // quadrilateral's end gives the two triangles of its hexahedron's cross section there.
+    // edge's second vertex to its first, v up the layer: facing the cells, as the wall does), or
+    // its two triangles where the layer is tetrahedra.
     for (const auto& re : nw.rim) {
       const std::size_t f = static_cast<std::size_t>(re[0]);
       if (f >= grown) continue;
       const int* fl = nw.face(f);
       const int tag = planes_[static_cast<std::size_t>(re[2])].tag;
-      if (f < nw.nt() && fanned_) {
+      if (fanned_) {
         // The side of a first-layer prism cut into tetrahedra: the two triangles of its cut
         // (column_order's rule on the quadrilateral (u from the edge's second vertex to its first,
         // v up the layer)).
@@ -1110,20 +1056,10 @@ class PartLayerBuilder {
           }
           out_.sym_tri_tag.push_back(tag);
         }
-      } else if (f < nw.nt()) {
+      } else {
         const std::vector<int>& en = te.edge_nodes(re[1]);
         for (const Lattice& lat : qe.lattice()) out_.sym_quads.push_back(at(fl[en[static_cast<std::size_t>(q_ - lat[0])]], lat[1]));
         out_.sym_quad_tag.push_back(tag);
-      } else {
-        const int i = re[1] == 0 ? 0 : q_;
-        for (int h = 0; h < 2; ++h) {
-          for (const Lattice& lat : te.lattice()) {
-            const int a = re[1] == 0 ? lat[0] : lat[1], b = re[1] == 0 ? lat[1] : lat[0];
-            const int v = h == 0 ? a + b : a, w = h == 0 ? b : a + b;
-            out_.sym_tris.push_back(at(fl[qe.find({i, v, 0})], w));
-          }
-          out_.sym_tri_tag.push_back(tag);
-        }
       }
     }
   }
@@ -1177,7 +1113,7 @@ class PartLayerBuilder {
     }
   }
 
-  // The three tetrahedra of the prism over triangle fl with rank order r (Part::split).
+  // The three tetrahedra of the prism over triangle fl (its directions) with column order r.
   void split_tets(const int* fl, const std::array<int, 3>& r, std::vector<NodeId>& tets) {
     const LagrangeElement& te = lagrange_element(CellType::Triangle, q_);
     prism_tets([&](int a, int b, int c) { return at(fl[te.find({a, b, 0})], c); }, r, tets);
@@ -1188,9 +1124,10 @@ class PartLayerBuilder {
   long base_rank(int l) const { return l; }
   long top_rank(int d) const { return static_cast<long>(part_.size()) + d; }
 
-  // The first layer's ridge fan prisms (cross section: the edge node and the ends of kite edge s
-  // of the arc, s + 1's first; extruded along the chain) and corner tetrahedra (corner node + patch
-  // triangle), and their symmetry triangles at chain ends on a plane.
+  // The first layer's ridge fan cells (prisms of cross section the edge node and the ends of kite
+  // edge s of the arc, s + 1's first, extruded along the chain, each cut into three tetrahedra)
+  // and corner tetrahedra (corner node + patch triangle), and their symmetry triangles at chain
+  // ends on a plane.
   void fan_cells() {
     const LagrangeElement& te = lagrange_element(CellType::Triangle, q_);
     const LagrangeElement& tet = lagrange_element(CellType::Tetrahedron, q_);
@@ -1316,9 +1253,9 @@ class SurfaceFronts final : public FrontGrower<3> {
   std::vector<std::size_t> collisions(std::size_t part) const override {
     std::vector<FrontSurface> fronts;
     const Part& nw = pending_front();
-    fronts.push_back({&nw.tri, &pending_.top, &nw.quad});
+    fronts.push_back({&nw.tri, &pending_.top});
     for (std::size_t other = 0; other < parts_.size(); ++other)
-      if (other != part) fronts.push_back({&parts_[other].tri, &parts_[other].ids, &parts_[other].quad});
+      if (other != part) fronts.push_back({&parts_[other].tri, &parts_[other].ids});
     return front_collisions(fronts, mesh_.nodes, q_);
   }
   Vec front_point(std::size_t e) const override {
@@ -1431,18 +1368,6 @@ LayerResult<3> grow_layers(const CurvedFront<3>& front, const MetricField<3>& me
       for (std::size_t k = 0; k < np; ++k) r.outer.triangles.push_back(id(tl[k]));
       r.outer.triangle_tag.push_back(part.tri_tag[t]);
       r.fill_front.triangles.push_back({id(tl[0]), id(tl[1]), id(tl[2])});
-      r.fill_front.triangle_tag.push_back(outer_tag);
-    }
-    // Fan quadrilaterals: curved quadrilaterals on the outer front; the fill's boundary takes
-    // them as two linear triangles (a fill that meets them conformingly must split the last
-    // layer's hexahedra the same way: issue 15).
-    for (std::size_t k = 0; k < part.nq(); ++k) {
-      const int* ql = part.face(part.nt() + k);
-      for (std::size_t j = 0; j < nqn; ++j) r.outer.quads.push_back(id(ql[j]));
-      r.outer.quad_tag.push_back(part.quad_tag[k]);
-      r.fill_front.triangles.push_back({id(ql[0]), id(ql[1]), id(ql[2])});
-      r.fill_front.triangles.push_back({id(ql[0]), id(ql[2]), id(ql[3])});
-      r.fill_front.triangle_tag.push_back(outer_tag);
       r.fill_front.triangle_tag.push_back(outer_tag);
     }
   }

@@ -5,7 +5,7 @@
 // dimension-generic core (layer_core.h); this file adds what is particular to surfaces:
 //  1. parts: the connected sets of wall triangles; each keeps its topology from layer to layer
 //     (one new node per front node, vertex or high-order), so a layer is one column of Q nodes per
-//     front node and one prism per front triangle;
+//     front node and one prism per front triangle (three tetrahedra in a first layer with fans);
 //  2. normals at every front node (normals_3d.h): the reference normal carried by the front on
 //     the first layer at smooth nodes; otherwise the angle-weighted average of the normals of the
 //     front's linear sub-triangles around the node (the 2D panel average), and at ridges and
@@ -34,7 +34,8 @@
 //     grow_layers_2d.h): normals n_s dividing the angle equally, the kite (node, P_s, X_s,
 //     P_s+1) with P_s one height along n_s and X_s where the perpendiculars at P_s and P_s+1
 //     meet; extruded along the ridge each kite is split along node-X_s into two prisms, and its
-//     outer edges P_s X_s, X_s P_s+1 become front quadrilaterals. So the cross section of a ridge
+//     outer edges P_s X_s, X_s P_s+1 sweep quadrilaterals (cut into triangles, below). So the
+//     cross section of a ridge
 //     fan is the 2D fan, and an extruded section grows the 2D layers at mid-span
 //     (tests/layers/extrusion_match_test.cpp). At a corner a flat patch of triangles from the
 //     corner's merged normal to every kite edge of its arcs gives tetrahedra (node + patch

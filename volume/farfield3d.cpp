@@ -42,11 +42,10 @@ void sphere(FarfieldMesh3& m, const Vec& c, double r, double h) {
   const int f[20][3] = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
                         {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
                         {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
-  // The icosahedron's edge on the unit sphere is 1.0515; pushing onto the sphere stretches the
-  // sub-edges by at most 1.2 (measured bound kept with a margin below).
+  // The icosahedron's edge on the unit sphere is 1.0515; pushing the sub-triangles onto the
+  // sphere stretches their edges, by less than the factor 1.25 allows for (farfield3d_test checks
+  // every edge under h).
   const int n = std::max(1, static_cast<int>(std::ceil(1.0515 * 1.25 * r / h)));
-  // Shared nodes: a point of face F at lattice (i, j) is a * (n - i - j) + b * i + c * j in
-  // integer weights over the icosahedron's vertices; the key is those weights per vertex id.
   // Shared nodes: a point of a face at lattice (i, j) has integer weights (n - i - j, i, j) on
   // the face's icosahedron vertices; its key lists the (vertex, weight) pairs of positive weight,
   // sorted, so the faces sharing an edge or a vertex agree on it.

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 // The farfield of a 3D run (issue 15): a sphere or an axis-aligned box around the bodies, as
 // linear triangles whose right-hand normals point inward (into the region to fill,
-// linear_front.h), every edge at most `size` long. The sphere is an icosahedron whose faces are
-// split into n^2 triangles (n the smallest that keeps the edges under size) and pushed onto the
-// sphere; the box's faces are grids of n_a x n_b cells, two triangles each, sharing the nodes of
+// linear_front.h). The sphere is an icosahedron whose faces are split into n^2 triangles (every
+// edge at most h) and pushed onto the sphere; the box's faces are grids of n_a x n_b cells of
+// sides at most h, two triangles each (their diagonals up to sqrt 2 h), sharing the nodes of
 // their common edges.
 #pragma once
 

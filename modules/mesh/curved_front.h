@@ -66,8 +66,9 @@ struct CurvedFront<3> {
   std::vector<BoundaryTag> tags;
   std::vector<NodeId> rim_edges;         // (Q+1) ids per open edge, on a symmetry plane
   std::vector<int> rim_tag;              // per rim edge: index into tags
-  // Quadrilaterals ((Q+1)^2 ids each, Gmsh order, facing the domain like the triangles): the
-  // tops of the layers' ridge fans (grow_layers_3d.h); a surface front has none.
+  // Quadrilaterals ((Q+1)^2 ids each, Gmsh order, facing the domain like the triangles). Neither
+  // the surface stage nor the layers (whose outer front is all triangles, grow_layers_3d.h) make
+  // any; a consumer of a front given otherwise must handle or refuse them.
   std::vector<NodeId> quads;
   std::vector<int> quad_tag;
 

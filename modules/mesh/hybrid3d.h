@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Assembly of the 3D hybrid mesh (PLAF Sec. II.E): the layer mesh (curved prisms, the wall
-// triangles, the symmetry quadrilaterals) and, without a fill, its outer front as the boundary
+// Assembly of the 3D hybrid mesh (PLAF Sec. II.E): the layer mesh (curved prisms, tetrahedra of a
+// first layer with fans, the wall triangles, the symmetry quadrilaterals and triangles) and,
+// without a fill, its outer front as the boundary
 // tagged `layers_outer`; with a fill (the TetGen tetrahedra, issue 15), the fill's tetrahedra at
 // the layers' order instead, straight-sided, on the outer front's own nodes there (its high-order
 // nodes are the prisms' top nodes), and the fill's boundary facets (the farfield) at that order.

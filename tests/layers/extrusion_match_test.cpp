@@ -48,11 +48,11 @@ Match grow_both(const CurvedFront<2>& section, const MetricField<2>& metric, lay
   m.linear_2d = r2.linear_after;
   m.linear_3d = r3.linear_after;
   std::vector<Vector3d> mid;
-  for (const std::vector<NodeId>* faces : {&r3.outer.triangles, &r3.outer.quads})  // quads: the fans'
-    for (NodeId id : *faces) {
-      const Vector3d& x = r3.mesh.nodes[static_cast<std::size_t>(id)];
-      if (std::abs(x.z() - 0.5 * span) <= 1e-12 * span) mid.push_back(x);
-    }
+  CHECK(r3.outer.num_quads() == 0);  // the kites' quadrilaterals are cut into triangles
+  for (NodeId id : r3.outer.triangles) {
+    const Vector3d& x = r3.mesh.nodes[static_cast<std::size_t>(id)];
+    if (std::abs(x.z() - 0.5 * span) <= 1e-12 * span) mid.push_back(x);
+  }
   // Both ways: every mid-span 3D node is a 2D node too, and their numbers agree.
   std::vector<Vector2d> flat;
   for (const FrontLoop& l : r2.outer.loops)
