@@ -77,36 +77,15 @@ import json
 import math
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 import time
 
+from sphere_common import gmsh_sphere, heights, run_process
+
 LAYERS = 30
 # Gmsh's first size guess: 0.0355 on the built-in-kernel sphere gave 24,692 triangles.
 GMSH_H_REF, GMSH_N_REF = 0.0355, 24692
-
-
-def heights(h0, g, n):
-    """Cumulative heights of n geometric layers h0 g^k (Gmsh's extrudeBoundaryLayer input)."""
-    out, s = [], 0.0
-    for k in range(n):
-        s += h0 * g ** k
-        out.append(s)
-    return out
-
-
-def run_process(cmd, work):
-    """Runs cmd (output to files in work); returns (exit code, stderr, wall s, peak RSS MiB)."""
-    out_path, err_path = os.path.join(work, "stdout.txt"), os.path.join(work, "stderr.txt")
-    with open(out_path, "w") as out, open(err_path, "w") as err:
-        t0 = time.perf_counter()
-        p = subprocess.Popen(cmd, stdout=out, stderr=err)
-        # wait4 reaps the child with its own resource usage (ru_maxrss in KiB on Linux).
-        _, status, usage = os.wait4(p.pid, 0)
-        wall = time.perf_counter() - t0
-    p.returncode = os.waitstatus_to_exitcode(status)
-    return p.returncode, open(err_path).read(), wall, usage.ru_maxrss / 1024.0
 
 
 def run_plaf(exe, work, name, h_wall, h0, g):
@@ -139,28 +118,6 @@ output: {{formats: [report]}}
         "invalid": rep["cells"]["invalid"],
         "min_sj": rep["scaled_jacobian"]["min"],
     }
-
-
-def gmsh_sphere(gmsh, h):
-    """The unit sphere in Gmsh's built-in kernel: 8 octant patches on the exact sphere."""
-    geo = gmsh.model.geo
-    c = geo.addPoint(0, 0, 0, h)
-    px, py, pz, mx, my, mz = [geo.addPoint(*p, h) for p in
-                              [(1, 0, 0), (0, 1, 0), (0, 0, 1), (-1, 0, 0), (0, -1, 0), (0, 0, -1)]]
-    arcs = {}
-    for a, b in [(px, py), (py, mx), (mx, my), (my, px), (px, pz), (pz, mx), (mx, mz), (mz, px),
-                 (py, pz), (pz, my), (my, mz), (mz, py)]:
-        arcs[(a, b)] = geo.addCircleArc(a, c, b)
-
-    def edge(a, b):
-        return arcs[(a, b)] if (a, b) in arcs else -arcs[(b, a)]
-
-    patches = []
-    for a, b, d in [(px, py, pz), (py, mx, pz), (mx, my, pz), (my, px, pz),
-                    (py, px, mz), (mx, py, mz), (my, mx, mz), (px, my, mz)]:
-        loop = geo.addCurveLoop([edge(a, b), edge(b, d), edge(d, a)])
-        patches.append(geo.addSurfaceFilling([loop], sphereCenterTag=c))
-    return patches
 
 
 def gmsh_model(gmsh, h, bl_heights):

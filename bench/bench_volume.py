@@ -72,10 +72,11 @@ import math
 import os
 import resource
 import shutil
-import subprocess
 import sys
 import tempfile
 import time
+
+from sphere_common import gmsh_sphere, heights, run_process
 
 # Gmsh's first size guess: 0.039 at the sphere's points gave 20,528 wall triangles.
 GMSH_H_REF, GMSH_N_REF = 0.039, 20528
@@ -85,27 +86,6 @@ ALGO3D = {"hxt": (10, "HXT"), "delaunay": (1, "Delaunay")}
 def fail(msg):
     """One line on stderr, exit 1."""
     sys.exit(f"bench_volume: {msg}")
-
-
-def heights(h0, g, n):
-    """Cumulative heights of n geometric layers h0 g^k (Gmsh's extrudeBoundaryLayer input)."""
-    out, s = [], 0.0
-    for k in range(n):
-        s += h0 * g ** k
-        out.append(s)
-    return out
-
-
-def run_process(cmd, work):
-    """Runs cmd (output to files in work); returns (exit code, stderr, wall s, peak RSS MiB)."""
-    out_path, err_path = os.path.join(work, "stdout.txt"), os.path.join(work, "stderr.txt")
-    with open(out_path, "w") as out, open(err_path, "w") as err:
-        t0 = time.perf_counter()
-        p = subprocess.Popen(cmd, stdout=out, stderr=err)
-        # wait4 reaps the child with its own resource usage (ru_maxrss in KiB on Linux).
-        _, status, usage = os.wait4(p.pid, 0)
-        wall = time.perf_counter() - t0
-    return os.waitstatus_to_exitcode(status), open(err_path).read(), wall, usage.ru_maxrss / 1024.0
 
 
 def run_plaf(exe, work, a):
@@ -156,28 +136,6 @@ output: {{formats: [report]}}
     }
 
 
-def gmsh_sphere(gmsh, r, h):
-    """A sphere of radius r at the origin in Gmsh's built-in kernel: 8 octant patches, size h."""
-    geo = gmsh.model.geo
-    c = geo.addPoint(0, 0, 0, h)
-    px, py, pz, mx, my, mz = [geo.addPoint(r * x, r * y, r * z, h) for x, y, z in
-                              [(1, 0, 0), (0, 1, 0), (0, 0, 1), (-1, 0, 0), (0, -1, 0), (0, 0, -1)]]
-    arcs = {}
-    for p, q in [(px, py), (py, mx), (mx, my), (my, px), (px, pz), (pz, mx), (mx, mz), (mz, px),
-                 (py, pz), (pz, my), (my, mz), (mz, py)]:
-        arcs[(p, q)] = geo.addCircleArc(p, c, q)
-
-    def edge(p, q):
-        return arcs[(p, q)] if (p, q) in arcs else -arcs[(q, p)]
-
-    patches = []
-    for p, q, d in [(px, py, pz), (py, mx, pz), (mx, my, pz), (my, px, pz),
-                    (py, px, mz), (mx, py, mz), (my, mx, mz), (px, my, mz)]:
-        loop = geo.addCurveLoop([edge(p, q), edge(q, d), edge(d, p)])
-        patches.append(geo.addSurfaceFilling([loop], sphereCenterTag=c))
-    return patches
-
-
 def gmsh_reset(gmsh, algo, threads):
     gmsh.clear()
     gmsh.option.setNumber("General.Verbosity", 0)  # errors come back in the exception
@@ -203,7 +161,7 @@ def run_gmsh(a, target, farfield_h):
         h = GMSH_H_REF * math.sqrt(GMSH_N_REF / target)
         for attempt in range(4):
             gmsh_reset(gmsh, algo, a.gmsh_threads)
-            gmsh_sphere(gmsh, 1.0, h)
+            gmsh_sphere(gmsh, h)
             gmsh.model.geo.synchronize()
             gmsh.model.mesh.generate(2)
             n = count(gmsh, 2)
@@ -214,12 +172,12 @@ def run_gmsh(a, target, farfield_h):
         # The model: wall, boundary layer, farfield, the volume between the layers' top and it.
         gmsh_reset(gmsh, algo, a.gmsh_threads)
         geo = gmsh.model.geo
-        wall = gmsh_sphere(gmsh, 1.0, h)
+        wall = gmsh_sphere(gmsh, h)
         out = geo.extrudeBoundaryLayer([(2, s) for s in wall], [1] * a.layers,
                                        heights(a.h0, a.growth, a.layers), True)
         tops = [t for d, t in out if d == 2]
         layer_vols = [t for d, t in out if d == 3]
-        far = gmsh_sphere(gmsh, a.radius, farfield_h)
+        far = gmsh_sphere(gmsh, farfield_h, a.radius)
         vol = geo.addVolume([geo.addSurfaceLoop(far), geo.addSurfaceLoop(tops)])
         geo.synchronize()
 
