@@ -107,14 +107,15 @@ class EdgeLengthAccumulator {
 };
 
 // Metric lengths of the distinct edges of the cells, each measured once as the curved Lagrange
-// edge it is: into all, and (when triangles is not null) the edges of triangle cells into
-// triangles too.
+// edge it is: into all, and (when simplices is not null) the edges of the simplex cells
+// (triangles in 2D, tetrahedra in 3D) into simplices too.
 template <int Dim>
 void measure_edges(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& blocks, const MetricField<Dim>& metric,
-                   int bins, EdgeLengthStats& all, EdgeLengthStats* triangles) {
+                   int bins, EdgeLengthStats& all, EdgeLengthStats* simplices) {
+  const CellType simplex = Dim == 2 ? CellType::Triangle : CellType::Tetrahedron;
   EdgeLengthAccumulator acc_all(all, bins);
-  std::optional<EdgeLengthAccumulator> acc_tri;
-  if (triangles) acc_tri.emplace(*triangles, bins);
+  std::optional<EdgeLengthAccumulator> acc_simplex;
+  if (simplices) acc_simplex.emplace(*simplices, bins);
   // The distinct edges in order of first appearance (block, cell, local edge), then their
   // lengths on worker threads (modules/base/parallel.h; the metric fields are read-only), then
   // the statistics in that order, so the result does not depend on the workers.
@@ -124,10 +125,10 @@ void measure_edges(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& bl
   };
   std::unordered_map<std::uint64_t, std::size_t> index;
   std::vector<EdgeRef> refs;
-  std::vector<std::uint8_t> in_triangle;
+  std::vector<std::uint8_t> in_simplex;
   for (std::size_t bi = 0; bi < blocks.size(); ++bi) {
     const CellBlock& b = blocks[bi];
-    const bool triangle = triangles && b.type == CellType::Triangle;
+    const bool simplex_block = simplices && b.type == simplex;
     const CellTopology& topo = topology(b.type);
     for (std::size_t i = 0; i < b.size(); ++i) {
       const NodeId* c = b.cell(i);
@@ -138,9 +139,9 @@ void measure_edges(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& bl
         const auto [it, fresh] = index.try_emplace(key, refs.size());
         if (fresh) {
           refs.push_back({static_cast<std::uint32_t>(bi), static_cast<std::uint32_t>(k), i});
-          in_triangle.push_back(0);
+          in_simplex.push_back(0);
         }
-        if (triangle) in_triangle[it->second] = 1;
+        if (simplex_block) in_simplex[it->second] = 1;
       }
     }
   }
@@ -165,10 +166,10 @@ void measure_edges(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& bl
   });
   for (std::size_t r = 0; r < refs.size(); ++r) {
     acc_all.add(length[r]);
-    if (acc_tri && in_triangle[r]) acc_tri->add(length[r]);
+    if (acc_simplex && in_simplex[r]) acc_simplex->add(length[r]);
   }
   acc_all.finish();
-  if (acc_tri) acc_tri->finish();
+  if (acc_simplex) acc_simplex->finish();
 }
 
 // Records one certified cell in the report and the per-cell results; `where` describes it
@@ -302,11 +303,12 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
   }
   if (r.cells_total == 0) r.scaled_jacobian_min = 0;
 
-  // 2. Metric length of every distinct edge (keyed by its two vertices), and the triangles' share.
+  // 2. Metric length of every distinct edge (keyed by its two vertices), and the simplices' share
+  // (2D triangles, with their shape in the metric; 3D tetrahedra).
   if (metric) {
     r.has_metric = true;
     measure_edges<Dim>(mesh, r.surface ? mesh.boundary : mesh.cells, *metric, options.histogram_bins, r.metric,
-                       Dim == 2 ? &r.triangle_metric.edges : nullptr);
+                       Dim == 2 ? &r.triangle_metric.edges : r.surface ? nullptr : &r.tetrahedron_edges);
     if constexpr (Dim == 2) {
       TriangleMetricStats& t = r.triangle_metric;
       t.quality_histogram.assign(10, 0);
@@ -397,6 +399,11 @@ std::string report_json(const QualityReport& r) {
     s << "], \"counts\": [";
     for (std::size_t k = 0; k < m.histogram.size(); ++k) s << (k ? ", " : "") << m.histogram[k];
     s << "]}";
+    const EdgeLengthStats& te = r.tetrahedron_edges;
+    if (te.count)
+      s << ",\n    \"tetrahedra\": {\"edges\": " << te.count << ", \"unit_fraction\": " << json_number(te.unit_fraction)
+        << ", \"edge_min\": " << json_number(te.min) << ", \"edge_max\": " << json_number(te.max)
+        << ", \"edge_mean\": " << json_number(te.mean) << "}";
     const TriangleMetricStats& t = r.triangle_metric;
     if (t.triangles) {
       s << ",\n    \"triangles\": {\"count\": " << t.triangles << ", \"edges\": " << t.edges.count
@@ -450,6 +457,9 @@ std::string report_summary(const QualityReport& r) {
   if (r.has_metric)
     s << "  metric edge lengths: " << r.metric.count << " edges, " << 100.0 * r.metric.unit_fraction
       << "% in [1/sqrt2, sqrt2], min " << r.metric.min << ", max " << r.metric.max << '\n';
+  if (r.has_metric && r.tetrahedron_edges.count)
+    s << "  tetrahedra in the metric: " << r.tetrahedron_edges.count << " edges, " << 100.0 * r.tetrahedron_edges.unit_fraction
+      << "% unit, min " << r.tetrahedron_edges.min << ", max " << r.tetrahedron_edges.max << '\n';
   if (r.has_metric && r.triangle_metric.triangles)
     s << "  triangles in the metric: " << 100.0 * r.triangle_metric.edges.unit_fraction
       << "% of their edges unit, shape quality min " << r.triangle_metric.quality_min << ", mean "

@@ -72,6 +72,7 @@ struct QualityReport {
   bool has_metric = false;
   EdgeLengthStats metric;
   TriangleMetricStats triangle_metric;  // when has_metric and the mesh has triangles
+  EdgeLengthStats tetrahedron_edges;     // 3D, when has_metric: the tetrahedra's distinct edges (count 0: none)
   ConformityReport conformity;
   std::vector<std::pair<std::string, double>> timings_s;
   // Further sections added by later stages, as (dotted key, JSON value text).

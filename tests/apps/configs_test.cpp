@@ -493,6 +493,7 @@ TEST_CASE("configs: 3D prism layers are certified, conforming and attenuate to a
       CHECK(json_number(report, "tetrahedron_Q2", report.find("\"by_type\"")) >= json_number(report, "tets", fill));
       CHECK(json_number(report, "min_dihedral_deg", fill) > 1);
       CHECK(json_number(report, "open_facets", report.find("\"conformity\": {")) == 0);
+      CHECK(json_number(report, "edges", report.find("\"tetrahedra\": {")) > 0);  // the tets' metric lengths
       CHECK(read_text(r.out / (r.name + ".msh")).find("\"farfield\"") != std::string::npos);
       if (r.name == "wing_symmetry_hybrid") CHECK(json_number(report, "symmetry_triangles", fill) > 100);
     }
