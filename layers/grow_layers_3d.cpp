@@ -56,6 +56,24 @@ Vec onto_planes(const Vec& x, const std::array<int, 2>& ids, const std::vector<P
   return x - m.transpose() * (m * m.transpose()).ldlt().solve(r);
 }
 
+// The two triangles a quadrilateral of order q (corners (0, 0), (q, 0), (q, q), (0, q), counter-
+// clockwise in its lattice, with ranks r00 .. r0q) is cut into: along the diagonal through its
+// corner of smallest rank (the rule of column_order), counter-clockwise like it. Each triangle is
+// its three corners in the quadrilateral's lattice.
+using QuadCorners = std::array<std::array<int, 2>, 3>;
+std::array<QuadCorners, 2> quad_cut(int q, long r00, long rq0, long rqq, long r0q) {
+  const long lo = std::min(std::min(r00, rq0), std::min(rqq, r0q));
+  if (lo == r00 || lo == rqq) return {{{{{0, 0}, {q, 0}, {q, q}}}, {{{0, 0}, {q, q}, {0, q}}}}};
+  return {{{{{0, 0}, {q, 0}, {0, q}}}, {{{q, 0}, {q, q}, {0, q}}}}};
+}
+// The quadrilateral lattice point of node `lat` of such a triangle.
+std::array<int, 2> quad_point(const QuadCorners& h, const Lattice& lat, int q) {
+  const int w[3] = {q - lat[0] - lat[1], lat[0], lat[1]};
+  int i = 0, j = 0;
+  for (int k = 0; k < 3; ++k) i += w[k] * h[static_cast<std::size_t>(k)][0], j += w[k] * h[static_cast<std::size_t>(k)][1];
+  return {i / q, j / q};
+}
+
 // A front of one part with a fixed local numbering of its nodes (step 1): the wall triangles at
 // first; after a first layer with fans also the corner patches' triangles and the two triangles
 // of every kite edge's quadrilateral (step 6). Every face is a triangle, grown as a prism (or, in
@@ -796,20 +814,13 @@ class PartLayerBuilder {
         auto dir = [&](int i, int j) {
           return arcs_[static_cast<std::size_t>(fe.arcs[static_cast<std::size_t>(i)])][static_cast<std::size_t>(s * q_ + j)];
         };
-        const long r00 = top_rank(dir(0, 0)), rq0 = top_rank(dir(q_, 0)), rqq = top_rank(dir(q_, q_)), r0q = top_rank(dir(0, q_));
-        const long lo = std::min(std::min(r00, rq0), std::min(rqq, r0q));
-        const std::array<std::array<int, 2>, 3> halves[2][2] = {
-            {{{{0, 0}, {q_, 0}, {q_, q_}}}, {{{0, 0}, {q_, q_}, {0, q_}}}},
-            {{{{0, 0}, {q_, 0}, {0, q_}}}, {{{q_, 0}, {q_, q_}, {0, q_}}}}};
-        for (const auto& h : halves[lo == r00 || lo == rqq ? 0 : 1]) {
+        for (const QuadCorners& h : quad_cut(q_, top_rank(dir(0, 0)), top_rank(dir(q_, 0)), top_rank(dir(q_, q_)), top_rank(dir(0, q_)))) {
           for (const Lattice& lat : te.lattice()) {
-            const int w[3] = {q_ - lat[0] - lat[1], lat[0], lat[1]};
-            int i = 0, j = 0;
-            for (int k = 0; k < 3; ++k) i += w[k] * h[static_cast<std::size_t>(k)][0], j += w[k] * h[static_cast<std::size_t>(k)][1];
-            nw->tri.push_back(dir(i / q_, j / q_));
+            const auto [i, j] = quad_point(h, lat, q_);
+            nw->tri.push_back(dir(i, j));
           }
           nw->tri_tag.push_back(p.tri_tag[static_cast<std::size_t>(fe.left)]);
-              out_.face_origin.push_back(fe.left);
+          out_.face_origin.push_back(fe.left);
           // Its edge on a symmetry plane (the chain's end there): both ends at i = 0 or at i = Q.
           for (int end = 0; end < 2; ++end) {
             if (fe.plane[end] < 0) continue;
@@ -1041,18 +1052,10 @@ class PartLayerBuilder {
         const int d0 = fl[en[static_cast<std::size_t>(q_)]], d1 = fl[en[0]];  // u = 0 and u = Q
         const long r00 = base_rank(dirs_[static_cast<std::size_t>(d0)].base), rq0 = base_rank(dirs_[static_cast<std::size_t>(d1)].base);
         const long rqq = top_rank(d1), r0q = top_rank(d0);
-        const long lo = std::min(std::min(r00, rq0), std::min(rqq, r0q));
-        // Corners (u, v) of the two triangles, counter-clockwise as the quadrilateral.
-        const std::array<std::array<int, 2>, 3> halves[2][2] = {
-            {{{{0, 0}, {q_, 0}, {q_, q_}}}, {{{0, 0}, {q_, q_}, {0, q_}}}},  // cut (0, 0)-(Q, Q)
-            {{{{0, 0}, {q_, 0}, {0, q_}}}, {{{q_, 0}, {q_, q_}, {0, q_}}}}};  // cut (Q, 0)-(0, Q)
-        const int cut = lo == r00 || lo == rqq ? 0 : 1;
-        for (const auto& h : halves[cut]) {
+        for (const QuadCorners& h : quad_cut(q_, r00, rq0, rqq, r0q)) {
           for (const Lattice& lat : te.lattice()) {
-            const int w[3] = {q_ - lat[0] - lat[1], lat[0], lat[1]};
-            int u = 0, v = 0;
-            for (int k = 0; k < 3; ++k) u += w[k] * h[static_cast<std::size_t>(k)][0], v += w[k] * h[static_cast<std::size_t>(k)][1];
-            out_.sym_tris.push_back(node(u / q_, v / q_));
+            const auto [u, v] = quad_point(h, lat, q_);
+            out_.sym_tris.push_back(node(u, v));
           }
           out_.sym_tri_tag.push_back(tag);
         }
