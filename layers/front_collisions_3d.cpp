@@ -22,39 +22,23 @@ std::vector<std::array<int, 3>> sub_triangles(int q) {
   return s;
 }
 
-std::vector<std::array<int, 3>> sub_quad_triangles(int q) {
-  const LagrangeElement& e = lagrange_element(CellType::Quadrilateral, q);
-  std::vector<std::array<int, 3>> s;
-  for (int j = 0; j < q; ++j)
-    for (int i = 0; i < q; ++i) {
-      const int a = e.find({i, j, 0}), b = e.find({i + 1, j, 0}), c = e.find({i + 1, j + 1, 0}), d = e.find({i, j + 1, 0});
-      s.push_back({a, b, c});
-      s.push_back({a, c, d});
-    }
-  return s;
-}
-
 std::vector<std::size_t> front_collisions(const std::vector<FrontSurface>& fronts,
                                           const std::vector<Eigen::Vector3d>& nodes, int q) {
   const std::size_t np = static_cast<std::size_t>(num_nodes(CellType::Triangle, q));
-  const std::size_t nq = static_cast<std::size_t>(num_nodes(CellType::Quadrilateral, q));
-  const std::vector<std::array<int, 3>> subs = sub_triangles(q), quad_subs = sub_quad_triangles(q);
+  const std::vector<std::array<int, 3>> subs = sub_triangles(q);
   std::vector<std::array<int, 3>> tris;     // mesh node ids
   std::vector<long> owner;                  // fronts[0] face index, or -1
-  auto add = [&](const std::vector<int>& faces, std::size_t n, const std::vector<std::array<int, 3>>& sub,
-                 const std::vector<NodeId>& ids, bool own, std::size_t first_index) {
-    for (std::size_t t = 0; t * n < faces.size(); ++t)
-      for (const auto& s : sub) {
+  for (std::size_t f = 0; f < fronts.size(); ++f) {
+    const std::vector<int>& faces = *fronts[f].tri;
+    const std::vector<NodeId>& ids = *fronts[f].ids;
+    for (std::size_t t = 0; t * np < faces.size(); ++t)
+      for (const auto& s : subs) {
         std::array<int, 3> tri;
         for (int k = 0; k < 3; ++k)
-          tri[static_cast<std::size_t>(k)] = ids[static_cast<std::size_t>(faces[t * n + static_cast<std::size_t>(s[static_cast<std::size_t>(k)])])];
+          tri[static_cast<std::size_t>(k)] = ids[static_cast<std::size_t>(faces[t * np + static_cast<std::size_t>(s[static_cast<std::size_t>(k)])])];
         tris.push_back(tri);
-        owner.push_back(own ? static_cast<long>(first_index + t) : -1);
+        owner.push_back(f == 0 ? static_cast<long>(t) : -1);
       }
-  };
-  for (std::size_t f = 0; f < fronts.size(); ++f) {
-    add(*fronts[f].tri, np, subs, *fronts[f].ids, f == 0, 0);
-    if (fronts[f].quad != nullptr) add(*fronts[f].quad, nq, quad_subs, *fronts[f].ids, f == 0, fronts[f].tri->size() / np);
   }
   const TriangleTree tree(nodes, tris);
   std::vector<std::size_t> hits;

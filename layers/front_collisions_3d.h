@@ -17,18 +17,11 @@ namespace plaf::layers {
 // (Gmsh order), counter-clockwise like the triangle: q^2 of them.
 std::vector<std::array<int, 3>> sub_triangles(int q);
 
-// The linear sub-triangles of the order-q quadrilateral's node lattice (Gmsh order): each lattice
-// cell (i, j)..(i+1, j+1) cut along its (i, j)-(i+1, j+1) diagonal, counter-clockwise like the
-// quadrilateral: 2 q^2 of them.
-std::vector<std::array<int, 3>> sub_quad_triangles(int q);
-
-// A front as triangles and quadrilaterals over local nodes: tri holds (Q+1)(Q+2)/2 local ids per
-// triangle, quad (Q+1)^2 per quadrilateral (both Gmsh order; quad may be null), ids maps a local
-// node to its mesh node. Its faces are numbered triangles first, then quadrilaterals.
+// A front as triangles over local nodes: tri holds (Q+1)(Q+2)/2 local ids per triangle (Gmsh
+// order), ids maps a local node to its mesh node.
 struct FrontSurface {
   const std::vector<int>* tri;
   const std::vector<NodeId>* ids;
-  const std::vector<int>* quad = nullptr;
 };
 
 // The faces of fronts[0] (by index) with a sub-triangle that crosses a sub-triangle of any of the

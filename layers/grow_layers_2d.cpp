@@ -303,8 +303,10 @@ class LoopLayerBuilder {
     // only for the attenuation to straighten it again over several layers.
     bool straight = true;
     const Vec a0 = at(iv), b0 = at(iv + q_);
-    for (int k = 1; k < q_ && straight; ++k)
-      straight = (at(iv + k) - (a0 + (static_cast<double>(k) / q_) * (b0 - a0))).norm() <= kStraightTolerance * (b0 - a0).norm();
+    for (int k = 1; k < q_ && straight; ++k) {
+      const Vec x = at(iv + k), lin = a0 + (static_cast<double>(k) / q_) * (b0 - a0);
+      straight = (x - lin).norm() <= straight_tolerance((b0 - a0).norm(), std::max(x.cwiseAbs().maxCoeff(), lin.cwiseAbs().maxCoeff()));
+    }
     // Next to a concave corner the offsets of the high-order nodes run into the corner's merged
     // normal (at 90 degrees, one h along the wall from the corner they meet its top): the top
     // is taken straight there too.

@@ -796,7 +796,7 @@ class PartLayerBuilder {
             nw->tri.push_back(d);
           }
           nw->tri_tag.push_back(p.tri_tag[static_cast<std::size_t>(around0)]);
-              out_.face_origin.push_back(around0);
+          out_.face_origin.push_back(around0);
           corner_tets_.push_back({v, static_cast<int>(nw->tri_tag.size()) - 1});
         }
       }
@@ -956,7 +956,8 @@ class PartLayerBuilder {
         linear += part_.tw[l][static_cast<std::size_t>(k)] * x_[v];
         size = std::max(size, (x_[v] - x_[l]).norm());
       }
-      if (straight[d] || (x_[l] - linear).norm() <= kStraightTolerance * size) {
+      if (straight[d] ||
+          (x_[l] - linear).norm() <= straight_tolerance(size, std::max(x_[l].cwiseAbs().maxCoeff(), linear.cwiseAbs().maxCoeff()))) {
         top_[d] = target;
         continue;
       }

@@ -2,15 +2,13 @@
 // The dimension-generic layer core (see layer_core.h for the steps and the paper's sections).
 #include "layers/layer_core.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
 #include "modules/base/parallel.h"
-
-#include <algorithm>
-#include <cmath>
-#include <limits>
-
 #include "modules/elements/validity.h"
 
 namespace plaf::layers {

@@ -41,35 +41,36 @@ std::vector<Vec> layer_holes(const LayerResult<3>& lr, int outer_tag) {
     root[find(static_cast<std::size_t>(tri[1]))] = find(static_cast<std::size_t>(tri[0]));
     root[find(static_cast<std::size_t>(tri[2]))] = find(static_cast<std::size_t>(tri[0]));
   }
-  // Cells by their sorted faces that can be on the outer front, with their vertex count.
-  std::map<std::array<NodeId, 3>, std::pair<std::size_t, std::size_t>> by_face;  // -> (block, cell)
-  for (std::size_t b = 0; b < lr.mesh.cells.size(); ++b) {
-    const CellBlock& cb = lr.mesh.cells[b];
-    const bool prism = cb.type == CellType::Prism;
-    for (std::size_t c = 0; c < cb.size(); ++c) {
-      const NodeId* v = cb.cell(c);
-      const std::array<std::array<int, 3>, 4> faces = prism ? std::array<std::array<int, 3>, 4>{{{3, 4, 5}, {3, 4, 5}, {3, 4, 5}, {3, 4, 5}}}
-                                                            : std::array<std::array<int, 3>, 4>{{{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}}};
-      for (const auto& f : faces) {
-        std::array<NodeId, 3> key = {v[f[0]], v[f[1]], v[f[2]]};
-        std::sort(key.begin(), key.end());
-        by_face.emplace(key, std::make_pair(b, c));
-      }
-    }
-  }
-  std::map<std::size_t, Vec> hole;
+  // One outer triangle per connected part, by its sorted vertices; then one pass over the cells
+  // for a prism whose top (Gmsh nodes 3, 4, 5) or a tetrahedron one of whose faces is one of them.
+  std::map<std::array<NodeId, 3>, std::size_t> wanted;  // sorted triangle -> its part's root
+  std::map<std::size_t, bool> parts;
   for (std::size_t t : outer) {
     const std::size_t r = find(static_cast<std::size_t>(ff.triangles[t][0]));
-    if (hole.count(r)) continue;
+    if (!parts.emplace(r, true).second) continue;
     std::array<NodeId, 3> key = ff.triangles[t];
     std::sort(key.begin(), key.end());
-    const auto it = by_face.find(key);
-    if (it == by_face.end()) continue;
-    const CellBlock& cb = lr.mesh.cells[it->second.first];
-    const int nv = cb.type == CellType::Prism ? 6 : 4;
-    Vec x = Vec::Zero();
-    for (int k = 0; k < nv; ++k) x += lr.mesh.nodes[static_cast<std::size_t>(cb.cell(it->second.second)[k])] / nv;
-    hole.emplace(r, x);
+    wanted.emplace(key, r);
+  }
+  std::map<std::size_t, Vec> hole;
+  for (const CellBlock& cb : lr.mesh.cells) {
+    const bool prism = cb.type == CellType::Prism;
+    const int nv = prism ? 6 : 4;
+    static constexpr int kPrismTop[1][3] = {{3, 4, 5}};
+    static constexpr int kTetFaces[4][3] = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
+    for (std::size_t c = 0; c < cb.size() && hole.size() < wanted.size(); ++c) {
+      const NodeId* v = cb.cell(c);
+      for (int f = 0; f < (prism ? 1 : 4); ++f) {
+        const int* fv = prism ? kPrismTop[f] : kTetFaces[f];
+        std::array<NodeId, 3> key = {v[fv[0]], v[fv[1]], v[fv[2]]};
+        std::sort(key.begin(), key.end());
+        const auto it = wanted.find(key);
+        if (it == wanted.end() || hole.count(it->second)) continue;
+        Vec x = Vec::Zero();
+        for (int k = 0; k < nv; ++k) x += lr.mesh.nodes[static_cast<std::size_t>(v[k])] / nv;
+        hole.emplace(it->second, x);
+      }
+    }
   }
   std::vector<Vec> out;
   for (std::size_t t : outer) {
@@ -150,22 +151,13 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
   if (lr.layers.empty()) throw MesherError("fill: tetgen fills around prism layers; the layer stage grew none");
   // The outer front itself must be straight (linear_after speaks for the parts that grew last).
   {
-    const int q = lr.outer.order;
-    const LagrangeElement& te = lagrange_element(CellType::Triangle, q);
-    for (std::size_t t = 0; t < lr.outer.num_triangles(); ++t) {
-      const NodeId* n = lr.outer.triangle(t);
-      const Vec &a = lr.mesh.nodes[static_cast<std::size_t>(n[0])], &b = lr.mesh.nodes[static_cast<std::size_t>(n[1])],
-                &c = lr.mesh.nodes[static_cast<std::size_t>(n[2])];
-      const double size = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-      for (int k = 3; k < te.size(); ++k) {
-        const Lattice& l = te.lattice()[static_cast<std::size_t>(k)];
-        const Vec lin = ((q - l[0] - l[1]) * a + l[0] * b + l[1] * c) / q;
-        const Vec& x = lr.mesh.nodes[static_cast<std::size_t>(n[k])];
-        if ((x - lin).norm() > kStraightTolerance * size)
-          throw MesherError("fill: the layers' outer front is still curved at (" + num(x.x()) + ", " + num(x.y()) + ", " +
-                            num(x.z()) + ") (see layers.events); TetGen fills from a linear front");
+    CellBlock outer_block{CellType::Triangle, lr.outer.order, -1, lr.outer.triangles};
+    for (std::size_t t = 0; t < outer_block.size(); ++t)
+      if (is_curved(lr.mesh, outer_block, t)) {
+        const Vec& x = lr.mesh.nodes[static_cast<std::size_t>(outer_block.cell(t)[0])];
+        throw MesherError("fill: the layers' outer front is still curved at (" + num(x.x()) + ", " + num(x.y()) + ", " +
+                          num(x.z()) + ") (see layers.events); TetGen fills from a linear front");
       }
-    }
   }
   if (lr.outer.num_quads() > 0)
     throw MesherError("fill: the layers' outer front has " + std::to_string(lr.outer.num_quads()) +

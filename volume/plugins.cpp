@@ -14,13 +14,8 @@ namespace plaf::volume {
 
 namespace {
 
-struct TetgenPlan {
-  FarfieldParams3 farfield;
-  TetFillParams tet;
-};
-
-TetgenPlan parse_tetgen(const ConfigNode& section) {
-  TetgenPlan p;
+HybridFillParams parse_tetgen(const ConfigNode& section) {
+  HybridFillParams p;
   p.tet.max_radius_edge = section.get_in_range("max_radius_edge", p.tet.max_radius_edge, 0.0, 100.0);
   if (p.tet.max_radius_edge > 0 && p.tet.max_radius_edge < 1.1)
     throw ConfigError(section.where("max_radius_edge") + ": TetGen's quality bound must be 0 (off) or at least 1.1");
@@ -65,13 +60,10 @@ void register_plugins() {
           };
         });
     stage_registry<3>(StageKind::Fill).add("tetgen", [](const ConfigNode& section) -> Stage<3> {
-      const TetgenPlan plan = parse_tetgen(section);
-      return [plan](RunState<3>& s, StageReport& rep) {
+      const HybridFillParams params = parse_tetgen(section);
+      return [params](RunState<3>& s, StageReport& rep) {
         if (!s.layers) throw MesherError("fill: tetgen fills around prism layers; the layer stage grew none");
-        HybridFillParams hp;
-        hp.farfield = plan.farfield;
-        hp.tet = plan.tet;
-        HybridFill fill = fill_around_layers(*s.layers, *s.metric, hp);
+        HybridFill fill = fill_around_layers(*s.layers, *s.metric, params);
         const TetFillStats& st = fill.stats;
         rep.add("farfield.shape", fill.farfield.shape);
         rep.add("farfield.h", fill.farfield.h);

@@ -363,9 +363,7 @@ bool is_curved(const HybridMesh<Dim>& mesh, const CellBlock& b, std::size_t i, d
   double size = 0, magnitude = 0;
   for (int k = 1; k < lin.size(); ++k) size = std::max(size, (mesh.nodes[c[k]] - mesh.nodes[c[0]]).norm());
   for (int k = 0; k < e.size(); ++k) magnitude = std::max(magnitude, mesh.nodes[c[k]].cwiseAbs().maxCoeff());
-  // Stored coordinates are rounded to a few ulps of their magnitude, which exceeds rel_tol * size
-  // for a small cell far from the origin: such offsets are no curvature.
-  const double tol = rel_tol * size + 16 * std::numeric_limits<double>::epsilon() * magnitude;
+  const double tol = straight_tolerance(size, magnitude, rel_tol);
   double phi[8];
   for (int k = lin.size(); k < e.size(); ++k) {
     const auto xi = e.ref_node(k);

@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -101,8 +102,17 @@ struct ConformityReport {
 template <int Dim>
 ConformityReport check_conformity(const HybridMesh<Dim>& mesh);
 
+// How far a high-order node may lie off its linear position and still count as there: rel_tol of
+// its cell's size, plus the rounding of stored coordinates of that magnitude (a few ulps, more
+// than rel_tol * size for a small cell far from the origin: a 1e-5 first-layer cell at x = 1).
+// is_curved's rule; the layers judge their straight elements by it too.
+inline double straight_tolerance(double size, double magnitude, double rel_tol = 1e-12) {
+  return rel_tol * size + 16 * std::numeric_limits<double>::epsilon() * magnitude;
+}
+
 // True when a high-order node of cell i of block b lies off the cell's linear interpolation of its
-// vertices by more than rel_tol times its size (and the rounding of its coordinates).
+// vertices by more than straight_tolerance (rel_tol times its size, and the rounding of its
+// coordinates).
 template <int Dim>
 bool is_curved(const HybridMesh<Dim>& mesh, const CellBlock& block, std::size_t cell, double rel_tol = 1e-12);
 

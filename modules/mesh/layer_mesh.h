@@ -15,13 +15,6 @@
 namespace plaf {
 inline namespace mesh {
 
-// A high-order node of a layer front counts as at its linear position (its element straight, so its top is
-// the linear interpolation of the vertex tops) within this fraction of its element's size. Not
-// tighter: coordinates far from the origin carry rounding of 1e-16 |x|, which exceeds 1e-12 of a
-// first-layer element 1e-5 long at x = 1, and 2D and 3D (computing the same points differently)
-// would then judge the same kite edge differently.
-constexpr double kStraightTolerance = 1e-10;
-
 struct LayerStats {
   int layer = 0;                     // 1-based
   std::size_t cells = 0;             // main cells (2D quadrilaterals, 3D prisms)
