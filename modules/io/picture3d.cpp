@@ -379,7 +379,9 @@ void write_png(const HybridMesh<3>& mesh, const std::vector<std::uint8_t>& valid
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_set_font_size(cr, 16);
   cairo_move_to(cr, cut_w + 8, 48);
-  cairo_show_text(cr, "outer front, shaded");
+  // With a fill the layers' outer front is interior (no layers_outer facets): the wall is shaded.
+  const bool outer = std::any_of(mesh.tags.begin(), mesh.tags.end(), [](const BoundaryTag& t) { return t.name == "layers_outer"; });
+  cairo_show_text(cr, outer ? "outer front, shaded" : "wall, shaded");
   const std::string plane = "cut: plane through (" + std::to_string(fr.p.x()) + ", " + std::to_string(fr.p.y()) + ", " +
                             std::to_string(fr.p.z()) + "), normal (" + std::to_string(fr.n.x()) + ", " +
                             std::to_string(fr.n.y()) + ", " + std::to_string(fr.n.z()) + ")";

@@ -6,7 +6,8 @@
 //    crossing the plane is cut along its curved surface (sampled on a fine sub-lattice), so the
 //    cut cells' outlines show with their curvature; wall facets crossing it are drawn thicker.
 //  - zoom panels of the cut (boxes in (u, v)), below it;
-//  - a shaded view of the outer front (the facets tagged `layers_outer`, else the wall's): an
+//  - a shaded view of the outer front (the facets tagged `layers_outer`; else, as with a fill, the
+//    wall's, labelled so): an
 //    orthographic view along `view`, each curved facet split into sub-triangles, painted back to
 //    front with Lambert shading, facet outlines drawn thin.
 // The plane's axes u, v: the two of x, y, z least aligned with its normal, in that order, made
