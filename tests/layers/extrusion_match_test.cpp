@@ -142,7 +142,7 @@ TEST_CASE("extruded layers: the E387 wing grows the E387's layers at mid-span, t
     CHECK(m.layers_3d == 40);
     CHECK(m.same_count);
     CHECK(m.worst_back <= 1e-9);
-    CHECK(m.worst_rel <= 1e-9);  // measured: 2.4e-12 (Q = 1), 2.8e-12 (Q = 2), 7.4e-12 (Q = 3)
+    CHECK(m.worst_rel <= 1e-9);  // measured: 2.4e-12 (Q = 1), 2.8e-12 (Q = 2), 7.5e-12 (Q = 3)
     CHECK(m.linear_2d == m.linear_3d);
   }
 }
