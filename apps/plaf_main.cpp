@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "apps/run.h"
+#include "apps/study.h"
 #include "modules/base/error.h"
 
 namespace {
@@ -16,6 +17,10 @@ constexpr const char* usage =
     "       plaf check MESH.msh [--metric CONFIG.yaml] [--report FILE.json]\n"
     "                                          re-read a Gmsh MSH 4.1 mesh and certify its cells; measure\n"
     "                                          its edges in CONFIG's metric; write the JSON report\n"
+    "       plaf compare-attenuation STUDY.yaml [--out DIR]\n"
+    "                                          run paired 2D and 3D layer cases (a section and its extrusion,\n"
+    "                                          a circle and a sphere) over f_atten and h0; write the tables,\n"
+    "                                          JSON and charts into DIR (default out/<study name>)\n"
     "       plaf plugins                        list the registered type of every stage (geometry, metric,\n"
     "                                          surface, layers, fill) and the output formats\n"
     "       plaf --help | --version\n"
@@ -59,6 +64,25 @@ int main(int argc, char** argv) {
       std::optional<std::filesystem::path> out_dir;
       if (out) out_dir = *out;
       return plaf::run_command(*config, out_dir);
+    }
+    if (args[0] == "compare-attenuation") {
+      std::optional<std::string> study, out;
+      for (std::size_t i = 1; i < args.size(); ++i) {
+        if (args[i] == "--out") {
+          if (i + 1 >= args.size()) return fail_usage("--out needs a directory");
+          out = args[++i];
+        } else if (!args[i].empty() && args[i][0] == '-') {
+          return fail_usage("unknown option '" + args[i] + "'");
+        } else if (study) {
+          return fail_usage("compare-attenuation takes one study file, got '" + *study + "' and '" + args[i] + "'");
+        } else {
+          study = args[i];
+        }
+      }
+      if (!study) return fail_usage("compare-attenuation needs a study file");
+      std::optional<std::filesystem::path> out_dir;
+      if (out) out_dir = *out;
+      return plaf::compare_attenuation_command(*study, out_dir);
     }
     if (args[0] == "plugins") {
       if (args.size() > 1) return fail_usage("plugins takes no argument");

@@ -4,14 +4,21 @@
 #include "apps/run.h"
 #include "apps/stage_clock.h"
 
+#include <algorithm>
 #include <iostream>
 #include <optional>
+#include <sstream>
 #include <string>
+#include <type_traits>
 
 #include "layers/plugins.h"
 #include "modules/base/error.h"
 #include "modules/io/atomic_file.h"
+#include "modules/base/format.h"
+#include "modules/elements/lagrange.h"
 #include "modules/io/msh_io.h"
+#include "modules/mesh/extrude_front.h"
+#include "modules/metric/extruded_metric.h"
 #include "modules/pipeline/writers.h"
 #include "modules/mesh/hybrid2d.h"
 #include "modules/mesh/hybrid3d.h"
@@ -70,26 +77,122 @@ void assemble(RunState<3>& s, StageReport&) {
   if (!s.mesh_done) throw MesherError("assembly: the surface stage gave no mesh");
 }
 
+// The largest offset of a front element's high-order node from its position on the linear
+// element (RunOutcome::max_chord_offset).
+double max_chord_offset(const CurvedFront<2>& f) {
+  double worst = 0;
+  const std::size_t q = static_cast<std::size_t>(f.order);
+  for (const FrontLoop& l : f.loops) {
+    if (l.kind != BoundaryKind::Wall) continue;
+    for (std::size_t e = 0; e < l.size(); ++e) {
+      const NodeId* el = l.elements.data() + e * (q + 1);
+      const Eigen::Vector2d& a = f.nodes[static_cast<std::size_t>(el[0])];
+      const Eigen::Vector2d& b = f.nodes[static_cast<std::size_t>(el[1])];
+      for (std::size_t k = 1; k < q; ++k) {
+        const Eigen::Vector2d lin = a + (static_cast<double>(k) / static_cast<double>(q)) * (b - a);
+        worst = std::max(worst, (f.nodes[static_cast<std::size_t>(el[1 + k])] - lin).norm());
+      }
+    }
+  }
+  return worst;
+}
+double max_chord_offset(const CurvedFront<3>& f) {
+  double worst = 0;
+  const LagrangeElement& tri = lagrange_element(CellType::Triangle, f.order);
+  const std::size_t n = static_cast<std::size_t>(tri.size());
+  for (std::size_t t = 0; t + n <= f.triangles.size(); t += n) {
+    const Eigen::Vector3d& a = f.nodes[static_cast<std::size_t>(f.triangles[t])];
+    const Eigen::Vector3d& b = f.nodes[static_cast<std::size_t>(f.triangles[t + 1])];
+    const Eigen::Vector3d& c = f.nodes[static_cast<std::size_t>(f.triangles[t + 2])];
+    for (std::size_t k = 3; k < n; ++k) {
+      const Lattice& l = tri.lattice()[k];
+      const Eigen::Vector3d lin = a + (static_cast<double>(l[0]) / f.order) * (b - a) + (static_cast<double>(l[1]) / f.order) * (c - a);
+      worst = std::max(worst, (f.nodes[static_cast<std::size_t>(f.triangles[t + k])] - lin).norm());
+    }
+  }
+  return worst;
+}
+
+Eigen::Vector3d lift(const Eigen::Vector2d& x) { return Eigen::Vector3d(x[0], x[1], 0); }
+
+// The nodes of a front (2D: its wall loops; 3D: its triangles), each once.
+std::vector<Eigen::Vector3d> front_nodes(const CurvedFront<2>& f, const std::vector<Eigen::Vector2d>& nodes) {
+  std::vector<Eigen::Vector3d> v;
+  for (const FrontLoop& l : f.loops)
+    if (l.kind == BoundaryKind::Wall)
+      for (NodeId id : l.elements) v.push_back(lift(nodes[static_cast<std::size_t>(id)]));
+  return v;
+}
+std::vector<Eigen::Vector3d> front_nodes(const CurvedFront<3>& f, const std::vector<Eigen::Vector3d>& nodes) {
+  std::vector<Eigen::Vector3d> v;
+  std::vector<std::uint8_t> seen(nodes.size(), 0);
+  for (NodeId id : f.triangles)
+    if (!seen[static_cast<std::size_t>(id)]) {
+      seen[static_cast<std::size_t>(id)] = 1;
+      v.push_back(nodes[static_cast<std::size_t>(id)]);
+    }
+  return v;
+}
+
 template <int Dim>
-int run_pipeline(const RunConfig& c, const std::filesystem::path& config_path) {
+RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
+  const std::filesystem::path& config_path = c.file;
+  std::ostringstream muted;
+  std::ostream& out = quiet ? muted : std::cout;
   std::vector<std::pair<std::string, double>> timings;
-  StageClock clock(timings);
+  StageClock clock(timings, quiet);
   clock.done("config", config_path.string());
   RunState<Dim> s(c);
   std::vector<StageReport> reports;
-  auto step = [&](StageKind kind, const std::string& what) {
+  auto step = [&](auto& state, StageKind kind, const std::string& what) {
     reports.emplace_back(stage_kind_name(kind));
-    chosen<Dim>(c, kind)(s, reports.back());
-    reports.back().print(std::cout);
+    constexpr int D = std::remove_reference_t<decltype(state)>::dim;
+    chosen<D>(c, kind)(state, reports.back());
+    reports.back().print(out);
     clock.done(stage_kind_name(kind), what);
   };
 
-  // 1-5. Geometry, metric, surface mesh, layers and fill, each the plugin the config chose.
-  step(StageKind::Geometry, c.geometry.type);
-  step(StageKind::Metric, c.metric.type);
-  step(StageKind::Surface, c.surface.type);
-  step(StageKind::Layers, c.layers.type);
-  step(StageKind::Fill, c.fill.type);
+  // 1-3. Geometry, metric and surface mesh, each the plugin the config chose; an extruded section
+  // runs them in 2D and extrudes their front and metric (modules/mesh/extrude_front.h).
+  std::optional<RunState<2>> section;  // lives as long as the extruded metric refers to it
+  if constexpr (Dim == 3) {
+    if (c.extrude) {
+      section.emplace(c);
+      step(*section, StageKind::Geometry, c.geometry.type);
+      step(*section, StageKind::Metric, c.metric.type);
+      step(*section, StageKind::Surface, c.surface.type);
+      if (!section->front) throw MesherError("extrude: the section gave no surface front");
+      s.front = extrude_front(*section->front, 0, c.extrude->span, c.extrude->rows);
+      s.metric = std::make_unique<ExtrudedMetricField>(*section->metric, c.extrude->hz);
+      StageReport& e = reports.emplace_back("extrude");
+      e.add("span", c.extrude->span);
+      e.add("rows", c.extrude->rows);
+      e.add("hz", c.extrude->hz);
+      e.add("triangles", s.front->num_triangles());
+      e.line("extrude: the section's front between z = 0 and z = " + num(c.extrude->span) + " in " +
+             std::to_string(c.extrude->rows) + " rows, " + std::to_string(s.front->num_triangles()) +
+             " triangles of order " + std::to_string(c.order));
+      e.print(out);
+      clock.done("extrude", std::to_string(s.front->num_triangles()) + " triangles");
+    }
+  }
+  if (!section) {
+    step(s, StageKind::Geometry, c.geometry.type);
+    step(s, StageKind::Metric, c.metric.type);
+    step(s, StageKind::Surface, c.surface.type);
+  }
+  // 4-5. Layers and fill.
+  step(s, StageKind::Layers, c.layers.type);
+  step(s, StageKind::Fill, c.fill.type);
+  RunOutcome outcome;
+  if (s.front) {
+    outcome.max_chord_offset = max_chord_offset(*s.front);
+    outcome.wall_nodes = front_nodes(*s.front, s.front->nodes);
+  }
+  if (s.layers) {
+    outcome.linear_after = s.layers->linear_after;
+    outcome.outer_nodes = front_nodes(s.layers->outer, s.layers->mesh.nodes);
+  }
   // 6. The mesh of the run.
   reports.emplace_back("layers");
   assemble(s, reports.back());
@@ -109,9 +212,13 @@ int run_pipeline(const RunConfig& c, const std::filesystem::path& config_path) {
   if (s.layers && !s.layers->layers.empty()) {
     // The table's section goes right after the layer stage's (the report's key order).
     StageReport table("layers");
-    report_layer_table<Dim>(*s.layers, mesh, per_cell, table);
-    table.print(std::cout);
-    reports.insert(reports.begin() + static_cast<std::ptrdiff_t>(StageKind::Layers) + 1, std::move(table));
+    outcome.layers = layer_rows<Dim>(*s.layers, mesh, per_cell);
+    report_layer_table<Dim>(*s.layers, outcome.layers, table);
+    table.print(out);
+    const auto layer_stage = std::find_if(reports.begin(), reports.end(), [](const StageReport& r) {
+      return r.section() == stage_kind_name(StageKind::Layers);
+    });
+    reports.insert(layer_stage + 1, std::move(table));
   }
   for (const StageReport& r : reports) r.append_to(report);
   clock.done("quality", std::to_string(report.cells_invalid) + " invalid cells");
@@ -135,21 +242,20 @@ int run_pipeline(const RunConfig& c, const std::filesystem::path& config_path) {
 
   // 9. The verdict: a stage's failure (one line each) or else an invalid, non-conforming mesh
   //    exits 2; the files are written for inspection.
-  std::cout << report_summary(report);
-  int code = 0;
+  out << report_summary(report);
   for (const StageReport& r : reports)
-    if (!r.failure().empty()) {
-      std::cerr << "plaf: error: " << config_path.string() << ": " << r.failure() << '\n';
-      code = 2;
-    }
-  if (code == 0 && !report.ok()) {
-    std::cerr << "plaf: error: the " << (report.surface ? "surface" : "mesh") << " of " << config_path.string()
-              << " is NOT valid: " << report.cells_invalid << " invalid " << (report.surface ? "triangles" : "cells")
-              << (report.first_invalid.empty() ? "" : " (first: " + report.first_invalid + ")")
-              << (report.conformity.ok ? "" : ", " + report.conformity.first_problem) << '\n';
-    code = 2;
-  }
-  return code;
+    if (!r.failure().empty()) outcome.failures.push_back(r.failure());
+  if (outcome.failures.empty() && !report.ok())
+    outcome.failures.push_back(
+        "the " + std::string(report.surface ? "surface" : "mesh") + " is NOT valid: " +
+        std::to_string(report.cells_invalid) + " invalid " + (report.surface ? "triangles" : "cells") +
+        (report.first_invalid.empty() ? "" : " (first: " + report.first_invalid + ")") +
+        (report.conformity.ok ? "" : ", " + report.conformity.first_problem));
+  for (const std::string& f : outcome.failures) std::cerr << "plaf: error: " << config_path.string() << ": " << f << '\n';
+  outcome.code = outcome.failures.empty() ? 0 : 2;
+  outcome.report = std::move(report);
+  outcome.base = base;
+  return outcome;
 }
 
 }  // namespace
@@ -166,7 +272,12 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
   // Everything is validated before anything is written.
   RunConfig c = load_run_config(config_path);
   if (out_dir) c.output.dir = *out_dir;
-  return c.dim == 3 ? run_pipeline<3>(c, config_path) : run_pipeline<2>(c, config_path);
+  return run_config(c).code;
+}
+
+RunOutcome run_config(const RunConfig& c, bool quiet) {
+  register_all_plugins();
+  return c.dim == 3 ? run_pipeline<3>(c, quiet) : run_pipeline<2>(c, quiet);
 }
 
 int check_command(const std::filesystem::path& path, const std::optional<std::filesystem::path>& metric_config,

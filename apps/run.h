@@ -4,8 +4,36 @@
 
 #include <filesystem>
 #include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "modules/mesh/quality.h"
+#include "modules/pipeline/layer_table.h"
+#include "modules/pipeline/run_config.h"
 
 namespace plaf {
+
+// What one run produced, beyond its files: for commands that run several configurations and
+// compare them (apps/study.h).
+struct RunOutcome {
+  int code = 0;                       // the exit code plaf run gives it (0 or 2)
+  std::vector<std::string> failures;  // the stages' failure lines and the invalid-mesh verdict
+  QualityReport report;               // what <name>.report.json holds
+  std::filesystem::path base;         // output.dir / name: the files are base + ".msh", ...
+  std::vector<LayerRow> layers;       // the per-layer table's rows (empty without layers)
+  int linear_after = -1;
+  // The nodes of the surface front the layers grew from and of the layers' outer front (2D: z = 0).
+  std::vector<Eigen::Vector3d> wall_nodes, outer_nodes;
+  // The largest offset of a wall element's high-order node from its position on the linear
+  // element (the element's chord in 2D, its flat triangle in 3D): what attenuation has to remove.
+  double max_chord_offset = 0;
+};
+
+// Runs a validated configuration and writes its outputs; quiet: no stage lines on stdout and no
+// progress on stderr (failures are still printed). Throws plaf::Error on bad input.
+RunOutcome run_config(const RunConfig& config, bool quiet = false);
 
 // Runs a configuration; returns the process exit code (0: a valid, conforming mesh was written;
 // 2: the mesh was written but a stage failed, e.g. a folded surface, or it has invalid cells or

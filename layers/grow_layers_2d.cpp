@@ -176,7 +176,10 @@ class LoopLayerBuilder {
         v.h = height(c, normal_[i]);
         v.tops = {c + v.h * scale_[i] * normal_[i]};
       }
-      for (const Vec& t : v.tops) v.columns.push_back(column(c, t));
+      for (const Vec& t : v.tops) {
+        v.columns.push_back(column(c, t));
+        out_.built.columns.push_back({c[0], c[1], 0.0, (t - c).norm()});
+      }
     }
   }
   const std::vector<NodeId>& right_column(std::size_t e) const { return vt_[e % ne_].columns.back(); }

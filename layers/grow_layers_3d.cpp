@@ -965,6 +965,13 @@ class PartLayerBuilder {
     }
     out_.built.max_clipped_rel = clipped_max;
     out_.built.linear = clipped_max == 0;
+    // The layer's heights along the vertex columns grown along a normal (a fan's wedge and kite
+    // normals, not its arc directions), as 2D records them.
+    for (std::size_t d = 0; d < nd; ++d) {
+      if (!nw.is_vertex[d] || (dirs_[d].fan && !dirs_[d].normal)) continue;
+      const Vec& b = x_[static_cast<std::size_t>(dirs_[d].base)];
+      out_.built.columns.push_back({b[0], b[1], b[2], (top_[d] - b).norm()});
+    }
   }
 
   // Node `level` (0..Q) of direction d's column; the inner ones are made when a cell first asks

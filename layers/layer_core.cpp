@@ -147,6 +147,21 @@ void append(std::array<CellBlock, 2>& blocks, const BuiltLayer& built) {
     blocks[b].connectivity.insert(blocks[b].connectivity.end(), built.cells[b].begin(), built.cells[b].end());
 }
 
+// Adds the accepted build's columns that the probe accepts to the layer's height columns (the
+// mean is a sum until finish_heights).
+void add_heights(const BuiltLayer& built, const LayerParams& p, LayerStats& st) {
+  for (const std::array<double, 4>& c : built.columns) {
+    if (p.height_probe && !p.height_probe(Eigen::Vector3d(c[0], c[1], c[2]))) continue;
+    st.height_min = st.height_columns == 0 ? c[3] : std::min(st.height_min, c[3]);
+    st.height_max = std::max(st.height_max, c[3]);
+    st.height_mean += c[3];
+    ++st.height_columns;
+  }
+}
+void finish_heights(LayerStats& st) {
+  if (st.height_columns > 0) st.height_mean /= static_cast<double>(st.height_columns);
+}
+
 // The growth state of every part across layers: the blocks of new cells, which parts still grow,
 // and each part's last attenuation need and linearity (what the closing layer needs).
 template <int Dim>
@@ -182,6 +197,7 @@ class Growth {
         linear_[part] = built.linear;
         any = true;
         append(blocks_, built);
+        add_heights(built, p_, st);
         st.transition_cells += built.cells[1].size() / static_cast<std::size_t>(num_nodes(types_[1], q_));
         st.max_clipped_rel = std::max(st.max_clipped_rel, built.max_clipped_rel);
         all_linear = all_linear && built.linear;
@@ -189,6 +205,7 @@ class Growth {
       }
       if (!any) break;
       // 4. The layer's row of the table.
+      finish_heights(st);
       st.cells = blocks_[0].size() - st.first_cell;
       st.linear = all_linear;
       r_.layers.push_back(st);
@@ -224,6 +241,7 @@ class Growth {
           continue;
         }
         append(blocks_, built);
+        add_heights(built, p_, st);
         r_.events.push_back("layer " + std::to_string(st.layer) + ", " + attempts_.part_name(part) +
                             ": a closing layer with straight tops (heights x" + std::to_string(scale[0]) + ")");
         g_.accept(part);
@@ -235,6 +253,7 @@ class Growth {
                             ": no valid closing layer; the front stays curved");
     }
     if (!any) return;
+    finish_heights(st);
     st.cells = blocks_[0].size() - st.first_cell;
     st.linear = std::all_of(linear_.begin(), linear_.end(), [](bool b) { return b; });
     r_.layers.push_back(st);

@@ -21,6 +21,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,9 @@ struct LayerParams {
   // End with a linear front (for the fill): a part whose front is still curved when it stops
   // gets a closing layer with straight tops.
   bool close_linear = false;
+  // Where the table's layer heights are measured (LayerStats::height_*): the columns whose base
+  // this accepts (empty: every column). An extruded section's run measures at mid-span.
+  std::function<bool(const Eigen::Vector3d& base)> height_probe;
 };
 
 // The layer's height along unit normal n at x (Sec. II.B): the metric size h = 1/sqrt(n^T M n),
@@ -87,6 +91,10 @@ struct BuiltLayer {
   std::array<std::vector<NodeId>, 2> cells;
   double max_clipped_rel = 0;
   bool linear = true;
+  // The layer's height along every vertex column grown along a normal (2D: regular, concave and
+  // fan normals; 3D: the same, a fan's arc directions left out): its base (z = 0 in 2D) and
+  // |top - base|. The core summarises them into LayerStats::height_*.
+  std::vector<std::array<double, 4>> columns;
 };
 
 // A failure of the last build: cell `index` of cell type `block`, or (block == kFrontElement)

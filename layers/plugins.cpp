@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "layers/plugins.h"
 
+#include <cmath>
+
 #include "layers/grow_layers_2d.h"
 #include "layers/grow_layers_3d.h"
 #include "modules/base/error.h"
@@ -56,6 +58,11 @@ void register_plugins() {
         if (!s.front) throw MesherError("layers: the surface stage gave no front to grow from");
         if (p.max_layers == 0) return;  // the surface mesh alone
         p.close_linear = s.config.fill.enabled();
+        if (s.config.extrude) {  // an extruded section: heights at the station nearest mid-span
+          const double z = s.config.extrude->probe_z(), tol = 1e-9 * s.config.extrude->span;
+          p.height_probe = [z, tol](const Eigen::Vector3d& x) { return std::abs(x.z() - z) <= tol; };
+          rep.add("heights_at_z", z);
+        }
         s.layers = grow_layers(*s.front, *s.metric, p);
         for (const auto& [key, value] : s.layers->counts) rep.add(key, value);
         if (s.layers->layers.empty()) {

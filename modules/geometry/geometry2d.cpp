@@ -19,6 +19,21 @@ std::array<double, 2> get_pair(const ConfigNode& n, const std::string& key, std:
   return {v[0], v[1]};
 }
 
+// A circle body: 256 points clockwise (the body convention), no corner.
+BodyContour circle_contour(const BodyParams& b) {
+  BodyContour c;
+  c.file = "circle";
+  c.title = "circle of radius " + std::to_string(b.circle_radius);
+  constexpr int n = 256;
+  for (int i = 0; i < n; ++i) {
+    const double a = -2 * M_PI * i / n;
+    c.points.emplace_back(b.circle_center[0] + b.circle_radius * std::cos(a),
+                          b.circle_center[1] + b.circle_radius * std::sin(a));
+    c.lines.push_back(0);
+  }
+  return c;
+}
+
 }  // namespace
 
 AirfoilsParams parse_airfoils_params(const ConfigNode& g) {
@@ -29,7 +44,16 @@ AirfoilsParams parse_airfoils_params(const ConfigNode& g) {
     const ConfigNode& b = bodies[i];
     BodyParams body;
     body.file = b.get_path("file", "");
-    if (body.file.empty()) throw ConfigError(b.where() + ": file is required");
+    body.circle = b.has("circle");
+    if (body.circle) {
+      if (!body.file.empty()) throw ConfigError(b.where("circle") + ": give a body either a file or a circle, not both");
+      const ConfigNode c = b.child("circle");
+      body.circle_center = get_pair(c, "center", body.circle_center);
+      if (!c.has("radius")) throw ConfigError(c.where() + ": radius is required");
+      body.circle_radius = c.get_positive("radius", 1.0);
+    } else if (body.file.empty()) {
+      throw ConfigError(b.where() + ": file (or circle) is required");
+    }
     body.name = b.get_string("name", i == 0 ? "wall" : "wall_" + std::to_string(i + 1));
     // A body tagged "farfield" would merge with the farfield loop's tag (and make it a wall).
     if (body.name.empty() || body.name == "farfield")
@@ -69,7 +93,7 @@ SplineLoop farfield_rectangle(const Eigen::Vector2d& center, double width, doubl
 Geometry2D build_airfoils_geometry(const AirfoilsParams& params) {
   // 1. Contours: read, check, and find their corners.
   std::vector<BodyContour> contours;
-  for (const BodyParams& b : params.bodies) contours.push_back(read_body_contour(b.file));
+  for (const BodyParams& b : params.bodies) contours.push_back(b.circle ? circle_contour(b) : read_body_contour(b.file));
   check_disjoint(contours);
   Geometry2D g;
   g.body_min = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());

@@ -20,7 +20,10 @@ inline namespace geometry {
 //   geometry:
 //     type: airfoils        bodies from coordinate files (airfoil_io.h), splines with corners
 //     bodies:               a list, one map per body:
-//       - file: <path>      Selig or Lednicer file, relative to the config file   (required)
+//       - file: <path>      Selig or Lednicer file, relative to the config file
+//         circle:           or a circle instead of a file (a periodic spline through 256 points,
+//           center: [x, y]  no corner; the circle of the attenuation study)   default: [0, 0]
+//           radius: <>0>                                                        (required)
 //         name: <word>      boundary tag of the body                  default: wall, wall_2, ...
 //         corners: [[x, y], ...]  extra corners: the nearest contour points   default: none
 //     corner_angle_deg: <0..180>  turning angle above which a point is a corner   default: 30
@@ -30,7 +33,10 @@ inline namespace geometry {
 //       size: [w, h]        rectangle width and height            default: [40, 40]
 //       center: [x, y]      default: the centre of the bodies' bounding box
 struct BodyParams {
-  std::string file;
+  std::string file;  // empty for a circle
+  bool circle = false;
+  std::array<double, 2> circle_center = {0.0, 0.0};
+  double circle_radius = 0;
   std::string name;
   std::vector<std::array<double, 2>> corners;
 };

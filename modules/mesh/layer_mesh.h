@@ -26,6 +26,11 @@ struct LayerStats {
   bool linear = false;               // the new front is linear
   std::size_t shrinks = 0;           // invalid cells and front crossings that made heights halve
   std::size_t first_cell = 0;        // this layer's cells in the main block (LayerResult::mesh.cells[0])
+  // The layer's height |top - base| over its vertex columns grown along a normal, where
+  // LayerParams::height_probe accepts the base (all columns by default; an extruded section's
+  // run: mid-span): smallest, mean and largest, and how many columns (0: none measured).
+  double height_min = 0, height_mean = 0, height_max = 0;
+  std::size_t height_columns = 0;
 };
 
 // The layer stage's product. Node-numbering contract: mesh.nodes starts with the input

@@ -320,6 +320,11 @@ std::string ConfigNode::get_path(const std::string& key, const std::string& fall
   return (std::filesystem::path(s_->file).parent_path() / p).lexically_normal().string();
 }
 
+YAML::Node ConfigNode::raw(const std::string& key) const {
+  s_->asked.insert(key);
+  return lookup(s_->node, key);
+}
+
 void ConfigNode::finish() const {
   for (const auto& kv : s_->node) {
     const std::string key = kv.first.Scalar();

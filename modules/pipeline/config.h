@@ -50,6 +50,11 @@ class ConfigNode {
   // A path value, resolved relative to the folder of the config file (absolute paths stay).
   std::string get_path(const std::string& key, const std::string& fallback) const;
 
+  // The raw YAML value of a key (marked as asked; undefined when absent), for a caller that
+  // passes a whole section on, unread, to another configuration (the attenuation study's runs:
+  // their own parse checks its keys).
+  YAML::Node raw(const std::string& key) const;
+
   // Throws on the first key of this map or any child read through child() that was never asked for.
   void finish() const;
 

@@ -10,10 +10,7 @@ namespace plaf {
 inline namespace pipeline {
 
 template <int Dim>
-void report_layer_table(const LayerResult<Dim>& lr, const HybridMesh<Dim>& mesh, const CellQuality& pc,
-                        StageReport& report) {
-  std::vector<std::string> rows;
-  report.line("layer  cells  trans  curved  max_clip/h  min_scaled_J  max_aspect");
+std::vector<LayerRow> layer_rows(const LayerResult<Dim>& lr, const HybridMesh<Dim>& mesh, const CellQuality& pc) {
   // The layers' cells are the mesh's first blocks: main cells (2D quadrilaterals, 3D prisms) in
   // cells[0], transition cells (2D triangles, 3D tetrahedra) in cells[1], numbered in that order
   // (the per-cell quality follows it). Where the assembly changed them (2D split_quads cuts the
@@ -26,31 +23,52 @@ void report_layer_table(const LayerResult<Dim>& lr, const HybridMesh<Dim>& mesh,
   const bool trans_ok = main_ok && mesh.cells.size() > 1 && mesh.cells[1].type == trans_type &&
                         trans_total <= mesh.cells[1].size();
   const std::size_t offset = main_ok ? mesh.cells[0].size() : 0;
+  std::vector<LayerRow> rows;
   for (const LayerStats& st : lr.layers) {
-    std::size_t curved = 0;
-    double min_sj = std::numeric_limits<double>::infinity(), max_ar = 0;
+    LayerRow row;
+    row.stats = st;
+    row.measured = main_ok;
+    row.min_scaled_jacobian = std::numeric_limits<double>::infinity();
     for (std::size_t c = st.first_cell; main_ok && c < st.first_cell + st.cells; ++c) {
-      if (is_curved(mesh, mesh.cells[0], c)) ++curved;
-      min_sj = std::min(min_sj, pc.scaled_jacobian[c]);
-      max_ar = std::max(max_ar, pc.aspect_ratio[c]);
+      if (is_curved(mesh, mesh.cells[0], c)) ++row.curved;
+      row.min_scaled_jacobian = std::min(row.min_scaled_jacobian, pc.scaled_jacobian[c]);
+      row.max_aspect_ratio = std::max(row.max_aspect_ratio, pc.aspect_ratio[c]);
     }
     for (std::size_t c = st.first_transition_cell; trans_ok && c < st.first_transition_cell + st.transition_cells; ++c) {
-      if (is_curved(mesh, mesh.cells[1], c)) ++curved;
-      min_sj = std::min(min_sj, pc.scaled_jacobian[offset + c]);
-      max_ar = std::max(max_ar, pc.aspect_ratio[offset + c]);
+      if (is_curved(mesh, mesh.cells[1], c)) ++row.curved;
+      row.min_scaled_jacobian = std::min(row.min_scaled_jacobian, pc.scaled_jacobian[offset + c]);
+      row.max_aspect_ratio = std::max(row.max_aspect_ratio, pc.aspect_ratio[offset + c]);
     }
-    if (!main_ok) max_ar = std::numeric_limits<double>::quiet_NaN();  // not measured: null
-    const std::string curved_json = main_ok ? std::to_string(curved) : "null";
-    rows.push_back("{\"layer\": " + std::to_string(st.layer) + ", \"cells\": " + std::to_string(st.cells) +
+    if (!main_ok) row.max_aspect_ratio = row.min_scaled_jacobian = std::numeric_limits<double>::quiet_NaN();
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+template <int Dim>
+void report_layer_table(const LayerResult<Dim>& lr, const std::vector<LayerRow>& rows, StageReport& report) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();  // null in the JSON
+  std::vector<std::string> json;
+  report.line("layer  cells  trans  curved  max_clip/h  min_scaled_J  max_aspect    height_min    height_max");
+  for (const LayerRow& row : rows) {
+    const LayerStats& st = row.stats;
+    const std::string curved_json = row.measured ? std::to_string(row.curved) : "null";
+    json.push_back("{\"layer\": " + std::to_string(st.layer) + ", \"cells\": " + std::to_string(st.cells) +
                    ", \"curved_cells\": " + curved_json +
                    ", \"max_clipped_over_height\": " + json_number(st.max_clipped_rel) +
                    ", \"linear\": " + (st.linear ? "true" : "false") + ", \"min_scaled_jacobian\": " +
-                   json_number(min_sj) + ", \"max_aspect_ratio\": " + json_number(max_ar) +
+                   json_number(row.min_scaled_jacobian) + ", \"max_aspect_ratio\": " + json_number(row.max_aspect_ratio) +
                    ", \"shrinks\": " + std::to_string(st.shrinks) +
-                   ", \"transition_cells\": " + std::to_string(st.transition_cells) + "}");
+                   ", \"transition_cells\": " + std::to_string(st.transition_cells) +
+                   ", \"height_min\": " + json_number(st.height_columns ? st.height_min : nan) +
+                   ", \"height_mean\": " + json_number(st.height_columns ? st.height_mean : nan) +
+                   ", \"height_max\": " + json_number(st.height_columns ? st.height_max : nan) +
+                   ", \"height_columns\": " + std::to_string(st.height_columns) + "}");
     std::ostringstream o;
-    o << std::setw(5) << st.layer << std::setw(7) << st.cells << std::setw(7) << st.transition_cells << std::setw(8) << curved_json << std::setw(12)
-      << std::setprecision(3) << st.max_clipped_rel << std::setw(14) << min_sj << std::setw(12) << max_ar;
+    o << std::setw(5) << st.layer << std::setw(7) << st.cells << std::setw(7) << st.transition_cells << std::setw(8)
+      << curved_json << std::setw(12) << std::setprecision(3) << st.max_clipped_rel << std::setw(14)
+      << row.min_scaled_jacobian << std::setw(12) << row.max_aspect_ratio << std::setw(14) << std::setprecision(4)
+      << st.height_min << std::setw(14) << st.height_max;
     report.line(o.str());
   }
   std::vector<std::string> events;
@@ -60,14 +78,16 @@ void report_layer_table(const LayerResult<Dim>& lr, const HybridMesh<Dim>& mesh,
   }
   report.add("count", lr.layers.size());
   report.add("linear_after", lr.linear_after);
-  report.add_json("table", json_array(rows));
+  report.add_json("table", json_array(json));
   report.add_json("events", json_array(events));
   report.line("layers: " + std::to_string(lr.layers.size()) + ", front linear after layer " +
               std::to_string(lr.linear_after));
 }
 
-template void report_layer_table<2>(const LayerResult<2>&, const HybridMesh<2>&, const CellQuality&, StageReport&);
-template void report_layer_table<3>(const LayerResult<3>&, const HybridMesh<3>&, const CellQuality&, StageReport&);
+template std::vector<LayerRow> layer_rows<2>(const LayerResult<2>&, const HybridMesh<2>&, const CellQuality&);
+template std::vector<LayerRow> layer_rows<3>(const LayerResult<3>&, const HybridMesh<3>&, const CellQuality&);
+template void report_layer_table<2>(const LayerResult<2>&, const std::vector<LayerRow>&, StageReport&);
+template void report_layer_table<3>(const LayerResult<3>&, const std::vector<LayerRow>&, StageReport&);
 
 }  // namespace pipeline
 }  // namespace plaf

@@ -2,9 +2,12 @@
 // The per-layer table and events of a layer stage as the report's `layers` section, in either
 // dimension: per layer its cells, curved cells, the largest attenuation move still needed over
 // the height, min certified scaled Jacobian and max aspect ratio (from the quality stage's
-// per-cell results), shrinks and transition cells; then the events, layers.count and
+// per-cell results), shrinks, transition cells and the layer heights (LayerStats::height_*, min /
+// mean / max over the measured columns); then the events, layers.count and
 // layers.linear_after. The same keys in 2D and 3D.
 #pragma once
+
+#include <vector>
 
 #include "modules/mesh/hybrid_mesh.h"
 #include "modules/mesh/layer_mesh.h"
@@ -14,10 +17,24 @@
 namespace plaf {
 inline namespace pipeline {
 
-// The layer cells are mesh.cells[0] from LayerStats::first_cell on (the layer stage's block 0).
+// One row of the table: the layer core's stats and what the quality stage measured on the
+// layer's cells. measured is false where the assembly changed the layer blocks (2D split_quads):
+// curved, min_scaled_jacobian and max_aspect_ratio are then not measured (null in the JSON).
+struct LayerRow {
+  LayerStats stats;
+  bool measured = false;
+  std::size_t curved = 0;
+  double min_scaled_jacobian = 0, max_aspect_ratio = 0;
+};
+
+// The layer cells are mesh.cells[0] from LayerStats::first_cell on (the layer stage's block 0),
+// and the transition cells mesh.cells[1] from LayerStats::first_transition_cell on.
 template <int Dim>
-void report_layer_table(const LayerResult<Dim>& layers, const HybridMesh<Dim>& mesh, const CellQuality& per_cell,
-                        StageReport& report);
+std::vector<LayerRow> layer_rows(const LayerResult<Dim>& layers, const HybridMesh<Dim>& mesh, const CellQuality& per_cell);
+
+// The rows (layer_rows) and the layer result's events and counts as the report's section.
+template <int Dim>
+void report_layer_table(const LayerResult<Dim>& layers, const std::vector<LayerRow>& rows, StageReport& report);
 
 }  // namespace pipeline
 }  // namespace plaf

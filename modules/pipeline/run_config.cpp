@@ -74,12 +74,27 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   for (const std::string& t : stage_registry<3>(StageKind::Geometry).names()) geometry_types.push_back(t);
   const std::string geometry_type = g.get_choice("type", "annulus", geometry_types);
   if (stage_registry<3>(StageKind::Geometry).contains(geometry_type)) r.dim = 3;
+  // An extruded section: the section's stages stay 2D, the run is 3D.
+  if (c.has("extrude")) {
+    const ConfigNode e = c.child("extrude");
+    if (r.dim == 3 || geometry_type != "airfoils")
+      throw ConfigError(e.where() + ": extrude takes a 2D section of type airfoils, not geometry type '" +
+                        geometry_type + "'");
+    ExtrudeParams x;
+    if (!e.has("span")) throw ConfigError(e.where() + ": span is required");
+    x.span = e.get_positive("span", x.span);
+    x.rows = e.get_int("rows", x.rows, 1, 1000);
+    x.hz = e.get_positive("hz", x.span / x.rows);
+    r.extrude = x;
+    r.dim = 3;
+  }
+  const int section_dim = r.extrude ? 2 : r.dim;  // the dimension of geometry, metric and surface
 
   // The metric's type; its plugin parses the section (stages.h). A 2D type missing from the 3D
   // registry (none today) is named as such.
   const ConfigNode m = c.child("metric");
   const std::string metric_type = m.get_string("type", "uniform");
-  if (r.dim == 3 && !stage_registry<3>(StageKind::Metric).contains(metric_type) &&
+  if (section_dim == 3 && !stage_registry<3>(StageKind::Metric).contains(metric_type) &&
       stage_registry<2>(StageKind::Metric).contains(metric_type)) {
     std::string types;
     for (const std::string& t : stage_registry<3>(StageKind::Metric).names()) types += (types.empty() ? "" : ", ") + t;
@@ -91,7 +106,8 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     out.type = type;
     out.where = s.where("type");
     out.section = s.where();
-    if (r.dim == 2)
+    const bool section_stage = kind == StageKind::Geometry || kind == StageKind::Metric || kind == StageKind::Surface;
+    if ((section_stage ? section_dim : r.dim) == 2)
       out.run2 = stage_registry<2>(kind).create(out.type, out.where, s);
     else
       out.run3 = stage_registry<3>(kind).create(out.type, out.where, s);
@@ -101,11 +117,12 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   // The surface mesh follows from the geometry: curves of the spline loops or the annulus' exact
   // map in 2D (no section), the remesher in 3D (whose section holds its keys and may name it).
   const ConfigNode sf = c.child("surface");
-  if (c.has("surface") && r.dim != 3)
+  if (c.has("surface") && section_dim != 3)
     throw ConfigError(sf.where() + ": the surface section is for 3D geometries (sphere, ellipsoid, box, wing, "
                       "surface_file)");
   plan(StageKind::Surface,
-       r.dim == 3 ? sf.get_string("type", "remesh") : geometry_type == "annulus" ? "annulus" : "curves", sf, r.surface);
+       section_dim == 3 ? sf.get_string("type", "remesh") : geometry_type == "annulus" ? "annulus" : "curves", sf,
+       r.surface);
   // Layers and fill: type `none` when the section is absent. A type of the other dimension only
   // (the 2D layers and fill on a 3D geometry) says what is missing.
   auto plan_section = [&](StageKind kind, const std::string& default_type, const std::string& needs,
@@ -128,6 +145,11 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   r.validity.max_depth = v.get_int("max_depth", r.validity.max_depth, 1, 20);
 
   parse_output(c.child("output"), r);
+  if (r.extrude && !r.output.has_cut) {  // the picture cuts the extrusion at its measured station
+    r.output.has_cut = true;
+    r.output.cut_point = {0, 0, r.extrude->probe_z()};
+    r.output.cut_normal = {0, 0, 1};
+  }
 
   c.finish();
   // Checked after the keys, so an unknown key is reported first.

@@ -18,6 +18,15 @@
 //                           modules/metric/wall_metric_3d.h, without curvature_factor and h_corner)
 //     type: background      BackgroundParams (modules/metric/metric_fields.h), 2D and 3D (a
 //                           background mesh of the run's dimension, modules/metric/background_metric.h)
+//   extrude:                a 2D section (geometry type airfoils) extruded between the symmetry
+//                           planes z = 0 and z = span: the run is 3D (modules/mesh/extrude_front.h).
+//                           Geometry, metric and the surface's curves are the 2D section's (2D
+//                           keys); the front is their ruled band, the metric theirs extruded along z
+//                           (modules/metric/extruded_metric.h); layers and fill are the 3D stages.
+//                           The layer table's heights are measured at the station nearest mid-span.
+//     span: <>0>            the planes' distance                  (required)
+//     rows: <1..1000>       rows of order-Q triangles along z     default: 2 (even: a mid-span station)
+//     hz: <>0>              the metric's size along z             default: span / rows
 //   layers:                 prismatic layers grown from the walls; absent: none. Keys of the
 //     type: extrude         chosen type, parsed by its plugin: layers/plugins.h
 //   fill:                   the fill of the domain between the layers' outer front (or the surface
@@ -50,6 +59,7 @@
 #include <array>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -97,11 +107,21 @@ struct OutputParams {
   bool wants(const std::string& f) const;
 };
 
+struct ExtrudeParams {
+  double span = 1.0;
+  int rows = 2;
+  double hz = 0.5;
+  // The z of the row station nearest mid-span (mid-span when rows is even).
+  double probe_z() const { return span * static_cast<double>(rows / 2) / rows; }
+};
+
 struct RunConfig {
   std::string name;
   std::filesystem::path file;
   int order = 3;
-  int dim = 2;  // 3 for the 3D geometry types
+  int dim = 2;  // 3 for the 3D geometry types and extruded sections
+  // A 2D section extruded into a 3D run (geometry, metric and surface stages 2D; the rest 3D).
+  std::optional<ExtrudeParams> extrude;
   PlannedStage geometry;  // type: its section's `type:`
   PlannedStage metric;    // type: its section's `type:` (default uniform)
   PlannedStage surface;   // type: annulus | curves (2D, by the geometry), remesh (3D)

@@ -28,6 +28,7 @@ struct RunState;
 
 template <>
 struct RunState<2> {
+  static constexpr int dim = 2;
   explicit RunState(const RunConfig& c) : config(c) {}
   const RunConfig& config;
   Geometry2D geometry;                      // geometry: the spline loops (none for the annulus)
@@ -43,6 +44,7 @@ struct RunState<2> {
 
 template <>
 struct RunState<3> {
+  static constexpr int dim = 3;
   explicit RunState(const RunConfig& c) : config(c) {}
   const RunConfig& config;
   TriSurface surface;                               // geometry: the input; surface: remeshed and curved
