@@ -167,7 +167,10 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
       StageReport& e = reports.emplace_back("extrude");
       e.add("span", c.extrude->span);
       e.add("rows", c.extrude->rows);
-      e.add("hz", c.extrude->hz);
+      if (c.extrude->hz > 0)
+        e.add("hz", c.extrude->hz);
+      else
+        e.add("hz", "section");
       e.add("triangles", s.front->num_triangles());
       e.line("extrude: the section's front between z = 0 and z = " + num(c.extrude->span) + " in " +
              std::to_string(c.extrude->rows) + " rows, " + std::to_string(s.front->num_triangles()) +

@@ -31,10 +31,10 @@
 //       sphere: <bool>           the sphere partner (one circle body)    default: false
 //       output: {zooms: [...]}   the pictures' zoom boxes, in (x, y) (the 3D cut's (u, v))
 //
-// Outputs in OUT (default output/<name> beside nothing: the --out folder or out/<name>):
+// Outputs in OUT (the --out folder, default out/<name>):
 //   <name>.md           the runs' table, the pairs' table and, per case, the per-layer table of
 //                       its base runs (2D beside 3D);
-//   <name>_runs.csv, <name>_layers.csv, <name>.json;
+//   <name>_runs.csv, <name>_layers.csv, <name>_pairs.csv, <name>.json;
 //   <case>_clip.png     max clip / h against layer, 2D and 3D curves per f_atten, per pair;
 //   linear_after_f_atten.png, linear_after_h0.png;
 //   <case>_<partner>_side_by_side.png   the 2D mesh and the 3D mid-span cut (base runs);

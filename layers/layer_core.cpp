@@ -8,6 +8,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "modules/base/format.h"
 #include "modules/base/parallel.h"
 #include "modules/elements/validity.h"
 
@@ -167,6 +168,7 @@ void finish_heights(LayerStats& st) {
 template <int Dim>
 class Growth {
  public:
+  static constexpr int kAttenuationRetries = 4;
   Growth(FrontGrower<Dim>& g, const MetricField<Dim>& metric, const LayerParams& p, int q, LayerResult<Dim>& r)
       : g_(g), metric_(metric), p_(p), q_(q), r_(r), types_(g.cell_types()),
         blocks_{CellBlock{types_[0], q, -1, {}}, CellBlock{types_[1], q, -1, {}}}, parts_(g.num_parts()),
@@ -177,6 +179,7 @@ class Growth {
     for (int layer = 1; layer <= p_.max_layers; ++layer) {
       LayerStats st;
       st.layer = layer;
+      st.f_atten = p_.f_atten;
       st.first_cell = blocks_[0].size();
       st.first_transition_cell = blocks_[1].size();
       bool any = false, all_linear = true;
@@ -186,7 +189,24 @@ class Growth {
         if (stops_isotropic(part, layer, stopped)) continue;
         std::vector<double> scale(g_.num_sites(part), 1.0);
         BuiltLayer built;
-        if (!attempts_.run(part, layer, scale, stopped, p_.f_atten, st, built)) {
+        double f = p_.f_atten;
+        bool ok = attempts_.run(part, layer, scale, stopped, f, st, built);
+        // The attenuation itself can fold cells: a top moved by up to f_atten times the layer
+        // height toward its chord lies (1 - f_atten) h above its base, and no height shrink
+        // changes that ratio (f_atten = 1 collapses it wherever the curvature's sag exceeds h).
+        // Sec. II.B fixes f_atten = 0.2 and does not meet the case; the robust choice here: where
+        // the heights' shrinks failed on an attenuated build, the part's layer is rebuilt with
+        // f_atten halved (at most kAttenuationRetries times), recorded as an event and in the
+        // layer's f_atten column.
+        for (int k = 0; !ok && k < kAttenuationRetries && built.max_clipped_rel > 0; ++k) {
+          f *= 0.5;
+          scale.assign(scale.size(), 1.0);
+          r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
+                              ": cells still invalid; rebuilt with f_atten " + num(f));
+          ok = attempts_.run(part, layer, scale, stopped, f, st, built);
+        }
+        st.f_atten = std::min(st.f_atten, f);
+        if (!ok) {
           growing_[part] = false;
           r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
                               ": stopped, cells still invalid or colliding after " +
@@ -222,6 +242,7 @@ class Growth {
   // valid mesh over metric conformity there).
   void close() {
     LayerStats st;
+    st.f_atten = std::numeric_limits<double>::infinity();  // straight tops: unlimited attenuation
     st.layer = static_cast<int>(r_.layers.size()) + 1;
     st.first_cell = blocks_[0].size();
     st.first_transition_cell = blocks_[1].size();

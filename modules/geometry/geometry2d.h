@@ -34,11 +34,11 @@ inline namespace geometry {
 //       center: [x, y]      default: the centre of the bodies' bounding box
 struct BodyParams {
   std::string file;  // empty for a circle
+  std::string name;
+  std::vector<std::array<double, 2>> corners;
   bool circle = false;
   std::array<double, 2> circle_center = {0.0, 0.0};
   double circle_radius = 0;
-  std::string name;
-  std::vector<std::array<double, 2>> corners;
 };
 
 struct FarfieldParams {

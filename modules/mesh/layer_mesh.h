@@ -23,6 +23,9 @@ struct LayerStats {
   std::size_t transition_cells = 0;
   std::size_t first_transition_cell = 0;  // this layer's cells in the transition block
   double max_clipped_rel = 0;        // largest attenuation move still needed / height (0 if linear)
+  // The attenuation fraction the layer used: LayerParams::f_atten, less where a part's layer was
+  // rebuilt with it halved (layer_core.cpp), infinite for a closing layer (straight tops).
+  double f_atten = 0;
   bool linear = false;               // the new front is linear
   std::size_t shrinks = 0;           // invalid cells and front crossings that made heights halve
   std::size_t first_cell = 0;        // this layer's cells in the main block (LayerResult::mesh.cells[0])

@@ -56,6 +56,7 @@ void report_layer_table(const LayerResult<Dim>& lr, const std::vector<LayerRow>&
     json.push_back("{\"layer\": " + std::to_string(st.layer) + ", \"cells\": " + std::to_string(st.cells) +
                    ", \"curved_cells\": " + curved_json +
                    ", \"max_clipped_over_height\": " + json_number(st.max_clipped_rel) +
+                   ", \"f_atten\": " + json_number(st.f_atten) +
                    ", \"linear\": " + (st.linear ? "true" : "false") + ", \"min_scaled_jacobian\": " +
                    json_number(row.min_scaled_jacobian) + ", \"max_aspect_ratio\": " + json_number(row.max_aspect_ratio) +
                    ", \"shrinks\": " + std::to_string(st.shrinks) +

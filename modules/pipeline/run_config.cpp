@@ -84,7 +84,7 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     if (!e.has("span")) throw ConfigError(e.where() + ": span is required");
     x.span = e.get_positive("span", x.span);
     x.rows = e.get_int("rows", x.rows, 1, 1000);
-    x.hz = e.get_positive("hz", x.span / x.rows);
+    if (e.has("hz")) x.hz = e.get_positive("hz", 1.0);
     r.extrude = x;
     r.dim = 3;
   }

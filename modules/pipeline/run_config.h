@@ -26,7 +26,8 @@
 //                           The layer table's heights are measured at the station nearest mid-span.
 //     span: <>0>            the planes' distance                  (required)
 //     rows: <1..1000>       rows of order-Q triangles along z     default: 2 (even: a mid-span station)
-//     hz: <>0>              the metric's size along z             default: span / rows
+//     hz: <>0>              the metric's size along z   default: the section metric's largest size
+//                           at (x, y) (its size along the wall), so both are isotropic alike
 //   layers:                 prismatic layers grown from the walls; absent: none. Keys of the
 //     type: extrude         chosen type, parsed by its plugin: layers/plugins.h
 //   fill:                   the fill of the domain between the layers' outer front (or the surface
@@ -110,7 +111,7 @@ struct OutputParams {
 struct ExtrudeParams {
   double span = 1.0;
   int rows = 2;
-  double hz = 0.5;
+  double hz = 0;  // <= 0: the section metric's largest size (modules/metric/extruded_metric.h)
   // The z of the row station nearest mid-span (mid-span when rows is even).
   double probe_z() const { return span * static_cast<double>(rows / 2) / rows; }
 };

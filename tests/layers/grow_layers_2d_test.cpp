@@ -77,6 +77,71 @@ TEST_CASE("layers: on a circle with the wall law, layer k has height h0 g^k and 
       CHECK(r.mesh.nodes[l.elements[e * 3]].norm() == doctest::Approx(expected).epsilon(1e-6));
 }
 
+TEST_CASE("layers: the table's heights are the columns' lengths, h0 g^(k-1) on a circle, and the probe selects columns") {
+  const double r0 = 1.0, h0 = 1e-3, g = 1.2;
+  std::vector<Vector2d> c;
+  for (int i = 0; i < 128; ++i) c.emplace_back(r0 * std::cos(-2 * M_PI * i / 128), r0 * std::sin(-2 * M_PI * i / 128));
+  const Geometry2D geo = body(c, {});
+  WallLawParams w;
+  w.h0 = h0;
+  w.growth = g;
+  w.h_max = 10;
+  w.h_wall_max = 0.1;
+  const WallPowerLawField metric({geo.loops[0].loop}, w);
+  const CurvedFront<2> front = mesh_curves(geo, metric, 2);
+  layers::LayerParams p;
+  p.max_layers = 8;
+  const LayerResult<2> r = layers::grow_layers(front, metric, p);
+  REQUIRE(r.layers.size() == 8);
+  const std::size_t vertices = front.loops[0].size();
+  for (const LayerStats& st : r.layers) {
+    INFO("layer " << st.layer);
+    CHECK(st.height_columns == vertices);  // one column per vertex, every vertex measured
+    CHECK(st.height_min == doctest::Approx(h0 * std::pow(g, st.layer - 1)).epsilon(1e-9));
+    CHECK(st.height_max == doctest::Approx(h0 * std::pow(g, st.layer - 1)).epsilon(1e-9));
+    CHECK(st.height_mean == doctest::Approx(h0 * std::pow(g, st.layer - 1)).epsilon(1e-9));
+    CHECK(st.f_atten == 0.2);
+  }
+  // A probe keeps the columns whose base it accepts: the upper half.
+  p.height_probe = [](const Eigen::Vector3d& x) { return x.y() > 0; };
+  const LayerResult<2> upper = layers::grow_layers(front, metric, p);
+  CHECK(upper.layers[0].height_columns > 0);
+  CHECK(upper.layers[0].height_columns < vertices);
+  CHECK(upper.layers[3].height_max == doctest::Approx(r.layers[3].height_max));
+}
+
+TEST_CASE("layers: an attenuation that folds the cells (f_atten 1 on thin layers) is halved for that layer, an event") {
+  // The sag of order-3 elements of size 0.1 on a circle of radius 0.5 is about 2.5e-3, much more
+  // than h0 = 1e-4: moving the tops by up to the layer height would flatten the high-order
+  // columns to nothing, whatever the height; the layer is rebuilt with f_atten halved.
+  std::vector<Vector2d> c;
+  for (int i = 0; i < 256; ++i) c.emplace_back(0.5 * std::cos(-2 * M_PI * i / 256), 0.5 * std::sin(-2 * M_PI * i / 256));
+  const Geometry2D geo = body(c, {});
+  WallLawParams w;
+  w.h0 = 1e-4;
+  w.growth = 1.2;
+  w.h_max = 10;
+  w.h_wall_max = 0.1;
+  const WallPowerLawField metric({geo.loops[0].loop}, w);
+  const CurvedFront<2> front = mesh_curves(geo, metric, 3);
+  layers::LayerParams p;
+  p.max_layers = 30;
+  p.f_atten = 1.0;
+  const LayerResult<2> r = layers::grow_layers(front, metric, p);
+  REQUIRE(r.layers.size() == 30);
+  CHECK(check(r).ok());
+  CHECK(r.linear_after > 0);
+  CHECK(r.layers[0].f_atten < 1.0);  // the first layer needed a smaller attenuation
+  CHECK(r.layers.back().f_atten == 1.0);  // linear fronts need none
+  bool event = false;
+  for (const std::string& e : r.events) event = event || e.find("rebuilt with f_atten 0.5") != std::string::npos;
+  CHECK(event);
+  // Every layer moved its tops by at most its own f_atten times the height: the table's
+  // attenuation need decreases to 0 and stays there.
+  for (std::size_t k = 1; k < r.layers.size(); ++k)
+    if (r.layers[k - 1].max_clipped_rel == 0) CHECK(r.layers[k].max_clipped_rel == 0);
+}
+
 TEST_CASE("layers: attenuation moves no node by more than f_atten times its height") {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

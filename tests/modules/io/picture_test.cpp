@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "modules/io/picture.h"
 #include "modules/io/picture3d.h"
+#include "modules/io/chart.h"
 
 #include <cairo.h>
 #include <doctest/doctest.h>
@@ -280,4 +281,53 @@ TEST_CASE("picture 3D: a plane across the closed shell cuts its cells into lines
   const fs::path bad = dir.path / "bad.png";
   CHECK_THROWS_AS(write_png(s.mesh, std::vector<std::uint8_t>(3, 1), bad, po), plaf::Error);
   CHECK_FALSE(fs::exists(bad));
+}
+
+TEST_CASE("chart: series drawn in their palette colours on linear and log axes, and side by side keeps both panels") {
+  TempDir d("chart");
+  std::vector<ChartSeries> series(2);
+  series[0].label = "2D";
+  series[0].x = {1, 2, 3, 4};
+  series[0].y = {2.0, 1.0, 0.5, 0.0};
+  series[1].label = "3D";
+  series[1].dashed = true;
+  series[1].color = 1;
+  series[1].x = {1, 2, 3, 4};
+  series[1].y = {4.0, NAN, 1.0, 0.0};  // a gap
+  ChartOptions o;
+  o.width = 900;
+  o.height = 600;
+  o.title = "clip";
+  write_chart_png(series, d / "a.png", o);
+  const Image a(d / "a.png");
+  CHECK(a.width == 900);
+  CHECK(a.height == 600);
+  // The palette's first two colours (blue, orange) appear; most of the picture is white.
+  int blue = 0, orange = 0, whites = 0;
+  for (const Rgb& c : a.pixels) {
+    blue += c.r < 60 && c.g > 100 && c.g < 140 && c.b > 160;
+    orange += c.r > 240 && c.g > 110 && c.g < 150 && c.b < 40;
+    whites += white(c);
+  }
+  CHECK(blue > 100);
+  CHECK(orange > 100);
+  CHECK(whites > a.width * a.height / 2);
+  // A log axis leaves out what it cannot draw; nothing drawable is an error and no file.
+  o.log_x = o.log_y = true;
+  write_chart_png(series, d / "b.png", o);
+  CHECK(Image(d / "b.png").width == 900);
+  std::vector<ChartSeries> none(1);
+  none[0].x = {1, 2};
+  none[0].y = {0, -1};
+  CHECK_THROWS_AS(write_chart_png(none, d / "c.png", o), Error);
+  CHECK_FALSE(fs::exists(d / "c.png"));
+  none[0].y = {1};
+  CHECK_THROWS_AS(write_chart_png(none, d / "c.png", o), Error);
+  // Side by side: the panels scaled to one height, next to each other under their labels.
+  write_side_by_side_png({d / "a.png", d / "b.png"}, {"left", "right"}, "both", d / "ab.png", 300);
+  const Image ab(d / "ab.png");
+  CHECK(ab.width == 900);  // two 900 x 600 panels at height 300: 450 each
+  CHECK(ab.height > 300);
+  CHECK_THROWS_AS(write_side_by_side_png({d / "a.png", d / "missing.png"}, {}, "", d / "x.png"), Error);
+  CHECK_FALSE(fs::exists(d / "x.png"));
 }

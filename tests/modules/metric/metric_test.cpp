@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "modules/base/error.h"
+#include "modules/metric/extruded_metric.h"
 
 using namespace plaf;
 using Eigen::Matrix2d;
@@ -160,4 +161,29 @@ TEST_CASE("metric: the affine-invariant mean is congruence-invariant for far-apa
                                      g.transpose() * affine_invariant_mean<2>(m, w).matrix() * g));
   }
   CHECK(worst < 1e-9);
+}
+
+namespace {
+// A 2D field with sizes (0.01 along y, 0.2 along x) for y < 1 and isotropic 0.3 beyond.
+class Layered2 final : public plaf::MetricField<2> {
+ public:
+  plaf::Metric<2> evaluate(const Eigen::Vector2d& x) const override {
+    if (x.y() >= 1) return plaf::Metric<2>::isotropic(0.3);
+    return plaf::Metric<2>::from_directions(Eigen::Matrix2d::Identity(), Eigen::Vector2d(0.2, 0.01));
+  }
+};
+}  // namespace
+
+TEST_CASE("metric: an extruded section's metric keeps the section's sizes in the plane, and along z hz or its largest size") {
+  const Layered2 section;
+  const plaf::ExtrudedMetricField fixed(section, 0.05), own(section, 0);
+  const Eigen::Vector3d near(0.3, 0.5, 7), far(0.3, 2, -1);
+  CHECK(fixed.evaluate(near).size_along(Eigen::Vector3d::UnitY()) == doctest::Approx(0.01));
+  CHECK(fixed.evaluate(near).size_along(Eigen::Vector3d::UnitX()) == doctest::Approx(0.2));
+  CHECK(fixed.evaluate(near).size_along(Eigen::Vector3d::UnitZ()) == doctest::Approx(0.05));
+  // hz <= 0: the section's largest size, so the 3D metric is isotropic exactly where the 2D one is.
+  CHECK(own.evaluate(near).size_along(Eigen::Vector3d::UnitZ()) == doctest::Approx(0.2));
+  CHECK(own.evaluate(far).size_along(Eigen::Vector3d::UnitZ()) == doctest::Approx(0.3));
+  CHECK(own.evaluate(far).max_size() == doctest::Approx(own.evaluate(far).min_size()));
+  CHECK_FALSE(fixed.evaluate(far).max_size() == doctest::Approx(fixed.evaluate(far).min_size()));
 }

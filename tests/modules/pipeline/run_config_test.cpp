@@ -212,7 +212,7 @@ TEST_CASE("run config: one bad value per key is a ConfigError naming file:line:c
       {"geometry.bodies", "geometry: ^{type: airfoils}\n", "at least one body"},
       {"geometry.bodies", "geometry: {type: airfoils, bodies: ^{file: a.dat}}\n", "list of maps"},
       {"geometry.bodies[1]", "geometry: {type: airfoils, bodies: [{file: a.dat}, ^{name: slat}]}\n",
-       "file is required"},
+       "file (or circle) is required"},
       {"geometry.bodies[0].name", b + "name: ^[x]}]}\n", "expected a word"},
       {"geometry.bodies[0].name", b + "name: ^farfield}]}\n", "farfield"},
       {"geometry.bodies[0].corners", b + "corners: [[1, 2], ^[1]]}]}\n", "list of points"},
@@ -400,4 +400,55 @@ TEST_CASE("run config: 3D keys are checked like the 2D ones") {
   CHECK(err("geometry: {type: sphere}\noutput: {zooms: [{label: a, box: [1, 0, 0, 1]}]}\n") ==
         doctest::Contains("output.zooms"));
   CHECK(err("geometry: {type: sphere}\nsurface: {max_triangles: 0}\n") == doctest::Contains("surface.max_triangles"));
+}
+
+TEST_CASE("run config: extrude makes a 2D section's run 3D, its keys checked, the picture cut at mid-span") {
+  const auto err = [](const std::string& yaml) { return doctest::String(config_error(yaml).c_str()); };
+  const RunConfig r = parse_run_config(one_body + "extrude: {span: 0.4}\nlayers: {max: 3}\n", "x.yaml");
+  CHECK(r.dim == 3);
+  REQUIRE(r.extrude);
+  CHECK(r.extrude->span == doctest::Approx(0.4));
+  CHECK(r.extrude->rows == 2);
+  CHECK(r.extrude->hz == 0);  // the section's own size along its wall
+  CHECK(r.extrude->probe_z() == doctest::Approx(0.2));
+  CHECK(r.output.has_cut);
+  CHECK(r.output.cut_point[2] == doctest::Approx(0.2));
+  CHECK(r.geometry.run2);  // the section's stages stay 2D
+  CHECK(r.metric.run2);
+  CHECK(r.surface.run2);
+  CHECK(r.layers.run3);  // the layers are the 3D stage
+  const RunConfig three = parse_run_config(one_body + "extrude: {span: 1, rows: 3, hz: 0.5}\n", "x.yaml");
+  CHECK(three.extrude->probe_z() == doctest::Approx(1.0 / 3));
+  CHECK(three.extrude->hz == 0.5);
+  CHECK(err(one_body + "extrude: {rows: 2}\n") == doctest::Contains("span is required"));
+  CHECK(err(one_body + "extrude: {span: 0}\n") == doctest::Contains("extrude.span"));
+  CHECK(err(one_body + "extrude: {span: 1, rows: 0}\n") == doctest::Contains("extrude.rows"));
+  CHECK(err(one_body + "extrude: {span: 1, depth: 2}\n") == doctest::Contains("unknown key 'extrude.depth'"));
+  CHECK(err("geometry: {type: sphere}\nextrude: {span: 1}\n") == doctest::Contains("2D section of type airfoils"));
+  CHECK(err("geometry: {type: annulus}\nextrude: {span: 1}\n") == doctest::Contains("2D section of type airfoils"));
+  // 2D-only output keys are unknown in an extruded (3D) run.
+  CHECK(err(one_body + "extrude: {span: 1}\noutput: {split_quads: true}\n") ==
+        doctest::Contains("unknown key 'output.split_quads'"));
+}
+
+TEST_CASE("run config: a circle body instead of a file, its radius required and positive") {
+  const auto err = [](const std::string& yaml) { return doctest::String(config_error(yaml).c_str()); };
+  const std::string circle = "geometry: {type: airfoils, bodies: [{circle: {center: [1, 2], radius: 0.5}}]}\n";
+  CHECK(parse_run_config(circle, "c.yaml").dim == 2);
+  const AirfoilsParams a = parse_airfoils_params(ConfigNode::load_string(circle, "c.yaml").child("geometry"));
+  REQUIRE(a.bodies.size() == 1);
+  CHECK(a.bodies[0].circle);
+  CHECK(a.bodies[0].circle_radius == 0.5);
+  CHECK(a.bodies[0].circle_center[1] == 2);
+  const Geometry2D g = build_airfoils_geometry(a);
+  REQUIRE(g.loops.size() == 2);
+  CHECK(g.loops[0].loop.corners().empty());
+  for (const Eigen::Vector2d& p : g.loops[0].loop.points()) CHECK((p - Eigen::Vector2d(1, 2)).norm() == doctest::Approx(0.5));
+  CHECK(err("geometry: {type: airfoils, bodies: [{circle: {center: [0, 0]}}]}\n") ==
+        doctest::Contains("radius is required"));
+  CHECK(err("geometry: {type: airfoils, bodies: [{circle: {radius: -1}}]}\n") ==
+        doctest::Contains("radius"));
+  CHECK(err("geometry: {type: airfoils, bodies: [{file: a.dat, circle: {radius: 1}}]}\n") ==
+        doctest::Contains("either a file or a circle"));
+  CHECK(err("geometry: {type: airfoils, bodies: [{name: x}]}\n") == doctest::Contains("file (or circle)"));
 }
