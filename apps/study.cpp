@@ -305,8 +305,14 @@ std::vector<StudyRun> plan_runs(const Study& st, const fs::path& out) {
 struct Pair {
   const StudyRun* r2 = nullptr;
   const StudyRun* r3 = nullptr;
+  // The layers compared: those both grew before either had to shrink heights (a shrink halves
+  // heights around a failing cell, over the loop's neighbouring nodes in 2D and the faces
+  // around it in 3D: the two dimensions shrink different neighbourhoods, so from there on the
+  // pair measures two different layer stacks).
+  std::size_t compared_layers = 0;
+  int first_shrink = -1;          // the first layer either run kept shrunk heights in (-1: none)
   double height_rel_diff = nan;   // largest relative difference of the layer heights (min, mean, max)
-  double front_match_rel = nan;   // extrusion: outer front at mid-span vs the 2D one, over the wall distance
+  double front_match_rel = nan;   // extrusion, no shrink: outer front at mid-span vs the 2D one, over the wall distance
   double section_match = nan;     // extrusion: mid-span wall nodes vs the section's, over the chord scale
   bool pairing_ok = true;
   std::string pairing_note;
@@ -331,9 +337,16 @@ Pair make_pair_result(const StudyRun& r2, const StudyRun& r3) {
     p.pairing_note = "layers sections, f_atten or h0 differ";
   }
   if (!r2.ran || !r3.ran) return p;
-  // Layer heights, layer by layer over the layers both grew.
+  // Layer heights, layer by layer over the layers both grew before the first shrink.
   double worst = 0;
-  const std::size_t n = std::min(r2.layers(), r3.layers());
+  std::size_t n = std::min(r2.layers(), r3.layers());
+  for (std::size_t k = 0; k < std::max(r2.layers(), r3.layers()); ++k)
+    if ((k < r2.layers() && r2.out.layers[k].stats.shrunk) || (k < r3.layers() && r3.out.layers[k].stats.shrunk)) {
+      p.first_shrink = static_cast<int>(k) + 1;
+      n = std::min(n, k);
+      break;
+    }
+  p.compared_layers = n;
   for (std::size_t k = 0; k < n; ++k) {
     const LayerStats& a = r2.out.layers[k].stats;
     const LayerStats& b = r3.out.layers[k].stats;
@@ -382,7 +395,7 @@ Pair make_pair_result(const StudyRun& r2, const StudyRun& r3) {
   double fm = 0;
   for (const Eigen::Vector3d& x : outer2) fm = std::max(fm, nearest(x, outer3) / std::max(nearest(x, wall2), 1e-300));
   for (const Eigen::Vector3d& x : outer3) fm = std::max(fm, nearest(x, outer2) / std::max(nearest(x, wall2), 1e-300));
-  p.front_match_rel = (outer2.empty() || outer3.empty()) ? nan : fm;
+  p.front_match_rel = (outer2.empty() || outer3.empty() || p.first_shrink >= 0) ? nan : fm;
   return p;
 }
 
@@ -458,12 +471,13 @@ std::string layers_csv(const std::vector<StudyRun>& runs) {
 std::string pairs_csv(const std::vector<Pair>& pairs) {
   std::ostringstream o;
   o << "case,partner,f_atten,h0,run_2d,run_3d,layers_2d,layers_3d,linear_after_2d,linear_after_3d,s_max_2d,s_max_3d,"
-       "height_rel_diff,front_match_rel,section_match,pairing_ok\n";
+       "compared_layers,first_shrink,height_rel_diff,front_match_rel,section_match,pairing_ok\n";
   for (const Pair& p : pairs)
     o << p.r2->sc->name << ',' << p.r3->partner << ',' << csv_num(p.r2->f_atten) << ',' << csv_num(p.r2->h0) << ','
       << p.r2->name << ',' << p.r3->name << ',' << p.r2->layers() << ',' << p.r3->layers() << ','
       << p.r2->out.linear_after << ',' << p.r3->out.linear_after << ',' << csv_num(p.r2->out.max_chord_offset) << ','
-      << csv_num(p.r3->out.max_chord_offset) << ',' << csv_num(p.height_rel_diff) << ',' << csv_num(p.front_match_rel)
+      << csv_num(p.r3->out.max_chord_offset) << ',' << p.compared_layers << ',' << p.first_shrink << ','
+      << csv_num(p.height_rel_diff) << ',' << csv_num(p.front_match_rel)
       << ',' << csv_num(p.section_match) << ',' << (p.pairing_ok ? 1 : 0) << '\n';
   return o.str();
 }
@@ -508,6 +522,8 @@ std::string pair_json(const Pair& p) {
          ", \"layers_2d\": " + std::to_string(p.r2->layers()) + ", \"layers_3d\": " + std::to_string(p.r3->layers()) +
          ", \"linear_after_2d\": " + std::to_string(p.r2->out.linear_after) +
          ", \"linear_after_3d\": " + std::to_string(p.r3->out.linear_after) +
+         ", \"compared_layers\": " + std::to_string(p.compared_layers) +
+         ", \"first_shrink\": " + std::to_string(p.first_shrink) +
          ", \"height_rel_diff\": " + json_number(p.height_rel_diff) +
          ", \"front_match_rel\": " + json_number(p.front_match_rel) +
          ", \"section_match\": " + json_number(p.section_match) +
@@ -524,11 +540,14 @@ std::string markdown(const Study& st, const std::vector<StudyRun>& runs, const s
     << runs.size() << " runs (order " << st.order << "), " << bad << " not valid; " << pairs.size()
     << " pairs; " << fmt(seconds, 3) << " s. " << (ok ? "Every run exits 0 with 0 invalid cells and every pairing holds."
                                                       : "**Not every run is valid or paired: see below.**")
+    << "\n\nHeights are compared over the layers both runs grew before either shrank one (shrinks halve "
+       "heights over dimension-specific neighbourhoods); the front match (extrusions) is the mid-span outer front's "
+       "largest distance to the 2D one over the distance to the wall, when neither shrank."
     << "\n\nModel: k = ln(1 + s/h0) / ln g (s: the wall's largest high-order node offset from its chord); "
        "k_f = ln(1 + s (g - 1) / (f h0)) / ln g adds f_atten and the growth.\n\n";
   o << "## Pairs (2D beside 3D)\n\n"
     << "| case | 3D | f_atten | h0 | layers 2D / 3D | linear after 2D / 3D | model k 2D / 3D | model k_f 2D / 3D | "
-       "s_max 2D / 3D | height rel. diff | front match | min SJ 2D / 3D | pairing |\n"
+       "s_max 2D / 3D | height rel. diff (layers compared) | front match | min SJ 2D / 3D | pairing |\n"
     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Pair& p : pairs) {
     const StudyRun& a = *p.r2;
@@ -540,7 +559,9 @@ std::string markdown(const Study& st, const std::vector<StudyRun>& runs, const s
       << fmt(model_k(b.out.max_chord_offset, b.h0, b.sc->growth), 3) << " | "
       << fmt(model_k_f(s, a.h0, a.sc->growth, a.f_atten), 3) << " / "
       << fmt(model_k_f(b.out.max_chord_offset, b.h0, b.sc->growth, b.f_atten), 3) << " | " << fmt(s, 3) << " / "
-      << fmt(b.out.max_chord_offset, 3) << " | " << fmt(p.height_rel_diff, 2) << " | " << fmt(p.front_match_rel, 2)
+      << fmt(b.out.max_chord_offset, 3) << " | " << fmt(p.height_rel_diff, 2) << " (" << p.compared_layers
+      << (p.first_shrink > 0 ? ", shrunk from " + std::to_string(p.first_shrink) : std::string()) << ") | "
+      << fmt(p.front_match_rel, 2)
       << " | " << fmt(a.min_sj(), 3) << " / " << fmt(b.min_sj(), 3) << " | "
       << (p.pairing_ok ? "ok" : "**" + p.pairing_note + "**") << " |\n";
   }

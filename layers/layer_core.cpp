@@ -206,6 +206,7 @@ class Growth {
           ok = attempts_.run(part, layer, scale, stopped, f, st, built);
         }
         st.f_atten = std::min(st.f_atten, f);
+        if (ok && std::any_of(scale.begin(), scale.end(), [](double x) { return x < 1; })) st.shrunk = true;
         if (!ok) {
           growing_[part] = false;
           r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +

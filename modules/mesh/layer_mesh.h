@@ -28,6 +28,7 @@ struct LayerStats {
   double f_atten = 0;
   bool linear = false;               // the new front is linear
   std::size_t shrinks = 0;           // invalid cells and front crossings that made heights halve
+  bool shrunk = false;               // the accepted build has heights halved somewhere (not the closing layer's scale)
   std::size_t first_cell = 0;        // this layer's cells in the main block (LayerResult::mesh.cells[0])
   // The layer's height |top - base| over its vertex columns grown along a normal, where
   // LayerParams::height_probe accepts the base (all columns by default; an extruded section's

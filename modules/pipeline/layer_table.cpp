@@ -59,7 +59,7 @@ void report_layer_table(const LayerResult<Dim>& lr, const std::vector<LayerRow>&
                    ", \"f_atten\": " + json_number(st.f_atten) +
                    ", \"linear\": " + (st.linear ? "true" : "false") + ", \"min_scaled_jacobian\": " +
                    json_number(row.min_scaled_jacobian) + ", \"max_aspect_ratio\": " + json_number(row.max_aspect_ratio) +
-                   ", \"shrinks\": " + std::to_string(st.shrinks) +
+                   ", \"shrinks\": " + std::to_string(st.shrinks) + ", \"shrunk\": " + (st.shrunk ? "true" : "false") +
                    ", \"transition_cells\": " + std::to_string(st.transition_cells) +
                    ", \"height_min\": " + json_number(st.height_columns ? st.height_min : nan) +
                    ", \"height_mean\": " + json_number(st.height_columns ? st.height_mean : nan) +

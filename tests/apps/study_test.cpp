@@ -151,6 +151,8 @@ TEST_CASE("study: a circle, its cylinder and sphere, the E387 and its wing: hone
       CHECK(b["extrude"]["span"].as<double>() == 0.2);
       // The section's wall nodes are the extrusion's at mid-span, exactly.
       CHECK(number(p.at("section_match")) == 0);
+      CHECK(p.at("first_shrink") == "-1");
+      CHECK(p.at("compared_layers") == p.at("layers_2d"));
       // The cylinder grows the circle's layers and the wing the E387's: heights to 1e-9, the
       // outer fronts at mid-span to 1e-9 of the wall distance, the same linear-after.
       CHECK(number(p.at("height_rel_diff")) <= 1e-9);
@@ -273,12 +275,16 @@ TEST_CASE("study: the shipped attenuation study: every run valid, the E387 wing 
     const bool paper = p.at("f_atten") == "0.2" && (p.at("case") == "e387_coarse" || p.at("case") == "e387_fine");
     if (paper) {  // the paper's attenuation on the E387 and its wing, every h0
       ++e387;
+      // Over every layer before either run shrank one (shrink neighbourhoods are dimension-specific).
+      CHECK(std::stoi(p.at("compared_layers")) >= 20);
       CHECK(number(p.at("height_rel_diff")) <= 1e-9);
       CHECK(std::abs(std::stoi(p.at("linear_after_2d")) - std::stoi(p.at("linear_after_3d"))) <= 1);
     }
     if (p.at("case") == "circle" && p.at("partner") == "extrusion") {
       ++cylinder;
+      CHECK(p.at("first_shrink") == "-1");
       CHECK(number(p.at("height_rel_diff")) <= 1e-9);
+      CHECK(number(p.at("front_match_rel")) <= 1e-9);
       CHECK(p.at("linear_after_2d") == p.at("linear_after_3d"));
       CHECK(p.at("layers_2d") == p.at("layers_3d"));
     }
