@@ -20,6 +20,7 @@
 #include "apps/run.h"
 #include "modules/base/error.h"
 #include "modules/base/format.h"
+#include "modules/geometry/geometry2d.h"
 #include "modules/io/atomic_file.h"
 #include "modules/io/chart.h"
 #include "modules/metric/wall_metric.h"
@@ -297,6 +298,19 @@ std::vector<StudyRun> plan_runs(const Study& st, const fs::path& out) {
     r.config.file = out / "configs" / (r.name + ".yaml");
     r.config.output.dir = out / "runs";
   }
+  // Every section's contour files are read and checked too (simple, disjoint loops), once per
+  // case, so a bad file stops the study before anything is written.
+  for (const StudyCase& sc : st.cases)
+    for (const StudyRun& r : runs)
+      if (r.sc == &sc && r.partner == "section") {
+        try {
+          const ConfigNode g = ConfigNode::load_string(r.text, r.config.file.string()).child("geometry");
+          build_airfoils_geometry(parse_airfoils_params(g));
+        } catch (const Error& e) {
+          throw InputError(sc.where + ": case '" + sc.name + "': " + e.what());
+        }
+        break;
+      }
   return runs;
 }
 
@@ -649,9 +663,11 @@ void write_charts(const Study& st, const std::vector<StudyRun>& runs, const std:
         }
         std::sort(pts.begin(), pts.end());
         for (const auto& [x, y] : pts) s.x.push_back(x), s.y.push_back(y);
-        if (!pts.empty()) series.push_back(s);
+        if (!pts.empty()) {
+          series.push_back(s);
+          ++color;  // each series its own colour: a 3D partner that equals its section stays visible
+        }
       }
-      ++color;
     }
     ChartOptions o;
     o.title = against_f ? "Front linear after layer k, against f_atten (each case at its h0)"

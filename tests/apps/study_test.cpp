@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/gmsh_support.h"
 #include "tests/test_support.h"
 
 namespace fs = std::filesystem;
@@ -207,6 +208,20 @@ TEST_CASE("study: a circle, its cylinder and sphere, the E387 and its wing: hone
   CHECK(fs::is_regular_file(out / "runs" / "circle_sphere_f0.2_h0.001.msh"));
   CHECK(fs::is_regular_file(out / "runs" / "e387_extrusion_f0.2_h0.005.png"));
   CHECK_FALSE(fs::exists(out / "runs" / "circle_sphere_f1_h0.001.msh"));  // sweep runs: the report only
+  // Gmsh's eye on the base runs' meshes (order 2): -check clean, its Bezier Jacobians positive.
+  if (plaf::test::gmsh_on_path()) {
+    int checked = 0;
+    for (const auto& e : fs::directory_iterator(out / "runs")) {
+      if (e.path().extension() != ".msh") continue;
+      ++checked;
+      INFO(e.path().string());
+      TempDir g("study_gmsh_" + std::to_string(checked));
+      fs::copy_file(e.path(), g / "mesh.msh");
+      CHECK(plaf::test::gmsh_complaints(plaf::test::run_gmsh("mesh.msh -check", g).out).empty());
+      CHECK(plaf::test::gmsh_jacobians("mesh.msh", g).min_j > 0);
+    }
+    CHECK(checked == 5);  // circle 2D, cylinder, sphere, E387, wing
+  }
 }
 
 TEST_CASE("study: bad study files fail with one line naming the file and key, before anything is written") {
@@ -233,6 +248,7 @@ TEST_CASE("study: bad study files fail with one line naming the file and key, be
       {replace("isotropic_stop: all}", "isotropic_stop: all, colour: red}"), "case 'circle'"},
       {replace("type: wall_power_law, h0: 0.001", "type: uniform, h: 0.1"), "wall_power_law"},
       {replace("extrude: {span: 0.2}\n    sphere", "extrude: {span: -1}\n    sphere"), "span"},
+      {replace("/airfoils/e387.dat", "/airfoils/missing.dat"), "missing.dat"},
   };
   for (std::size_t i = 0; i < bad.size(); ++i) {
     const fs::path f = write_text(d / ("bad" + std::to_string(i) + ".yaml"), bad[i].text);
