@@ -113,6 +113,31 @@ double max_chord_offset(const CurvedFront<3>& f) {
   return worst;
 }
 
+// RunOutcome::wall_edge_mean.
+double wall_edge_mean(const CurvedFront<2>& f) {
+  double sum = 0;
+  std::size_t n = 0;
+  const std::size_t q = static_cast<std::size_t>(f.order);
+  for (const FrontLoop& l : f.loops)
+    if (l.kind == BoundaryKind::Wall)
+      for (std::size_t e = 0; e < l.size(); ++e, ++n) {
+        const NodeId* el = l.elements.data() + e * (q + 1);
+        sum += (f.nodes[static_cast<std::size_t>(el[1])] - f.nodes[static_cast<std::size_t>(el[0])]).norm();
+      }
+  return n ? sum / static_cast<double>(n) : 0;
+}
+double wall_edge_mean(const CurvedFront<3>& f) {
+  double sum = 0;
+  std::size_t n = 0;
+  const std::size_t npt = static_cast<std::size_t>((f.order + 1) * (f.order + 2) / 2);
+  for (std::size_t t = 0; t + npt <= f.triangles.size(); t += npt)
+    for (int k = 0; k < 3; ++k, ++n)
+      sum += (f.nodes[static_cast<std::size_t>(f.triangles[t + static_cast<std::size_t>((k + 1) % 3)])] -
+              f.nodes[static_cast<std::size_t>(f.triangles[t + static_cast<std::size_t>(k)])])
+                 .norm();
+  return n ? sum / static_cast<double>(n) : 0;
+}
+
 Eigen::Vector3d lift(const Eigen::Vector2d& x) { return Eigen::Vector3d(x[0], x[1], 0); }
 
 // The nodes of a front (2D: its wall loops; 3D: its triangles), each once.
@@ -142,6 +167,9 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
   std::vector<std::pair<std::string, double>> timings;
   StageClock clock(timings, quiet);
   clock.done("config", config_path.string());
+  // An extruded run's 2D section: declared before the run's state, whose extruded metric refers
+  // to the section's metric, so that it outlives it.
+  std::optional<RunState<2>> section;
   RunState<Dim> s(c);
   std::vector<StageReport> reports;
   auto step = [&](auto& state, StageKind kind, const std::string& what) {
@@ -154,7 +182,6 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
 
   // 1-3. Geometry, metric and surface mesh, each the plugin the config chose; an extruded section
   // runs them in 2D and extrudes their front and metric (modules/mesh/extrude_front.h).
-  std::optional<RunState<2>> section;  // lives as long as the extruded metric refers to it
   if constexpr (Dim == 3) {
     if (c.extrude) {
       section.emplace(c);
@@ -190,6 +217,7 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
   RunOutcome outcome;
   if (s.front) {
     outcome.max_chord_offset = max_chord_offset(*s.front);
+    outcome.wall_edge_mean = wall_edge_mean(*s.front);
     outcome.wall_nodes = front_nodes(*s.front, s.front->nodes);
   }
   if (s.layers) {

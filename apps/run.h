@@ -29,6 +29,9 @@ struct RunOutcome {
   // The largest offset of a wall element's high-order node from its position on the linear
   // element (the element's chord in 2D, its flat triangle in 3D): what attenuation has to remove.
   double max_chord_offset = 0;
+  // The mean length of the wall elements' edges between their vertices (2D: the elements' chords;
+  // 3D: the triangles' edges, each counted per triangle): the size along the wall.
+  double wall_edge_mean = 0;
 };
 
 // Runs a validated configuration and writes its outputs; quiet: no stage lines on stdout and no

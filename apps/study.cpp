@@ -7,11 +7,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -74,6 +76,15 @@ double raw_number(const YAML::Node& map, const std::string& key, double fallback
   }
 }
 
+// Every value of a sweep list in (lo, hi] and finite.
+void check_sweep(const ConfigNode& n, const std::string& key, const std::vector<double>& v, double hi) {
+  for (double x : v)
+    if (!(x > 0 && x <= hi && std::isfinite(x)))
+      throw ConfigError(n.where(key) + ": every value must be positive" + (std::isfinite(hi) ? " and at most " + num(hi) : std::string()) +
+                        ", got " + num(x));
+  if (v.empty()) throw ConfigError(n.where(key) + ": give at least one value");
+}
+
 // Relative `file` values (a body's contour, a background metric) made absolute against the study's
 // folder: the generated configurations live elsewhere.
 void absolutize_files(YAML::Node node, const fs::path& dir) {
@@ -96,18 +107,13 @@ Study load_study(const fs::path& path) {
   Study s;
   s.file = path;
   s.name = c.get_string("name", path.stem().string());
-  if (s.name.empty() || s.name.find('/') != std::string::npos)
+  if (s.name.empty() || s.name == "." || s.name == ".." || s.name.find('/') != std::string::npos)
     throw ConfigError(c.where("name") + ": must be a plain file name, got '" + s.name + "'");
   s.order = c.get_int("order", s.order, 1, 4);
   s.f_atten = c.get_double_list("f_atten", s.f_atten);
-  for (double f : s.f_atten)
-    if (!(f > 0 && f <= 1)) throw ConfigError(c.where("f_atten") + ": every f_atten must be in (0, 1], got " + num(f));
+  check_sweep(c, "f_atten", s.f_atten, 1.0);
   s.h0_factors = c.get_double_list("h0_factors", s.h0_factors);
-  for (double k : s.h0_factors)
-    if (!(k > 0 && std::isfinite(k)))
-      throw ConfigError(c.where("h0_factors") + ": every factor must be positive, got " + num(k));
-  if (s.f_atten.empty() || s.h0_factors.empty())
-    throw ConfigError(c.where() + ": f_atten and h0_factors need at least one value each");
+  check_sweep(c, "h0_factors", s.h0_factors, std::numeric_limits<double>::infinity());
   const fs::path dir = path.parent_path();
   std::set<std::string> names;
   for (const ConfigNode& k : c.child_list("cases")) {
@@ -136,9 +142,7 @@ Study load_study(const fs::path& path) {
     }
     sc.sphere = k.get_bool("sphere", false);
     sc.h0_factors = k.get_double_list("h0_factors", s.h0_factors);
-    for (double f : sc.h0_factors)
-      if (!(f > 0 && std::isfinite(f)))
-        throw ConfigError(k.where("h0_factors") + ": every factor must be positive, got " + num(f));
+    check_sweep(k, "h0_factors", sc.h0_factors, std::numeric_limits<double>::infinity());
     if (!sc.extruded() && !sc.sphere)
       throw ConfigError(k.where() + ": case '" + sc.name + "' has no 3D partner (give extrude: {span: ...} or sphere: true)");
     if (k.has("output")) {
@@ -150,9 +154,9 @@ Study load_study(const fs::path& path) {
     }
     const WallLawParams defaults;
     const std::string mw = k.where("metric");
-    sc.h0 = raw_number(sc.metric, "h0", defaults.h0, mw);
+    sc.h0 = round12(raw_number(sc.metric, "h0", defaults.h0, mw));
     sc.growth = raw_number(sc.metric, "growth", defaults.growth, mw);
-    sc.f_atten = raw_number(sc.layers, "f_atten", 0.2, k.where("layers"));
+    sc.f_atten = round12(raw_number(sc.layers, "f_atten", 0.2, k.where("layers")));
     if (sc.sphere) {
       // The sphere of the section's circle: one body, a circle; the metric must size both alike.
       const YAML::Node bodies = sc.geometry["bodies"];
@@ -161,13 +165,14 @@ Study load_study(const fs::path& path) {
         throw ConfigError(k.where("geometry") + ": the sphere partner needs a section of one circle body "
                           "(bodies: [{circle: {center: [x, y], radius: r}}])");
       const YAML::Node circle = bodies[0]["circle"];
-      sc.circle_radius = raw_number(circle, "radius", nan, mw);
+      sc.circle_radius = raw_number(circle, "radius", nan, k.where("geometry") + ".bodies[0].circle");
       const YAML::Node center = circle["center"];
       if (center.IsDefined() && center.IsSequence() && center.size() == 2) {
         YAML::Node xy(YAML::NodeType::Map);
         xy["x"] = center[0];
         xy["y"] = center[1];
-        sc.circle_center = {raw_number(xy, "x", 0, mw), raw_number(xy, "y", 0, mw)};
+        const std::string cw = k.where("geometry") + ".bodies[0].circle.center";
+        sc.circle_center = {raw_number(xy, "x", 0, cw), raw_number(xy, "y", 0, cw)};
       }
       if (sc.metric["h_corner"].IsDefined())
         throw ConfigError(mw + ".h_corner: the sphere partner's metric has no corners; leave h_corner out");
@@ -288,7 +293,11 @@ std::vector<StudyRun> plan_runs(const Study& st, const fs::path& out) {
     }
   }
   // Every configuration is checked before anything runs or is written.
+  std::set<std::string> names;
   for (StudyRun& r : runs) {
+    if (!names.insert(r.name).second)
+      throw ConfigError(r.sc->where + ": case '" + r.sc->name + "': two sweep points print as '" + r.name +
+                        "' (give f_atten and h0 values that differ in their first 6 digits)");
     try {
       r.config = parse_run_config(r.text, (out / "configs" / (r.name + ".yaml")).string());
     } catch (const Error& e) {
@@ -324,7 +333,7 @@ struct Pair {
   // around it in 3D: the two dimensions shrink different neighbourhoods, so from there on the
   // pair measures two different layer stacks).
   std::size_t compared_layers = 0;
-  int first_shrink = -1;          // the first layer either run kept shrunk heights in (-1: none)
+  int first_shrink = -1;          // the first layer either run kept shrunk heights in or rebuilt with another f_atten (-1: none)
   double height_rel_diff = nan;   // largest relative difference of the layer heights (min, mean, max)
   double front_match_rel = nan;   // extrusion, no shrink: outer front at mid-span vs the 2D one, over the wall distance
   double section_match = nan;     // extrusion: mid-span wall nodes vs the section's, over the chord scale
@@ -338,74 +347,88 @@ double nearest(const Eigen::Vector3d& x, const std::vector<Eigen::Vector3d>& set
   return best;
 }
 
+// The points of v (at z, when station) each once, in (x, y) order.
+std::vector<Eigen::Vector3d> distinct(const std::vector<Eigen::Vector3d>& v, std::optional<double> station = {},
+                                      double tol = 0) {
+  std::vector<Eigen::Vector3d> s;
+  for (const Eigen::Vector3d& x : v)
+    if (!station || std::abs(x.z() - *station) <= tol) s.push_back(x);
+  std::sort(s.begin(), s.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::lexicographical_compare(a.data(), a.data() + 2, b.data(), b.data() + 2);
+  });
+  s.erase(std::unique(s.begin(), s.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).norm() == 0; }),
+          s.end());
+  return s;
+}
+
+void fail_pairing(Pair& p, const std::string& why) {
+  p.pairing_ok = false;
+  p.pairing_note += (p.pairing_note.empty() ? "" : "; ") + why;
+}
+
 Pair make_pair_result(const StudyRun& r2, const StudyRun& r3) {
   Pair p;
   p.r2 = &r2;
   p.r3 = &r3;
-  if (r2.metric_text != r3.metric_text && r3.partner != "sphere") {
-    p.pairing_ok = false;
-    p.pairing_note = "metric sections differ";
-  }
-  if (r2.layers_text != r3.layers_text || r2.f_atten != r3.f_atten || r2.h0 != r3.h0) {
-    p.pairing_ok = false;
-    p.pairing_note = "layers sections, f_atten or h0 differ";
-  }
+  // By construction (make_run): the same metric and layers sections, f_atten and h0.
+  if (r2.metric_text != r3.metric_text || r2.layers_text != r3.layers_text || r2.f_atten != r3.f_atten ||
+      r2.h0 != r3.h0 || r2.config.order != r3.config.order)
+    fail_pairing(p, "the generated metric or layers sections, f_atten, h0 or order differ");
   if (!r2.ran || !r3.ran) return p;
-  // Layer heights, layer by layer over the layers both grew before the first shrink.
-  double worst = 0;
+  // On the results: the same metric at the wall (the first layer's smallest height, the wall
+  // law's normal size there, agrees on both sides).
+  if (!r2.out.layers.empty() && !r3.out.layers.empty()) {
+    const double a = r2.out.layers[0].stats.min_height(), b = r3.out.layers[0].stats.min_height();
+    if (!(std::abs(b - a) <= 1e-6 * a))
+      fail_pairing(p, "the first layers' smallest heights differ (" + num(a) + " vs " + num(b) + "): not the same metric");
+  }
+  if (r3.partner == "sphere") {  // the sphere's wall lies on the circle's radius
+    double dev = 0;
+    const Eigen::Vector3d c(r3.sc->circle_center[0], r3.sc->circle_center[1], 0);
+    for (const Eigen::Vector3d& x : r3.out.wall_nodes) dev = std::max(dev, std::abs((x - c).norm() - r3.sc->circle_radius));
+    if (!(dev <= 1e-9 * r3.sc->circle_radius)) fail_pairing(p, "the sphere's wall is off the circle's radius by " + num(dev));
+  }
+  // Layer heights, layer by layer, over the layers both grew before either kept shrunk heights
+  // or used another f_atten (a rebuilt layer, layer_core.cpp): from there on the pair measures
+  // two different layer stacks.
   std::size_t n = std::min(r2.layers(), r3.layers());
-  for (std::size_t k = 0; k < std::max(r2.layers(), r3.layers()); ++k)
-    if ((k < r2.layers() && r2.out.layers[k].stats.shrunk) || (k < r3.layers() && r3.out.layers[k].stats.shrunk)) {
+  for (std::size_t k = 0; k < std::max(r2.layers(), r3.layers()); ++k) {
+    const bool a = k < r2.layers() && r2.out.layers[k].stats.shrunk, b = k < r3.layers() && r3.out.layers[k].stats.shrunk;
+    const bool f = k < n && r2.out.layers[k].stats.f_atten != r3.out.layers[k].stats.f_atten;
+    if (a || b || f) {
       p.first_shrink = static_cast<int>(k) + 1;
       n = std::min(n, k);
       break;
     }
-  p.compared_layers = n;
+  }
+  double worst = 0;
   for (std::size_t k = 0; k < n; ++k) {
     const LayerStats& a = r2.out.layers[k].stats;
     const LayerStats& b = r3.out.layers[k].stats;
     if (a.height_columns == 0 || b.height_columns == 0) continue;
+    ++p.compared_layers;
     for (auto [x, y] : {std::pair{a.height_min, b.height_min}, {a.height_mean, b.height_mean}, {a.height_max, b.height_max}})
-      worst = std::max(worst, std::abs(y - x) / x);
+      worst = x > 0 ? std::max(worst, std::abs(y - x) / x) : nan;  // NaN stays: a zero height is no match
+    // The extrusion's mid-span station has the section's columns, one for one.
+    if (r3.partner == "extrusion" && a.height_columns != b.height_columns)
+      fail_pairing(p, "layer " + std::to_string(k + 1) + " measured " + std::to_string(b.height_columns) +
+                          " columns at mid-span, the section " + std::to_string(a.height_columns));
   }
-  p.height_rel_diff = n > 0 ? worst : nan;
+  p.height_rel_diff = p.compared_layers > 0 ? worst : nan;
   if (r3.partner != "extrusion") return p;
   // The mid-span station of the extrusion against the section.
   const double z = r3.config.extrude->probe_z(), tol = 1e-9 * r3.config.extrude->span;
-  auto at_station = [&](const std::vector<Eigen::Vector3d>& v) {
-    std::vector<Eigen::Vector3d> s;
-    for (const Eigen::Vector3d& x : v)
-      if (std::abs(x.z() - z) <= tol) s.push_back(x);
-    std::sort(s.begin(), s.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-      return std::lexicographical_compare(a.data(), a.data() + 2, b.data(), b.data() + 2);
-    });
-    s.erase(std::unique(s.begin(), s.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-              return (a - b).norm() == 0;
-            }), s.end());
-    return s;
-  };
-  auto unique2 = [](std::vector<Eigen::Vector3d> v) {
-    std::sort(v.begin(), v.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-      return std::lexicographical_compare(a.data(), a.data() + 2, b.data(), b.data() + 2);
-    });
-    v.erase(std::unique(v.begin(), v.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-              return (a - b).norm() == 0;
-            }), v.end());
-    return v;
-  };
-  const std::vector<Eigen::Vector3d> wall2 = unique2(r2.out.wall_nodes), wall3 = at_station(r3.out.wall_nodes);
-  const std::vector<Eigen::Vector3d> outer2 = unique2(r2.out.outer_nodes), outer3 = at_station(r3.out.outer_nodes);
+  const std::vector<Eigen::Vector3d> wall2 = distinct(r2.out.wall_nodes), wall3 = distinct(r3.out.wall_nodes, z, tol);
+  const std::vector<Eigen::Vector3d> outer2 = distinct(r2.out.outer_nodes), outer3 = distinct(r3.out.outer_nodes, z, tol);
   double scale = 0;
   for (const Eigen::Vector3d& x : wall2) scale = std::max(scale, x.head<2>().norm());
   double sm = 0;
   for (const Eigen::Vector3d& x : wall2) sm = std::max(sm, nearest(x, wall3));
   for (const Eigen::Vector3d& x : wall3) sm = std::max(sm, nearest(x, wall2));
   p.section_match = sm / std::max(scale, 1e-300);
-  if (wall2.size() != wall3.size() || !(p.section_match <= 1e-12)) {
-    p.pairing_ok = false;
-    p.pairing_note = "the mid-span wall nodes are not the section's (" + std::to_string(wall3.size()) + " vs " +
-                     std::to_string(wall2.size()) + " nodes, off by " + num(p.section_match) + ")";
-  }
+  if (wall2.size() != wall3.size() || !(p.section_match <= 1e-12))
+    fail_pairing(p, "the mid-span wall nodes are not the section's (" + std::to_string(wall3.size()) + " vs " +
+                        std::to_string(wall2.size()) + " nodes, off by " + num(p.section_match) + ")");
   double fm = 0;
   for (const Eigen::Vector3d& x : outer2) fm = std::max(fm, nearest(x, outer3) / std::max(nearest(x, wall2), 1e-300));
   for (const Eigen::Vector3d& x : outer3) fm = std::max(fm, nearest(x, outer2) / std::max(nearest(x, wall2), 1e-300));
@@ -435,10 +458,6 @@ std::string csv_num(double v) {
   return s.str();
 }
 std::string linear_text(int k) { return k < 0 ? "not linear" : std::to_string(k); }
-double curved_fraction(const LayerRow& row) {
-  const std::size_t cells = row.stats.cells + row.stats.transition_cells;
-  return row.measured && cells > 0 ? static_cast<double>(row.curved) / static_cast<double>(cells) : nan;
-}
 
 void write_text(const fs::path& p, const std::string& text) {
   AtomicFile f(p);
@@ -449,15 +468,15 @@ void write_text(const fs::path& p, const std::string& text) {
 std::string runs_csv(const std::vector<StudyRun>& runs) {
   std::ostringstream o;
   o << "case,partner,dim,run,f_atten,h0,growth,exit_code,invalid_cells,layers,linear_after,s_max,model_k,"
-       "model_k_f,min_scaled_jacobian,max_aspect_ratio,seconds,report\n";
+       "model_k_f,wall_edge_mean,min_scaled_jacobian,max_aspect_ratio,seconds,report\n";
   for (const StudyRun& r : runs) {
     const double s = r.out.max_chord_offset;
     o << r.sc->name << ',' << r.partner << ',' << r.dim() << ',' << r.name << ',' << csv_num(r.f_atten) << ','
       << csv_num(r.h0) << ',' << csv_num(r.sc->growth) << ',' << r.code() << ','
       << (r.ran ? std::to_string(r.out.report.cells_invalid) : "") << ',' << r.layers() << ','
       << r.out.linear_after << ',' << csv_num(s) << ',' << csv_num(model_k(s, r.h0, r.sc->growth)) << ','
-      << csv_num(model_k_f(s, r.h0, r.sc->growth, r.f_atten)) << ',' << csv_num(r.min_sj()) << ','
-      << csv_num(r.ran ? r.out.report.aspect_ratio_max : nan) << ',' << csv_num(r.seconds) << ','
+      << csv_num(model_k_f(s, r.h0, r.sc->growth, r.f_atten)) << ',' << csv_num(r.ran ? r.out.wall_edge_mean : nan)
+      << ',' << csv_num(r.min_sj()) << ',' << csv_num(r.ran ? r.out.report.aspect_ratio_max : nan) << ',' << csv_num(r.seconds) << ','
       << (r.ran && r.config.output.wants("report") ? (r.out.base.string() + ".report.json") : "") << '\n';
   }
   return o.str();
@@ -467,17 +486,17 @@ std::string layers_csv(const std::vector<StudyRun>& runs) {
   std::ostringstream o;
   o << "run,case,partner,dim,f_atten,h0,layer,cells,transition_cells,curved_cells,curved_fraction,"
        "max_clipped_over_height,linear,min_scaled_jacobian,max_aspect_ratio,height_min,height_mean,height_max,"
-       "height_columns\n";
+       "height_columns,layer_f_atten,shrunk\n";
   for (const StudyRun& r : runs)
     for (const LayerRow& row : r.out.layers) {
       const LayerStats& st = row.stats;
       o << r.name << ',' << r.sc->name << ',' << r.partner << ',' << r.dim() << ',' << csv_num(r.f_atten) << ','
         << csv_num(r.h0) << ',' << st.layer << ',' << st.cells << ',' << st.transition_cells << ','
-        << (row.measured ? std::to_string(row.curved) : "") << ',' << csv_num(curved_fraction(row)) << ','
+        << (row.measured ? std::to_string(row.curved) : "") << ',' << csv_num(row.curved_fraction()) << ','
         << csv_num(st.max_clipped_rel) << ',' << (st.linear ? 1 : 0) << ',' << csv_num(row.min_scaled_jacobian) << ','
-        << csv_num(row.max_aspect_ratio) << ',' << csv_num(st.height_columns ? st.height_min : nan) << ','
-        << csv_num(st.height_columns ? st.height_mean : nan) << ',' << csv_num(st.height_columns ? st.height_max : nan)
-        << ',' << st.height_columns << '\n';
+        << csv_num(row.max_aspect_ratio) << ',' << csv_num(st.min_height()) << ',' << csv_num(st.mean_height()) << ','
+        << csv_num(st.max_height())
+        << ',' << st.height_columns << ',' << csv_num(st.f_atten) << ',' << (st.shrunk ? 1 : 0) << '\n';
     }
   return o.str();
 }
@@ -502,13 +521,14 @@ std::string run_json(const StudyRun& r) {
     const LayerStats& st = row.stats;
     rows.push_back("{\"layer\": " + std::to_string(st.layer) + ", \"cells\": " + std::to_string(st.cells) +
                    ", \"transition_cells\": " + std::to_string(st.transition_cells) +
-                   ", \"curved_fraction\": " + json_number(curved_fraction(row)) +
+                   ", \"curved_fraction\": " + json_number(row.curved_fraction()) +
                    ", \"max_clipped_over_height\": " + json_number(st.max_clipped_rel) +
                    ", \"min_scaled_jacobian\": " + json_number(row.min_scaled_jacobian) +
                    ", \"max_aspect_ratio\": " + json_number(row.max_aspect_ratio) +
-                   ", \"height_min\": " + json_number(st.height_columns ? st.height_min : nan) +
-                   ", \"height_mean\": " + json_number(st.height_columns ? st.height_mean : nan) +
-                   ", \"height_max\": " + json_number(st.height_columns ? st.height_max : nan) + "}");
+                   ", \"height_min\": " + json_number(st.min_height()) +
+                   ", \"height_mean\": " + json_number(st.mean_height()) +
+                   ", \"height_max\": " + json_number(st.max_height()) +
+                   ", \"f_atten\": " + json_number(st.f_atten) + ", \"shrunk\": " + (st.shrunk ? "true" : "false") + "}");
   }
   const double s = r.out.max_chord_offset;
   return "{\"name\": " + json_string(r.name) + ", \"case\": " + json_string(r.sc->name) +
@@ -521,6 +541,7 @@ std::string run_json(const StudyRun& r) {
          ", \"layers\": " + std::to_string(r.layers()) + ", \"linear_after\": " + std::to_string(r.out.linear_after) +
          ", \"s_max\": " + json_number(s) + ", \"model_k\": " + json_number(model_k(s, r.h0, r.sc->growth)) +
          ", \"model_k_f\": " + json_number(model_k_f(s, r.h0, r.sc->growth, r.f_atten)) +
+         ", \"wall_edge_mean\": " + json_number(r.ran ? r.out.wall_edge_mean : nan) +
          ", \"min_scaled_jacobian\": " + json_number(r.min_sj()) +
          ", \"max_aspect_ratio\": " + json_number(r.ran ? r.out.report.aspect_ratio_max : nan) +
          ", \"seconds\": " + json_number(r.seconds) +
@@ -592,29 +613,39 @@ std::string markdown(const Study& st, const std::vector<StudyRun>& runs, const s
     for (std::size_t k = 0; k < n; ++k) {
       o << "| " << k + 1;
       for (auto f : {+[](const LayerRow& r) { return fmt(r.stats.max_clipped_rel, 3); },
-                     +[](const LayerRow& r) { return fmt(100 * curved_fraction(r), 3) + " %"; },
+                     +[](const LayerRow& r) { return fmt(100 * r.curved_fraction(), 3) + " %"; },
                      +[](const LayerRow& r) { return fmt(r.min_scaled_jacobian, 3); },
                      +[](const LayerRow& r) { return fmt(r.max_aspect_ratio, 4); },
                      +[](const LayerRow& r) {
-                       return r.stats.height_columns ? fmt(r.stats.height_min, 5) + " .. " + fmt(r.stats.height_max, 5)
-                                                     : std::string("—");
+                       return fmt(r.stats.min_height(), 5) + " .. " + fmt(r.stats.max_height(), 5);
                      }})
         o << " | " << cell(a, k, f) << " | " << cell(b, k, f);
       o << " |\n";
     }
   }
-  o << "\n## Runs\n\n| run | exit | invalid | layers | linear after | s_max | min SJ | max AR | time s |\n"
-    << "|---|---|---|---|---|---|---|---|---|\n";
+  o << "\n## Runs\n\n| run | exit | invalid | layers | linear after | s_max | wall edge mean | min SJ | max AR | time s |\n"
+    << "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const StudyRun& r : runs)
     o << "| " << r.name << " | " << r.code() << (r.error.empty() ? "" : " (" + r.error + ")") << " | "
       << (r.ran ? std::to_string(r.out.report.cells_invalid) : "—") << " | " << r.layers() << " | "
-      << linear_text(r.out.linear_after) << " | " << fmt(r.out.max_chord_offset, 3) << " | " << fmt(r.min_sj(), 3)
+      << linear_text(r.out.linear_after) << " | " << fmt(r.out.max_chord_offset, 3) << " | "
+      << fmt(r.ran ? r.out.wall_edge_mean : nan, 3) << " | " << fmt(r.min_sj(), 3)
       << " | " << fmt(r.ran ? r.out.report.aspect_ratio_max : nan, 4) << " | " << fmt(r.seconds, 3) << " |\n";
   return o.str();
 }
 
+// Draws the charts and pictures; each that cannot be drawn (no drawable point, a run without its
+// picture, a file error) is left out with a note instead of ending the study.
 void write_charts(const Study& st, const std::vector<StudyRun>& runs, const std::vector<Pair>& pairs, const fs::path& out,
-                  std::vector<fs::path>& written) {
+                  std::vector<fs::path>& written, std::vector<std::string>& notes) {
+  auto draw = [&](const fs::path& p, const std::function<void()>& f) {
+    try {
+      f();
+      written.push_back(p);
+    } catch (const Error& e) {
+      notes.push_back(p.filename().string() + " not drawn: " + e.what());
+    }
+  };
   // Per case: max clip / h against layer, 2D solid and 3D dashed, one colour per f_atten at the
   // case's own h0 (one chart per partner).
   for (const StudyCase& sc : st.cases)
@@ -642,8 +673,7 @@ void write_charts(const Study& st, const std::vector<StudyRun>& runs, const std:
       o.x_label = "layer";
       o.y_label = "max attenuation move still needed / layer height";
       const fs::path p = out / (sc.name + "_" + partner + "_clip.png");
-      write_chart_png(series, p, o);
-      written.push_back(p);
+      draw(p, [&] { write_chart_png(series, p, o); });
     }
   // Linear-after against f_atten (at each case's h0) and against h0 (at each case's f_atten).
   for (const bool against_f : {true, false}) {
@@ -676,22 +706,19 @@ void write_charts(const Study& st, const std::vector<StudyRun>& runs, const std:
     o.y_label = "linear after layer";
     o.log_x = true;
     const fs::path p = out / (against_f ? "linear_after_f_atten.png" : "linear_after_h0.png");
-    try {
-      write_chart_png(series, p, o);
-      written.push_back(p);
-    } catch (const Error&) {
-      // No run became linear: nothing to draw (the tables say so).
-    }
+    draw(p, [&] { write_chart_png(series, p, o); });
   }
   // The base runs' pictures side by side: the 2D mesh and the 3D mid-span cut (or sphere cut).
   for (const Pair& p : pairs) {
     if (!p.r2->base || !p.r2->ran || !p.r3->ran) continue;
     const fs::path a = p.r2->out.base.string() + ".png", b = p.r3->out.base.string() + ".png";
-    if (!fs::exists(a) || !fs::exists(b)) continue;
     const fs::path to = out / (p.r2->sc->name + "_" + p.r3->partner + "_side_by_side.png");
-    write_side_by_side_png({a, b}, {"2D: " + p.r2->name, "3D: " + p.r3->name + (p.r3->partner == "extrusion" ? " (mid-span cut)" : " (cut z = 0)")},
-                           p.r2->sc->name + ": the 2D layers beside the 3D layers", to);
-    written.push_back(to);
+    draw(to, [&] {
+      write_side_by_side_png({a, b},
+                             {"2D: " + p.r2->name,
+                              "3D: " + p.r3->name + (p.r3->partner == "extrusion" ? " (mid-span cut)" : " (cut z = 0)")},
+                             p.r2->sc->name + ": the 2D layers beside the 3D layers", to);
+    });
   }
 }
 
@@ -718,7 +745,7 @@ int compare_attenuation_command(const fs::path& study_path, const std::optional<
     try {
       r.out = run_config(r.config, true);
       r.ran = true;
-    } catch (const MesherError& e) {
+    } catch (const Error& e) {  // a mesher failure (or an output that cannot be written): a failed row
       r.error = e.what();
       std::cerr << "plaf: error: " << r.config.file.string() << ": " << e.what() << '\n';
     }
@@ -740,21 +767,25 @@ int compare_attenuation_command(const fs::path& study_path, const std::optional<
   for (const StudyRun& r : runs) ok = ok && r.code() == 0;
   for (const Pair& p : pairs) ok = ok && p.pairing_ok;
 
-  std::vector<std::string> run_rows, pair_rows;
-  for (const StudyRun& r : runs) run_rows.push_back(run_json(r));
-  for (const Pair& p : pairs) pair_rows.push_back(pair_json(p));
-  std::vector<fs::path> written;
-  write_charts(st, runs, pairs, out, written);
-  std::vector<std::string> pictures;
-  for (const fs::path& p : written) pictures.push_back(json_string(p.string()));
-  const std::string json = "{\"study\": " + json_string(st.name) + ", \"file\": " + json_string(study_path.string()) +
-                           ", \"order\": " + std::to_string(st.order) + ", \"ok\": " + (ok ? "true" : "false") +
-                           ", \"seconds\": " + json_number(seconds) + ", \"runs\": " + json_array(run_rows) +
-                           ", \"pairs\": " + json_array(pair_rows) + ", \"pictures\": " + json_array(pictures) + "}\n";
+  // The tables first, then the charts (a chart that cannot be drawn is a note), the JSON last.
   write_text(out / (st.name + "_runs.csv"), runs_csv(runs));
   write_text(out / (st.name + "_layers.csv"), layers_csv(runs));
   write_text(out / (st.name + "_pairs.csv"), pairs_csv(pairs));
   write_text(out / (st.name + ".md"), markdown(st, runs, pairs, ok, seconds));
+  std::vector<fs::path> written;
+  std::vector<std::string> notes;
+  write_charts(st, runs, pairs, out, written, notes);
+  for (const std::string& n : notes) std::cerr << "plaf: note: " << n << '\n';
+  std::vector<std::string> run_rows, pair_rows, pictures, note_rows;
+  for (const StudyRun& r : runs) run_rows.push_back(run_json(r));
+  for (const Pair& p : pairs) pair_rows.push_back(pair_json(p));
+  for (const fs::path& p : written) pictures.push_back(json_string(p.string()));
+  for (const std::string& n : notes) note_rows.push_back(json_string(n));
+  const std::string json = "{\"study\": " + json_string(st.name) + ", \"file\": " + json_string(study_path.string()) +
+                           ", \"order\": " + std::to_string(st.order) + ", \"ok\": " + (ok ? "true" : "false") +
+                           ", \"seconds\": " + json_number(seconds) + ", \"runs\": " + json_array(run_rows) +
+                           ", \"pairs\": " + json_array(pair_rows) + ", \"pictures\": " + json_array(pictures) +
+                           ", \"notes\": " + json_array(note_rows) + "}\n";
   write_text(out / (st.name + ".json"), json);
   std::cout << "study " << st.name << ": " << runs.size() << " runs in " << fmt(seconds, 3) << " s; "
             << (ok ? "every run valid, every pairing holds" : "NOT every run valid or paired") << "; tables in "

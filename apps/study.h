@@ -29,6 +29,7 @@
 //       layers: {...}            a run config's layers section (f_atten is swept)
 //       extrude: {span, rows, hz}  the extrusion partner (a run config's extrude section)
 //       sphere: <bool>           the sphere partner (one circle body)    default: false
+//       h0_factors: [..]         this case's h0 sweep                    default: the study's
 //       output: {zooms: [...]}   the pictures' zoom boxes, in (x, y) (the 3D cut's (u, v))
 //
 // Outputs in OUT (the --out folder, default out/<name>):

@@ -103,6 +103,7 @@ class LayerAttempts {
           failures.push_back({b, c});
         }
       }
+      last_failed_on_cells_ = !failures.empty();
       if (failures.empty()) {
         const std::vector<std::size_t> hits = g_.collisions(part);
         for (std::size_t h : hits) failures.push_back({LayerFailure::kFrontElement, h});
@@ -123,6 +124,8 @@ class LayerAttempts {
   }
 
   std::string part_name(std::size_t part) const { return g_.part_name(part); }
+  // Whether the last failed attempt failed on invalid cells (else on front crossings).
+  bool last_failed_on_cells() const { return last_failed_on_cells_; }
 
  private:
   FrontGrower<Dim>& g_;
@@ -141,6 +144,7 @@ class LayerAttempts {
   }();
   std::vector<std::vector<double>> coords_ = std::vector<std::vector<double>>(certifiers_.size());
   std::vector<std::uint8_t> valid_;
+  bool last_failed_on_cells_ = false;
 };
 
 void append(std::array<CellBlock, 2>& blocks, const BuiltLayer& built) {
@@ -195,17 +199,19 @@ class Growth {
         // height toward its chord lies (1 - f_atten) h above its base, and no height shrink
         // changes that ratio (f_atten = 1 collapses it wherever the curvature's sag exceeds h).
         // Sec. II.B fixes f_atten = 0.2 and does not meet the case; the robust choice here: where
-        // the heights' shrinks failed on an attenuated build, the part's layer is rebuilt with
+        // the heights' shrinks failed on invalid cells of an attenuated build (not on crossing
+        // fronts, which a smaller attenuation does not mend), the part's layer is rebuilt with
         // f_atten halved (at most kAttenuationRetries times), recorded as an event and in the
         // layer's f_atten column.
-        for (int k = 0; !ok && k < kAttenuationRetries && built.max_clipped_rel > 0; ++k) {
+        for (int k = 0; !ok && k < kAttenuationRetries && built.max_clipped_rel > 0 && attempts_.last_failed_on_cells();
+             ++k) {
           f *= 0.5;
           scale.assign(scale.size(), 1.0);
           r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
                               ": cells still invalid; rebuilt with f_atten " + num(f));
           ok = attempts_.run(part, layer, scale, stopped, f, st, built);
         }
-        st.f_atten = std::min(st.f_atten, f);
+        if (ok) st.f_atten = std::min(st.f_atten, f);
         if (ok && std::any_of(scale.begin(), scale.end(), [](double x) { return x < 1; })) st.shrunk = true;
         if (!ok) {
           growing_[part] = false;

@@ -4,6 +4,7 @@
 // per-layer table and events). The algorithms live in layers/layer_core.h.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,6 +36,10 @@ struct LayerStats {
   // run: mid-span): smallest, mean and largest, and how many columns (0: none measured).
   double height_min = 0, height_mean = 0, height_max = 0;
   std::size_t height_columns = 0;
+  // The same, NaN when no column was measured (null in reports).
+  double min_height() const { return height_columns ? height_min : std::numeric_limits<double>::quiet_NaN(); }
+  double mean_height() const { return height_columns ? height_mean : std::numeric_limits<double>::quiet_NaN(); }
+  double max_height() const { return height_columns ? height_max : std::numeric_limits<double>::quiet_NaN(); }
 };
 
 // The layer stage's product. Node-numbering contract: mesh.nodes starts with the input

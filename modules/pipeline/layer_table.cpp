@@ -9,6 +9,11 @@
 namespace plaf {
 inline namespace pipeline {
 
+double LayerRow::curved_fraction() const {
+  return measured_cells > 0 ? static_cast<double>(curved) / static_cast<double>(measured_cells)
+                            : std::numeric_limits<double>::quiet_NaN();
+}
+
 template <int Dim>
 std::vector<LayerRow> layer_rows(const LayerResult<Dim>& lr, const HybridMesh<Dim>& mesh, const CellQuality& pc) {
   // The layers' cells are the mesh's first blocks: main cells (2D quadrilaterals, 3D prisms) in
@@ -31,11 +36,13 @@ std::vector<LayerRow> layer_rows(const LayerResult<Dim>& lr, const HybridMesh<Di
     row.min_scaled_jacobian = std::numeric_limits<double>::infinity();
     for (std::size_t c = st.first_cell; main_ok && c < st.first_cell + st.cells; ++c) {
       if (is_curved(mesh, mesh.cells[0], c)) ++row.curved;
+      ++row.measured_cells;
       row.min_scaled_jacobian = std::min(row.min_scaled_jacobian, pc.scaled_jacobian[c]);
       row.max_aspect_ratio = std::max(row.max_aspect_ratio, pc.aspect_ratio[c]);
     }
     for (std::size_t c = st.first_transition_cell; trans_ok && c < st.first_transition_cell + st.transition_cells; ++c) {
       if (is_curved(mesh, mesh.cells[1], c)) ++row.curved;
+      ++row.measured_cells;
       row.min_scaled_jacobian = std::min(row.min_scaled_jacobian, pc.scaled_jacobian[offset + c]);
       row.max_aspect_ratio = std::max(row.max_aspect_ratio, pc.aspect_ratio[offset + c]);
     }
@@ -47,7 +54,6 @@ std::vector<LayerRow> layer_rows(const LayerResult<Dim>& lr, const HybridMesh<Di
 
 template <int Dim>
 void report_layer_table(const LayerResult<Dim>& lr, const std::vector<LayerRow>& rows, StageReport& report) {
-  const double nan = std::numeric_limits<double>::quiet_NaN();  // null in the JSON
   std::vector<std::string> json;
   report.line("layer  cells  trans  curved  max_clip/h  min_scaled_J  max_aspect    height_min    height_max");
   for (const LayerRow& row : rows) {
@@ -61,15 +67,15 @@ void report_layer_table(const LayerResult<Dim>& lr, const std::vector<LayerRow>&
                    json_number(row.min_scaled_jacobian) + ", \"max_aspect_ratio\": " + json_number(row.max_aspect_ratio) +
                    ", \"shrinks\": " + std::to_string(st.shrinks) + ", \"shrunk\": " + (st.shrunk ? "true" : "false") +
                    ", \"transition_cells\": " + std::to_string(st.transition_cells) +
-                   ", \"height_min\": " + json_number(st.height_columns ? st.height_min : nan) +
-                   ", \"height_mean\": " + json_number(st.height_columns ? st.height_mean : nan) +
-                   ", \"height_max\": " + json_number(st.height_columns ? st.height_max : nan) +
+                   ", \"height_min\": " + json_number(st.min_height()) +
+                   ", \"height_mean\": " + json_number(st.mean_height()) +
+                   ", \"height_max\": " + json_number(st.max_height()) +
                    ", \"height_columns\": " + std::to_string(st.height_columns) + "}");
     std::ostringstream o;
     o << std::setw(5) << st.layer << std::setw(7) << st.cells << std::setw(7) << st.transition_cells << std::setw(8)
       << curved_json << std::setw(12) << std::setprecision(3) << st.max_clipped_rel << std::setw(14)
       << row.min_scaled_jacobian << std::setw(12) << row.max_aspect_ratio << std::setw(14) << std::setprecision(4)
-      << st.height_min << std::setw(14) << st.height_max;
+      << st.min_height() << std::setw(14) << st.max_height();  // nan: no column measured
     report.line(o.str());
   }
   std::vector<std::string> events;

@@ -24,6 +24,9 @@ struct LayerRow {
   LayerStats stats;
   bool measured = false;
   std::size_t curved = 0;
+  std::size_t measured_cells = 0;  // the cells curved and the quality columns were measured on
+  // curved / measured_cells (NaN when none was measured).
+  double curved_fraction() const;
   double min_scaled_jacobian = 0, max_aspect_ratio = 0;
 };
 

@@ -208,7 +208,8 @@ TEST_CASE("study: a circle, its cylinder and sphere, the E387 and its wing: hone
   CHECK(fs::is_regular_file(out / "runs" / "circle_sphere_f0.2_h0.001.msh"));
   CHECK(fs::is_regular_file(out / "runs" / "e387_extrusion_f0.2_h0.005.png"));
   CHECK_FALSE(fs::exists(out / "runs" / "circle_sphere_f1_h0.001.msh"));  // sweep runs: the report only
-  // Gmsh's eye on the base runs' meshes (order 2): -check clean, its Bezier Jacobians positive.
+  // Gmsh's eye on the base runs' meshes (order 2): -check clean, the 3D ones' Bezier Jacobians
+  // positive.
   if (plaf::test::gmsh_on_path()) {
     int checked = 0;
     for (const auto& e : fs::directory_iterator(out / "runs")) {
@@ -218,7 +219,8 @@ TEST_CASE("study: a circle, its cylinder and sphere, the E387 and its wing: hone
       TempDir g("study_gmsh_" + std::to_string(checked));
       fs::copy_file(e.path(), g / "mesh.msh");
       CHECK(plaf::test::gmsh_complaints(plaf::test::run_gmsh("mesh.msh -check", g).out).empty());
-      CHECK(plaf::test::gmsh_jacobians("mesh.msh", g).min_j > 0);
+      if (e.path().stem().string().find("_2d_") == std::string::npos)  // the helper reads 3D cells
+        CHECK(plaf::test::gmsh_jacobians("mesh.msh", g).min_j > 0);
     }
     CHECK(checked == 5);  // circle 2D, cylinder, sphere, E387, wing
   }
