@@ -46,43 +46,27 @@ int main(int argc, char** argv) {
       std::cout << "plaf " << PLAF_VERSION << '\n';
       return 0;
     }
-    if (args[0] == "run") {
-      std::optional<std::string> config, out;
+    if (args[0] == "run" || args[0] == "compare-attenuation") {
+      // One file (a run config or a study) and an optional --out folder.
+      const bool run = args[0] == "run";
+      const std::string what = run ? "config file" : "study file";
+      std::optional<std::string> file, out;
       for (std::size_t i = 1; i < args.size(); ++i) {
         if (args[i] == "--out") {
           if (i + 1 >= args.size()) return fail_usage("--out needs a directory");
           out = args[++i];
         } else if (!args[i].empty() && args[i][0] == '-') {
           return fail_usage("unknown option '" + args[i] + "'");
-        } else if (config) {
-          return fail_usage("run takes one config file, got '" + *config + "' and '" + args[i] + "'");
+        } else if (file) {
+          return fail_usage(args[0] + " takes one " + what + ", got '" + *file + "' and '" + args[i] + "'");
         } else {
-          config = args[i];
+          file = args[i];
         }
       }
-      if (!config) return fail_usage("run needs a config file");
+      if (!file) return fail_usage(args[0] + " needs a " + what);
       std::optional<std::filesystem::path> out_dir;
       if (out) out_dir = *out;
-      return plaf::run_command(*config, out_dir);
-    }
-    if (args[0] == "compare-attenuation") {
-      std::optional<std::string> study, out;
-      for (std::size_t i = 1; i < args.size(); ++i) {
-        if (args[i] == "--out") {
-          if (i + 1 >= args.size()) return fail_usage("--out needs a directory");
-          out = args[++i];
-        } else if (!args[i].empty() && args[i][0] == '-') {
-          return fail_usage("unknown option '" + args[i] + "'");
-        } else if (study) {
-          return fail_usage("compare-attenuation takes one study file, got '" + *study + "' and '" + args[i] + "'");
-        } else {
-          study = args[i];
-        }
-      }
-      if (!study) return fail_usage("compare-attenuation needs a study file");
-      std::optional<std::filesystem::path> out_dir;
-      if (out) out_dir = *out;
-      return plaf::compare_attenuation_command(*study, out_dir);
+      return run ? plaf::run_command(*file, out_dir) : plaf::compare_attenuation_command(*file, out_dir);
     }
     if (args[0] == "plugins") {
       if (args.size() > 1) return fail_usage("plugins takes no argument");

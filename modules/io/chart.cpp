@@ -106,32 +106,27 @@ void write_chart_png(const std::vector<ChartSeries>& series, const std::filesyst
   // Grid and ticks.
   cairo_set_font_size(cr, 14);
   cairo_text_extents_t ext;
-  for (double t : ax.ticks) {
-    const double x = left + (t - ax.lo) / (ax.hi - ax.lo) * (right - left);
+  // A grid line and its label per tick, x below the plot, y left of it.
+  auto tick = [&](bool x_axis, double t) {
+    const Axis& a = x_axis ? ax : ay;
+    const double u = (t - a.lo) / (a.hi - a.lo);
+    const double p = x_axis ? left + u * (right - left) : bottom - u * (bottom - top);
     cairo_set_source_rgb(cr, 0.88, 0.88, 0.88);
     cairo_set_line_width(cr, 1);
-    cairo_move_to(cr, x, top);
-    cairo_line_to(cr, x, bottom);
+    cairo_move_to(cr, x_axis ? p : left, x_axis ? top : p);
+    cairo_line_to(cr, x_axis ? p : right, x_axis ? bottom : p);
     cairo_stroke(cr);
-    const std::string s = tick_text(ax, t);
+    const std::string s = tick_text(a, t);
     cairo_text_extents(cr, s.c_str(), &ext);
     cairo_set_source_rgb(cr, 0, 0, 0);
-    cairo_move_to(cr, x - ext.width / 2, bottom + 20);
+    if (x_axis)
+      cairo_move_to(cr, p - ext.width / 2, bottom + 20);
+    else
+      cairo_move_to(cr, left - ext.width - 8, p + ext.height / 2);
     cairo_show_text(cr, s.c_str());
-  }
-  for (double t : ay.ticks) {
-    const double y = bottom - (t - ay.lo) / (ay.hi - ay.lo) * (bottom - top);
-    cairo_set_source_rgb(cr, 0.88, 0.88, 0.88);
-    cairo_set_line_width(cr, 1);
-    cairo_move_to(cr, left, y);
-    cairo_line_to(cr, right, y);
-    cairo_stroke(cr);
-    const std::string s = tick_text(ay, t);
-    cairo_text_extents(cr, s.c_str(), &ext);
-    cairo_set_source_rgb(cr, 0, 0, 0);
-    cairo_move_to(cr, left - ext.width - 8, y + ext.height / 2);
-    cairo_show_text(cr, s.c_str());
-  }
+  };
+  for (double t : ax.ticks) tick(true, t);
+  for (double t : ay.ticks) tick(false, t);
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_set_line_width(cr, 1.5);
   cairo_rectangle(cr, left, top, right - left, bottom - top);
@@ -151,12 +146,16 @@ void write_chart_png(const std::vector<ChartSeries>& series, const std::filesyst
   cairo_save(cr);
   cairo_rectangle(cr, left - 6, top - 6, right - left + 12, bottom - top + 12);
   cairo_clip(cr);
-  for (const ChartSeries& s : series) {
+  // A series' pen: its colour, width and dashes (solid: dashes off).
+  const double dash[] = {8, 5};
+  auto pen_of = [&](const ChartSeries& s) {
     const double* c = palette[s.color % 10];
     cairo_set_source_rgb(cr, c[0], c[1], c[2]);
     cairo_set_line_width(cr, 2.2);
-    const double dash[] = {8, 5};
     cairo_set_dash(cr, dash, s.dashed ? 2 : 0, 0);
+  };
+  for (const ChartSeries& s : series) {
+    pen_of(s);
     bool pen = false;
     for (std::size_t k = 0; k < s.x.size(); ++k) {
       const bool ok = ax.drawable(s.x[k]) && ay.drawable(s.y[k]);
@@ -186,11 +185,7 @@ void write_chart_png(const std::vector<ChartSeries>& series, const std::filesyst
   cairo_set_font_size(cr, 14);
   double ly = top + 10;
   for (const ChartSeries& s : series) {
-    const double* c = palette[s.color % 10];
-    cairo_set_source_rgb(cr, c[0], c[1], c[2]);
-    cairo_set_line_width(cr, 2.2);
-    const double dash[] = {8, 5};
-    cairo_set_dash(cr, dash, s.dashed ? 2 : 0, 0);
+    pen_of(s);
     cairo_move_to(cr, right + 15, ly);
     cairo_line_to(cr, right + 50, ly);
     cairo_stroke(cr);

@@ -50,20 +50,35 @@ std::vector<Vector2d> wedge(double angle_deg) {
   return p;
 }
 
+// A circle of radius r0 through n points (a body), and the wall law h0, g on it with sizes 0.1
+// along the wall.
+struct CircleCase {
+  Geometry2D geo;
+  WallPowerLawField metric;
+  CircleCase(double r0, int n, double h0, double g)
+      : geo(circle_body(r0, n)), metric({geo.loops[0].loop}, law(h0, g)) {}
+  static Geometry2D circle_body(double r0, int n) {
+    std::vector<Vector2d> c;
+    for (int i = 0; i < n; ++i) c.emplace_back(r0 * std::cos(-2 * M_PI * i / n), r0 * std::sin(-2 * M_PI * i / n));
+    return body(c, {});
+  }
+  static WallLawParams law(double h0, double g) {
+    WallLawParams w;
+    w.h0 = h0;
+    w.growth = g;
+    w.h_max = 10;
+    w.h_wall_max = 0.1;
+    return w;
+  }
+};
+
 }  // namespace
 
 TEST_CASE("layers: on a circle with the wall law, layer k has height h0 g^k and the analytic radius") {
   const double r0 = 1.0, h0 = 1e-3, g = 1.2;
-  std::vector<Vector2d> c;
-  for (int i = 0; i < 128; ++i) c.emplace_back(r0 * std::cos(-2 * M_PI * i / 128), r0 * std::sin(-2 * M_PI * i / 128));
-  const Geometry2D geo = body(c, {});
-  WallLawParams w;
-  w.h0 = h0;
-  w.growth = g;
-  w.h_max = 10;
-  w.h_wall_max = 0.1;
-  const WallPowerLawField metric({geo.loops[0].loop}, w);
-  const CurvedFront<2> front = mesh_curves(geo, metric, 2);
+  const CircleCase cc(r0, 128, h0, g);
+  const WallPowerLawField& metric = cc.metric;
+  const CurvedFront<2> front = mesh_curves(cc.geo, metric, 2);
   layers::LayerParams p;
   p.max_layers = 12;
   const LayerResult<2> r = layers::grow_layers(front, metric, p);
@@ -78,17 +93,10 @@ TEST_CASE("layers: on a circle with the wall law, layer k has height h0 g^k and 
 }
 
 TEST_CASE("layers: the table's heights are the columns' lengths, h0 g^(k-1) on a circle, and the probe selects columns") {
-  const double r0 = 1.0, h0 = 1e-3, g = 1.2;
-  std::vector<Vector2d> c;
-  for (int i = 0; i < 128; ++i) c.emplace_back(r0 * std::cos(-2 * M_PI * i / 128), r0 * std::sin(-2 * M_PI * i / 128));
-  const Geometry2D geo = body(c, {});
-  WallLawParams w;
-  w.h0 = h0;
-  w.growth = g;
-  w.h_max = 10;
-  w.h_wall_max = 0.1;
-  const WallPowerLawField metric({geo.loops[0].loop}, w);
-  const CurvedFront<2> front = mesh_curves(geo, metric, 2);
+  const double h0 = 1e-3, g = 1.2;
+  const CircleCase cc(1.0, 128, h0, g);
+  const WallPowerLawField& metric = cc.metric;
+  const CurvedFront<2> front = mesh_curves(cc.geo, metric, 2);
   layers::LayerParams p;
   p.max_layers = 8;
   const LayerResult<2> r = layers::grow_layers(front, metric, p);
@@ -114,16 +122,9 @@ TEST_CASE("layers: an attenuation that folds the cells (f_atten 1 on thin layers
   // The sag of order-3 elements of size 0.1 on a circle of radius 0.5 is about 2.5e-3, much more
   // than h0 = 1e-4: moving the tops by up to the layer height would flatten the high-order
   // columns to nothing, whatever the height; the layer is rebuilt with f_atten halved.
-  std::vector<Vector2d> c;
-  for (int i = 0; i < 256; ++i) c.emplace_back(0.5 * std::cos(-2 * M_PI * i / 256), 0.5 * std::sin(-2 * M_PI * i / 256));
-  const Geometry2D geo = body(c, {});
-  WallLawParams w;
-  w.h0 = 1e-4;
-  w.growth = 1.2;
-  w.h_max = 10;
-  w.h_wall_max = 0.1;
-  const WallPowerLawField metric({geo.loops[0].loop}, w);
-  const CurvedFront<2> front = mesh_curves(geo, metric, 3);
+  const CircleCase cc(0.5, 256, 1e-4, 1.2);
+  const WallPowerLawField& metric = cc.metric;
+  const CurvedFront<2> front = mesh_curves(cc.geo, metric, 3);
   layers::LayerParams p;
   p.max_layers = 30;
   p.f_atten = 1.0;
