@@ -289,6 +289,21 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
   return outcome;
 }
 
+// The keys most likely to mend a mesher failure, by the stage its message names.
+std::string mesher_hint(const std::string& what, int dim) {
+  auto starts = [&](const char* stage) { return what.rfind(stage, 0) == 0; };
+  if (starts("layers"))
+    return "; try a thinner first layer or fewer layers (metric.h0, layers.max), or a smaller "
+           "layers.corner_angle_deg so that sharp corners get fans";
+  if (starts("fill") || starts("advancing front") || starts("tetgen"))
+    return dim == 3 ? "; try another farfield (fill.farfield.shape, size, h) or fewer layers (layers.max)"
+                    : "; try another farfield (geometry.farfield) or sizes (metric.h_max), or fewer layers (layers.max)";
+  if (starts("surface") || starts("remesh") || starts("curving"))
+    return "; try other sizes along the wall (metric.h_wall_max, surface.curvature_factor)";
+  if (starts("extrude")) return "; check the extrude section (extrude.span, extrude.rows)";
+  return "";
+}
+
 }  // namespace
 
 void register_all_plugins() {
@@ -303,7 +318,12 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
   // Everything is validated before anything is written.
   RunConfig c = load_run_config(config_path);
   if (out_dir) c.output.dir = *out_dir;
-  return run_config(c).code;
+  try {
+    return run_config(c).code;
+  } catch (const MesherError& e) {
+    // A mesher failure on valid keys: name the config and the key most likely to help.
+    throw MesherError(config_path.string() + ": " + e.what() + mesher_hint(e.what(), c.dim));
+  }
 }
 
 RunOutcome run_config(const RunConfig& c, bool quiet) {

@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "modules/base/error.h"
+#include "modules/base/format.h"
 
 namespace plaf {
 inline namespace io {
@@ -203,6 +204,25 @@ struct ContourLines {
   int last_line = 0;  // the last line that is not blank
 };
 
+// A token as an error may print it: printable ASCII kept, every other byte as \xNN (a binary or
+// UTF-16 file, a NUL byte), at most 40 bytes.
+std::string printable(std::string_view tok) {
+  std::string out;
+  for (std::size_t i = 0; i < tok.size() && i < 40; ++i) {
+    const unsigned char c = static_cast<unsigned char>(tok[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      static const char* hex = "0123456789abcdef";
+      out += "\\x";
+      out += hex[c >> 4];
+      out += hex[c & 15];
+    }
+  }
+  if (tok.size() > 40) out += "...";
+  return out;
+}
+
 ContourLines read_contour_lines(std::istream& in, const std::string& file) {
   ContourLines out;
   std::string text;
@@ -231,11 +251,15 @@ ContourLines read_contour_lines(std::istream& in, const std::string& file) {
     }
     seen_content = true;
     if (!bad.empty())
-      throw InputError(location(file, line) + "'" + std::string(bad) + "' is not a number (expected two numbers x y)");
+      throw InputError(location(file, line) + "'" + printable(bad) + "' is not a number (expected two numbers x y)");
     if (values.size() != 2)
       throw InputError(location(file, line) + "expected two numbers x y, found " + std::to_string(values.size()));
     if (!std::isfinite(values[0]) || !std::isfinite(values[1]))
       throw InputError(location(file, line) + "coordinate is not finite");
+    for (double v : values)
+      if (std::abs(v) > kMaxContourCoordinate)
+        throw InputError(location(file, line) + "coordinate " + num(v) + " is beyond the range plaf meshes (|x|, |y| <= " +
+                         num(kMaxContourCoordinate) + ")");
     out.data.push_back({Vector2d(values[0], values[1]), line});
   }
   if (!seen_content) throw InputError(location(file, 1) + "empty file (no coordinates)");

@@ -31,9 +31,14 @@ struct BodyContour {
   bool blunt = false;                   // closed by a straight segment
 };
 
-// Throws InputError "file:line: reason" for: a missing or empty file, a line that is not two
-// numbers (one column, text, NaN/inf), fewer than 4 points, repeated consecutive points, a
-// self-intersecting contour.
+// Coordinates are at most this in magnitude: beyond, bounding boxes, squared distances and the
+// sizes of a mesh lose their meaning in double precision (1e12 leaves 1e-4 of resolution).
+inline constexpr double kMaxContourCoordinate = 1e12;
+
+// Throws InputError "file:line: reason" for: a missing or empty file, a file that is not a regular
+// file, a line that is not two numbers (one column, text, NaN/inf; the token printed with its
+// unprintable bytes as \xNN), a coordinate beyond kMaxContourCoordinate, fewer than 4 points,
+// repeated consecutive points, a self-intersecting contour.
 BodyContour read_body_contour(const std::filesystem::path& path);
 
 // Throws InputError naming both files and lines if two contours intersect or one lies inside

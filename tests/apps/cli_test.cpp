@@ -158,3 +158,25 @@ TEST_CASE("cli: check --metric refuses a 3D configuration, and --out '' is an ou
   CHECK(empty.code == 1);
   CHECK(empty.err.find("output.dir '': cannot create the folder") != std::string::npos);
 }
+
+TEST_CASE("cli: a mesher failure on valid keys names the config and the keys most likely to help, and writes nothing") {
+  // The E387's sharp trailing edge without a fan (corner angle 179) and a first layer of 5e-7 c:
+  // no first layer can be grown there.
+  const TempDir d("cli_mesher_hint");
+  const fs::path cfg = write_text(d / "nofan.yaml",
+                                  "order: 3\n"
+                                  "geometry: {type: airfoils, bodies: [{file: " PLAF_DATA "/airfoils/e387.dat}], corner_angle_deg: 179}\n"
+                                  "metric: {type: wall_power_law, h0: 5.0e-7, growth: 1.2, h_max: 10, h_wall_max: 0.05, "
+                                  "curvature_factor: 0.04, h_corner: 0.01}\n"
+                                  "layers: {max: 1, corner_angle_deg: 179}\n");
+  const PlafResult r = run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
+  INFO(r.err);
+  CHECK(r.code == 1);
+  CHECK(r.err.find("plaf: error: " + cfg.string() + ": layers: not even the first layer could be grown") != std::string::npos);
+  CHECK(r.err.find("metric.h0") != std::string::npos);
+  CHECK(r.err.find("layers.corner_angle_deg") != std::string::npos);
+  std::size_t errors = 0;  // one error line (the progress lines are "[plaf] ...")
+  for (std::size_t at = r.err.find("plaf: error"); at != std::string::npos; at = r.err.find("plaf: error", at + 1)) ++errors;
+  CHECK(errors == 1);
+  CHECK(count_files(d / "out") == 0);
+}

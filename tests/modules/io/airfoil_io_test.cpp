@@ -289,3 +289,24 @@ TEST_CASE("airfoil: a directory or a device as the contour file is an InputError
   CHECK_THROWS_WITH_AS(plaf::read_body_contour("/dev/zero"),
                        "/dev/zero: not a regular file (a contour is a text file of x y lines)", plaf::InputError);
 }
+
+TEST_CASE("airfoil: unprintable tokens are printed escaped, coordinates beyond 1e12 are refused, with file:line") {
+  TempDir d("airfoil_tokens");
+  // A NUL byte, a control byte and UTF-8 in the bad token; the error line stays printable ASCII.
+  const std::string binary = std::string("title\n0 0\n1 0\n1") + '\0' + "x\x01\xc3\xa9 1\n0 1\n";
+  const std::string e = error_of(write_text(d / "binary.dat", binary));
+  CHECK(e.find("binary.dat:4:") != std::string::npos);
+  CHECK(e.find("\\x00x\\x01\\xc3\\xa9") != std::string::npos);
+  CHECK(std::all_of(e.begin(), e.end(), [](char c) { return c >= 0x20 && c < 0x7f; }));
+  // A long garbage token is cut at 40 bytes.
+  const std::string longer = error_of(write_text(d / "long.dat", "title\n0 0\n1 " + std::string(100, 'z') + "\n"));
+  CHECK(longer.find(std::string(40, 'z') + "...") != std::string::npos);
+  CHECK(longer.find(std::string(41, 'z')) == std::string::npos);
+  // Huge but finite coordinates (two bodies at 1.5e308 overflowed a bounding box before).
+  const std::string huge = error_of(write_text(d / "huge.dat", "0 0\n1.5e308 0\n1 1\n0 1\n"));
+  CHECK(huge.find("huge.dat:2:") != std::string::npos);
+  CHECK(huge.find("beyond the range plaf meshes") != std::string::npos);
+  CHECK(error_of(write_text(d / "e200.dat", "0 0\n1e200 0\n1e200 1e200\n0 1\n")).find("e200.dat:2:") != std::string::npos);
+  // 1e12 itself is in range.
+  CHECK(error_of(write_text(d / "edge.dat", "0 0\n1e12 0\n1e12 1e12\n0 1e12\n")) == "no error");
+}
