@@ -9,6 +9,7 @@
 #include "apps/run.h"
 #include "apps/study.h"
 #include "modules/base/error.h"
+#include "modules/io/atomic_file.h"
 
 namespace {
 
@@ -36,6 +37,7 @@ int fail_usage(const std::string& why) {
 
 int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
+  plaf::install_signal_cleanup();  // SIGINT/SIGTERM remove the temporaries and an incomplete output set
   try {
     if (args.empty()) return fail_usage("no command given");
     if (args[0] == "--help" || args[0] == "-h") {

@@ -17,6 +17,7 @@
 #include "modules/base/format.h"
 #include "modules/elements/lagrange.h"
 #include "modules/io/msh_io.h"
+#include "modules/io/output_set.h"
 #include "modules/mesh/extrude_front.h"
 #include "modules/metric/extruded_metric.h"
 #include "modules/pipeline/writers.h"
@@ -254,22 +255,19 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
   for (const StageReport& r : reports) r.append_to(report);
   clock.done("quality", std::to_string(report.cells_invalid) + " invalid cells");
 
-  // 8. Outputs, each written atomically; the report last, with every stage's time.
-  try {
-    std::filesystem::create_directories(c.output.dir);
-  } catch (const std::filesystem::filesystem_error& e) {
-    throw InputError("output.dir '" + c.output.dir.string() + "': cannot create the folder (" +
-                     e.code().message() + ")");
-  }
-  const std::filesystem::path base = c.output.dir / c.name;
+  // 8. Outputs, each written atomically and all as one set (output_set.h: staged, then moved in
+  //    together; a failure or a stop signal leaves none); the report last, with every stage's time.
+  OutputSet outputs(c.output.dir, c.name);
+  const std::filesystem::path base = outputs.staged_base();
   for (const std::string& format : c.output.formats)
     if (format != "report")
       writer_registry<Dim>().create(format, c.file.string() + ": output.formats",
                                     WriteJob<Dim>{mesh, per_cell, report, c, base});
-  clock.done("write", base.string() + ".*");
+  clock.done("write", outputs.final_base().string() + ".*");
   report.timings_s = timings;
   if (c.output.wants("report"))
     writer_registry<Dim>().create("report", "", WriteJob<Dim>{mesh, per_cell, report, c, base});
+  outputs.commit();
 
   // 9. The verdict: a stage's failure (one line each) or else an invalid, non-conforming mesh
   //    exits 2; the files are written for inspection.
@@ -285,7 +283,7 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
   for (const std::string& f : outcome.failures) std::cerr << "plaf: error: " << config_path.string() << ": " << f << '\n';
   outcome.code = outcome.failures.empty() ? 0 : 2;
   outcome.report = std::move(report);
-  outcome.base = base;
+  outcome.base = outputs.final_base();
   return outcome;
 }
 

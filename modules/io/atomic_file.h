@@ -17,6 +17,25 @@
 namespace plaf {
 inline namespace io {
 
+// Files and folders removed when the process is stopped by SIGINT or SIGTERM, once
+// install_signal_cleanup() ran: the temporaries of open AtomicFiles (registered by them) and an
+// output set not yet complete (OutputSet, output_set.h). The handler unlinks the files, removes
+// the folders (files first), then lets the signal end the process as it would have.
+namespace cleanup {
+// Registers a path; returns its slot (-1 when every slot is taken or the path is too long: it is
+// then not removed on a signal, as before).
+int add(const std::filesystem::path& path, bool folder = false);
+void release(int slot);  // a no-op for -1
+// Releases every slot whose path lies in `folder` (and the folder's own).
+void release_under(const std::filesystem::path& folder);
+}  // namespace cleanup
+// Installs the SIGINT and SIGTERM handler (idempotent; the CLI calls it at start).
+void install_signal_cleanup();
+
+// The name mark of an output set's staging folder (output_set.h): a file committed into such a
+// folder stays registered for cleanup until the set is committed or removed.
+inline constexpr const char* kStagingMarker = ".plaf-stage-";
+
 class AtomicFile {
  public:
   // Opens the temporary next to the target; throws Error naming the path if it cannot.
@@ -66,6 +85,7 @@ class AtomicFile {
   std::vector<char> buffer_;
   std::size_t used_ = 0;
   bool committed_ = false;
+  int slot_ = -1;  // the temporary's cleanup slot
 };
 
 }  // namespace io

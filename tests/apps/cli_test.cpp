@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "tests/test_support.h"
 
@@ -179,4 +180,40 @@ TEST_CASE("cli: a mesher failure on valid keys names the config and the keys mos
   for (std::size_t at = r.err.find("plaf: error"); at != std::string::npos; at = r.err.find("plaf: error", at + 1)) ++errors;
   CHECK(errors == 1);
   CHECK(count_files(d / "out") == 0);
+}
+
+TEST_CASE("cli: the outputs are one set: a writer that fails half-way, or a stop signal, leaves none of them") {
+  const TempDir d("cli_output_set");
+  // A name the file system takes for the .msh but not with the report's longer suffix: the run
+  // fails at the last file, after three were written; none of them stays.
+  const std::string name(243, 'n');
+  const fs::path cfg = write_text(d / "long.yaml", "name: " + name + "\n" + good);
+  const PlafResult r = run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
+  INFO(r.err);
+  CHECK(r.code == 1);
+  CHECK(r.err.find("File name too long") != std::string::npos);
+  CHECK(fs::is_directory(d / "out"));
+  CHECK(fs::is_empty(d / "out"));
+  // An earlier run's files are replaced only by a complete set.
+  const fs::path ok = write_text(d / "ok.yaml", "name: kept\n" + good);
+  REQUIRE(run_plaf("run " + ok.string() + " --out " + (d / "out").string(), d).code == 0);
+  CHECK(count_files(d / "out") == 4);
+  // SIGTERM at several moments of a run of a few seconds (a 360-degree order-4 annulus): the
+  // folder then holds nothing of the run, or its complete set; never a temporary or the staging
+  // folder.
+  const fs::path big = write_text(d / "big.yaml", "name: big\norder: 4\ngeometry: {type: annulus, angle_deg: 360}\n"
+                                                  "metric: {type: uniform, h: 0.012}\n");
+  for (const char* t : {"0.5", "1.0", "1.5", "2.0"}) {
+    const fs::path out = d / ("killed_" + std::string(t));
+    const std::string cmd = "sh -c '" + std::string(PLAF_EXE) + " run " + big.string() + " --out " + out.string() +
+                            " > /dev/null 2>&1 & p=$!; sleep " + t + "; kill -TERM $p; wait $p; exit $?'";
+    const int status = std::system(cmd.c_str());
+    INFO("killed after " << t << " s, exit status " << status);
+    std::vector<std::string> left;
+    if (fs::exists(out))
+      for (const auto& e : fs::directory_iterator(out)) left.push_back(e.path().filename().string());
+    std::sort(left.begin(), left.end());
+    const std::vector<std::string> all = {"big.msh", "big.png", "big.report.json", "big.vtu"};
+    CHECK((left.empty() || left == all));
+  }
 }

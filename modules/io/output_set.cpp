@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+#include "modules/io/output_set.h"
+
+#include <unistd.h>
+
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include "modules/base/error.h"
+#include "modules/io/atomic_file.h"
+
+namespace plaf {
+inline namespace io {
+
+OutputSet::OutputSet(std::filesystem::path dir, std::string name) : dir_(std::move(dir)), name_(std::move(name)) {
+  stage_ = dir_ / (kStagingMarker + std::to_string(static_cast<long long>(::getpid())));
+  std::error_code ec;
+  if (dir_.empty()) throw InputError("output.dir '': cannot create the folder (an empty path)");
+  std::filesystem::create_directories(dir_, ec);
+  if (ec) throw InputError("output.dir '" + dir_.string() + "': cannot create the folder (" + ec.message() + ")");
+  std::filesystem::remove_all(stage_, ec);  // a leftover of an earlier process of the same id
+  std::filesystem::create_directory(stage_, ec);
+  if (ec) throw InputError("output.dir '" + dir_.string() + "': cannot create a folder in it (" + ec.message() + ")");
+  slot_ = cleanup::add(stage_, true);
+}
+
+OutputSet::~OutputSet() {
+  if (!committed_) remove_stage();
+}
+
+void OutputSet::remove_stage() noexcept {
+  std::error_code ignored;
+  std::filesystem::remove_all(stage_, ignored);
+  cleanup::release_under(stage_);
+  cleanup::release(slot_);
+}
+
+void OutputSet::commit() {
+  std::vector<std::filesystem::path> staged;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(stage_, ec))
+    if (e.is_regular_file()) staged.push_back(e.path());
+  if (ec) throw InputError(stage_.string() + ": cannot list the staged outputs (" + ec.message() + ")");
+  for (const std::filesystem::path& p : staged) {
+    std::filesystem::rename(p, dir_ / p.filename(), ec);
+    if (ec)
+      throw InputError("cannot move " + p.filename().string() + " into output.dir '" + dir_.string() + "' (" +
+                       ec.message() + ")");
+  }
+  committed_ = true;
+  remove_stage();
+}
+
+}  // namespace io
+}  // namespace plaf
