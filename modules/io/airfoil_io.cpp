@@ -268,10 +268,19 @@ ContourLines read_contour_lines(std::istream& in, const std::string& file) {
 
 // The points in Selig order, TE -> upper -> LE -> lower -> TE. Lednicer gives the point counts
 // first, then upper LE -> TE and lower LE -> TE; joined, the LE given twice is kept once.
-std::vector<DataPoint> selig_order(const std::vector<DataPoint>& data) {
+std::vector<DataPoint> selig_order(const std::vector<DataPoint>& data, const std::string& file) {
   std::vector<DataPoint> loop;
-  if (!data.empty() && integral_count(data[0].p.x()) && integral_count(data[0].p.y()) &&
-      static_cast<size_t>(std::round(data[0].p.x()) + std::round(data[0].p.y())) + 1 == data.size()) {
+  const bool counts = !data.empty() && integral_count(data[0].p.x()) && integral_count(data[0].p.y());
+  const bool matching =
+      counts && static_cast<size_t>(std::round(data[0].p.x()) + std::round(data[0].p.y())) + 1 == data.size();
+  // Two whole numbers followed by a blank line are Lednicer's counts, not a point: counts that do
+  // not add up to the points that follow are an error, not the point (30, 40).
+  if (counts && !matching && data.size() > 1 && data[1].line > data[0].line + 1 && data[0].p.x() >= 2 &&
+      data[0].p.y() >= 2)
+    throw InputError(location(file, data[0].line) + "Lednicer point counts " + num(data[0].p.x()) + " + " +
+                     num(data[0].p.y()) + " do not match the " + std::to_string(data.size() - 1) +
+                     " points that follow");
+  if (matching) {
     const size_t upper = static_cast<size_t>(std::round(data[0].p.x()));
     loop.assign(data.rend() - static_cast<std::ptrdiff_t>(upper) - 1, data.rend() - 1);
     size_t lower_begin = upper + 1;
@@ -352,7 +361,7 @@ BodyContour read_body_contour(const std::filesystem::path& path) {
   ContourLines lines = read_contour_lines(in, body.file);
   body.title = std::move(lines.title);
   // 2. The points in Selig order.
-  const std::vector<DataPoint> loop = selig_order(lines.data);
+  const std::vector<DataPoint> loop = selig_order(lines.data, body.file);
   if (loop.size() < 4)
     throw InputError(location(body.file, loop.empty() ? lines.last_line : loop.back().line) + "only " +
                      std::to_string(loop.size()) + " points, a contour needs at least 4");

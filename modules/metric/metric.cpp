@@ -14,9 +14,10 @@ inline namespace metric {
 
 template <int Dim>
 Metric<Dim> Metric<Dim>::from_matrix(const Matrix& m) {
+  if (!m.allFinite()) throw InputError("metric tensor is not finite");
   const double scale = m.cwiseAbs().maxCoeff();
-  if (!m.allFinite() || !(scale > 0) || (m - m.transpose()).cwiseAbs().maxCoeff() > 1e-10 * scale)
-    throw InputError("metric tensor is not symmetric and finite");
+  if (!(scale > 0)) throw InputError("metric tensor is zero (not positive definite)");
+  if ((m - m.transpose()).cwiseAbs().maxCoeff() > 1e-10 * scale) throw InputError("metric tensor is not symmetric");
   const Matrix sym = 0.5 * (m + m.transpose());
   Eigen::SelfAdjointEigenSolver<Matrix> es(sym);
   if (es.eigenvalues().minCoeff() <= 0) throw InputError("metric tensor is not positive definite");

@@ -310,3 +310,12 @@ TEST_CASE("airfoil: unprintable tokens are printed escaped, coordinates beyond 1
   // 1e12 itself is in range.
   CHECK(error_of(write_text(d / "edge.dat", "0 0\n1e12 0\n1e12 1e12\n0 1e12\n")) == "no error");
 }
+
+TEST_CASE("airfoil: Lednicer counts that do not match the points are an error naming them, not a point") {
+  TempDir d("airfoil_lednicer_counts");
+  const std::string e = error_of(write_text(d / "counts.dat", "title\n30. 40.\n\n0 0\n0.5 0.1\n1 0\n\n0 0\n0.5 -0.1\n1 0\n"));
+  CHECK(e.find("counts.dat:2:") != std::string::npos);
+  CHECK(e.find("Lednicer point counts 30 + 40 do not match the 6 points that follow") != std::string::npos);
+  // Whole numbers without the blank line after them are a point, as before.
+  CHECK(error_of(write_text(d / "square.dat", "0 0\n2 0\n2 2\n0 2\n")) == "no error");
+}

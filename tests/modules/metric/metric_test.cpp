@@ -187,3 +187,24 @@ TEST_CASE("metric: an extruded section's metric keeps the section's sizes in the
   CHECK(own.evaluate(far).max_size() == doctest::Approx(own.evaluate(far).min_size()));
   CHECK_FALSE(fixed.evaluate(far).max_size() == doctest::Approx(fixed.evaluate(far).min_size()));
 }
+
+TEST_CASE("metric: a bad tensor says what is wrong with it: not finite, zero, not symmetric, not positive definite") {
+  const auto err = [](const Eigen::Matrix2d& m) -> std::string {
+    try {
+      plaf::Metric<2>::from_matrix(m);
+    } catch (const plaf::InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  Eigen::Matrix2d m;
+  m << 1, 0, 0, NAN;
+  CHECK(err(m) == "metric tensor is not finite");
+  CHECK(err(Eigen::Matrix2d::Zero()) == "metric tensor is zero (not positive definite)");
+  m << 1, 0.5, 0.4, 1;
+  CHECK(err(m) == "metric tensor is not symmetric");
+  m << 1, 0, 0, -1;
+  CHECK(err(m) == "metric tensor is not positive definite");
+  m << 2, 0, 0, 1;
+  CHECK(err(m) == "no error");
+}
