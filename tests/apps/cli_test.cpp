@@ -3,6 +3,8 @@
 #include <doctest/doctest.h>
 #include <sys/wait.h>
 
+#include <csignal>
+
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -198,22 +200,27 @@ TEST_CASE("cli: the outputs are one set: a writer that fails half-way, or a stop
   const fs::path ok = write_text(d / "ok.yaml", "name: kept\n" + good);
   REQUIRE(run_plaf("run " + ok.string() + " --out " + (d / "out").string(), d).code == 0);
   CHECK(count_files(d / "out") == 4);
-  // SIGTERM at several moments of a run of a few seconds (a 360-degree order-4 annulus): the
-  // folder then holds nothing of the run, or its complete set; never a temporary or the staging
-  // folder.
+  // SIGTERM while the outputs are written: the run (a 360-degree order-4 annulus, some 170 MB of
+  // files) is stopped as soon as its progress says the quality stage is done, i.e. while the
+  // writers run; the folder then holds nothing, never a temporary or the staging folder. Run
+  // twice, and once more stopped later (after the first files are staged).
   const fs::path big = write_text(d / "big.yaml", "name: big\norder: 4\ngeometry: {type: annulus, angle_deg: 360}\n"
                                                   "metric: {type: uniform, h: 0.012}\n");
-  for (const char* t : {"0.5", "1.0", "1.5", "2.0"}) {
-    const fs::path out = d / ("killed_" + std::string(t));
+  for (const char* extra : {"0", "0", "0.3"}) {
+    const fs::path out = d / ("killed_" + std::to_string(std::rand()));
+    const fs::path err = d / "killed.err";
     const std::string cmd = "sh -c '" + std::string(PLAF_EXE) + " run " + big.string() + " --out " + out.string() +
-                            " > /dev/null 2>&1 & p=$!; sleep " + t + "; kill -TERM $p; wait $p; exit $?'";
+                            " > /dev/null 2> " + err.string() + " & p=$!; i=0; while ! grep -q \"quality:\" " +
+                            err.string() + " && [ $i -lt 3000 ]; do sleep 0.01; i=$((i+1)); done; sleep " + extra +
+                            "; kill -TERM $p; wait $p; exit $?'";
     const int status = std::system(cmd.c_str());
-    INFO("killed after " << t << " s, exit status " << status);
-    std::vector<std::string> left;
-    if (fs::exists(out))
-      for (const auto& e : fs::directory_iterator(out)) left.push_back(e.path().filename().string());
-    std::sort(left.begin(), left.end());
-    const std::vector<std::string> all = {"big.msh", "big.png", "big.report.json", "big.vtu"};
-    CHECK((left.empty() || left == all));
+    const std::string log = read_text(err);
+    INFO("stopped " << extra << " s after the quality stage, exit status " << status << "\n" << log);
+    REQUIRE(log.find("quality:") != std::string::npos);  // the stop came in the output phase
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 128 + SIGTERM);  // stopped by the signal, not finished
+    CHECK(log.find("[plaf] write:") == std::string::npos);
+    CHECK(fs::is_directory(out));
+    CHECK(fs::is_empty(out));
   }
 }
