@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
 // plaf — curved high-order hybrid meshes by prismatic layers and advancing fronts.
 #include <exception>
+#include <new>
 #include <iostream>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "apps/exit_codes.h"
 #include "apps/run.h"
 #include "apps/study.h"
 #include "modules/base/error.h"
@@ -26,11 +28,12 @@ constexpr const char* usage =
     "                                          surface, layers, fill) and the output formats\n"
     "       plaf --help | --version\n"
     "Outputs of run: <name>.msh (Gmsh 4.1), <name>.vtu (VTK Lagrange cells), <name>.report.json, <name>.png.\n"
-    "Exit codes: 0 success, 1 bad input or usage, 2 mesh written but invalid or not conforming.\n";
+    "Exit codes: 0 success, 1 bad input or usage (nothing written), 2 mesh written but invalid or not\n"
+    "conforming, 3 a bug in plaf (nothing written; please report it).\n";
 
 int fail_usage(const std::string& why) {
   std::cerr << "plaf: error: " << why << "\n" << usage;
-  return 1;
+  return plaf::exit_code::bad_input;
 }
 
 }  // namespace
@@ -98,9 +101,13 @@ int main(int argc, char** argv) {
     return fail_usage("unknown command '" + args[0] + "'");
   } catch (const plaf::Error& e) {
     std::cerr << "plaf: error: " << e.what() << '\n';
-    return 1;
+    return plaf::exit_code::bad_input;
+  } catch (const std::bad_alloc&) {
+    return plaf::exit_code::report_bug(std::cerr, "out of memory (std::bad_alloc) in a run its size budget "
+                                                  "(limits:) admitted");
   } catch (const std::exception& e) {
-    std::cerr << "plaf: internal error: " << e.what() << '\n';
-    return 3;
+    return plaf::exit_code::report_bug(std::cerr, e.what());
+  } catch (...) {
+    return plaf::exit_code::report_bug(std::cerr, "an exception of unknown type");
   }
 }

@@ -321,6 +321,12 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
   } catch (const MesherError& e) {
     // A mesher failure on valid keys: name the config and the key most likely to help.
     throw MesherError(config_path.string() + ": " + e.what() + mesher_hint(e.what(), c.dim));
+  } catch (const ConfigError& e) {
+    // A key found wrong only once the mesh exists (a farfield that does not enclose the layers):
+    // the message names the key; name the config too, unless it already does (ConfigNode::where).
+    const std::string what = e.what();
+    if (what.rfind(config_path.string(), 0) == 0) throw;
+    throw ConfigError(config_path.string() + ": " + what);
   }
 }
 

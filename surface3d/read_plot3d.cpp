@@ -61,7 +61,7 @@ Plot3dGrid parse_plot3d(const fs::path& path, const std::string& text) {
   for (const Block& bl : blocks) {
     const auto n = static_cast<std::size_t>(bl.ni * bl.nj);
     for (int d = 0; d < 3; ++d)
-      for (std::size_t k = 0; k < n; ++k) raw[bl.first + k][d] = c.real(axis_name[d]);
+      for (std::size_t k = 0; k < n; ++k) raw[bl.first + k][d] = c.coordinate(axis_name[d]);
   }
   if (!c.at_end())
     c.fail("unexpected " + TextCursor::quote(c.peek()) + " after the last block (IBLANK is not supported)");

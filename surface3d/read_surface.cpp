@@ -20,7 +20,9 @@
 #include <string>
 #include <vector>
 
+#include "modules/base/coordinates.h"
 #include "modules/base/error.h"
+#include "modules/base/format.h"
 #include "modules/io/text_cursor.h"
 #include "surface3d/read_surface_detail.h"
 
@@ -166,8 +168,12 @@ TriangleSoup read_with_openmesh(const fs::path& path, const std::string& ext, co
   if (expected.max_faces >= 0 && nf > static_cast<std::size_t>(expected.max_faces))
     fail(path, "the OpenMesh reader delivered " + std::to_string(nf) + " faces, the file has " +
                    std::to_string(expected.max_faces));
-  for (std::size_t v = 0; v < nv; ++v)
+  for (std::size_t v = 0; v < nv; ++v) {
     if (!importer.points[v].allFinite()) fail(path, "vertex " + std::to_string(v) + " has a non-finite coordinate");
+    if (importer.points[v].cwiseAbs().maxCoeff() > kMaxCoordinate)
+      fail(path, "vertex " + std::to_string(v) + " has a coordinate beyond +-" + num(kMaxCoordinate) + " (" +
+                     num(importer.points[v].cwiseAbs().maxCoeff()) + ")");
+  }
   TriangleSoup soup;
   soup.source = path.string();
   soup.points = std::move(importer.points);

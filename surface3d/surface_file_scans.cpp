@@ -241,7 +241,18 @@ struct PlyElement {
 struct PlyHeader {
   std::string format;
   std::vector<PlyElement> elements;
+  std::size_t body = 0;  // the byte offset of the body: just after the end_header line
 };
+
+// The byte offset just after the end of line `line` (1-based) of text (its size if it has fewer).
+std::size_t after_line(std::string_view text, int line) {
+  std::size_t pos = 0;
+  for (int l = 0; l < line && pos < text.size(); ++l) {
+    const std::size_t eol = text.find('\n', pos);
+    pos = eol == std::string_view::npos ? text.size() : eol + 1;
+  }
+  return pos;
+}
 
 bool is_face_list(const PlyElement& el, const PlyProperty& p) {
   return el.name == "face" && p.list && (p.name == "vertex_indices" || p.name == "vertex_index");
@@ -302,6 +313,8 @@ PlyHeader parse_ply_header(TextCursor& c, std::string_view text) {
       elements.back().props.push_back(p);
     } else if (kw == "end_header") {
       rest_must_be_empty(line);
+      // By lines, not by a search for the word: "comment end_header" is a comment.
+      h.body = after_line(text, line);
       break;
     } else {
       c.fail("unknown PLY header keyword " + TextCursor::quote(kw));
@@ -348,8 +361,8 @@ void check_ply_ascii(TextCursor& c, const std::vector<PlyElement>& elements, std
 
 // The binary body, which starts after the end_header line; nv: the vertex count.
 void check_ply_binary(const fs::path& path, std::string_view text, const std::vector<PlyElement>& elements, bool big,
-                      std::int64_t nv) {
-  std::size_t pos = text.find('\n', text.find("end_header")) + 1;
+                      std::int64_t nv, std::size_t body) {
+  std::size_t pos = body;
   const auto truncated = [&](const PlyElement& el, std::int64_t i) {
     fail(path, "truncated binary PLY: the file ends in " + el.name + " " + std::to_string(i) + " of " +
                    std::to_string(el.count));
@@ -518,7 +531,7 @@ Expected check_ply(const fs::path& path, std::string_view text) {
     check_ply_ascii(c, header.elements, nv);
     return e;
   }
-  check_ply_binary(path, text, header.elements, header.format == "binary_big_endian", nv);
+  check_ply_binary(path, text, header.elements, header.format == "binary_big_endian", nv, header.body);
   e.binary = true;
   return e;
 }

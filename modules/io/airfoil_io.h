@@ -19,6 +19,8 @@
 
 #include <Eigen/Core>
 
+#include "modules/base/coordinates.h"
+
 namespace plaf {
 inline namespace io {
 
@@ -31,9 +33,8 @@ struct BodyContour {
   bool blunt = false;                   // closed by a straight segment
 };
 
-// Coordinates are at most this in magnitude: beyond, bounding boxes, squared distances and the
-// sizes of a mesh lose their meaning in double precision (1e12 leaves 1e-4 of resolution).
-inline constexpr double kMaxContourCoordinate = 1e12;
+// Coordinates are at most this in magnitude (modules/base/coordinates.h: every reader's range).
+inline constexpr double kMaxContourCoordinate = kMaxCoordinate;
 
 // Throws InputError "file:line: reason" for: a missing or empty file, a file that is not a regular
 // file, a line that is not two numbers (one column, text, NaN/inf; the token printed with its

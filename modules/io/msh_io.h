@@ -3,10 +3,15 @@
 // "MSH file format", version 4.1). Implemented in msh_read.cpp, msh_write.cpp and, for the
 // element type codes, gmsh_types.cpp.
 //
-// Writing: one physical group of dimension Dim-1 per boundary tag, named by the tag's name, with
-// physical tag = tag index + 1; one physical group "domain" of dimension Dim with physical tag
-// = number of tags + 1. One entity per boundary tag (entity tag = tag index + 1) and one domain
-// entity (tag 1), each carrying its physical group and its bounding box. All nodes are written in
+// Writing: one physical group of dimension Dim-1 per boundary tag that has facets, named by the
+// tag's name, with physical tag = tag index + 1; one physical group "domain" of dimension Dim with
+// physical tag = number of tags + 1 when the mesh has cells. No physical group is empty: a tag
+// without elements gets neither group nor entity (so it does not survive a round trip). One
+// entity per such tag (entity tag = tag index + 1) and one domain entity (tag 1, written also
+// without cells, where it marks a 3D surface mesh as 3D), each carrying its physical group, its
+// bounding box and its bounding entities (gmsh.model.getBoundary): the domain is bounded by the
+// facet entities; in 3D a facet entity by the curve entities with an edge on its rim (edges one
+// facet of the tag uses); curves by no points. All nodes are written in
 // the domain entity's node block; node tags are 1..N in HybridMesh order. Elements come in one
 // block per (entity, element type): the volume blocks first, then the boundary blocks, with
 // element tags 1..M in that order. 2D meshes are written with z = 0. Coordinates are written in

@@ -197,7 +197,7 @@ class MshReader {
       const int num_params = parametric ? entity_dim : 0;
       for (std::int64_t i = 0; i < n; ++i) {
         std::array<double, 3> x;
-        for (double& c : x) c = in_.real("node coordinate");
+        for (double& c : x) c = in_.coordinate("node coordinate");
         for (int k = 0; k < num_params; ++k) in_.real("parametric coordinate");
         if (std::abs(x[2]) > max_abs_z_) {
           max_abs_z_ = std::abs(x[2]);

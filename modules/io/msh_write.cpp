@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <array>
+#include <set>
+#include <utility>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -64,13 +66,46 @@ struct MshLayout {
   std::vector<char> on_facets, on_curves;
   int num_facet_groups = 0, num_curve_groups = 0;
   Box domain_box;
+  bool domain_group = false;  // the mesh has cells: a "domain" physical group
+  // 3D: per facet tag, the curve tags (entity tags = tag index + 1) with an edge on the rim of
+  // that tag's facets.
+  std::vector<std::vector<int>> bounding_curves;
   std::int64_t num_elements = 0, num_blocks = 0;
 
-  // A tag used by curves alone has no facet group or entity.
-  bool facet_group(int t) const {
-    return on_facets[static_cast<std::size_t>(t)] || !on_curves[static_cast<std::size_t>(t)];
-  }
+  // A tag without facets (a curve tag, or an unused one) has no facet group or entity.
+  bool facet_group(int t) const { return on_facets[static_cast<std::size_t>(t)] != 0; }
 };
+
+// 3D: the curve tags on the rim of each facet tag (edges, by their two vertices, that one facet of
+// the tag uses: Gmsh's bounding curves of a surface; a curve inside a patch is not one).
+template <int Dim>
+std::vector<std::vector<int>> rim_curves(const HybridMesh<Dim>& mesh, int num_tags) {
+  std::vector<std::vector<int>> result(static_cast<std::size_t>(num_tags));
+  if (Dim != 3 || mesh.curves.empty()) return result;
+  using Edge = std::pair<NodeId, NodeId>;
+  auto edge = [](NodeId a, NodeId b) { return a < b ? Edge{a, b} : Edge{b, a}; };
+  std::vector<std::set<Edge>> rim(static_cast<std::size_t>(num_tags));
+  for (const CellBlock& b : mesh.boundary) {
+    std::set<Edge>& r = rim[static_cast<std::size_t>(b.tag)];
+    const int nv = num_vertices(b.type);
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      const NodeId* c = b.cell(i);
+      for (int k = 0; k < nv; ++k) {
+        const Edge e = edge(c[k], c[(k + 1) % nv]);
+        if (!r.erase(e)) r.insert(e);  // an edge two facets share is inside the patch
+      }
+    }
+  }
+  for (int t = 0; t < num_tags; ++t) {
+    const std::set<Edge>& r = rim[static_cast<std::size_t>(t)];
+    std::set<int> found;
+    for (const CellBlock& b : mesh.curves)
+      for (std::size_t i = 0; i < b.size() && !found.count(b.tag); ++i)
+        if (r.count(edge(b.cell(i)[0], b.cell(i)[1]))) found.insert(b.tag);
+    result[static_cast<std::size_t>(t)].assign(found.begin(), found.end());
+  }
+  return result;
+}
 
 // Validates the mesh (Error naming the path) and measures it.
 template <int Dim>
@@ -96,19 +131,22 @@ MshLayout measure_msh(const HybridMesh<Dim>& mesh, const std::filesystem::path& 
   l.curve_box.resize(static_cast<std::size_t>(num_tags));
   l.on_facets.assign(static_cast<std::size_t>(num_tags), 0);
   l.on_curves = l.on_facets;
-  for (const CellBlock& b : mesh.boundary) l.on_facets[static_cast<std::size_t>(b.tag)] = 1;
+  for (const CellBlock& b : mesh.boundary)
+    if (b.size() > 0) l.on_facets[static_cast<std::size_t>(b.tag)] = 1;
   for (const CellBlock& b : mesh.curves) {
     check_block(mesh, b, 1, path);
     if (b.tag < 0 || b.tag >= num_tags)
       throw Error("cannot write " + path.string() + ": curves block has tag index " + std::to_string(b.tag) +
                   " but the mesh has " + std::to_string(num_tags) + " tags");
-    l.on_curves[static_cast<std::size_t>(b.tag)] = 1;
+    if (b.size() > 0) l.on_curves[static_cast<std::size_t>(b.tag)] = 1;
     for (NodeId v : b.connectivity) l.curve_box[static_cast<std::size_t>(b.tag)].add(mesh.nodes[v]);
   }
   for (int t = 0; t < num_tags; ++t) {
     l.num_facet_groups += l.facet_group(t) ? 1 : 0;
     l.num_curve_groups += l.on_curves[static_cast<std::size_t>(t)] ? 1 : 0;
   }
+  for (const CellBlock& b : mesh.cells) l.domain_group = l.domain_group || b.size() > 0;
+  l.bounding_curves = rim_curves(mesh, num_tags);
   for (const auto& x : mesh.nodes) l.domain_box.add(x);
   for (const auto* blocks : {&mesh.cells, &mesh.boundary, &mesh.curves})
     for (const CellBlock& b : *blocks)
@@ -120,12 +158,12 @@ MshLayout measure_msh(const HybridMesh<Dim>& mesh, const std::filesystem::path& 
 }
 
 // The header and the physical groups: curve tags at dimension 1, boundary tags at dimension
-// Dim-1, then the domain.
+// Dim-1, then the domain when there are cells (no group is empty).
 template <int Dim>
 void write_physical_names(AtomicFile& f, const HybridMesh<Dim>& mesh, const MshLayout& l) {
   const int num_tags = static_cast<int>(mesh.tags.size());
   f.write("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n");
-  f.write_int(l.num_facet_groups + l.num_curve_groups + 1);
+  f.write_int(l.num_facet_groups + l.num_curve_groups + (l.domain_group ? 1 : 0));
   f.put('\n');
   auto write_group = [&](int dim, int t) {
     f.write_int(dim);
@@ -139,49 +177,64 @@ void write_physical_names(AtomicFile& f, const HybridMesh<Dim>& mesh, const MshL
     if (l.on_curves[static_cast<std::size_t>(t)]) write_group(1, t);
   for (int t = 0; t < num_tags; ++t)
     if (l.facet_group(t)) write_group(Dim - 1, t);
-  f.write_int(Dim);
-  f.put(' ');
-  f.write_int(num_tags + 1);
-  f.write(" \"domain\"\n$EndPhysicalNames\n");
+  if (l.domain_group) {
+    f.write_int(Dim);
+    f.put(' ');
+    f.write_int(num_tags + 1);
+    f.write(" \"domain\"\n");
+  }
+  f.write("$EndPhysicalNames\n");
 }
 
-// Entities: no points; one curve entity per curve tag (3D), one facet entity per other tag, and
-// the domain entity.
+// Entities: no points; one curve entity per curve tag (3D), one facet entity per facet tag, and
+// the domain entity (also without cells: it marks a 3D surface mesh as 3D), each with its
+// bounding entities: the domain's are the facet entities, a 3D facet entity's the curve entities
+// on its rim; curves have no bounding points (closed loops, or ends that are not entities).
 template <int Dim>
 void write_entities(AtomicFile& f, const HybridMesh<Dim>& mesh, const MshLayout& l) {
   const int num_tags = static_cast<int>(mesh.tags.size());
-  f.write("$Entities\n");
+  f.write("$Entities\n0 ");
   if (Dim == 2) {
-    f.write("0 ");
-    f.write_int(num_tags);
+    f.write_int(l.num_facet_groups);
     f.write(" 1 0\n");
   } else {
-    f.write("0 ");
     f.write_int(l.num_curve_groups);
     f.put(' ');
     f.write_int(l.num_facet_groups);
     f.write(" 1\n");
   }
-  // An entity line of tag t: its bounding box, its one physical group (tag t + 1), no bounding
-  // entities.
-  auto write_entity = [&](int t, const auto& box) {
-    f.write_int(t + 1);
+  // An entity line: tag, bounding box, its physical group (none: 0), its bounding entities.
+  auto write_entity = [&](int tag, const Box& box, int physical, const std::vector<int>& bounding) {
+    f.write_int(tag);
     f.put(' ');
     write_box(f, box);
-    f.write("1 ");
-    f.write_int(t + 1);
-    f.write(" 0\n");
+    if (physical > 0) {
+      f.write("1 ");
+      f.write_int(physical);
+    } else {
+      f.put('0');
+    }
+    f.put(' ');
+    f.write_int(static_cast<std::int64_t>(bounding.size()));
+    for (int b : bounding) {
+      f.put(' ');
+      f.write_int(b);
+    }
+    f.put('\n');
   };
   if (Dim == 3)
     for (int t = 0; t < num_tags; ++t)
-      if (l.on_curves[static_cast<std::size_t>(t)]) write_entity(t, l.curve_box[static_cast<std::size_t>(t)]);
+      if (l.on_curves[static_cast<std::size_t>(t)]) write_entity(t + 1, l.curve_box[static_cast<std::size_t>(t)], t + 1, {});
+  std::vector<int> facet_entities;
   for (int t = 0; t < num_tags; ++t)
-    if (l.facet_group(t)) write_entity(t, l.tag_box[static_cast<std::size_t>(t)]);
-  f.write("1 ");
-  write_box(f, l.domain_box);
-  f.write("1 ");
-  f.write_int(num_tags + 1);
-  f.write(" 0\n$EndEntities\n");
+    if (l.facet_group(t)) {
+      std::vector<int> rim;
+      for (int c : l.bounding_curves[static_cast<std::size_t>(t)]) rim.push_back(c + 1);
+      write_entity(t + 1, l.tag_box[static_cast<std::size_t>(t)], t + 1, rim);
+      facet_entities.push_back(t + 1);
+    }
+  write_entity(1, l.domain_box, l.domain_group ? num_tags + 1 : 0, facet_entities);
+  f.write("$EndEntities\n");
 }
 
 // Nodes, all in the domain entity's block, tags 1..N.

@@ -2,6 +2,9 @@
 // TextCursor (see text_cursor.h).
 #include "modules/io/text_cursor.h"
 
+#include "modules/base/coordinates.h"
+#include "modules/base/format.h"
+
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -98,6 +101,12 @@ double TextCursor::real(const char* what) {
   const auto r = std::from_chars(b, t.data() + t.size(), v);
   if (r.ec != std::errc() || r.ptr != t.data() + t.size() || !std::isfinite(v))
     fail(std::string("bad ") + what + " " + quote(t));
+  return v;
+}
+
+double TextCursor::coordinate(const char* what) {
+  const double v = real(what);
+  if (std::abs(v) > kMaxCoordinate) fail(std::string(what) + " " + num(v) + " is beyond +-" + num(kMaxCoordinate));
   return v;
 }
 

@@ -61,7 +61,7 @@ int vtk_cell_type(CellType type, int order) {
   const bool linear = order == 1;
   switch (type) {
     case CellType::Line:
-      return linear ? 3 : 68;
+      return linear ? 3 : 4;  // order >= 2: VTK_POLY_LINE through the nodes (vtu_writer.h)
     case CellType::Triangle:
       return linear ? 5 : 69;
     case CellType::Quadrilateral:
@@ -81,6 +81,12 @@ std::vector<int> vtk_node_permutation(CellType type, int order) {
     if (type == CellType::Prism) perm = {0, 2, 1, 3, 5, 4};  // VTK_WEDGE's base faces outward
     return perm;
   }
+  if (type == CellType::Line) {  // the polyline runs end 0, the interior nodes in order, end 1
+    std::vector<int> perm{0};
+    for (int k = 2; k <= order; ++k) perm.push_back(k);
+    perm.push_back(1);
+    return perm;
+  }
   const std::vector<Lattice> gmsh = gmsh_lattice(type, order);
   const std::vector<Lattice> vtk = vtk_lattice(type, order);
   std::vector<int> perm(vtk.size(), -1);
@@ -94,33 +100,21 @@ std::vector<int> vtk_node_permutation(CellType type, int order) {
 
 namespace {
 
-// The blocks written, in order: the cells, or for a mesh without cells (a surface mesh alone) its
-// boundary facets and, in 3D, its curves after them.
+// The blocks written (all of one dimension) and their VTK node orders.
 struct VtuBlocks {
   std::vector<const CellBlock*> blocks;  // pointers: the connectivity is not copied
   std::vector<std::vector<int>> perms;   // per block: the VTK node order (vtk_node_permutation)
   std::size_t num_cells = 0;
-  std::size_t field_cells = 0;  // the cells the fields cover (not the curves, which get NaN)
 };
 
-// Collects the blocks and checks them and the fields, before the file system is touched.
+// Checks the blocks (of dimension block_dim) and the fields, before the file system is touched.
 template <int Dim>
-VtuBlocks vtu_blocks(const HybridMesh<Dim>& mesh, const std::filesystem::path& path,
-                     const std::vector<CellField>& fields) {
+VtuBlocks vtu_blocks(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& source, int block_dim,
+                     const std::filesystem::path& path, const std::vector<CellField>& fields) {
   auto fail = [&](const std::string& why) { throw Error("cannot write " + path.string() + ": " + why); };
   VtuBlocks v;
-  const bool surface = mesh.cells.empty();
-  for (const CellBlock& b : surface ? mesh.boundary : mesh.cells) v.blocks.push_back(&b);
+  for (const CellBlock& b : source) v.blocks.push_back(&b);
   for (const CellBlock* b : v.blocks) v.num_cells += b->size();
-  v.field_cells = v.num_cells;
-  const std::size_t num_facet_blocks = v.blocks.size();
-  if (surface && Dim == 3) {
-    for (const CellBlock& b : mesh.curves) {
-      v.blocks.push_back(&b);
-      v.num_cells += b.size();
-    }
-  }
-  const int block_dim = surface ? Dim - 1 : Dim;
   const auto num_nodes = static_cast<NodeId>(mesh.nodes.size());
   for (std::size_t i = 0; i < fields.size(); ++i) {
     const CellField& fi = fields[i];
@@ -128,15 +122,15 @@ VtuBlocks vtu_blocks(const HybridMesh<Dim>& mesh, const std::filesystem::path& p
       fail("cell field name '" + fi.name + "' is empty or reserved");
     for (std::size_t j = 0; j < i; ++j)
       if (fields[j].name == fi.name) fail("two cell fields are named '" + fi.name + "'");
-    if (fi.values.size() != v.field_cells)
+    if (fi.values.size() != v.num_cells)
       fail("cell field '" + fi.name + "' has " + std::to_string(fi.values.size()) + " values for " +
-           std::to_string(v.field_cells) + " cells");
+           std::to_string(v.num_cells) + " cells");
   }
-  for (std::size_t bi = 0; bi < v.blocks.size(); ++bi) {
-    const CellBlock& b = *v.blocks[bi];
-    if (ref_dim(b.type) != (bi < num_facet_blocks ? block_dim : 1) || b.order < 1 || b.order > max_order)
+  for (const CellBlock* bp : v.blocks) {
+    const CellBlock& b = *bp;
+    if (ref_dim(b.type) != block_dim || b.order < 1 || b.order > max_order)
       fail(std::string("a ") + cell_name(b.type) + " block of order " + std::to_string(b.order) +
-           " is not a volume block of this mesh");
+           " is not a block of dimension " + std::to_string(block_dim));
     if (b.connectivity.size() % static_cast<std::size_t>(b.nodes_per_cell()) != 0)
       fail(std::string("the connectivity of a ") + cell_name(b.type) + " block has a partial cell");
     for (NodeId n : b.connectivity)
@@ -219,7 +213,6 @@ void write_cell_data(AtomicFile& f, const VtuBlocks& v, const std::vector<CellFi
       f.write_double(x);
       f.put('\n');
     }
-    for (std::size_t i = v.field_cells; i < v.num_cells; ++i) f.write("nan\n");
     f.write(end_data_array);
   }
   data_array(f, "Int32", "HigherOrderDegrees", 3);
@@ -236,12 +229,12 @@ void write_cell_data(AtomicFile& f, const VtuBlocks& v, const std::vector<CellFi
   f.write("      </CellData>\n");
 }
 
-}  // namespace
-
+// One file: the points, the blocks `source` (all of dimension block_dim), their cell data.
 template <int Dim>
-void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, const std::vector<CellField>& fields) {
+void write_blocks(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& source, int block_dim,
+                  const std::filesystem::path& path, const std::vector<CellField>& fields) {
   // 1. Validate before touching the file system.
-  const VtuBlocks blocks = vtu_blocks(mesh, path, fields);
+  const VtuBlocks blocks = vtu_blocks(mesh, source, block_dim, path, fields);
   AtomicFile f(path);
   // 2. Header and points, 3. cells, 4. cell data.
   write_points(f, mesh, blocks.num_cells);
@@ -251,8 +244,40 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
   f.commit();
 }
 
+}  // namespace
+
+template <int Dim>
+void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, const std::vector<CellField>& fields) {
+  const bool surface = mesh.cells.empty();
+  write_blocks(mesh, surface ? mesh.boundary : mesh.cells, surface ? Dim - 1 : Dim, path, fields);
+}
+
+template <int Dim>
+bool write_boundary_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path) {
+  // The boundary of what write_vtu writes, on its own nodes (renumbered, order kept).
+  HybridMesh<Dim> part;
+  part.nodes = mesh.nodes;
+  part.tags = mesh.tags;
+  int dim = Dim - 1;
+  if (!mesh.cells.empty()) {
+    part.boundary = mesh.boundary;
+  } else if (Dim == 3) {
+    part.curves = mesh.curves;
+    dim = 1;
+  }
+  if (part.boundary.empty() && part.curves.empty()) return false;
+  compact_nodes(part);
+  const std::vector<CellBlock>& blocks = part.boundary.empty() ? part.curves : part.boundary;
+  CellField tag{"tag", {}};
+  for (const CellBlock& b : blocks) tag.values.insert(tag.values.end(), b.size(), static_cast<double>(b.tag + 1));
+  write_blocks(part, blocks, dim, path, {tag});
+  return true;
+}
+
 template void write_vtu(const HybridMesh<2>&, const std::filesystem::path&, const std::vector<CellField>&);
 template void write_vtu(const HybridMesh<3>&, const std::filesystem::path&, const std::vector<CellField>&);
+template bool write_boundary_vtu(const HybridMesh<2>&, const std::filesystem::path&);
+template bool write_boundary_vtu(const HybridMesh<3>&, const std::filesystem::path&);
 
 }  // namespace io
 }  // namespace plaf

@@ -1,10 +1,17 @@
 // SPDX-License-Identifier: MIT
-// VTK XML UnstructuredGrid (.vtu, ASCII) writer for the volume cells of a HybridMesh.
+// VTK XML UnstructuredGrid (.vtu, ASCII) writer for a HybridMesh: one file of the cells of the
+// mesh's own dimension (write_vtu), one of its boundary (write_boundary_vtu). Each file holds
+// cells of one dimension only, so VTK's filters (and ParaView) never meet a curve among surfaces
+// (VTK 9.1's surface filter crashes on Lagrange curve cells beside 2D cells at subdivision >= 2).
 //
 // Cell types: order-1 blocks are written as VTK's linear cells (3 line, 5 triangle,
 // 9 quadrilateral, 10 tetrahedron, 13 wedge), which every VTK filter understands (vtkMeshQuality
-// accepts only linear cells); blocks of order >= 2 as VTK 9 Lagrange cells (68 curve, 69 triangle,
-// 70 quadrilateral, 71 tetrahedron, 73 wedge). Nodes are permuted from Gmsh's order to VTK's by
+// accepts only linear cells); blocks of order >= 2 as VTK 9 Lagrange cells (69 triangle,
+// 70 quadrilateral, 71 tetrahedron, 73 wedge), except lines: VTK 9.1's surface filter (what
+// ParaView draws with) crashes on every nonlinear 1D cell (68 Lagrange curve, 21 quadratic edge)
+// at a Nonlinear Subdivision Level >= 2, so an order-q line is written as a polyline (4) through
+// its q + 1 nodes in order along it. Curves are thus drawn through their nodes; their exact
+// high-order form is in the MSH file and in the faces of the cells they bound. Nodes are permuted from Gmsh's order to VTK's by
 // matching reference lattice points (lagrange.h). VTK's linear wedge orients its base triangle
 // opposite to Gmsh's and to VTK's Lagrange wedge, so its vertices are written 0,2,1,3,5,4.
 //
@@ -35,8 +42,8 @@ int vtk_cell_type(CellType type, int order);
 // perm[k] = local Gmsh index of the node written at VTK position k, for that cell type.
 std::vector<int> vtk_node_permutation(CellType type, int order);
 
-// A mesh without cells (a surface mesh alone) is written as its boundary facets, then (3D) its
-// curves as line cells; the fields then hold one value per boundary facet, the curves get NaN.
+// The cells, or for a mesh without cells (a surface mesh alone) its boundary facets; the fields
+// then hold one value per boundary facet.
 // Throws Error (naming the path) if a field has the wrong length or a reserved or repeated name,
 // if a block refers to a missing node, or if the file cannot be written; never leaves a partial
 // file behind (AtomicFile). Non-finite field values are written as "nan", "inf" and "-inf"; VTK
@@ -44,6 +51,14 @@ std::vector<int> vtk_node_permutation(CellType type, int order);
 template <int Dim>
 void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path,
                const std::vector<CellField>& fields = {});
+
+// The boundary of what write_vtu writes: the boundary facets of a mesh with cells, the curves of
+// a 3D surface mesh. Written on the nodes they use (renumbered, order kept), with the cell field
+// "tag" = the facet's tag index + 1 (the MSH file's physical tag of that boundary). Returns false
+// and writes nothing when there is no such boundary (a 2D curve mesh alone, a surface without
+// curves). Errors as write_vtu.
+template <int Dim>
+bool write_boundary_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path);
 
 }  // namespace io
 }  // namespace plaf

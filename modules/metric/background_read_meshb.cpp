@@ -98,7 +98,7 @@ MeshbMesh<Dim> read_meshb_mesh(const std::filesystem::path& path) {
       mesh.nodes.reserve(static_cast<std::size_t>(n));
       for (std::int64_t i = 0; i < n; ++i) {
         typename BackgroundMesh<Dim>::Point x;
-        for (int d = 0; d < Dim; ++d) x[d] = in.real("vertex coordinate");
+        for (int d = 0; d < Dim; ++d) x[d] = in.coordinate("vertex coordinate");
         in.integer("vertex reference");
         mesh.nodes.push_back(x);
       }

@@ -52,7 +52,12 @@ std::unique_ptr<MetricField<Dim>> make_background_field(const BackgroundParams& 
   const bool meshb = std::filesystem::path(b.file).extension() == ".mesh";
   if (meshb && b.sol.empty()) throw ConfigError(where + ": a .mesh background needs its .sol file (sol:)");
   BackgroundMesh<Dim> mesh = meshb ? read_background_meshb<Dim>(b.file, b.sol) : read_background_msh<Dim>(b.file);
-  return std::make_unique<BackgroundMetricField<Dim>>(std::move(mesh), parse_metric_mean(b.mean));
+  try {
+    return std::make_unique<BackgroundMetricField<Dim>>(std::move(mesh), parse_metric_mean(b.mean));
+  } catch (const InputError& e) {
+    // The checks of the mesh as a whole (check_background_mesh) know no file: name it.
+    throw InputError(b.file + ": " + e.what());
+  }
 }
 template std::unique_ptr<MetricField<2>> make_background_field<2>(const BackgroundParams&, const std::string&);
 template std::unique_ptr<MetricField<3>> make_background_field<3>(const BackgroundParams&, const std::string&);

@@ -30,13 +30,15 @@ void write_vtu_file(const WriteJob<Dim>& j) {
   };
   if (j.per_cell.valid.empty()) {  // a 2D surface mesh alone: its lines, no per-cell quality
     write_vtu(j.mesh, j.base.string() + ".vtu");
-    return;
+  } else {
+    const std::vector<double> valid(j.per_cell.valid.begin(), j.per_cell.valid.end());
+    write_vtu(j.mesh, j.base.string() + ".vtu",
+              {{"valid", valid},
+               {"scaled_jacobian", finite(j.per_cell.scaled_jacobian)},
+               {"aspect_ratio", finite(j.per_cell.aspect_ratio)}});
   }
-  const std::vector<double> valid(j.per_cell.valid.begin(), j.per_cell.valid.end());
-  write_vtu(j.mesh, j.base.string() + ".vtu",
-            {{"valid", valid},
-             {"scaled_jacobian", finite(j.per_cell.scaled_jacobian)},
-             {"aspect_ratio", finite(j.per_cell.aspect_ratio)}});
+  // The boundary in a file of its own (one dimension per file: vtu_writer.h).
+  write_boundary_vtu(j.mesh, j.base.string() + "_boundary.vtu");
 }
 
 // The options both pictures share: size, title, zoom boxes.

@@ -9,8 +9,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <sstream>
 #include <vector>
 
+#include "apps/exit_codes.h"
 #include "tests/test_support.h"
 
 namespace fs = std::filesystem;
@@ -32,9 +34,9 @@ TEST_CASE("cli: run writes msh, vtu, report and png, check re-reads the msh and 
   const fs::path cfg = write_text(d / "case.yaml", good);
   const PlafResult r = run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
   CHECK(r.code == 0);
-  for (const char* ext : {".msh", ".vtu", ".report.json", ".png"})
+  for (const char* ext : {".msh", ".vtu", "_boundary.vtu", ".report.json", ".png"})
     CHECK(fs::file_size(d / "out" / (std::string("case") + ext)) > 0);
-  CHECK(count_files(d / "out") == 4);  // no temporaries left behind
+  CHECK(count_files(d / "out") == 5);  // no temporaries left behind
   CHECK(read_text(d / "out" / "case.report.json").find("\"invalid\": 0") != std::string::npos);
   CHECK(run_plaf("check " + (d / "out" / "case.msh").string(), d).code == 0);
 }
@@ -118,6 +120,25 @@ TEST_CASE("cli: usage errors, --help and --version") {
   CHECK(bad_mesh.err.find("bad.msh") != std::string::npos);
 }
 
+TEST_CASE("cli: exit codes are the documented four, and a bug (code 3) asks for a report") {
+  CHECK(plaf::exit_code::ok == 0);
+  CHECK(plaf::exit_code::bad_input == 1);
+  CHECK(plaf::exit_code::invalid_mesh == 2);
+  CHECK(plaf::exit_code::bug == 3);
+  std::ostringstream err;
+  CHECK(plaf::exit_code::report_bug(err, "vector::_M_range_check") == 3);
+  const std::string text = err.str();
+  CHECK(text.rfind("plaf: internal error: vector::_M_range_check\n", 0) == 0);
+  CHECK(text.find("please report it") != std::string::npos);
+  CHECK(std::count(text.begin(), text.end(), '\n') == 2);
+  // --help states all four.
+  const TempDir d("cli_exit_codes");
+  REQUIRE(std::system((std::string(PLAF_EXE) + " --help > " + (d / "help.txt").string()).c_str()) == 0);
+  const std::string usage = read_text(d / "help.txt");
+  for (const char* code : {"0 success", "1 bad input", "2 mesh written", "3 a bug"})
+    CHECK_MESSAGE(usage.find(code) != std::string::npos, code);
+}
+
 TEST_CASE("cli: a fill without layers meshes from the surface front, and layers and fill of type none are accepted") {
   const TempDir d("cli_fill_only");
   const std::string airfoil = "order: 1\ngeometry:\n  type: airfoils\n  bodies: [{file: " +
@@ -184,10 +205,25 @@ TEST_CASE("cli: a mesher failure on valid keys names the config and the keys mos
   CHECK(count_files(d / "out") == 0);
 }
 
+TEST_CASE("cli: a key found wrong once the mesh exists (a farfield inside the layers) names the config and the key") {
+  const TempDir d("cli_farfield");
+  const fs::path cfg = write_text(d / "tight.yaml",
+                                  "order: 2\ngeometry: {type: sphere, center: [0, 0, 0], radius: 1}\n"
+                                  "metric: {type: wall_power_law, h0: 0.01, growth: 1.3, h_max: 5.0, h_wall_max: 0.5}\n"
+                                  "layers: {type: extrude, max: 3}\n"
+                                  "fill: {type: tetgen, farfield: {shape: sphere, radius: 1.01}}\n");
+  const PlafResult r = run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
+  INFO(r.err);
+  CHECK(r.code == 1);
+  CHECK(r.err.find("plaf: error: " + cfg.string() + ": fill.farfield.radius: 1.01 does not enclose the bodies") !=
+        std::string::npos);
+  CHECK(count_files(d / "out") == 0);
+}
+
 TEST_CASE("cli: the outputs are one set: a writer that fails half-way, or a stop signal, leaves none of them") {
   const TempDir d("cli_output_set");
-  // A name the file system takes for the .msh but not with the report's longer suffix: the run
-  // fails at the last file, after three were written; none of them stays.
+  // A name the file system takes for the .msh and .vtu but not with the boundary file's longer
+  // suffix: the run fails after two files were written; none of them stays.
   const std::string name(243, 'n');
   const fs::path cfg = write_text(d / "long.yaml", "name: " + name + "\n" + good);
   const PlafResult r = run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
@@ -199,7 +235,7 @@ TEST_CASE("cli: the outputs are one set: a writer that fails half-way, or a stop
   // An earlier run's files are replaced only by a complete set.
   const fs::path ok = write_text(d / "ok.yaml", "name: kept\n" + good);
   REQUIRE(run_plaf("run " + ok.string() + " --out " + (d / "out").string(), d).code == 0);
-  CHECK(count_files(d / "out") == 4);
+  CHECK(count_files(d / "out") == 5);
   // SIGTERM while the outputs are written: the run (a 360-degree order-4 annulus, some 170 MB of
   // files) is stopped as soon as its progress says the quality stage is done, i.e. while the
   // writers run; the folder then holds nothing, never a temporary or the staging folder. Run

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -518,6 +519,52 @@ TEST_CASE("read_surface: malformed Plot3D gives the line") {
   CHECK_THROWS_WITH_AS(bad("zero.fmt", "0\n"), doctest::Contains("zero.fmt:1: no blocks"), InputError);
   CHECK_THROWS_WITH_AS(bad("line.fmt", "1\n2 1 1\n0 1\n0 0\n0 0\n"), doctest::Contains("line.fmt: no triangles"),
                        InputError);
+}
+
+TEST_CASE("read_surface: coordinates beyond +-1e12 are refused in every format, naming the file") {
+  // Two bodies at +-1.5e308 used to overflow a bounding box to inf (issue 17, item 6).
+  const test::TempDir dir("read_huge");
+  const auto bad = [&dir](const char* name, const std::string& text) {
+    return read_surface_file(test::write_text(dir / name, text));
+  };
+  CHECK_THROWS_WITH_AS(bad("far.obj", "v 0 0 0\nv 1e20 0 0\nv 0 1 0\nf 1 2 3\n"),
+                       doctest::Contains("far.obj: vertex 1 has a coordinate beyond +-1e+12 (1e+20)"), InputError);
+  CHECK_THROWS_WITH_AS(bad("far.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 -3e13 0\n3 0 1 2\n"),
+                       doctest::Contains("far.off: vertex 2 has a coordinate beyond +-1e+12 (3e+13)"), InputError);
+  CHECK_THROWS_WITH_AS(bad("far.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                                      "vertex 0 1 2e15\nendloop\nendfacet\nendsolid s\n"),
+                       doctest::Contains("far.stl: vertex 2 has a coordinate beyond +-1e+12"), InputError);
+  CHECK_THROWS_WITH_AS(bad("far.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\n"
+                                      "property double z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                      "end_header\n0 0 0\n1.5e308 0 0\n0 1 0\n3 0 1 2\n"),
+                       doctest::Contains("far.ply: vertex 1 has a coordinate beyond +-1e+12"), InputError);
+  CHECK_THROWS_WITH_AS(bad("far.fmt", "1\n2 2 1\n0 1 0 -1.5e308\n0 0 1 1\n0 0 0 0\n"),
+                       doctest::Contains("far.fmt:3: x coordinate -1.5e+308 is beyond +-1e+12"), InputError);
+  // At the bound itself a coordinate is taken.
+  CHECK_NOTHROW(bad("edge.obj", "v 0 0 0\nv 1e12 0 0\nv 0 1e12 0\nf 1 2 3\n"));
+}
+
+TEST_CASE("read_surface: a binary PLY header is read by lines: 'comment end_header' is a comment") {
+  const test::TempDir dir("read_ply_comment");
+  std::string body;
+  for (const float f : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f})
+    body.append(reinterpret_cast<const char*>(&f), 4);
+  for (const std::array<int, 3> t : {std::array<int, 3>{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}}) {
+    body += static_cast<char>(3);
+    body.append(reinterpret_cast<const char*>(t.data()), 12);
+  }
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\ncomment end_header is not the end of this header\n"
+      "element vertex 4\nproperty float x\nproperty float y\nproperty float z\ncomment end_header\n"
+      "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
+  const TriangleSoup soup = read_surface_file(test::write_text(dir / "tet.ply", header + body));
+  REQUIRE(soup.points.size() == 4);
+  REQUIRE(soup.triangles.size() == 4);
+  CHECK(soup.points[1] == Vec3(1, 0, 0));
+  CHECK(soup.points[3] == Vec3(0, 0, 1));
+  // A truncated body is still found, measured from the real end of the header.
+  CHECK_THROWS_WITH_AS(read_surface_file(test::write_text(dir / "cut.ply", header + body.substr(0, body.size() - 3))),
+                       doctest::Contains("cut.ply: truncated binary PLY: the file ends in face 3 of 4"), InputError);
 }
 
 TEST_CASE("read_surface: weld_points merges near points, renumbers and drops unreferenced ones") {

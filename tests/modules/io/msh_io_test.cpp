@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "modules/base/coordinates.h"
 #include "modules/io/atomic_file.h"
 #include "modules/base/error.h"
 #include "tests/test_support.h"
@@ -223,8 +224,8 @@ TEST_CASE("io: MSH round trip keeps nodes bit for bit, blocks, tags and kinds (2
       INFO("order ", q, " scale ", scale);
       HybridMesh<2> mesh = annulus_sector<2>(3, 4, 1, scale, [&](int, int, int) { return q; });
       REQUIRE(check_conformity(mesh).ok);
-      // Extreme values survive too (stored as extra, unused nodes).
-      for (double v : {-0.0, 5e-324, std::numeric_limits<double>::max(), 0.1, -1.0 / 3.0})
+      // Extreme values survive too (stored as extra, unused nodes), up to the readers' range.
+      for (double v : {-0.0, 5e-324, kMaxCoordinate, std::nextafter(kMaxCoordinate, 0.0), 0.1, -1.0 / 3.0})
         mesh.nodes.push_back(HybridMesh<2>::Point(v, -v));
       write_msh41(mesh, dir / "m.msh");
       const MshMesh back = read_msh41(dir / "m.msh");
@@ -847,4 +848,107 @@ TEST_CASE("io: curves of a 3D volume mesh round-trip next to its cells") {
   REQUIRE(back.mesh3.curves.size() == 1);
   CHECK(back.mesh3.curves[0].connectivity == c.connectivity);
   CHECK(back.mesh3.tags[static_cast<std::size_t>(back.mesh3.curves[0].tag)].name == "symmetry_line");
+}
+
+TEST_CASE("io: MSH entities list their bounding entities and no physical group is empty") {
+  TempDir dir("msh_bounding");
+  SUBCASE("2D: the domain is bounded by its boundary curves; an unused tag and no cells give no group") {
+    HybridMesh<2> m;
+    m.nodes = {{0, 0}, {1, 0}, {0, 1}};
+    const int wall = m.add_tag("wall", BoundaryKind::Wall);
+    m.add_tag("unused", BoundaryKind::Named);
+    const int far = m.add_tag("farfield", BoundaryKind::Farfield);
+    m.block(CellType::Triangle, 1).connectivity = {0, 1, 2};
+    m.boundary_block(CellType::Line, 1, wall).connectivity = {0, 1};
+    m.boundary_block(CellType::Line, 1, far).connectivity = {1, 2, 2, 0};
+    write_msh41(m, dir / "m.msh");
+    const std::string text = read_text(dir / "m.msh");
+    CHECK(text.find("$PhysicalNames\n3\n1 1 \"wall\"\n1 3 \"farfield\"\n2 4 \"domain\"\n") != std::string::npos);
+    CHECK(text.find("unused") == std::string::npos);
+    // Two curve entities (tags 1 and 3, no bounding points), the surface bounded by both.
+    CHECK(text.find("$Entities\n0 2 1 0\n1 0 0 0 1 0 0 1 1 0\n3 0 0 0 1 1 0 1 3 0\n1 0 0 0 1 1 0 1 4 2 1 3\n") !=
+          std::string::npos);
+    const MshMesh back = read_msh41(dir / "m.msh");
+    REQUIRE(back.mesh2.tags.size() == 2);
+    CHECK(back.mesh2.tags[0].name == "wall");
+    CHECK(back.mesh2.tags[1].name == "farfield");
+
+    // The same lines without the triangle: the surface entity stays (bounded), its group goes.
+    m.cells.clear();
+    write_msh41(m, dir / "lines.msh");
+    const std::string lines = read_text(dir / "lines.msh");
+    CHECK(lines.find("domain") == std::string::npos);
+    CHECK(lines.find("\n1 0 0 0 1 1 0 0 2 1 3\n$EndEntities") != std::string::npos);
+    CHECK(read_msh41(dir / "lines.msh").dim == 2);
+  }
+  SUBCASE("3D surface: a patch is bounded by the curves on its rim, not by one inside it") {
+    HybridMesh<3> m;
+    m.nodes = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    const int rim = m.add_tag("symmetry", BoundaryKind::Symmetry);
+    const int inner = m.add_tag("crease", BoundaryKind::Named);
+    const int wall = m.add_tag("wall", BoundaryKind::Wall);
+    m.boundary_block(CellType::Triangle, 1, wall).connectivity = {0, 1, 2, 0, 2, 3};
+    m.curve_block(1, rim).connectivity = {0, 1, 1, 2};
+    m.curve_block(1, inner).connectivity = {0, 2};  // the diagonal two triangles share
+    write_msh41(m, dir / "s.msh");
+    const std::string text = read_text(dir / "s.msh");
+    CHECK(text.find("domain") == std::string::npos);
+    CHECK(text.find("\n3 0 0 0 1 1 0 1 3 1 1\n") != std::string::npos);   // wall: bounded by curve 1
+    CHECK(text.find("\n1 0 0 0 1 1 0 0 1 3\n$EndEntities") != std::string::npos);  // volume: no group
+    const MshMesh back = read_msh41(dir / "s.msh");
+    CHECK(back.dim == 3);
+    CHECK(back.mesh3.curves.size() == 2);
+  }
+}
+
+TEST_CASE("io: Gmsh's API finds plaf's bounding entities and no empty physical group") {
+  // Gmsh's own eye, where its Python module is installed (python3-gmsh).
+  if (std::system("/usr/bin/python3 -c 'import gmsh' > /dev/null 2>&1") != 0) return;
+  TempDir dir("msh_gmsh_api");
+  HybridMesh<3> mesh = annulus_sector<3>(2, 2, 2, 1.0, [](int, int, int) { return 2; });
+  write_msh41(mesh, dir / "m.msh");
+  write_text(dir / "api.py",
+             "import gmsh, sys\n"
+             "gmsh.initialize()\n"
+             "gmsh.option.setNumber('General.Terminal', 0)\n"
+             "gmsh.open(sys.argv[1])\n"
+             "b = gmsh.model.getBoundary([(3, 1)], oriented=False, combined=False)\n"
+             "print('bounding', len(b))\n"
+             "for dim, p in gmsh.model.getPhysicalGroups():\n"
+             "    n = 0\n"
+             "    for e in gmsh.model.getEntitiesForPhysicalGroup(dim, p):\n"
+             "        n += sum(len(t) for t in gmsh.model.mesh.getElements(dim, e)[1])\n"
+             "    if n == 0: print('empty', gmsh.model.getPhysicalName(dim, p))\n"
+             "gmsh.finalize()\n");
+  const std::string out_file = (dir / "api.txt").string();
+  REQUIRE(std::system(("/usr/bin/python3 " + (dir / "api.py").string() + " " + (dir / "m.msh").string() + " > " +
+                       out_file + " 2>&1")
+                          .c_str()) == 0);
+  const std::string out = read_text(dir / "api.txt");
+  int tags_with_facets = 0;
+  for (std::size_t t = 0; t < mesh.tags.size(); ++t)
+    for (const CellBlock& b : mesh.boundary) {
+      if (b.tag == static_cast<int>(t) && b.size() > 0) {
+        ++tags_with_facets;
+        break;
+      }
+    }
+  REQUIRE(tags_with_facets > 0);
+  CHECK(out.find("bounding " + std::to_string(tags_with_facets) + "\n") != std::string::npos);
+  CHECK(out.find("empty") == std::string::npos);
+}
+
+TEST_CASE("io: MSH node coordinates beyond +-1e12 are refused with the line") {
+  TempDir dir("msh_huge");
+  HybridMesh<2> m;
+  m.nodes = {{0, 0}, {1, 0}, {0, 1}};
+  m.block(CellType::Triangle, 1).connectivity = {0, 1, 2};
+  write_msh41(m, dir / "m.msh");
+  const std::string text = read_text(dir / "m.msh");
+  const std::string node = "\n1 0 0\n";  // node 2's coordinates
+  REQUIRE(text.find(node) != std::string::npos);
+  write_text(dir / "far.msh", replace(text, node, "\n1.5e308 0 0\n"));
+  CHECK_THROWS_WITH_AS(read_msh41(dir / "far.msh"), doctest::Contains("far.msh:"), InputError);
+  CHECK_THROWS_WITH_AS(read_msh41(dir / "far.msh"), doctest::Contains("node coordinate 1.5e+308 is beyond +-1e+12"),
+                       InputError);
 }

@@ -126,6 +126,7 @@ TEST_CASE("io: VTK permutation maps each Gmsh node to the VTK node at the same l
   for (CellType t : all_types)
     for (int q = 2; q <= max_order; ++q) {
       INFO(cell_name(t), " order ", q);
+      if (t == CellType::Line) continue;  // a polyline, below
       const std::vector<int> perm = vtk_node_permutation(t, q);
       const std::vector<Lattice> gmsh = gmsh_lattice(t, q), vtk = vtk_lattice(t, q);
       REQUIRE(perm.size() == gmsh.size());
@@ -137,8 +138,7 @@ TEST_CASE("io: VTK permutation maps each Gmsh node to the VTK node at the same l
       for (std::size_t k = 0; k < perm.size(); ++k) identity = identity && perm[k] == static_cast<int>(k);
       // Lines and triangles share Gmsh's order; a 9-node quadrilateral has one node per edge, so
       // edge directions cannot differ; quadrilaterals from order 3 and all wedges reorder.
-      const bool same_order =
-          t == CellType::Line || t == CellType::Triangle || (t == CellType::Quadrilateral && q == 2);
+      const bool same_order = t == CellType::Triangle || (t == CellType::Quadrilateral && q == 2);
       CHECK(identity == same_order);
     }
   // Hand-derived from the documented orders. Quadrilateral, order 3: Gmsh runs edge 2-3 from
@@ -151,10 +151,14 @@ TEST_CASE("io: VTK permutation maps each Gmsh node to the VTK node at the same l
   // 0-1-4-3, 1-2-5-4, 2-0-3-5).
   CHECK(vtk_node_permutation(CellType::Prism, 2) ==
         std::vector<int>{0, 1, 2, 3, 4, 5, 6, 9, 7, 12, 14, 13, 8, 10, 11, 15, 17, 16});
+  // A curved line is a polyline through its nodes along it (Gmsh: ends, then the interior from
+  // end 0).
+  CHECK(vtk_node_permutation(CellType::Line, 2) == std::vector<int>{0, 2, 1});
+  CHECK(vtk_node_permutation(CellType::Line, 4) == std::vector<int>{0, 2, 3, 4, 1});
 }
 
 TEST_CASE("io: VTK cell types, order 1 uses linear cells and reverses the wedge base") {
-  const int lagrange[] = {68, 69, 70, 71, 73}, linear[] = {3, 5, 9, 10, 13};
+  const int lagrange[] = {4, 69, 70, 71, 73}, linear[] = {3, 5, 9, 10, 13};  // curved lines: polylines
   for (int i = 0; i < 5; ++i) {
     CHECK(vtk_cell_type(all_types[i], 1) == linear[i]);
     for (int q = 2; q <= max_order; ++q) CHECK(vtk_cell_type(all_types[i], q) == lagrange[i]);
@@ -212,7 +216,7 @@ TEST_CASE("io: VTU writer rejects bad fields and broken blocks without leaving a
   CHECK(fs::is_empty(dir.path));
 }
 
-TEST_CASE("io: a 3D surface mesh writes its triangles, then its curves as line cells") {
+TEST_CASE("io: a 3D surface mesh writes its triangles, and its curves as its boundary file") {
   TempDir dir("vtu_surface");
   HybridMesh<3> m;
   m.nodes = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0.5}, {0, 1, 0}, {0.5, 0, 0}, {1, 0.5, 0.2}, {0.5, 0.5, 0.3}};
@@ -223,19 +227,49 @@ TEST_CASE("io: a 3D surface mesh writes its triangles, then its curves as line c
   m.curve_block(1, symmetry).connectivity = {2, 3};
   write_vtu(m, dir.path / "s.vtu", {{"q", {0.75}}});
   const std::string xml = read_text(dir.path / "s.vtu");
-  CHECK(xml.find("NumberOfCells=\"4\"") != std::string::npos);
-  CHECK(data_array(xml, "types") == std::vector<double>{69, 68, 68, 3});
-  CHECK(data_array(xml, "offsets") == std::vector<double>{6, 9, 12, 14});
-  CHECK(data_array(xml, "block") == std::vector<double>{0, 1, 1, 2});
-  CHECK(data_array(xml, "HigherOrderDegrees") == std::vector<double>{2, 2, 0, 2, 0, 0, 2, 0, 0, 1, 0, 0});
-  // The field covers the triangles; the curve cells get NaN.
-  const std::vector<double> q = data_array(xml, "q");
-  REQUIRE(q.size() == 4);
-  CHECK(q[0] == 0.75);
-  for (std::size_t i = 1; i < 4; ++i) CHECK(std::isnan(q[i]));
-  // VTK's Lagrange curve is ordered like Gmsh's line: ends, then the middle.
-  const std::vector<double> conn = data_array(xml, "connectivity");
-  CHECK(std::vector<double>(conn.begin() + 6, conn.end()) == std::vector<double>{0, 1, 4, 1, 2, 5, 2, 3});
+  // The surface file holds the triangle alone: no curve cell beside it.
+  CHECK(xml.find("NumberOfCells=\"1\"") != std::string::npos);
+  CHECK(data_array(xml, "types") == std::vector<double>{69});
+  CHECK(data_array(xml, "q") == std::vector<double>{0.75});
   // A field with one value per cell including the curves is the wrong length.
   CHECK_THROWS_AS(write_vtu(m, dir.path / "bad.vtu", {{"q", {1, 2, 3, 4}}}), Error);
+
+  REQUIRE(write_boundary_vtu(m, dir.path / "s_boundary.vtu"));
+  const std::string b = read_text(dir.path / "s_boundary.vtu");
+  // The curves, on the six nodes they use (node 6, the triangle's inner node, is dropped).
+  CHECK(b.find("NumberOfPoints=\"6\" NumberOfCells=\"3\"") != std::string::npos);
+  CHECK(data_array(b, "types") == std::vector<double>{4, 4, 3});
+  CHECK(data_array(b, "offsets") == std::vector<double>{3, 6, 8});
+  CHECK(data_array(b, "HigherOrderDegrees") == std::vector<double>{2, 0, 0, 2, 0, 0, 1, 0, 0});
+  // The tag is the MSH physical tag of the curves' boundary (index 1 + 1).
+  CHECK(data_array(b, "tag") == std::vector<double>{2, 2, 2});
+  // Curved lines are polylines through their nodes in order: end, middle, end.
+  CHECK(data_array(b, "connectivity") == std::vector<double>{0, 4, 1, 1, 5, 2, 2, 3});
+  CHECK(data_array(b, "Points") ==
+        std::vector<double>{0, 0, 0, 1, 0, 0, 1, 1, 0.5, 0, 1, 0, 0.5, 0, 0, 1, 0.5, 0.2});
+}
+
+TEST_CASE("io: a mesh with cells writes its boundary facets with their tags, a curve mesh has no boundary file") {
+  TempDir dir("vtu_boundary");
+  HybridMesh<2> m;
+  m.nodes = {{0, 0}, {1, 0}, {0, 1}, {5, 5}};
+  const int wall = m.add_tag("wall", BoundaryKind::Wall);
+  const int far = m.add_tag("farfield", BoundaryKind::Farfield);
+  m.block(CellType::Triangle, 1).connectivity = {0, 1, 2};
+  m.boundary_block(CellType::Line, 1, wall).connectivity = {0, 1};
+  m.boundary_block(CellType::Line, 1, far).connectivity = {1, 2, 2, 0};
+  write_vtu(m, dir.path / "m.vtu");
+  CHECK(data_array(read_text(dir.path / "m.vtu"), "types") == std::vector<double>{5});
+  REQUIRE(write_boundary_vtu(m, dir.path / "m_boundary.vtu"));
+  const std::string b = read_text(dir.path / "m_boundary.vtu");
+  CHECK(b.find("NumberOfPoints=\"3\" NumberOfCells=\"3\"") != std::string::npos);
+  CHECK(data_array(b, "types") == std::vector<double>{3, 3, 3});
+  CHECK(data_array(b, "tag") == std::vector<double>{1, 2, 2});
+  // Lines alone (a 2D surface mesh) have no boundary: nothing is written.
+  HybridMesh<2> lines;
+  lines.nodes = m.nodes;
+  lines.tags = m.tags;
+  lines.boundary = m.boundary;
+  CHECK_FALSE(write_boundary_vtu(lines, dir.path / "l_boundary.vtu"));
+  CHECK_FALSE(fs::exists(dir.path / "l_boundary.vtu"));
 }
