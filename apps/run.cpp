@@ -15,6 +15,7 @@
 #include "modules/base/error.h"
 #include "modules/io/atomic_file.h"
 #include "modules/base/format.h"
+#include "modules/pipeline/budget.h"
 #include "modules/elements/lagrange.h"
 #include "modules/io/msh_io.h"
 #include "modules/io/output_set.h"
@@ -188,6 +189,8 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
       section.emplace(c);
       step(*section, StageKind::Geometry, c.geometry.type);
       step(*section, StageKind::Metric, c.metric.type);
+      check_section_budget(*section, c.extrude->rows);
+      clock.done("budget", "within limits:");
       step(*section, StageKind::Surface, c.surface.type);
       if (!section->front) throw MesherError("extrude: the section gave no surface front");
       s.front = extrude_front(*section->front, 0, c.extrude->span, c.extrude->rows);
@@ -210,6 +213,10 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
   if (!section) {
     step(s, StageKind::Geometry, c.geometry.type);
     step(s, StageKind::Metric, c.metric.type);
+    if constexpr (Dim == 2) {  // the size budget (modules/pipeline/budget.h)
+      check_section_budget(s, 1);
+      clock.done("budget", "within limits:");
+    }
     step(s, StageKind::Surface, c.surface.type);
   }
   // 4-5. Layers and fill.

@@ -6,6 +6,7 @@
 #include "layers/grow_layers_2d.h"
 #include "layers/grow_layers_3d.h"
 #include "modules/base/error.h"
+#include "modules/pipeline/budget.h"
 #include "modules/pipeline/run_state.h"
 #include "modules/pipeline/stages.h"
 
@@ -32,6 +33,21 @@ LayerParams parse_layer_params(const ConfigNode& l) {
   return p;
 }
 
+namespace {
+
+// The size budget (modules/pipeline/budget.h): every wall element's column at most max_layers
+// high (an upper bound: most runs stop earlier, at the isotropic size), quadrilaterals of q^2
+// nodes in 2D, prisms of q^3/2 in 3D.
+void check_layer_budget(const RunConfig& c, double wall_elements, int max_layers, int dim) {
+  const double cells = wall_elements * max_layers, q = c.order;
+  const std::string what = "up to " + std::to_string(max_layers) + " layers (layers.max) on " +
+                           std::to_string(static_cast<long>(wall_elements)) + " wall elements";
+  check_limit(c, "cells", cells, what);
+  check_limit(c, "nodes", cells * (dim == 2 ? q * q : q * q * q / 2), what + " of order " + std::to_string(c.order));
+}
+
+}  // namespace
+
 void register_plugins() {
   static const bool once = [] {
     stage_registry<2>(StageKind::Layers).add("extrude", [](const ConfigNode& section) -> Stage<2> {
@@ -43,6 +59,9 @@ void register_plugins() {
           return;
         }
         p.close_linear = s.config.fill.enabled();  // the fill starts from a linear front
+        std::size_t elements = 0;  // every loop's (the farfield's too: an upper bound)
+        for (const FrontLoop& l : s.front->loops) elements += l.size();
+        check_layer_budget(s.config, static_cast<double>(elements), p.max_layers, 2);
         s.layers = grow_layers(*s.front, *s.metric, p);
         if (s.layers->layers.empty())
           throw MesherError("layers: not even the first layer could be grown (" +
@@ -63,6 +82,7 @@ void register_plugins() {
           p.height_probe = [z, tol](const Eigen::Vector3d& x) { return std::abs(x.z() - z) <= tol; };
           rep.add("heights_at_z", z);
         }
+        check_layer_budget(s.config, static_cast<double>(s.front->num_triangles()), p.max_layers, 3);
         s.layers = grow_layers(*s.front, *s.metric, p);
         for (const auto& [key, value] : s.layers->counts) rep.add(key, value);
         if (s.layers->layers.empty()) {

@@ -11,6 +11,8 @@
 
 #include "modules/base/error.h"
 #include "modules/metric/metric_fields.h"
+#include "modules/metric/metric_integrals.h"
+#include "modules/pipeline/budget.h"
 #include "modules/pipeline/run_state.h"
 #include "modules/pipeline/stages.h"
 #include "surface3d/analytic.h"
@@ -225,6 +227,22 @@ double smallest_size(const SurfaceParams& sp, const RunState<3>& s) {
   return sp.curvature_h_min > 0 ? sp.curvature_h_min : base_min / 20;
 }
 
+// The points and triangles of a surface's mesh.
+void triangles_of(const TriSurface& surface, std::vector<Eigen::Vector3d>& points, std::vector<std::array<int, 3>>& tris) {
+  points.assign(surface.mesh.n_vertices(), Eigen::Vector3d::Zero());
+  tris.clear();
+  for (const auto v : surface.mesh.vertices()) {
+    const auto& q = surface.mesh.point(v);
+    points[static_cast<std::size_t>(v.idx())] = Eigen::Vector3d(q[0], q[1], q[2]);
+  }
+  for (const auto f : surface.mesh.faces()) {
+    std::array<int, 3> t{};
+    int k = 0;
+    for (const auto v : surface.mesh.fv_range(f)) t[static_cast<std::size_t>(k++)] = v.idx();
+    tris.push_back(t);
+  }
+}
+
 // The surface mesh: curvature-driven sizes (optional), remeshing with features kept, the features
 // detected again on the final mesh as a check, order-Q nodes on the reference, every triangle
 // certified.
@@ -266,6 +284,16 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
         std::make_unique<CurvatureMetricField>(s.surface_base(), *s.reference, sp.curvature_factor, h_min);
   }
   const MetricField<3>& field = *s.measure();  // (with curvature sizes: the raw field, graded below)
+  {
+    // The size budget (modules/pipeline/budget.h): unit triangles of the metric on the input.
+    std::vector<Eigen::Vector3d> points;
+    std::vector<std::array<int, 3>> tris;
+    triangles_of(surface, points, tris);
+    const double triangles = kTrianglesPerMetricArea * metric_surface_area(points, tris, field);
+    check_limit(c, "surface_elements", triangles, "the surface's triangles");
+    check_limit(c, "nodes", triangles * c.order * c.order / 2.0,
+                "the surface's order-" + std::to_string(c.order) + " triangles");
+  }
   // The body sampled before the remesher moves anything (fidelity.h).
   const std::vector<Eigen::Vector3d> body = reference_samples(s.surface, *s.reference, !s.build_body);
   RemeshReport rr;
@@ -280,18 +308,9 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
       // Gradation (graded_metric.h): the raw curvature sizes H-corrected on the mesh they gave,
       // then the input remeshed on the graded field, which the run measures from here on (a second
       // pass over the first one's result instead would lose 4 % of the unit edges on the E387 wing).
-      std::vector<Eigen::Vector3d> points(surface.mesh.n_vertices());
+      std::vector<Eigen::Vector3d> points;
       std::vector<std::array<int, 3>> tris;
-      for (const auto v : surface.mesh.vertices()) {
-        const auto& q = surface.mesh.point(v);
-        points[static_cast<std::size_t>(v.idx())] = Eigen::Vector3d(q[0], q[1], q[2]);
-      }
-      for (const auto f : surface.mesh.faces()) {
-        std::array<int, 3> t{};
-        int k = 0;
-        for (const auto v : surface.mesh.fv_range(f)) t[static_cast<std::size_t>(k++)] = v.idx();
-        tris.push_back(t);
-      }
+      triangles_of(surface, points, tris);
       auto graded = std::make_unique<GradedMetricField>(std::move(s.surface_metric), points, tris, sp.gradation);
       std::ostringstream g;
       g << "{\"beta\": " << json_number(sp.gradation) << ", \"support_points\": " << points.size()

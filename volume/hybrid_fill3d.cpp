@@ -12,6 +12,7 @@
 #include "modules/base/error.h"
 #include "modules/base/format.h"
 #include "modules/elements/lagrange.h"
+#include "modules/metric/metric_integrals.h"
 #include "volume/advancing_front_2d.h"
 
 namespace plaf::volume {
@@ -239,6 +240,21 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
     r.fill.boundary_tag.push_back(0);
   }
   r.farfield_triangles = far.triangles.size();
+  if (params.size_check) {
+    // The tetrahedra the farfield will hold (HybridFillParams::size_check), before any is made.
+    Vec flo = far.nodes.front(), fhi = far.nodes.front();
+    for (const Vec& x : far.nodes) {
+      flo = flo.cwiseMin(x);
+      fhi = fhi.cwiseMax(x);
+    }
+    const Vec centre = 0.5 * (flo + fhi);
+    const double radius = 0.5 * (fhi - flo).maxCoeff();
+    const bool sphere = fp.shape == "sphere";
+    const double volume = region_integral<3>(
+        flo, fhi, [&](const Vec& x) { return !sphere || (x - centre).norm() <= radius; },
+        [&](const Vec& x) { return std::pow(metric.evaluate(x).max_size(), -3.0); }, 20000);
+    params.size_check(kTetrahedraPerMetricVolume * volume);
+  }
 
   // 3. Each plane's region: the farfield's cut loop and the rim loops, by the 2D advancing front.
   for (std::size_t p = 0; p < planes.size(); ++p) {

@@ -18,6 +18,8 @@
 //     of its triangles), and sizes (switch m): at a node of the front its mean edge length.
 #pragma once
 
+#include <functional>
+
 #include <string>
 #include <vector>
 
@@ -33,6 +35,11 @@ struct HybridFillParams {
   FarfieldParams3 farfield;  // h = 0: the metric's largest size at the farfield, at most a quarter of its extent
   TetFillParams tet;         // node_sizes are set here
   double grading = 0.25;     // growth of the symmetry planes' sizes per unit distance from their loops
+  // Called once the farfield is built, before the planes and TetGen mesh anything, with the
+  // tetrahedra predicted inside it (6 sqrt 2 per unit of the integral of 1/h^3, h the metric's
+  // largest size: TetGen's tetrahedra are isotropic; the bodies' and layers' volume is not taken
+  // out, so an upper estimate); may throw to stop the run (the size budget, budget.h).
+  std::function<void(double tetrahedra)> size_check;
 };
 
 struct HybridFill {

@@ -2,6 +2,7 @@
 #include "volume/plugins.h"
 
 #include "modules/base/error.h"
+#include "modules/pipeline/budget.h"
 #include "modules/pipeline/run_state.h"
 #include "modules/pipeline/stages.h"
 #include "volume/advancing_front_2d.h"
@@ -60,9 +61,16 @@ void register_plugins() {
           };
         });
     stage_registry<3>(StageKind::Fill).add("tetgen", [](const ConfigNode& section) -> Stage<3> {
-      const HybridFillParams params = parse_tetgen(section);
-      return [params](RunState<3>& s, StageReport& rep) {
+      const HybridFillParams parsed = parse_tetgen(section);
+      return [parsed](RunState<3>& s, StageReport& rep) {
         if (!s.layers) throw MesherError("fill: tetgen fills around prism layers; the layer stage grew none");
+        HybridFillParams params = parsed;
+        params.size_check = [&s](double tets) {  // the size budget (modules/pipeline/budget.h)
+          const RunConfig& c = s.config;
+          check_limit(c, "cells", tets, "the fill's tetrahedra");
+          check_limit(c, "nodes", tets * c.order * c.order * c.order / 6.0,
+                      "the fill's order-" + std::to_string(c.order) + " tetrahedra");
+        };
         HybridFill fill = fill_around_layers(*s.layers, *s.metric, params);
         const TetFillStats& st = fill.stats;
         rep.add("farfield.shape", fill.farfield.shape);

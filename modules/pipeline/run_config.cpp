@@ -145,6 +145,13 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   r.validity.max_depth = v.get_int("max_depth", r.validity.max_depth, 1, 20);
 
   parse_output(c.child("output"), r);
+  {
+    const ConfigNode l = c.child("limits");
+    r.limits = default_limits(r.dim);
+    r.limits.surface_elements = l.get_positive("surface_elements", r.limits.surface_elements);
+    r.limits.cells = l.get_positive("cells", r.limits.cells);
+    r.limits.nodes = l.get_positive("nodes", r.limits.nodes);
+  }
   if (r.extrude && !r.output.has_cut) {  // the picture cuts the extrusion at its measured station
     r.output.has_cut = true;
     r.output.cut_point = {0, 0, r.extrude->probe_z()};
@@ -163,6 +170,15 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
 }
 
 }  // namespace
+
+LimitParams default_limits(int dim) {
+  if (dim == 2) return {};
+  LimitParams l;
+  l.surface_elements = 5e5;
+  l.cells = 1e7;
+  l.nodes = 3e7;
+  return l;
+}
 
 RunConfig load_run_config(const std::filesystem::path& path) {
   RunConfig r = parse(ConfigNode::load_file(path), path.stem().string());

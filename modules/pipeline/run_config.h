@@ -32,6 +32,13 @@
 //     type: extrude         chosen type, parsed by its plugin: layers/plugins.h
 //   fill:                   the fill of the domain between the layers' outer front (or the surface
 //     type: advancing_front mesh) and the farfield; absent: none. Keys: volume/plugins.h
+//   limits:                 the size budget (modules/pipeline/budget.h): each stage predicts its
+//                           element count from the metric before meshing and stops with a ConfigError
+//                           naming the key to raise when it would exceed one of these. Defaults fit
+//                           a 24 GB, 2-core machine (a run of a few GB and minutes at most):
+//     surface_elements: <>0> curve elements (2D) / surface triangles (3D)  default: 2e6 / 5e5
+//     cells: <>0>           cells of the mesh (layers and fill)      default: 2e7 / 1e7
+//     nodes: <>0>           nodes of the mesh, high-order ones too   default: 6e7 / 3e7
 //   validity:
 //     rel_tol: <0..1>       Bezier bounds refined to this         default: 0.01
 //     max_depth: <1..20>    subdivision depth limit               default: 12
@@ -116,6 +123,13 @@ struct ExtrudeParams {
   double probe_z() const { return span * static_cast<double>(rows / 2) / rows; }
 };
 
+struct LimitParams {
+  double surface_elements = 2e6;
+  double cells = 2e7;
+  double nodes = 6e7;
+};
+LimitParams default_limits(int dim);
+
 struct RunConfig {
   std::string name;
   std::filesystem::path file;
@@ -130,6 +144,7 @@ struct RunConfig {
   PlannedStage fill;
   ValidityParams validity;
   OutputParams output;
+  LimitParams limits;
 };
 
 // Reads and validates a run configuration (InputError for a missing file, ConfigError otherwise).

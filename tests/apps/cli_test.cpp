@@ -25,6 +25,11 @@ using plaf::test::write_text;
 
 namespace {
 
+std::string replace_all(std::string s, const std::string& from, const std::string& to) {
+  for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size())) s.replace(at, from.size(), to);
+  return s;
+}
+
 const std::string good = "order: 2\ngeometry: {type: annulus, angle_deg: 90}\nmetric: {type: uniform, h: 0.4}\n";
 
 }  // namespace
@@ -218,6 +223,64 @@ TEST_CASE("cli: a key found wrong once the mesh exists (a farfield inside the la
   CHECK(r.err.find("plaf: error: " + cfg.string() + ": fill.farfield.radius: 1.01 does not enclose the bodies") !=
         std::string::npos);
   CHECK(count_files(d / "out") == 0);
+}
+
+TEST_CASE("cli: a run beyond its size budget stops before meshing, naming the estimate and the limits key to raise") {
+  const TempDir d("cli_budget");
+  struct Case {
+    const char* name;
+    std::string yaml;
+    const char* message;
+  };
+  const std::string naca = "{file: " PLAF_DATA "/airfoils/naca0012_sharp.dat}";
+  const std::vector<Case> cases = {
+      // Issue 17's probe: each ran for minutes into gigabytes before.
+      {"annulus_q4", "order: 4\ngeometry: {type: annulus, angle_deg: 360}\nmetric: {type: uniform, h: 9.0e-4}\n",
+       "limits.nodes: the annulus' order-4 cells would make about 1.9e+08 (budget 6e+07); coarsen the metric or raise limits.nodes"},
+      {"airfoil_fine", "geometry: {type: airfoils, bodies: [" + naca + "]}\nmetric: {type: uniform, h: 3.0e-6}\n",
+       "limits.surface_elements: the curves of the bodies and the farfield would make about 4.3e+07"},
+      {"fill_fine",
+       "geometry: {type: airfoils, bodies: [" + naca + "]}\n"
+       "metric: {type: wall_power_law, h0: 1.0e-4, growth: 1.2, h_max: 1.0e-3, h_wall_max: 1.0e-3}\n"
+       "layers: {max: 20}\nfill: {type: advancing_front}\n",
+       "limits.cells: the domain's cells would make about"},
+      {"sphere_fine", "order: 2\ngeometry: {type: sphere, center: [0, 0, 0], radius: 0.5}\nmetric: {type: uniform, h: 2.0e-3}\n",
+       "limits.surface_elements: the surface's triangles would make about 1.8e+06 (budget 500000)"},
+      {"layers_high",
+       "order: 2\ngeometry: {type: sphere, center: [0, 0, 0], radius: 1}\n"
+       "metric: {type: wall_power_law, h0: 0.01, growth: 1.3, h_max: 5.0, h_wall_max: 0.5}\n"
+       "layers: {type: extrude, max: 3}\nlimits: {cells: 100}\n",
+       "limits.cells: up to 3 layers (layers.max) on"},
+      {"tets_many",
+       "order: 2\ngeometry: {type: sphere, center: [0, 0, 0], radius: 1}\n"
+       "metric: {type: wall_power_law, h0: 0.01, growth: 1.3, h_max: 5.0, h_wall_max: 0.5}\n"
+       "layers: {type: extrude, max: 3}\nfill: {type: tetgen, farfield: {shape: sphere, radius: 5}}\n"
+       "limits: {cells: 2000}\n",
+       "limits.cells: the fill's tetrahedra would make about"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.name);
+    const fs::path cfg = write_text(d / (std::string(c.name) + ".yaml"), c.yaml);
+    const fs::path out = d / (std::string("out_") + c.name);
+    const PlafResult r = run_plaf("run " + cfg.string() + " --out " + out.string(), d);
+    INFO(r.err);
+    CHECK(r.code == 1);
+    CHECK(r.err.find("plaf: error: " + cfg.string() + ": " + c.message) != std::string::npos);
+    CHECK(count_files(out) == 0);
+  }
+  // The key raised, the layered sphere runs.
+  const fs::path raised = write_text(d / "raised.yaml", cases[4].yaml + "");
+  write_text(raised, replace_all(cases[4].yaml, "limits: {cells: 100}", "limits: {cells: 1.0e+4}"));
+  CHECK(run_plaf("run " + raised.string() + " --out " + (d / "out_raised").string(), d).code == 0);
+  // The keys themselves are checked like any other.
+  for (const char* bad : {"limits: {cells: -1}\n", "limits: {memory_gb: 8}\n", "limits: {nodes: [1]}\n"}) {
+    const fs::path cfg = write_text(d / "bad_limits.yaml", good + bad);
+    const PlafResult r = run_plaf("run " + cfg.string() + " --out " + (d / "out_bad").string(), d);
+    INFO(bad, r.err);
+    CHECK(r.code == 1);
+    CHECK(r.err.find("limits") != std::string::npos);
+    CHECK(count_files(d / "out_bad") == 0);
+  }
 }
 
 TEST_CASE("cli: the outputs are one set: a writer that fails half-way, or a stop signal, leaves none of them") {
