@@ -103,8 +103,11 @@ int main(int argc, char** argv) {
     std::cerr << "plaf: error: " << e.what() << '\n';
     return plaf::exit_code::bad_input;
   } catch (const std::bad_alloc&) {
-    return plaf::exit_code::report_bug(std::cerr, "out of memory (std::bad_alloc) in a run its size budget "
-                                                  "(limits:) admitted");
+    // Not a bug: an input or a run larger than this machine's memory (a run's limits: raised too
+    // far, a huge mesh to check).
+    std::cerr << "plaf: error: out of memory (std::bad_alloc): the input or the run is too large for this "
+                 "machine; coarsen the metric or lower the limits: section\n";
+    return plaf::exit_code::bad_input;
   } catch (const std::exception& e) {
     return plaf::exit_code::report_bug(std::cerr, e.what());
   } catch (...) {

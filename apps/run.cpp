@@ -265,6 +265,7 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
   // 8. Outputs, each written atomically and all as one set (output_set.h: staged, then moved in
   //    together; a failure or a stop signal leaves none); the report last, with every stage's time.
   OutputSet outputs(c.output.dir, c.name);
+  if (c.output.wants("vtu")) outputs.own("_boundary.vtu");  // not written without a boundary
   const std::filesystem::path base = outputs.staged_base();
   for (const std::string& format : c.output.formats)
     if (format != "report")

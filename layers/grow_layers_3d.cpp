@@ -759,8 +759,9 @@ class PartLayerBuilder {
       nw->tri_tag.push_back(p.tri_tag[t]);
       out_.face_origin.push_back(static_cast<int>(t));
     }
-    for (const auto& [v, c] : cnt) {
-      if (c < 3) continue;
+    for (const auto& vc : cnt) {  // (not a structured binding: the lambdas below capture v)
+      const int v = vc.first;
+      if (vc.second < 3) continue;
       ++corner_fans_;
       corner_node_.insert(v);
       const int around0 = p.node_face[static_cast<std::size_t>(p.node_face_start[static_cast<std::size_t>(v)])];
@@ -1301,12 +1302,12 @@ class SurfaceFronts final : public FrontGrower<3> {
     sym_tris_.insert(sym_tris_.end(), pending_.sym_tris.begin(), pending_.sym_tris.end());
     sym_tri_tag_.insert(sym_tri_tag_.end(), pending_.sym_tri_tag.begin(), pending_.sym_tri_tag.end());
     // The first layer's counts, summed over the parts.
-    for (const auto& [name, value] : pending_counts_) {
-      auto it = std::find_if(counts_.begin(), counts_.end(), [&](const auto& c) { return c.first == name; });
+    for (const auto& count : pending_counts_) {  // (captured by the lambda: no structured binding)
+      auto it = std::find_if(counts_.begin(), counts_.end(), [&](const auto& c) { return c.first == count.first; });
       if (it == counts_.end())
-        counts_.push_back({name, value});
+        counts_.push_back(count);
       else
-        it->second += value;
+        it->second += count.second;
     }
     pending_counts_.clear();
   }

@@ -227,20 +227,11 @@ double smallest_size(const SurfaceParams& sp, const RunState<3>& s) {
   return sp.curvature_h_min > 0 ? sp.curvature_h_min : base_min / 20;
 }
 
-// The points and triangles of a surface's mesh.
-void triangles_of(const TriSurface& surface, std::vector<Eigen::Vector3d>& points, std::vector<std::array<int, 3>>& tris) {
-  points.assign(surface.mesh.n_vertices(), Eigen::Vector3d::Zero());
-  tris.clear();
-  for (const auto v : surface.mesh.vertices()) {
-    const auto& q = surface.mesh.point(v);
-    points[static_cast<std::size_t>(v.idx())] = Eigen::Vector3d(q[0], q[1], q[2]);
-  }
-  for (const auto f : surface.mesh.faces()) {
-    std::array<int, 3> t{};
-    int k = 0;
-    for (const auto v : surface.mesh.fv_range(f)) t[static_cast<std::size_t>(k++)] = v.idx();
-    tris.push_back(t);
-  }
+// The size budget (modules/pipeline/budget.h) of a surface of about `triangles` order-Q triangles.
+void check_surface_budget(const RunConfig& c, double triangles) {
+  check_limit(c, "surface_elements", triangles, "the surface's triangles");
+  check_limit(c, "nodes", triangles * c.order * c.order / 2.0,
+              "the surface's order-" + std::to_string(c.order) + " triangles");
 }
 
 // The surface mesh: curvature-driven sizes (optional), remeshing with features kept, the features
@@ -252,6 +243,20 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   // centre: one split brings its edges to 0.75, inside the unit band (a start at exactly twice the
   // size splits the lattice's diagonals to 1/sqrt 2, on the band's edge).
   if (s.build_body) {
+    // The size budget before the initial triangulation (itself about half the final count): the
+    // body built coarse (once at any size, then at an eighth of its diagonal), measured in the
+    // sizes; the curvature sizes come on top and are checked below.
+    RunState<3> probe(c);
+    s.build_body(probe, std::numeric_limits<double>::max());
+    const TriangleSoup first = soup_from_surface(probe.surface);
+    Eigen::Vector3d lo = first.points.front(), hi = first.points.front();
+    for (const Eigen::Vector3d& x : first.points) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+    s.build_body(probe, (hi - lo).norm() / 8);
+    const TriangleSoup coarse = soup_from_surface(probe.surface);
+    check_surface_budget(c, kTrianglesPerMetricArea * metric_surface_area(coarse.points, coarse.triangles, s.surface_base()));
     s.build_body(s, 1.5 * s.surface_base().evaluate(s.body_center).max_size());
     rep.add("input_triangles", s.surface.mesh.n_faces());
     rep.line("initial triangulation: " + std::to_string(s.surface.mesh.n_faces()) + " triangles");
@@ -286,13 +291,8 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   const MetricField<3>& field = *s.measure();  // (with curvature sizes: the raw field, graded below)
   {
     // The size budget (modules/pipeline/budget.h): unit triangles of the metric on the input.
-    std::vector<Eigen::Vector3d> points;
-    std::vector<std::array<int, 3>> tris;
-    triangles_of(surface, points, tris);
-    const double triangles = kTrianglesPerMetricArea * metric_surface_area(points, tris, field);
-    check_limit(c, "surface_elements", triangles, "the surface's triangles");
-    check_limit(c, "nodes", triangles * c.order * c.order / 2.0,
-                "the surface's order-" + std::to_string(c.order) + " triangles");
+    const TriangleSoup soup = soup_from_surface(surface);
+    check_surface_budget(c, kTrianglesPerMetricArea * metric_surface_area(soup.points, soup.triangles, field));
   }
   // The body sampled before the remesher moves anything (fidelity.h).
   const std::vector<Eigen::Vector3d> body = reference_samples(s.surface, *s.reference, !s.build_body);
@@ -308,9 +308,9 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
       // Gradation (graded_metric.h): the raw curvature sizes H-corrected on the mesh they gave,
       // then the input remeshed on the graded field, which the run measures from here on (a second
       // pass over the first one's result instead would lose 4 % of the unit edges on the E387 wing).
-      std::vector<Eigen::Vector3d> points;
-      std::vector<std::array<int, 3>> tris;
-      triangles_of(surface, points, tris);
+      TriangleSoup soup = soup_from_surface(surface);
+      std::vector<Eigen::Vector3d>& points = soup.points;
+      std::vector<std::array<int, 3>>& tris = soup.triangles;
       auto graded = std::make_unique<GradedMetricField>(std::move(s.surface_metric), points, tris, sp.gradation);
       std::ostringstream g;
       g << "{\"beta\": " << json_number(sp.gradation) << ", \"support_points\": " << points.size()

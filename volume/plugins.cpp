@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "volume/plugins.h"
 
+#include "modules/base/coordinates.h"
 #include "modules/base/error.h"
+#include "modules/base/format.h"
 #include "modules/pipeline/budget.h"
 #include "modules/pipeline/run_state.h"
 #include "modules/pipeline/stages.h"
@@ -24,14 +26,17 @@ HybridFillParams parse_tetgen(const ConfigNode& section) {
   const ConfigNode f = section.child("farfield");
   FarfieldParams3& ff = p.farfield;
   ff.shape = f.get_choice("shape", ff.shape, {"sphere", "box"});
-  ff.radius = f.get_in_range("radius", 0.0, 0.0, std::numeric_limits<double>::max());
+  // Within the readers' coordinate range (modules/base/coordinates.h), so plaf reads back what it writes.
+  ff.radius = f.get_in_range("radius", 0.0, 0.0, kMaxCoordinate / 2);
   const std::vector<double> size = f.get_double_list("size", {0, 0, 0});
-  if (size.size() != 3 || std::any_of(size.begin(), size.end(), [](double v) { return !(v >= 0); }))
-    throw ConfigError(f.where("size") + ": three edge lengths >= 0 (0: 20 x the bodies' diagonal)");
+  if (size.size() != 3 || std::any_of(size.begin(), size.end(), [](double v) { return !(v >= 0 && v <= kMaxCoordinate); }))
+    throw ConfigError(f.where("size") + ": three edge lengths in [0, " + num(kMaxCoordinate) +
+                      "] (0: 20 x the bodies' diagonal)");
   std::copy(size.begin(), size.end(), ff.size.begin());
   ff.has_center = f.has("center");
   const std::vector<double> c = f.get_double_list("center", {0, 0, 0});
-  if (c.size() != 3) throw ConfigError(f.where("center") + ": three coordinates");
+  if (c.size() != 3 || std::any_of(c.begin(), c.end(), [](double v) { return !(std::abs(v) <= kMaxCoordinate / 2); }))
+    throw ConfigError(f.where("center") + ": three coordinates within +-" + num(kMaxCoordinate / 2));
   ff.center = Eigen::Vector3d(c[0], c[1], c[2]);
   ff.h = f.get_in_range("h", 0.0, 0.0, std::numeric_limits<double>::max());
   return p;
@@ -66,10 +71,15 @@ void register_plugins() {
         if (!s.layers) throw MesherError("fill: tetgen fills around prism layers; the layer stage grew none");
         HybridFillParams params = parsed;
         params.size_check = [&s](double tets) {  // the size budget (modules/pipeline/budget.h)
+          // The whole mesh: the layers grown so far and the fill to come.
           const RunConfig& c = s.config;
-          check_limit(c, "cells", tets, "the fill's tetrahedra");
-          check_limit(c, "nodes", tets * c.order * c.order * c.order / 6.0,
-                      "the fill's order-" + std::to_string(c.order) + " tetrahedra");
+          const auto layer_cells = static_cast<double>(s.layers->mesh.num_cells());
+          const auto layer_nodes = static_cast<double>(s.layers->mesh.nodes.size());
+          const std::string what = "the layers' " + std::to_string(static_cast<long>(layer_cells)) +
+                                   " cells and the fill's tetrahedra";
+          check_limit(c, "cells", layer_cells + tets, what);
+          check_limit(c, "nodes", layer_nodes + tets * c.order * c.order * c.order / 6.0,
+                      what + " of order " + std::to_string(c.order));
         };
         HybridFill fill = fill_around_layers(*s.layers, *s.metric, params);
         const TetFillStats& st = fill.stats;

@@ -6,7 +6,9 @@
 #include <limits>
 
 #include "modules/io/airfoil_io.h"
+#include "modules/base/coordinates.h"
 #include "modules/base/error.h"
+#include "modules/base/format.h"
 
 namespace plaf {
 inline namespace geometry {
@@ -66,11 +68,17 @@ AirfoilsParams parse_airfoils_params(const ConfigNode& g) {
   const ConfigNode f = g.child("farfield");
   FarfieldParams& ff = a.farfield;
   ff.shape = f.get_choice("shape", ff.shape, {"circle", "rectangle"});
+  // Within the readers' coordinate range (modules/base/coordinates.h), so plaf reads back what it writes.
   ff.radius = f.get_positive("radius", ff.radius);
+  if (ff.radius > kMaxCoordinate / 2)
+    throw ConfigError(f.where("radius") + ": at most " + num(kMaxCoordinate / 2) + ", got " + num(ff.radius));
   ff.size = get_pair(f, "size", ff.size);
-  if (!(ff.size[0] > 0 && ff.size[1] > 0)) throw ConfigError(f.where("size") + ": sizes must be positive");
+  if (!(ff.size[0] > 0 && ff.size[1] > 0 && ff.size[0] <= kMaxCoordinate && ff.size[1] <= kMaxCoordinate))
+    throw ConfigError(f.where("size") + ": sizes must be positive and at most " + num(kMaxCoordinate));
   ff.has_center = f.has("center");
   ff.center = get_pair(f, "center", ff.center);
+  if (!(std::abs(ff.center[0]) <= kMaxCoordinate / 2 && std::abs(ff.center[1]) <= kMaxCoordinate / 2))
+    throw ConfigError(f.where("center") + ": coordinates must be within +-" + num(kMaxCoordinate / 2));
   return a;
 }
 

@@ -411,5 +411,17 @@ bool triangles_intersect(const Vector3d* t1, const Vector3d* t2) {
   return false;
 }
 
+bool inside_polygon(const Eigen::Vector2d& x, const std::vector<Eigen::Vector2d>& polygon) {
+  bool inside = false;
+  const std::size_t n = polygon.size();
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[j];
+    if ((a.y() > x.y()) != (b.y() > x.y()) && x.x() < a.x() + (x.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y()))
+      inside = !inside;
+  }
+  return inside;
+}
+
 }  // namespace geometry
 }  // namespace plaf

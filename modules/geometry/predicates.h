@@ -27,6 +27,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
 
 namespace plaf {
 inline namespace geometry {
@@ -50,6 +51,10 @@ bool segments_intersect(const Eigen::Vector2d& a, const Eigen::Vector2d& b, cons
                         const Eigen::Vector2d& d);
 // p lies on segment ab strictly between a and b (false when a == b).
 bool point_on_open_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b);
+
+// x inside the closed polygon (vertices in order, the last joined to the first), by the even-odd
+// rule (floating point: a point on an edge may go either way).
+bool inside_polygon(const Eigen::Vector2d& x, const std::vector<Eigen::Vector2d>& polygon);
 
 // The closed triangles t1[0..2] and t2[0..2] in 3D share at least one point. Touching counts: a
 // shared vertex, a vertex on the other triangle, edges meeting, coplanar overlap or containment.

@@ -14,6 +14,7 @@
 
 #include "modules/base/error.h"
 #include "modules/base/format.h"
+#include "modules/geometry/predicates.h"
 
 namespace plaf {
 inline namespace io {
@@ -181,19 +182,6 @@ void check_simple(const BodyContour& body) {
                      "the contour intersects itself: the segment of " + segment_lines(body, first.index) +
                      " crosses the segment of " + segment_lines(body, second.index));
   });
-}
-
-// Even-odd rule.
-bool inside_polygon(const Vector2d& x, const std::vector<Vector2d>& polygon) {
-  bool inside = false;
-  const size_t n = polygon.size();
-  for (size_t i = 0, j = n - 1; i < n; j = i++) {
-    const Vector2d& a = polygon[i];
-    const Vector2d& b = polygon[j];
-    if ((a.y() > x.y()) != (b.y() > x.y()) && x.x() < a.x() + (x.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y()))
-      inside = !inside;
-  }
-  return inside;
 }
 
 // The data lines of a contour file: an optional title, then two numbers per line; blank lines

@@ -284,8 +284,8 @@ class MshReader {
     for (std::size_t i = 0; i < coords_.size(); ++i)
       for (int d = 0; d < Dim; ++d) mesh.nodes[i][d] = coords_[i][d];
     // Named physical groups of the facet dimension (and of curves in 3D) first, in physical tag
-    // order, so that tags written by write_msh41 come back with the same indices (and empty ones
-    // survive).
+    // order, so that tags written by write_msh41 come back with the same indices (write_msh41
+    // writes no tag without elements, so an empty tag of a mesh does not come back).
     std::vector<std::tuple<std::int64_t, int, const std::string*>> named;
     for (const auto& [key, name] : physical_names_)
       if (key.first == Dim - 1 || (Dim == 3 && key.first == 1)) named.emplace_back(key.second, key.first, &name);

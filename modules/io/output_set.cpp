@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "modules/io/output_set.h"
 
+#include <algorithm>
+
 #include <unistd.h>
 
 #include <system_error>
@@ -47,6 +49,13 @@ void OutputSet::commit() {
     if (ec)
       throw InputError("cannot move " + p.filename().string() + " into output.dir '" + dir_.string() + "' (" +
                        ec.message() + ")");
+  }
+  // An owned file this run did not write is an earlier run's: it does not belong to the set.
+  for (const std::string& suffix : owned_) {
+    const std::filesystem::path old = dir_ / (name_ + suffix);
+    const bool written = std::any_of(staged.begin(), staged.end(),
+                                     [&](const std::filesystem::path& p) { return p.filename() == old.filename(); });
+    if (!written) std::filesystem::remove(old, ec);
   }
   committed_ = true;
   remove_stage();

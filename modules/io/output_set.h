@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace plaf {
 inline namespace io {
@@ -29,6 +30,9 @@ class OutputSet {
   // folder. InputError naming the file when one cannot be moved (the rest stay staged, removed
   // with the folder).
   void commit();
+  // NAME + suffix is a file of this set that a run may or may not write (NAME_boundary.vtu):
+  // commit removes an earlier run's one that this run did not write.
+  void own(const std::string& suffix) { owned_.push_back(suffix); }
 
  private:
   void remove_stage() noexcept;
@@ -38,6 +42,7 @@ class OutputSet {
   std::filesystem::path stage_;
   int slot_ = -1;
   bool committed_ = false;
+  std::vector<std::string> owned_;
 };
 
 }  // namespace io

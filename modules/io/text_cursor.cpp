@@ -105,8 +105,9 @@ double TextCursor::real(const char* what) {
 }
 
 double TextCursor::coordinate(const char* what) {
+  const std::string_view t = peek();  // the token as written (a view into the text)
   const double v = real(what);
-  if (std::abs(v) > kMaxCoordinate) fail(std::string(what) + " " + num(v) + " is beyond +-" + num(kMaxCoordinate));
+  if (std::abs(v) > kMaxCoordinate) fail(std::string(what) + " " + quote(t) + " is beyond +-" + num(kMaxCoordinate));
   return v;
 }
 

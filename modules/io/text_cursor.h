@@ -50,7 +50,7 @@ class TextCursor {
   std::int64_t count(const char* what, std::size_t min_bytes);
   // A finite floating-point token.
   double real(const char* what);
-  // A real within +-kMaxCoordinate (modules/base/coordinates.h), else "<what> X is beyond +-1e12".
+  // A real within +-kMaxCoordinate (modules/base/coordinates.h), else "<what> 'X' is beyond +-1e+12".
   double coordinate(const char* what);
   // The token `keyword` itself.
   void expect(const char* keyword);

@@ -3,6 +3,7 @@
 // VTK 9's Lagrange cells; see vtu_writer.h for the choices.
 #include "modules/io/vtu_writer.h"
 
+#include <algorithm>
 #include <string_view>
 
 #include "modules/io/atomic_file.h"
@@ -254,22 +255,31 @@ void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, c
 
 template <int Dim>
 bool write_boundary_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path) {
-  // The boundary of what write_vtu writes, on its own nodes (renumbered, order kept).
+  // The boundary of what write_vtu writes, checked against the mesh, then written on the nodes it
+  // uses (renumbered in their order; the other nodes are not copied).
+  const bool facets = !mesh.cells.empty();
+  if (!facets && Dim != 3) return false;
+  const std::vector<CellBlock>& source = facets ? mesh.boundary : mesh.curves;
+  const int dim = facets ? Dim - 1 : 1;
+  std::size_t cells = 0;
+  for (const CellBlock& b : source) cells += b.size();
+  if (cells == 0) return false;
+  (void)vtu_blocks(mesh, source, dim, path, {});
+  std::vector<NodeId> used;
+  for (const CellBlock& b : source) used.insert(used.end(), b.connectivity.begin(), b.connectivity.end());
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
   HybridMesh<Dim> part;
-  part.nodes = mesh.nodes;
   part.tags = mesh.tags;
-  int dim = Dim - 1;
-  if (!mesh.cells.empty()) {
-    part.boundary = mesh.boundary;
-  } else if (Dim == 3) {
-    part.curves = mesh.curves;
-    dim = 1;
-  }
-  if (part.boundary.empty() && part.curves.empty()) return false;
-  compact_nodes(part);
-  const std::vector<CellBlock>& blocks = part.boundary.empty() ? part.curves : part.boundary;
+  part.nodes.reserve(used.size());
+  for (NodeId v : used) part.nodes.push_back(mesh.nodes[static_cast<std::size_t>(v)]);
+  std::vector<CellBlock>& blocks = facets ? part.boundary : part.curves;
+  blocks = source;
   CellField tag{"tag", {}};
-  for (const CellBlock& b : blocks) tag.values.insert(tag.values.end(), b.size(), static_cast<double>(b.tag + 1));
+  for (CellBlock& b : blocks) {
+    for (NodeId& v : b.connectivity) v = static_cast<NodeId>(std::lower_bound(used.begin(), used.end(), v) - used.begin());
+    tag.values.insert(tag.values.end(), b.size(), static_cast<double>(b.tag + 1));
+  }
   write_blocks(part, blocks, dim, path, {tag});
   return true;
 }

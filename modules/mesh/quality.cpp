@@ -347,13 +347,14 @@ namespace {
 // The report's extra keys as a tree: "a.b.c" -> {"a": {"b": {"c": value}}}, groups and keys in
 // the order they were first added.
 struct JsonTree {
-  std::string value;  // leaf
-  std::vector<std::pair<std::string, JsonTree>> children;
+  std::string name;                // the key in its parent
+  std::string value;               // leaf
+  std::vector<JsonTree> children;  // (not pairs holding a JsonTree: Clang rejects the incomplete pair)
   JsonTree& child(const std::string& k) {
-    for (auto& [name, c] : children)
-      if (name == k) return c;
-    children.emplace_back(k, JsonTree{});
-    return children.back().second;
+    for (JsonTree& c : children)
+      if (c.name == k) return c;
+    children.push_back(JsonTree{k, {}, {}});
+    return children.back();
   }
   void insert(const std::string& key, const std::string& v) {
     const auto dot = key.find('.');
@@ -367,7 +368,7 @@ struct JsonTree {
     if (children.empty()) return value;
     std::string out = "{";
     for (std::size_t k = 0; k < children.size(); ++k)
-      out += (k ? ", " : "") + json_string(children[k].first) + ": " + children[k].second.text();
+      out += (k ? ", " : "") + json_string(children[k].name) + ": " + children[k].text();
     return out + "}";
   }
 };
@@ -429,7 +430,7 @@ std::string report_json(const QualityReport& r) {
   // Extra sections: dotted keys nest, "a.b.c" under "a" then "b" (groups in name order).
   JsonTree tree;
   for (const auto& [k, v] : r.extra) tree.insert(k, v);
-  for (const auto& [g, child] : tree.children) s << "  " << json_string(g) << ": " << child.text() << ",\n";
+  for (const JsonTree& group : tree.children) s << "  " << json_string(group.name) << ": " << group.text() << ",\n";
   s << "  \"timings_s\": {";
   for (std::size_t k = 0; k < r.timings_s.size(); ++k)
     s << (k ? ", " : "") << json_string(r.timings_s[k].first) << ": " << json_number(r.timings_s[k].second);

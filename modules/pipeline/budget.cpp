@@ -9,6 +9,7 @@
 
 #include "modules/base/error.h"
 #include "modules/base/format.h"
+#include "modules/geometry/predicates.h"
 #include "modules/metric/metric_integrals.h"
 
 namespace plaf {
@@ -45,14 +46,7 @@ struct LoopPolygon {
   }
   bool contains(const Eigen::Vector2d& x) const {
     if ((x.array() < lo.array()).any() || (x.array() > hi.array()).any()) return false;
-    bool in = false;
-    for (std::size_t i = 0, j = points.size() - 1; i < points.size(); j = i++) {
-      const Eigen::Vector2d& a = points[i];
-      const Eigen::Vector2d& b = points[j];
-      if ((a.y() > x.y()) != (b.y() > x.y()) && x.x() < (b.x() - a.x()) * (x.y() - a.y()) / (b.y() - a.y()) + a.x())
-        in = !in;
-    }
-    return in;
+    return inside_polygon(x, points);
   }
 };
 
@@ -78,15 +72,25 @@ void check_section_budget(const RunState<2>& s, int rows) {
           return rho >= a.r_inner && rho <= a.r_outer && theta <= phi;
         },
         metric, 20000);
-    check_limit(c, "cells", area, "the annulus");
+    check_limit(c, "cells", area * (a.triangles ? 2 : 1), "the annulus");  // two triangles per quadrilateral
     check_limit(c, "nodes", area * q * q, "the annulus' order-" + std::to_string(c.order) + " cells");
     return;
   }
   // The loops' curve elements: bodies (walls) and the farfield.
-  double curve = 0;
-  for (const GeometryLoop& l : s.geometry.loops) curve += metric_length(l.loop, metric);
-  check_limit(c, "surface_elements", curve, "the curves of the bodies and the farfield");
-  check_limit(c, "nodes", curve * q * r, "the order-" + std::to_string(c.order) + " curves" + times);
+  double curve = 0, wall = 0;
+  for (const GeometryLoop& l : s.geometry.loops) {
+    const double n = metric_length(l.loop, metric);
+    curve += n;
+    if (l.kind == BoundaryKind::Wall) wall += n;
+  }
+  if (rows > 1) {
+    // The extruded wall: two order-Q triangles per curve element and row (extrude_front.h).
+    check_limit(c, "surface_elements", 2 * wall * r, "the extruded wall's triangles" + times);
+    check_limit(c, "nodes", 2 * wall * r * q * q / 2, "the extruded wall's order-" + std::to_string(c.order) + " triangles");
+  } else {
+    check_limit(c, "surface_elements", curve, "the curves of the bodies and the farfield");
+    check_limit(c, "nodes", curve * q, "the order-" + std::to_string(c.order) + " curves");
+  }
   // The domain (a fill): inside the farfield, outside the bodies; its layers are counted in it
   // as far as the tree resolves them, and by the layer stage from its columns.
   if (!c.fill.enabled()) return;

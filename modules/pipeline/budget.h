@@ -3,14 +3,19 @@
 // will make from the metric (modules/metric/metric_integrals.h: an element per unit of metric
 // length, area or volume) and stops with a ConfigError naming the config, the estimate and the
 // `limits:` key to raise (RunConfig::limits, run_config.h) when the prediction exceeds it. So a
-// run sized beyond the machine fails in seconds instead of running for minutes into gigabytes.
+// run sized beyond the machine fails early instead of running for minutes into gigabytes: the 2D
+// checks and the 3D surface's before anything is meshed, the 3D layers' and fill's once the
+// stages before them (within their own budgets) are done; the fill's counts the layers too.
 // Where the stages check:
 //   - 2D (and an extruded section, times its rows): after the metric, before the surface mesh
 //     (check_section_budget): the loops' curve elements, and the cells of the domain inside the
 //     farfield and outside the bodies (or of the annulus);
-//   - 3D surface (surface3d/plugins.cpp): the input or initial triangulation's metric area;
+//   - 3D surface (surface3d/plugins.cpp): an analytic body's metric area on a coarse copy before
+//     its initial triangulation is built, then the input or initial triangulation's, with the
+//     curvature sizes;
 //   - 3D layers (layers/plugins.cpp): the wall triangles times the layers' maximum count;
-//   - 3D fill (volume/plugins.cpp): the metric volume inside the farfield.
+//   - 3D fill (volume/plugins.cpp): the metric volume inside the farfield, plus the layers' cells.
+// An estimate that comes out NaN (a metric without a value somewhere) is not checked.
 // Nodes are counted with the high-order ones, per cell of order q: q^2/2 per triangle, q^2 per
 // quadrilateral, q^3/6 per tetrahedron, q^3/2 per prism, q per curve element.
 #pragma once

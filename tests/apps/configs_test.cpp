@@ -682,7 +682,10 @@ TEST_CASE("configs: each .vtu holds one dimension, the boundary its own file, MS
 TEST_CASE("configs: VTK's surface filter takes both .vtu files of a 3D surface with curves at subdivision 3") {
   // VTK 9.1's vtkDataSetSurfaceFilter crashes on nonlinear 1D cells at a nonlinear subdivision
   // level >= 2 (what ParaView uses to draw curved cells); plaf's files hold none.
-  if (std::system("/usr/bin/python3 -c 'import vtk' > /dev/null 2>&1") != 0) return;
+  if (std::system("/usr/bin/python3 -c 'import vtk' > /dev/null 2>&1") != 0) {
+    MESSAGE("skipped: no Python vtk module (python3-vtk9)");
+    return;
+  }
   const TempDir d("configs_vtk_surface");
   int checked = 0;
   for (const Run& r : shipped_runs()) {

@@ -539,7 +539,7 @@ TEST_CASE("read_surface: coordinates beyond +-1e12 are refused in every format, 
                                       "end_header\n0 0 0\n1.5e308 0 0\n0 1 0\n3 0 1 2\n"),
                        doctest::Contains("far.ply: vertex 1 has a coordinate beyond +-1e+12"), InputError);
   CHECK_THROWS_WITH_AS(bad("far.fmt", "1\n2 2 1\n0 1 0 -1.5e308\n0 0 1 1\n0 0 0 0\n"),
-                       doctest::Contains("far.fmt:3: x coordinate -1.5e+308 is beyond +-1e+12"), InputError);
+                       doctest::Contains("far.fmt:3: x coordinate '-1.5e308' is beyond +-1e+12"), InputError);
   // At the bound itself a coordinate is taken.
   CHECK_NOTHROW(bad("edge.obj", "v 0 0 0\nv 1e12 0 0\nv 0 1e12 0\nf 1 2 3\n"));
 }
