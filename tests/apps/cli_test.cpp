@@ -313,7 +313,7 @@ TEST_CASE("cli: the outputs are one set: a writer that fails half-way, or a stop
     const fs::path err = d / "killed.err";
     const std::string cmd = "sh -c '" + std::string(PLAF_EXE) + " run " + big.string() + " --out " + out.string() +
                             " > /dev/null 2> " + err.string() + " & p=$!; i=0; while ! grep -q \"quality:\" " +
-                            err.string() + " && [ $i -lt 3000 ]; do sleep 0.01; i=$((i+1)); done; sleep " + extra +
+                            err.string() + " && [ $i -lt 20000 ]; do sleep 0.01; i=$((i+1)); done; sleep " + extra +
                             "; kill -TERM $p; wait $p; exit $?'";
     const int status = std::system(cmd.c_str());
     const std::string log = read_text(err);
