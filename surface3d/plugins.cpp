@@ -308,9 +308,19 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
       // Gradation (graded_metric.h): the raw curvature sizes H-corrected on the mesh they gave,
       // then the input remeshed on the graded field, which the run measures from here on (a second
       // pass over the first one's result instead would lose 4 % of the unit edges on the E387 wing).
-      TriangleSoup soup = soup_from_surface(surface);
-      std::vector<Eigen::Vector3d>& points = soup.points;
-      std::vector<std::array<int, 3>>& tris = soup.triangles;
+      // (by vertex index, deleted vertices kept in place: soup_from_surface would renumber them)
+      std::vector<Eigen::Vector3d> points(surface.mesh.n_vertices());
+      std::vector<std::array<int, 3>> tris;
+      for (const auto v : surface.mesh.vertices()) {
+        const auto& q = surface.mesh.point(v);
+        points[static_cast<std::size_t>(v.idx())] = Eigen::Vector3d(q[0], q[1], q[2]);
+      }
+      for (const auto f : surface.mesh.faces()) {
+        std::array<int, 3> t{};
+        int k = 0;
+        for (const auto v : surface.mesh.fv_range(f)) t[static_cast<std::size_t>(k++)] = v.idx();
+        tris.push_back(t);
+      }
       auto graded = std::make_unique<GradedMetricField>(std::move(s.surface_metric), points, tris, sp.gradation);
       std::ostringstream g;
       g << "{\"beta\": " << json_number(sp.gradation) << ", \"support_points\": " << points.size()
