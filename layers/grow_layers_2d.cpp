@@ -155,8 +155,13 @@ class LoopLayerBuilder {
         const double h = v.h * scale_[i];
         v.normals = {m};
         v.tops = {c + h / std::max(m.dot(n_left), 0.1) * m};
-      } else if (turning_[i] < -corner_rad_) {
-        // Convex (right turn), Fig. 4: normals dividing the corner angle equally.
+      } else if (turning_[i] < -corner_rad_ && first_layer_) {
+        // Convex (right turn), Fig. 4: normals dividing the corner angle equally. On the first
+        // layer only, as in 3D (grow_layers_3d.h, step 6): a fan's outer vertices X_k turn by up
+        // to fan_angle_deg, and fanning them again on every later layer multiplied tiny kites at
+        // the corner until they folded (NLR 7301's blunt trailing edge at h0 = 1e-5 c). A later
+        // front's convex vertex grows along its averaged normal, which lies inside the cone of
+        // its panels' normals, so both neighbouring quadrilaterals open outward.
         v.kind = VertexTop::Kind::Convex;
         const int m =
             std::max(1, static_cast<int>(std::ceil(-turning_[i] / (p_.fan_angle_deg * M_PI / 180) - 1e-9)));

@@ -6,8 +6,10 @@
 //  1. normals at every node, linear and high-order: the reference normal carried by the front on
 //     the first layer (CurvedFront::normals), the average of the adjacent panel normals afterwards
 //     (Sec. II.B);
-//  2. corners by the turning angle at linear nodes: a right turn (convex) beyond the threshold
-//     gets a fan of extra normals dividing the corner angle, each pair of adjacent normals
+//  2. corners by the turning angle at linear nodes: on the first layer (the wall's corners; a
+//     later front's convex vertex, e.g. a kite's outer vertex, grows along its averaged normal,
+//     as in 3D, so fans do not multiply layer after layer) a right turn (convex) beyond the
+//     threshold gets a fan of extra normals dividing the corner angle, each pair of adjacent normals
 //     bounding one element whose outer edges come from intersecting perpendiculars at the normal
 //     end points, high-order nodes uniform in the bilinear quad (Fig. 4); a left turn (concave)
 //     gets one merged normal (grow_layers_2d.cpp says why);

@@ -314,3 +314,32 @@ TEST_CASE("layers: close_linear ends a front that is still curved with one valid
       for (int k = 1; k < 3; ++k) CHECK((r.mesh.nodes[n[k + 1]] - (a + (b - a) * k / 3.0)).norm() < 1e-12);
     }
 }
+
+TEST_CASE("layers: fans grow on the first layer only: NLR 7301's blunt trailing edge at h0 1e-5 keeps its cell count and stays valid") {
+  // Its two 90 degree trailing-edge corners used to fan again at every kite vertex, multiplying
+  // kites until layer 5 folded (issue 12).
+  BodyContour c = read_body_contour(PLAF_DATA "/airfoils/nlr7301.dat");
+  const Geometry2D geo = body(c.points, c.corners);
+  WallLawParams w;
+  w.h0 = 1e-5;
+  w.h_max = 2;
+  w.h_wall_max = 0.04;
+  w.curvature_factor = 0.3;
+  w.h_corner = 0.005;
+  const WallPowerLawField metric({geo.loops[0].loop}, w);
+  const CurvedFront<2> front = mesh_curves(geo, metric, 3);
+  layers::LayerParams p;
+  p.max_layers = 12;
+  const LayerResult<2> r = layers::grow_layers(front, metric, p);
+  REQUIRE(r.layers.size() == 12);
+  CHECK(r.events.empty());
+  // The trailing edge's fans: k kites add k cells to the first layer and 2k elements to its
+  // front, so the second layer has k more cells than the first, and every later layer as many.
+  const std::size_t kites = r.layers[0].cells - front.loops[0].size();
+  CHECK(kites >= 4);  // two corners of about 90 degrees, at most 45 degrees per kite
+  CHECK(r.layers[1].cells == r.layers[0].cells + kites);
+  for (std::size_t k = 2; k < r.layers.size(); ++k) CHECK(r.layers[k].cells == r.layers[1].cells);
+  const QualityReport qr = check(r);
+  CHECK(qr.cells_invalid == 0);
+  CHECK(qr.conformity.ok);
+}
