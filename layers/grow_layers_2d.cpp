@@ -326,6 +326,7 @@ class LoopLayerBuilder {
         tops[static_cast<std::size_t>(k)] = a_top + (static_cast<double>(k) / q_) * (b_top - a_top);
     else
       clipped = attenuate(tops, a_top, b_top, heights, f_atten_);
+    if (q_ == 1 && std::isfinite(f_atten_)) clipped = std::max(clipped, chord_sag_need(e, a_top, b_top));
     if (clipped > 0) out_.built.linear = false;
     out_.built.max_clipped_rel = std::max(out_.built.max_clipped_rel, clipped);
     const NodeId* base = el(e);
@@ -343,6 +344,25 @@ class LoopLayerBuilder {
     std::vector<NodeId> inner;
     for (int u = 1; u < q_; ++u) inner.push_back(g_at(u, q_));
     emit_front(g_at(0, q_), g_at(q_, q_), inner, iv, q_);
+  }
+
+  // Order 1 (no high-order node carries the wall's curvature): the chords of a linear front lie
+  // off the curve they stand for by their sag, about L tan(theta / 4) / 2 for a chord of length
+  // L between end normals theta apart (a circular arc), while the metric is the curve's (its wall
+  // distance is to the splines). Where the layer height h is below the sag the metric seen from the
+  // front is not the front's own (a first layer of h0 = 1e-6 c on chords sagging 1e-5 c puts its
+  // chords' midpoints inside the wall law's finest sizes), and the advancing front fed with it
+  // ran away in slivers. So at order 1 an element counts as curved, like an attenuated one of
+  // higher order (Fig. 5), until sag <= f_atten h; the returned need is sag / h (0 once met), and
+  // with stop_when_linear the layers go on until every chord is that flat against its height.
+  double chord_sag_need(std::size_t e, const Vec& a_top, const Vec& b_top) const {
+    const Vec& na = vt_[e].normals.back();
+    const Vec& nb = vt_[(e + 1) % ne_].normals.front();
+    const double theta = std::abs(signed_angle(na, nb));
+    const double sag = 0.5 * (b_top - a_top).norm() * std::tan(0.25 * theta);
+    const double h = std::min((a_top - at(e)).norm(), (b_top - at(e + 1)).norm());
+    if (!(h > 0) || sag <= f_atten_ * h) return 0;
+    return sag / h;
   }
 
   HybridMesh<2>& mesh_;
@@ -396,14 +416,60 @@ class LoopFronts final : public FrontGrower<2> {
     const std::size_t mine = segs.size();
     for (std::size_t other = 0; other < loops_.size(); ++other)
       if (other != part) append_polyline(loops_[other], mesh_.nodes, q_, false, segs);
-    return front_crossings(std::move(segs), mine);
+    std::vector<std::size_t> hits = front_crossings(std::move(segs), mine);
+    const std::vector<std::size_t> folds = unclosable_elements(part);
+    hits.insert(hits.end(), folds.begin(), folds.end());
+    std::sort(hits.begin(), hits.end());
+    hits.erase(std::unique(hits.begin(), hits.end()), hits.end());
+    return hits;
+  }
+  // The new front's elements that a straight-topped closing layer could not cover: a closing
+  // cell's sides run along its end columns and its top is the chord lifted, so its Jacobian keeps
+  // its sign for a tall enough top only where the base advances along its chord, x'(xi) . (b - a)
+  // > 0 (the element is a graph over its chord). An element that turns back (an S or a hook; seen
+  // at a leading edge after many shrunk layers, whose closing cells stayed invalid at any height)
+  // grown from a base that did not is refused like a crossing, so a front that could be closed
+  // stays closable (layer_core.h). A wall element that is no graph (one element around a cap
+  // narrower than the mesh) is the geometry's; its layers are not held to it.
+  std::vector<std::size_t> unclosable_elements(std::size_t part) const {
+    std::vector<std::size_t> out;
+    if (q_ < 2) return out;
+    const FrontLoop& top = pending_.top;
+    const FrontLoop& base = loops_[part];
+    const std::size_t npe = static_cast<std::size_t>(q_ + 1);
+    for (std::size_t e = 0; e < top.size(); ++e) {
+      if (pending_.top_span[e] != q_) continue;  // a fan kite's or a transition's: straight
+      const std::size_t b = pending_.top_seq[e] / static_cast<std::size_t>(q_);
+      if (!advances_along_chord(top.elements.data() + e * npe) && advances_along_chord(base.elements.data() + b * npe))
+        out.push_back(e);
+    }
+    return out;
+  }
+  // Whether the element's tangent keeps a component along its chord of at least a tenth of the
+  // chord (the mean), sampled at 4Q + 1 points.
+  bool advances_along_chord(const NodeId* n) const {
+    const LagrangeElement& line = lagrange_element(CellType::Line, q_);
+    double dphi[max_order + 1];
+    const Vec chord = mesh_.nodes[n[1]] - mesh_.nodes[n[0]];
+    const double c2 = chord.squaredNorm();
+    if (!(c2 > 0)) return false;
+    const int samples = 4 * q_;
+    for (int k = 0; k <= samples; ++k) {
+      const double xi = static_cast<double>(k) / samples;
+      line.eval_grad(&xi, dphi);
+      Vec d = Vec::Zero();
+      for (int i = 0; i <= q_; ++i) d += dphi[i] * mesh_.nodes[n[i]];
+      if (d.dot(chord) < 0.1 * c2) return false;
+    }
+    return true;
   }
   Vec front_point(std::size_t e) const override {
     return mesh_.nodes[pending_.top.elements[e * static_cast<std::size_t>(q_ + 1)]];
   }
-  // Heights halve over the failing cell's or element's span of the node sequence and one node
-  // beyond either end.
-  void shrink(std::size_t part, const std::vector<LayerFailure>& failures, std::vector<double>& scale) const override {
+  // Heights are scaled over the failing cell's or element's span of the node sequence and one
+  // node beyond either end.
+  void rescale(std::size_t part, const std::vector<LayerFailure>& failures, double factor,
+               std::vector<double>& scale) const override {
     const std::size_t n = num_sites(part);
     for (const LayerFailure& f : failures) {
       std::size_t first;
@@ -418,7 +484,7 @@ class LoopFronts final : public FrontGrower<2> {
         first = pending_.triangle_seq[f.index];
         span = q_;
       }
-      for (int s2 = -1; s2 <= span + 1; ++s2) scale[(first + n - 1 + static_cast<std::size_t>(s2 + 1)) % n] *= 0.5;
+      for (int s2 = -1; s2 <= span + 1; ++s2) scale[(first + n - 1 + static_cast<std::size_t>(s2 + 1)) % n] *= factor;
     }
   }
   void accept(std::size_t part) override { loops_[part] = std::move(pending_.top); }

@@ -18,7 +18,15 @@
 //  4. transition triangles join the elements of stopped nodes (isotropic_stop: node) to their
 //     moving neighbours;
 //  5. the collision test: the new front may cross neither another loop's front nor itself
-//     (front_crossings_2d.h); the heights are shrunk around the crossing elements.
+//     (front_crossings_2d.h), and no new element may turn back along its chord where its base
+//     did not (a straight-topped closing layer could not cover it); the heights are shrunk around
+//     such elements;
+//  6. at order 1, where no high-order node carries the wall's curvature, an element counts as
+//     curved (its attenuation need is sag / h) until its chord's sag is at most f_atten times the
+//     layer height, so stop_when_linear does not hand the fill a front whose chords miss the
+//     curve the metric is measured from by more than the sizes there.
+// The guarantee (with close_linear, layer_core.h): every accepted front can be closed, each
+// closing cell's top rising until it is certified, so the fill starts from a linear front.
 #pragma once
 
 #include <vector>

@@ -1273,8 +1273,10 @@ class SurfaceFronts final : public FrontGrower<3> {
   Vec front_point(std::size_t e) const override {
     return mesh_.nodes[static_cast<std::size_t>(pending_.top[static_cast<std::size_t>(pending_front().face(e)[0])])];
   }
-  // Heights halve on the nodes of the old faces behind the failures and of every face around them.
-  void shrink(std::size_t part, const std::vector<LayerFailure>& failures, std::vector<double>& scale) const override {
+  // Heights are scaled on the nodes of the old faces behind the failures and of every face around
+  // them.
+  void rescale(std::size_t part, const std::vector<LayerFailure>& failures, double factor,
+               std::vector<double>& scale) const override {
     const Part& p = parts_[part];
     std::vector<std::uint8_t> halve(p.size(), 0);
     for (const LayerFailure& fl : failures) {
@@ -1290,7 +1292,7 @@ class SurfaceFronts final : public FrontGrower<3> {
       }
     }
     for (std::size_t l = 0; l < p.size(); ++l)
-      if (halve[l]) scale[l] *= 0.5;
+      if (halve[l]) scale[l] *= factor;
   }
   void accept(std::size_t part) override {
     grown_[part] = 1;

@@ -71,10 +71,13 @@ class LayerAttempts {
       : g_(grower), p_(p), q_(order), r_(r) {}
 
   // False when the layer still fails after the shrink attempts (its nodes are then rolled back).
+  // invalid_factor: what the heights around invalid cells are multiplied by before the next
+  // attempt (0.5: shrink; a closing layer raises them), those around crossings always halve.
   bool run(std::size_t part, int layer, std::vector<double>& scale, const std::vector<std::uint8_t>& stopped,
-           double f_atten, LayerStats& st, BuiltLayer& built) {
+           double f_atten, LayerStats& st, BuiltLayer& built, double invalid_factor = 0.5, int attempts = -1) {
     const std::array<CellType, 2> types = g_.cell_types();
-    for (int attempt = 0; attempt <= p_.shrink_attempts; ++attempt) {
+    if (attempts < 0) attempts = p_.shrink_attempts;
+    for (int attempt = 0; attempt <= attempts; ++attempt) {
       const std::size_t nodes_before = r_.mesh.nodes.size();
       built = g_.build(part, layer, scale, stopped, f_atten);
       std::vector<LayerFailure> failures;
@@ -114,11 +117,12 @@ class LayerAttempts {
       }
       if (failures.empty()) return true;
       r_.mesh.nodes.resize(nodes_before);
-      g_.shrink(part, failures, scale);
+      const double factor = last_failed_on_cells_ ? invalid_factor : 0.5;
+      g_.rescale(part, failures, factor, scale);
       st.shrinks += failures.size();
       r_.events.push_back("layer " + std::to_string(layer) + ", " + part_name(part) + ": " +
                           std::to_string(failures.size()) + " " + why + " (first at " + point_text<Dim>(where) +
-                          "), heights halved around them");
+                          "), heights " + (factor < 1 ? "halved" : "raised x" + num(factor)) + " around them");
     }
     return false;
   }
@@ -173,6 +177,7 @@ template <int Dim>
 class Growth {
  public:
   static constexpr int kAttenuationRetries = 4;
+  static constexpr int kClosingAttempts = 8;
   Growth(FrontGrower<Dim>& g, const MetricField<Dim>& metric, const LayerParams& p, int q, LayerResult<Dim>& r)
       : g_(g), metric_(metric), p_(p), q_(q), r_(r), types_(g.cell_types()),
         blocks_{CellBlock{types_[0], q, -1, {}}, CellBlock{types_[1], q, -1, {}}}, parts_(g.num_parts()),
@@ -243,10 +248,13 @@ class Growth {
 
   // The fill (Sec. II.C) starts from a linear front. A part that stopped, or ran out of layers,
   // while its front is still curved gets one closing layer with straight tops (unlimited
-  // attenuation), tall enough to clear its curved front: heights of 1.5, 3, then 6 times the
-  // attenuation move still needed (at least the metric height). The paper stops the layers once
-  // the front is linear and does not meet this case; a taller last cell is the robust choice (a
-  // valid mesh over metric conformity there).
+  // attenuation), tall enough to clear its curved front. First per cell: heights start at the
+  // metric's, and those around a cell still invalid (its straight top too low over its base's
+  // sag) double, those around a crossing halve, up to kClosingAttempts builds (so a cell can
+  // rise to 2^kClosingAttempts metric heights where it needs to and nowhere else). Then, as a
+  // last resort, the whole part at 1.5, 3 and 6 times its attenuation need (at least the metric
+  // height). The paper stops the layers once the front is linear and does not meet this case; a
+  // taller last cell is the robust choice (a valid mesh over metric conformity there).
   void close() {
     LayerStats st;
     st.f_atten = std::numeric_limits<double>::infinity();  // straight tops: unlimited attenuation
@@ -258,11 +266,13 @@ class Growth {
       if (linear_[part]) continue;
       const std::vector<std::uint8_t> stopped(g_.num_stop_points(part), 0);
       bool closed = false;
-      for (double factor : {1.5, 3.0, 6.0}) {
+      for (double factor : {0.0, 1.5, 3.0, 6.0}) {
+        const bool per_cell = factor == 0;
         std::vector<double> scale(g_.num_sites(part), std::max(1.0, factor * clip_[part]));
         BuiltLayer built;
         const std::size_t nodes_before = r_.mesh.nodes.size();
-        if (!attempts_.run(part, st.layer, scale, stopped, std::numeric_limits<double>::infinity(), st, built))
+        if (!attempts_.run(part, st.layer, scale, stopped, std::numeric_limits<double>::infinity(), st, built,
+                           per_cell ? 2.0 : 0.5, per_cell ? kClosingAttempts : -1))
           continue;
         if (!built.linear) {
           r_.mesh.nodes.resize(nodes_before);
@@ -270,8 +280,10 @@ class Growth {
         }
         append(blocks_, built);
         add_heights(built, p_, st);
+        const auto [lo, hi] = std::minmax_element(scale.begin(), scale.end());
         r_.events.push_back("layer " + std::to_string(st.layer) + ", " + attempts_.part_name(part) +
-                            ": a closing layer with straight tops (heights x" + std::to_string(scale[0]) + ")");
+                            ": a closing layer with straight tops (heights x" + num(*lo) +
+                            (*hi > *lo ? " to x" + num(*hi) : std::string()) + ")");
         g_.accept(part);
         linear_[part] = closed = any = true;
         break;

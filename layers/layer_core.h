@@ -18,7 +18,10 @@
 //     layer); a part that still fails stops growing (an event);
 //  4. the per-layer table (LayerStats) and the events record what happened.
 // With close_linear, a part that stops while its front is still curved gets one closing layer
-// with straight tops (unlimited attenuation), so the fill starts from a linear front.
+// with straight tops (unlimited attenuation), so the fill starts from a linear front: its heights
+// start at the metric's and double around every cell still invalid (a straight top too low over
+// its curved base's sag) and halve around crossings, up to closing_attempts builds, then the
+// whole part's heights are raised to 1.5, 3 and 6 times its attenuation need (layer_core.cpp).
 #pragma once
 
 #include <array>
@@ -132,8 +135,10 @@ class FrontGrower {
   virtual std::vector<std::size_t> collisions(std::size_t part) const = 0;
   // A point of element e of the last build's new front (for events).
   virtual Vec front_point(std::size_t e) const = 0;
-  // Halves the heights around the failures of the last build.
-  virtual void shrink(std::size_t part, const std::vector<LayerFailure>& failures, std::vector<double>& scale) const = 0;
+  // Multiplies the heights around the failures of the last build by `factor` (0.5: a shrink; 2: a
+  // closing layer's cell too low for the sag of its curved base).
+  virtual void rescale(std::size_t part, const std::vector<LayerFailure>& failures, double factor,
+                       std::vector<double>& scale) const = 0;
   // The last build becomes the part's front.
   virtual void accept(std::size_t part) = 0;
 };

@@ -3,7 +3,7 @@
 # Runs as root (as on the project's machines) or through sudo. Does nothing when all are present.
 set -euo pipefail
 packages=(build-essential cmake libeigen3-dev libopenmesh-dev libtet1.5-dev libyaml-cpp-dev
-          doctest-dev libcairo2-dev)
+          doctest-dev libcairo2-dev python3)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -343,3 +343,36 @@ TEST_CASE("layers: fans grow on the first layer only: NLR 7301's blunt trailing 
   CHECK(qr.cells_invalid == 0);
   CHECK(qr.conformity.ok);
 }
+
+TEST_CASE("layers: at order 1 a layer counts as curved until its chords' sag is within f_atten of its height") {
+  // A circle of radius 1 in about 63 straight elements: each chord (L = 0.1) sags 1.2e-3 off the
+  // circle the metric is measured from. With h0 = 1e-5 and g = 1.2 the layers go on until
+  // h >= sag / f_atten = 6e-3, at about layer 36, instead of stopping after the first (issue 12:
+  // a linear front 1e-6 off a wall its chords miss by 1e-5 sent the fill into slivers).
+  const CircleCase cc(1.0, 64, 1e-5, 1.2);
+  const CurvedFront<2> front = mesh_curves(cc.geo, cc.metric, 1);
+  const std::size_t ne = front.loops[0].size();
+  layers::LayerParams p;
+  p.max_layers = 60;
+  p.stop_when_linear = true;
+  const LayerResult<2> r = layers::grow_layers(front, cc.metric, p);
+  REQUIRE(r.linear_after > 1);
+  // The largest sag over height of the first layer is about 1.2e-3 / 1e-5.
+  CHECK(r.layers[0].max_clipped_rel > 50);
+  // At the layer it stops, the outer chords sag by at most f_atten times the last height.
+  const FrontLoop& l = r.outer.loops[0];
+  double worst = 0;
+  for (std::size_t e = 0; e < l.size(); ++e) {
+    const NodeId* n = r.outer.element(l, e);
+    const Vector2d a = r.mesh.nodes[n[0]], b = r.mesh.nodes[n[1]];
+    // The outer front is a polygon about a circle of radius |a|: its sag over the chord.
+    const double rad = 0.5 * (a.norm() + b.norm()), half = 0.5 * (b - a).norm();
+    worst = std::max(worst, (rad - std::sqrt(rad * rad - half * half)) / r.layers.back().height_min);
+  }
+  CHECK(worst <= p.f_atten * 1.05);
+  CHECK(r.layers[static_cast<std::size_t>(r.linear_after) - 2].max_clipped_rel > 0);  // the layer before was not
+  CHECK(r.linear_after >= 30);
+  CHECK(r.linear_after <= 42);
+  CHECK(ne > 50);  // chords of about 0.1, the wall size
+  CHECK(check(r).ok());
+}
