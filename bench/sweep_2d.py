@@ -29,7 +29,7 @@ row failed. Outputs of passing runs are deleted unless --keep.
 
     python3 bench/sweep_2d.py [--plaf build/apps/plaf] [--out sweep_out] [--jobs 2]
                               [--subset] [--keep] [--timeout 900]
-                              [--extra 30p30n=../shared/data/airfoils/30p30n_slat.dat,...]
+                              [--extra 30p30n=DIR/30p30n_slat.dat,DIR/30p30n_main.dat,...]
 
 --subset runs the ~20 representative rows of SUBSET (registered in ctest).
 """

@@ -300,7 +300,7 @@ class LoopLayerBuilder {
       const std::size_t i = iv + k;
       const double s = static_cast<double>(k) / q_;
       heights[static_cast<std::size_t>(k)] =
-          (p_.high_order_heights == layers::HighOrderHeights::Interpolated ? (1 - s) * vt_[e].h + s * vt_[(e + 1) % ne_].h
+          (p_.high_order_heights != layers::HighOrderHeights::Own ? (1 - s) * vt_[e].h + s * vt_[(e + 1) % ne_].h
                                                                            : height(at(i), normal_[i])) *
           scale_[i];
       tops[static_cast<std::size_t>(k)] = at(i) + heights[static_cast<std::size_t>(k)] * normal_[i];

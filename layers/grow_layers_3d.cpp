@@ -892,6 +892,34 @@ class PartLayerBuilder {
   }
 
   // 3-4. Heights, tops (on the symmetry planes), attenuation of the high-order tops.
+  // Order 1: the new front's edges as chords of the surface the metric is measured from, as 2D
+  // does (grow_layers_2d.cpp, chord_sag_need): an edge between directions theta apart sags about
+  // |c| tan(theta / 4) / 2 off it, c the chord's part across the axis d_u x d_v (so a cylinder's
+  // diagonal edge sags as its section's chord); an element counts as curved until every edge's
+  // sag is at most f_atten times the smaller height at its ends. Edges to a fan's arc directions
+  // are straight-sided fan cells' and are skipped. Returns the largest sag / h (0 when met).
+  double chord_sag_need(const Part& nw) const {
+    double need = 0;
+    for (std::size_t f = 0; f < nw.num_faces(); ++f) {
+      const int* fl = nw.face(f);
+      const int nv = nw.face_vertices(f);
+      for (int k = 0; k < nv; ++k) {
+        const Dir& u = dirs_[static_cast<std::size_t>(fl[k])];
+        const Dir& v = dirs_[static_cast<std::size_t>(fl[(k + 1) % nv])];
+        if ((u.fan && !u.normal) || (v.fan && !v.normal)) continue;
+        const Vec axis = u.d.cross(v.d);
+        const double sin_t = axis.norm(), theta = std::atan2(sin_t, u.d.dot(v.d));
+        if (!(sin_t > 1e-12)) continue;
+        Vec c = top_[static_cast<std::size_t>(fl[(k + 1) % nv])] - top_[static_cast<std::size_t>(fl[k])];
+        c -= c.dot(axis / sin_t) * (axis / sin_t);
+        const double sag = 0.5 * c.norm() * std::tan(0.25 * theta);
+        const double h = std::min(dh_[static_cast<std::size_t>(fl[k])], dh_[static_cast<std::size_t>(fl[(k + 1) % nv])]);
+        if (h > 0 && sag > f_atten_ * h) need = std::max(need, sag / h);
+      }
+    }
+    return need;
+  }
+
   void tops() {
     const std::size_t n = part_.size();
     const Part& nw = next();
@@ -964,6 +992,7 @@ class PartLayerBuilder {
       }
       clipped_max = std::max(clipped_max, attenuate<3>(&top_[d], &target, &dh_[d], 1, f_atten_));
     }
+    if (q_ == 1 && std::isfinite(f_atten_)) clipped_max = std::max(clipped_max, chord_sag_need(nw));
     out_.built.max_clipped_rel = clipped_max;
     out_.built.linear = clipped_max == 0;
     // The layer's heights along the vertex columns grown along a normal (a fan's wedge and kite

@@ -11,7 +11,7 @@
 //     smooth_normals: <bool>  smooth the normals of each layer    default: false
 //     high_order_heights: default|own|interpolated  a high-order node's height: its own metric
 //                           height, or its element's vertex heights interpolated (layer_core.h)
-//                           default: own in 2D, interpolated in 3D
+//                           default: interpolated (2D and 3D)
 //     isotropic_stop: off|node|any|all  stop a node where the metric is isotropic there, or the
 //                           loop when it is so at any/all nodes   default: off
 // With a fill after the layers, a loop that stops curved gets a closing layer (layer_core.h).
