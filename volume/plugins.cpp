@@ -9,6 +9,7 @@
 #include "modules/pipeline/stages.h"
 #include "volume/advancing_front_2d.h"
 #include "volume/hybrid_fill3d.h"
+#include "volume/optimize_2d.h"
 
 #include <algorithm>
 #include <limits>
@@ -50,9 +51,24 @@ void register_plugins() {
         .add("advancing_front", [](const ConfigNode& section) -> Stage<2> {
           AdvancingFrontParams p;
           p.max_triangles = static_cast<std::size_t>(section.get_int("max_triangles", 20000000, 1, 2000000000));
-          return [p](RunState<2>& s, StageReport& rep) {
+          OptimizeParams opt;
+          opt.passes = section.get_int("optimize_passes", opt.passes, 0, 50);
+          return [p, opt](RunState<2>& s, StageReport& rep) {
             if (!s.layers) throw MesherError("fill: no front to fill from");
             AdvancingFrontResult fill = advancing_front_fill(s.layers->fill_front, *s.metric, p);
+            const OptimizeStats o = optimize_fill(fill, s.layers->fill_front.nodes.size(), *s.metric, opt);
+            rep.add("optimize_splits", o.splits);
+            rep.add("optimize_swaps", o.swaps);
+            rep.add("optimize_moves", o.moves);
+            rep.add("optimize_quality_min_before", o.quality_min_before);
+            rep.add("optimize_quality_min_after", o.quality_min_after);
+            rep.add("optimize_unit_fraction_before", o.unit_fraction_before);
+            rep.add("optimize_unit_fraction_after", o.unit_fraction_after);
+            rep.line("fill: optimised in the metric: " + std::to_string(o.splits) + " splits, " + std::to_string(o.swaps) +
+                     " swaps, " + std::to_string(o.moves) +
+                     " moves; triangle quality min " + num(o.quality_min_before) + " -> " + num(o.quality_min_after) +
+                     ", unit edges " + num(100 * o.unit_fraction_before) + " % -> " +
+                     num(100 * o.unit_fraction_after) + " %");
             const AdvancingFrontStats& f = fill.stats;
             rep.add("steps", f.steps);
             rep.add("new_points", f.new_points);

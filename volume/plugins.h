@@ -4,6 +4,8 @@
 //                           bodies without layers) and the farfield, with linear cells
 //     type: advancing_front 2D: the metric advancing front (advancing_front_2d.h)   default type
 //     max_triangles: <n>    give up (an error) beyond this many triangles   default: 20000000
+//     optimize_passes: <0..50>  rounds of metric edge splits, swaps and node smoothing after the front,
+//                           the fronts kept (optimize_2d.h; 0: none)        default: 10
 //     type: tetgen          3D: TetGen's tetrahedra between the layers' linear outer front and a
 //                           farfield, with the symmetry planes' regions meshed (hybrid_fill3d.h),
 //                           the default 3D type; needs a layers section (whose front it closes

@@ -16,6 +16,9 @@ namespace {
 using Vec = Eigen::Vector2d;
 using Mat = Eigen::Matrix2d;
 
+// A front node closer than this (metric units) to a new edge counts as on it.
+constexpr double kOnEdge = 1e-6;
+
 bool in_closed_triangle(const Vec& a, const Vec& b, const Vec& c, const Vec& q) {
   return orient2d(a, b, q) >= 0 && orient2d(b, c, q) >= 0 && orient2d(c, a, q) >= 0;
 }
@@ -57,9 +60,18 @@ bool valid_apex(const OccurrenceFront& front, int o, const Apex& c, double min_q
     const int en = front.next(e);
     const NodeId s = front.nd(e), t = front.nd(en);
     const Vec &ps = front.opt(e), &pt_ = front.opt(en);
-    // Front nodes inside or on the triangle.
-    for (const auto& [v, p] : {std::pair{s, &ps}, std::pair{t, &pt_}})
-      if (v != na && v != nb && v != c.node && in_closed_triangle(a, b, x, *p)) ok = false;
+    // Front nodes inside or on the triangle, or so near a new edge that only rounding keeps them
+    // off it (kOnEdge in the metric): a fan's kites put P_k exactly on the line X_k-1 X_k
+    // (Fig. 4), and an edge X_k-1 X_k that rounding let pass left a zero-area pocket the fill
+    // could close only with a flat triangle (E387, h0 5e-3 c, Q2: quality 2e-15, then inverted).
+    for (const auto& [v, p] : {std::pair{s, &ps}, std::pair{t, &pt_}}) {
+      if (v == na || v == nb || v == c.node) continue;
+      if (in_closed_triangle(a, b, x, *p)) ok = false;
+      const Mat& f = front.nm(na).f;
+      if ((!closes_a && point_segment_distance(f * *p, f * a, f * x) < kOnEdge) ||
+          (!closes_b && point_segment_distance(f * *p, f * x, f * b) < kOnEdge))
+        ok = false;
+    }
     if (!ok) return;
     // Front edges crossing or touching the new edges a - c and c - b.
     auto blocks = [&](NodeId u, const Vec& pu) {

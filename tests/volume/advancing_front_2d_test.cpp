@@ -13,6 +13,7 @@
 
 #include "modules/base/error.h"
 #include "modules/geometry/predicates.h"
+#include "volume/optimize_2d.h"
 
 using namespace plaf;
 using volume::AdvancingFrontResult;
@@ -225,4 +226,55 @@ TEST_CASE("advancing front: crossing, touching and mis-oriented loops are Mesher
   few.max_triangles = 10;
   CHECK_THROWS_WITH_AS(volume::advancing_front_fill(square(1, {0, 0}, 10), metric, few),
                        doctest::Contains("max_triangles"), MesherError);
+}
+
+namespace {
+
+// A wall-like field: sizes h_n = 0.01 + 0.3 |y| across the line y = 0 and 0.15 along it, capped
+// at 0.3 (anisotropy up to 15, graded).
+class BandMetric final : public MetricField<2> {
+ public:
+  Metric<2> evaluate(const Vec& x) const override {
+    const double hn = std::min(0.3, 0.01 + 0.3 * std::abs(x.y())), ht = std::max(hn, 0.15);
+    return Metric<2>::from_directions(Eigen::Matrix2d::Identity(), Vec(ht, hn));
+  }
+};
+
+}  // namespace
+
+TEST_CASE("fill post-optimisation: swaps and smoothing keep the triangulation and its fronts, and raise quality and unit edges") {
+  std::mt19937 rng(20261127);
+  std::uniform_real_distribution<double> u(0, 1);
+  const BandMetric band;
+  double unit_gain = 0;
+  for (int trial = 0; trial < 30; ++trial) {
+    INFO("trial " << trial);
+    LinearFront2 f;
+    const int n = 20 + static_cast<int>(80 * u(rng));
+    std::vector<NodeId> loop;
+    for (int k = 0; k < n; ++k) {
+      const double t = 2 * std::numbers::pi * k / n, r = 0.4 + 0.6 * u(rng);
+      loop.push_back(static_cast<NodeId>(f.nodes.size()));
+      f.nodes.emplace_back(r * std::cos(t), r * std::sin(t));
+    }
+    f.loops.push_back({"loop", BoundaryKind::Wall, false, -1, loop});
+    const double h1 = 0.02 + 0.2 * u(rng), ratio = 1 + 19 * u(rng) * u(rng);
+    const Eigen::Matrix2d dirs = Eigen::Rotation2Dd(std::numbers::pi * u(rng)).toRotationMatrix();
+    const UniformMetricField<2> uniform(Metric<2>::from_directions(dirs, Vec(h1 / ratio, h1)));
+    const MetricField<2>& metric = trial % 2 ? static_cast<const MetricField<2>&>(band) : uniform;
+    AdvancingFrontResult r = volume::advancing_front_fill(f, metric);
+    const AdvancingFrontResult before = r;
+    const volume::OptimizeStats st = volume::optimize_fill(r, f.nodes.size(), metric);
+    check_triangulation(f, r);  // still the region's triangulation with every front edge kept
+    for (std::size_t v = 0; v < f.nodes.size(); ++v) CHECK(r.nodes[v] == f.nodes[v]);  // front nodes fixed
+    // Splits add a node and two triangles each.
+    CHECK(r.nodes.size() == before.nodes.size() + st.splits);
+    CHECK(r.simplices.size() == before.simplices.size() + 2 * st.splits);
+    CHECK(st.quality_min_after >= st.quality_min_before);
+    CHECK(st.unit_fraction_after >= st.unit_fraction_before - 0.01);
+    CHECK(unit_fraction(r, metric) >= unit_fraction(before, metric) - 0.01);
+    unit_gain += st.unit_fraction_after - st.unit_fraction_before;
+  }
+  MESSAGE("mean unit-fraction gain " << unit_gain / 30);
+  CHECK(unit_gain > 0);
 }

@@ -1,0 +1,276 @@
+// SPDX-License-Identifier: MIT
+// Implements the metric post-optimisation of a 2D fill (optimize_2d.h).
+#include "volume/optimize_2d.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "modules/geometry/predicates.h"
+
+namespace plaf::volume {
+
+namespace {
+
+using Vec = Eigen::Vector2d;
+using Mat = Eigen::Matrix2d;
+using Tri = std::array<NodeId, 3>;
+
+// A triangle of at least this metric shape quality is fair: smoothing may trade some of its shape
+// for unit edges, and swaps of fair pairs must also bring the diagonal nearer unit length.
+constexpr double kFair = 0.5;
+// Splits run in the first passes only (the later ones place the new nodes).
+constexpr int kSplitPasses = 3;
+// A split may make the worst triangle of its pair worse only down to this quality.
+constexpr double kSplitFloor = 0.3;
+
+class Optimizer {
+ public:
+  Optimizer(FillResult<2>& fill, std::size_t fixed, const MetricField<2>& metric)
+      : x_(fill.nodes), t_(fill.simplices), fixed_(fixed), metric_(metric), m_(x_.size()) {
+    for (std::size_t v = 0; v < x_.size(); ++v) m_[v] = metric_.evaluate(x_[v]).matrix();
+  }
+
+  // Metric shape quality of a triangle (1 equilateral, 0 flat, negative when clockwise).
+  double quality(NodeId a, NodeId b, NodeId c) const { return quality_at(a, b, c, x_[a], x_[b], x_[c]); }
+  double quality_at(NodeId a, NodeId b, NodeId c, const Vec& pa, const Vec& pb, const Vec& pc) const {
+    const Mat m = (m_[a] + m_[b] + m_[c]) / 3;
+    const Vec u = pb - pa, w = pc - pa, v = w - u;
+    const double l2 = u.dot(m * u) + w.dot(m * w) + v.dot(m * v);
+    const double area = 0.5 * (u.x() * w.y() - u.y() * w.x()) * std::sqrt(std::max(m.determinant(), 0.0));
+    return l2 > 0 ? 4 * std::sqrt(3.0) * area / l2 : 0.0;
+  }
+  double edge_length(NodeId a, NodeId b) const {
+    const Vec e = x_[b] - x_[a];
+    return std::sqrt(e.dot(0.5 * (m_[a] + m_[b]) * e));
+  }
+
+  // Sum over the node's edges of (ln L)^2 (0 when every edge has unit metric length), and how
+  // many of them are unit (L in [1/sqrt2, sqrt2]).
+  std::pair<double, int> length_energy(NodeId v, const std::vector<NodeId>& nbr) const {
+    double e = 0;
+    int unit = 0;
+    for (NodeId u : nbr) {
+      const double len = edge_length(u, v), l = std::log(std::max(len, 1e-300));
+      e += l * l;
+      unit += is_unit(len) ? 1 : 0;
+    }
+    return {e, unit};
+  }
+  static bool is_unit(double l) { return l >= M_SQRT1_2 && l <= M_SQRT2; }
+
+  double min_quality() const {
+    double q = 1;
+    for (const Tri& t : t_) q = std::min(q, quality(t[0], t[1], t[2]));
+    return t_.empty() ? 0 : q;
+  }
+  double unit_fraction() const {
+    std::size_t unit = 0, total = 0;
+    for_each_edge([&](NodeId a, NodeId b) {
+      const double l = edge_length(a, b);
+      ++total;
+      if (l >= M_SQRT1_2 && l <= M_SQRT2) ++unit;
+    });
+    return total ? static_cast<double>(unit) / static_cast<double>(total) : 0;
+  }
+
+  // One sweep of swaps over the interior edges; each triangle changes at most once per sweep.
+  std::size_t swaps() {
+    std::unordered_map<std::uint64_t, std::pair<int, int>> edges;  // (min, max) -> triangle, local edge
+    edges.reserve(t_.size() * 2);
+    std::vector<std::array<int, 2>> interior;  // pairs of (triangle * 3 + local edge)
+    for (std::size_t i = 0; i < t_.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const NodeId a = t_[i][static_cast<std::size_t>(k)], b = t_[i][static_cast<std::size_t>((k + 1) % 3)];
+        const auto [it, fresh] = edges.try_emplace(key(a, b), static_cast<int>(i), k);
+        if (!fresh) interior.push_back({it->second.first * 3 + it->second.second, static_cast<int>(i) * 3 + k});
+      }
+    std::vector<std::uint8_t> touched(t_.size(), 0);
+    std::size_t done = 0;
+    for (const auto& [e1, e2] : interior) {
+      const std::size_t i = static_cast<std::size_t>(e1 / 3), j = static_cast<std::size_t>(e2 / 3);
+      if (touched[i] || touched[j]) continue;
+      const int k = e1 % 3, l = e2 % 3;
+      // Triangle i = (p, q, r) with the edge p -> q; triangle j has it as q -> p, apex s.
+      const NodeId p = t_[i][static_cast<std::size_t>(k)], q = t_[i][static_cast<std::size_t>((k + 1) % 3)],
+                   r = t_[i][static_cast<std::size_t>((k + 2) % 3)], s = t_[j][static_cast<std::size_t>((l + 2) % 3)];
+      if (r == s) continue;
+      // The new edge r - s: triangles (r, p, s) and (s, q, r), both strictly counter-clockwise.
+      if (!(orient2d(x_[r], x_[p], x_[s]) > 0) || !(orient2d(x_[s], x_[q], x_[r]) > 0)) continue;
+      const double before = std::min(quality(p, q, r), quality(q, p, s));
+      const double after = std::min(quality(r, p, s), quality(s, q, r));
+      if (!(after > before * (1 + 1e-9) + 1e-12)) continue;
+      // A fair pair (both triangles above kFair) is swapped only toward the diagonal nearer unit
+      // length, so the swaps that only polish shape do not trade unit edges away.
+      if (before >= kFair && (std::abs(std::log(edge_length(r, s))) > std::abs(std::log(edge_length(p, q))) ||
+                              (is_unit(edge_length(p, q)) && !is_unit(edge_length(r, s)))))
+        continue;
+      t_[i] = {r, p, s};
+      t_[j] = {s, q, r};
+      touched[i] = touched[j] = 1;
+      ++done;
+    }
+    return done;
+  }
+
+  // One sweep of splits: an interior edge of metric length in (sqrt 2, 2 sqrt 2] gets its midpoint, a
+  // new free node, and its two triangles become four (each with half the old one's area and its
+  // orientation, so all stay counter-clockwise; checked exactly all the same). The halves of a
+  // 1.4-2 edge are unit; smoothing then places the midpoint. Each triangle splits at most once
+  // per sweep.
+  std::size_t splits() {
+    std::unordered_map<std::uint64_t, std::pair<int, int>> edges;
+    edges.reserve(t_.size() * 2);
+    std::vector<std::array<int, 2>> interior;
+    for (std::size_t i = 0; i < t_.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const NodeId a = t_[i][static_cast<std::size_t>(k)], b = t_[i][static_cast<std::size_t>((k + 1) % 3)];
+        const auto [it, fresh] = edges.try_emplace(key(a, b), static_cast<int>(i), k);
+        if (!fresh) interior.push_back({it->second.first * 3 + it->second.second, static_cast<int>(i) * 3 + k});
+      }
+    std::vector<std::uint8_t> touched(t_.size(), 0);
+    std::size_t done = 0;
+    for (const auto& [e1, e2] : interior) {
+      const std::size_t i = static_cast<std::size_t>(e1 / 3), j = static_cast<std::size_t>(e2 / 3);
+      if (touched[i] || touched[j]) continue;
+      const int k = e1 % 3, l = e2 % 3;
+      const NodeId p = t_[i][static_cast<std::size_t>(k)], q = t_[i][static_cast<std::size_t>((k + 1) % 3)],
+                   r = t_[i][static_cast<std::size_t>((k + 2) % 3)], s = t_[j][static_cast<std::size_t>((l + 2) % 3)];
+      const double len = edge_length(p, q);
+      if (!(len > M_SQRT2 && len <= 2 * M_SQRT2)) continue;  // its halves unit
+      const Vec mid = 0.5 * (x_[p] + x_[q]);
+      if (!(orient2d(x_[p], mid, x_[r]) > 0) || !(orient2d(mid, x_[q], x_[r]) > 0) ||
+          !(orient2d(x_[q], mid, x_[s]) > 0) || !(orient2d(mid, x_[p], x_[s]) > 0))
+        continue;
+      const NodeId m = static_cast<NodeId>(x_.size());
+      x_.push_back(mid);
+      m_.push_back(metric_.evaluate(mid).matrix());
+      // Not at the cost of the worst shape: the four new triangles stay above the pair's least
+      // quality or kSplitFloor.
+      const double q_old = std::min(quality(p, q, r), quality(q, p, s));
+      const double q_new = std::min({quality(p, m, r), quality(m, q, r), quality(q, m, s), quality(m, p, s)});
+      if (q_new < std::min(q_old, kSplitFloor)) {
+        x_.pop_back();
+        m_.pop_back();
+        continue;
+      }
+      t_[i] = {p, m, r};
+      t_[j] = {q, m, s};
+      t_.push_back({m, q, r});
+      t_.push_back({m, p, s});
+      touched[i] = touched[j] = 1;
+      touched.push_back(1);
+      touched.push_back(1);
+      ++done;
+    }
+    return done;
+  }
+
+  // One smoothing sweep over the free nodes.
+  std::size_t smooth() {
+    std::vector<std::vector<int>> ball(x_.size());
+    for (std::size_t i = 0; i < t_.size(); ++i)
+      for (NodeId v : t_[i])
+        if (static_cast<std::size_t>(v) >= fixed_) ball[static_cast<std::size_t>(v)].push_back(static_cast<int>(i));
+    std::size_t moved = 0;
+    std::vector<NodeId> nbr;
+    for (std::size_t v = fixed_; v < x_.size(); ++v) {
+      const std::vector<int>& b = ball[v];
+      if (b.empty()) continue;
+      nbr.clear();
+      for (int i : b)
+        for (NodeId u : t_[static_cast<std::size_t>(i)])
+          if (static_cast<std::size_t>(u) != v) nbr.push_back(u);
+      std::sort(nbr.begin(), nbr.end());
+      nbr.erase(std::unique(nbr.begin(), nbr.end()), nbr.end());
+      const NodeId id = static_cast<NodeId>(v);
+      const Vec x0 = x_[v];
+      Vec target = Vec::Zero();
+      for (NodeId u : nbr) {
+        const double l = edge_length(u, id);
+        target += l > 0 ? Vec(x_[u] + (x0 - x_[u]) / l) : x0;
+      }
+      target /= static_cast<double>(nbr.size());
+      double q_old = 1;
+      for (int i : b) q_old = std::min(q_old, quality(t_[i][0], t_[i][1], t_[i][2]));
+      const auto [e_old, unit_old] = length_energy(id, nbr);
+      const Mat m_old = m_[v];
+      for (double w : {0.5, 0.25}) {
+        const Vec y = x0 + w * (target - x0);
+        x_[v] = y;
+        m_[v] = metric_.evaluate(y).matrix();
+        bool ok = true;
+        double q_new = 1;
+        for (int i : b) {
+          const Tri& t = t_[static_cast<std::size_t>(i)];
+          if (!(orient2d(x_[t[0]], x_[t[1]], x_[t[2]]) > 0)) {
+            ok = false;
+            break;
+          }
+          q_new = std::min(q_new, quality(t[0], t[1], t[2]));
+        }
+        // Kept when no edge of the node leaves the unit range on balance and either the edges
+        // get nearer unit length without the ball's worst triangle losing more than a tenth (nor
+        // going below kFair; a worse one may not drop at all), or that triangle improves without
+        // the lengths worsening much.
+        const auto [e_new, unit_new] = ok ? length_energy(id, nbr) : std::pair<double, int>{0, 0};
+        const double q_floor = q_old < kFair ? q_old : std::max(kFair, 0.9 * q_old);
+        if (ok && unit_new >= unit_old &&
+            ((e_new < e_old && q_new >= q_floor) || (q_new > q_old && e_new <= 1.1 * e_old))) {
+          ++moved;
+          break;
+        }
+        x_[v] = x0;
+        m_[v] = m_old;
+      }
+    }
+    return moved;
+  }
+
+ private:
+  static std::uint64_t key(NodeId a, NodeId b) {
+    const std::uint64_t lo = static_cast<std::uint32_t>(std::min(a, b)), hi = static_cast<std::uint32_t>(std::max(a, b));
+    return lo << 32 | hi;
+  }
+  template <typename F>
+  void for_each_edge(F&& f) const {
+    std::unordered_map<std::uint64_t, char> seen;
+    seen.reserve(t_.size() * 2);
+    for (const Tri& t : t_)
+      for (int k = 0; k < 3; ++k) {
+        const NodeId a = t[static_cast<std::size_t>(k)], b = t[static_cast<std::size_t>((k + 1) % 3)];
+        if (seen.emplace(key(a, b), 0).second) f(a, b);
+      }
+  }
+
+  std::vector<Vec>& x_;
+  std::vector<Tri>& t_;
+  const std::size_t fixed_;
+  const MetricField<2>& metric_;
+  std::vector<Mat> m_;  // the metric at every node
+};
+
+}  // namespace
+
+OptimizeStats optimize_fill(FillResult<2>& fill, std::size_t fixed_nodes, const MetricField<2>& metric,
+                            const OptimizeParams& params) {
+  OptimizeStats st;
+  Optimizer o(fill, fixed_nodes, metric);
+  st.quality_min_before = o.min_quality();
+  st.unit_fraction_before = o.unit_fraction();
+  for (int pass = 0; pass < params.passes; ++pass) {
+    if (pass < kSplitPasses) st.splits += o.splits();
+    st.swaps += o.swaps();
+    st.moves += o.smooth();
+  }
+  if (params.passes > 0) st.swaps += o.swaps();
+  st.quality_min_after = o.min_quality();
+  st.unit_fraction_after = o.unit_fraction();
+  return st;
+}
+
+}  // namespace plaf::volume
