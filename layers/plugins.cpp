@@ -21,7 +21,13 @@ LayerParams parse_layer_params(const ConfigNode& l) {
   p.fan_angle_deg = l.get_in_range("fan_angle_deg", p.fan_angle_deg, 5.0, 90.0);
   p.integrate_height = l.get_choice("height", "size", {"size", "integrate"}) == "integrate";
   p.smooth_normals = l.get_bool("smooth_normals", p.smooth_normals);
-  const std::string stop = l.get_choice("isotropic_stop", "off", {"off", "node", "any", "all"});
+  // With stop_when_linear the layers also stop where they have become isotropic cells at every
+  // node (isotropic_stop: all): no boundary layer is left to grow, and a front still curved
+  // there is closed for the fill rather than grown to the farfield in cells of h_max (issue 12:
+  // E387, h0 1e-6 c, g 1.5, Q4 grew 38 layers to 6 chords out, one element's sag growing with
+  // its height, until no layer or closing layer was valid).
+  const std::string stop =
+      l.get_choice("isotropic_stop", p.stop_when_linear ? "all" : "off", {"off", "node", "any", "all"});
   p.isotropic_stop = stop == "node" ? IsotropicStop::Node
                      : stop == "any" ? IsotropicStop::Any
                      : stop == "all" ? IsotropicStop::All

@@ -13,7 +13,8 @@
 //                           height, or its element's vertex heights interpolated (layer_core.h)
 //                           default: interpolated (2D and 3D)
 //     isotropic_stop: off|node|any|all  stop a node where the metric is isotropic there, or the
-//                           loop when it is so at any/all nodes   default: off
+//                           loop when it is so at any/all nodes
+//                           default: all with stop_when_linear, else off
 // With a fill after the layers, a loop that stops curved gets a closing layer (layer_core.h).
 #pragma once
 

@@ -48,11 +48,19 @@ std::optional<Apex> delaunay_apex(const OccurrenceFront& front, int o, const Adv
     for (const auto& [q_min, l_max] : {std::pair{params.min_quality, params.max_length}, std::pair{1e-3, 0.0},
                                        std::pair{-1.0, 0.0}, std::pair{0.0, 0.0}}) {
       if (q_min < 0) {
-        if (round > 0) continue;  // new points once, near the edge
+        // New points once, near the edge, and not on an edge already much shorter than the
+        // metric asks (under 0.35 units): there each new point made a shorter edge for the next
+        // fallback, a cascade down to nodes 1e-10 apart before the NACA 0012's leading edge at
+        // h0 1e-6 c (issue 12); such an edge takes an existing node below.
+        if (round > 0 || 2 * half_ab < 0.35) continue;
         const Mat f_inv = front.nm(na).f_inv;
         for (double height : {0.866, 0.5, 0.25, 0.125, 0.0625}) {
           const Apex c{-1, -1, f_inv * (mid + height * 2 * half_ab * normal)};
-          if (valid_apex(front, o, c, 1e-3)) return c;
+          // Clear of the other front edges by half its height (in the edge's metric): a point
+          // lowered onto a crowded spot made near-duplicate nodes 3e-10 apart behind the NACA
+          // 0012's blunt trailing edge (issue 12).
+          if (valid_apex(front, o, c, 1e-3) && clear_of_front(front, c.point, front.nm(na), height * half_ab))
+            return c;
         }
         continue;
       }
