@@ -48,8 +48,8 @@ B. The NACA 0012 boundary-layer case at order 3, plaf vs Gmsh.
        cells.
    Gmsh's order-3 meshes are measured by `plaf check gmsh.msh --metric B.yaml --report r.json`.
 
-Columns: elements; "mesh s": each tool's own meshing time (plaf: its "mesh" stage, surface mesh
-[+ layers] + fill, from the report's timings_s; bamg: its "Cpu time for meshing" line, meshing +
+Columns: elements; "mesh s": each tool's own meshing time (plaf: its surface, layers, fill and
+mesh (assembly) stages, from the report's timings_s; bamg: its "Cpu time for meshing" line, meshing +
 smoothing without reading the background or building the metric, printed by bamg in steps of
 0.01 s; Gmsh: generate(2) + setOrder(3) [+ the optimization] timed in this process); "wall s":
 the whole plaf or bamg process (plaf: + reading the config and background, certifying every
@@ -400,7 +400,7 @@ def write_msh_triangles(path, nodes, tris, center, R):
 
 def plaf_run(plaf, cfg, out, repeat):
     """Runs `plaf run` `repeat` times: the last report, the least process wall time and the
-    least "mesh" stage time."""
+    least meshing time (the surface, layers, fill and mesh stages)."""
     walls, meshes = [], []
     for _ in range(repeat):
         t0 = time.perf_counter()
@@ -413,7 +413,10 @@ def plaf_run(plaf, cfg, out, repeat):
             die(f"plaf run {cfg}: expected one report in {out}, found {reports}")
         with open(os.path.join(out, reports[0])) as f:
             rep = json.load(f)
-        meshes.append(rep["timings_s"]["mesh"])
+        # The meshing stages: surface mesh, layers, fill (with its post-optimisation) and the
+        # assembly ("mesh"); not config, metric, budget, quality or writing.
+        t = rep["timings_s"]
+        meshes.append(sum(t.get(k, 0.0) for k in ("surface", "layers", "fill", "mesh")))
     return rep, min(walls), min(meshes)
 
 
