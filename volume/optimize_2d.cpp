@@ -80,15 +80,7 @@ class Optimizer {
 
   // One sweep of swaps over the interior edges; each triangle changes at most once per sweep.
   std::size_t swaps() {
-    std::unordered_map<std::uint64_t, std::pair<int, int>> edges;  // (min, max) -> triangle, local edge
-    edges.reserve(t_.size() * 2);
-    std::vector<std::array<int, 2>> interior;  // pairs of (triangle * 3 + local edge)
-    for (std::size_t i = 0; i < t_.size(); ++i)
-      for (int k = 0; k < 3; ++k) {
-        const NodeId a = t_[i][static_cast<std::size_t>(k)], b = t_[i][static_cast<std::size_t>((k + 1) % 3)];
-        const auto [it, fresh] = edges.try_emplace(key(a, b), static_cast<int>(i), k);
-        if (!fresh) interior.push_back({it->second.first * 3 + it->second.second, static_cast<int>(i) * 3 + k});
-      }
+    const std::vector<std::array<int, 2>> interior = interior_edges();
     std::vector<std::uint8_t> touched(t_.size(), 0);
     std::size_t done = 0;
     for (const auto& [e1, e2] : interior) {
@@ -123,15 +115,7 @@ class Optimizer {
   // 1.4-2 edge are unit; smoothing then places the midpoint. Each triangle splits at most once
   // per sweep.
   std::size_t splits() {
-    std::unordered_map<std::uint64_t, std::pair<int, int>> edges;
-    edges.reserve(t_.size() * 2);
-    std::vector<std::array<int, 2>> interior;
-    for (std::size_t i = 0; i < t_.size(); ++i)
-      for (int k = 0; k < 3; ++k) {
-        const NodeId a = t_[i][static_cast<std::size_t>(k)], b = t_[i][static_cast<std::size_t>((k + 1) % 3)];
-        const auto [it, fresh] = edges.try_emplace(key(a, b), static_cast<int>(i), k);
-        if (!fresh) interior.push_back({it->second.first * 3 + it->second.second, static_cast<int>(i) * 3 + k});
-      }
+    const std::vector<std::array<int, 2>> interior = interior_edges();
     std::vector<std::uint8_t> touched(t_.size(), 0);
     std::size_t done = 0;
     for (const auto& [e1, e2] : interior) {
@@ -235,6 +219,20 @@ class Optimizer {
   static std::uint64_t key(NodeId a, NodeId b) {
     const std::uint64_t lo = static_cast<std::uint32_t>(std::min(a, b)), hi = static_cast<std::uint32_t>(std::max(a, b));
     return lo << 32 | hi;
+  }
+  // The edges shared by two triangles, each as its two sides (triangle * 3 + local edge k, the
+  // edge from vertex k to k + 1).
+  std::vector<std::array<int, 2>> interior_edges() const {
+    std::unordered_map<std::uint64_t, std::pair<int, int>> edges;  // (min, max) -> triangle, local edge
+    edges.reserve(t_.size() * 2);
+    std::vector<std::array<int, 2>> interior;
+    for (std::size_t i = 0; i < t_.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const NodeId a = t_[i][static_cast<std::size_t>(k)], b = t_[i][static_cast<std::size_t>((k + 1) % 3)];
+        const auto [it, fresh] = edges.try_emplace(key(a, b), static_cast<int>(i), k);
+        if (!fresh) interior.push_back({it->second.first * 3 + it->second.second, static_cast<int>(i) * 3 + k});
+      }
+    return interior;
   }
   template <typename F>
   void for_each_edge(F&& f) const {

@@ -114,6 +114,21 @@ void add_metric_ellipse(LinearFront2& f, Vec c, double a, double b, const Metric
   f.loops.push_back({"loop", BoundaryKind::Wall, false, -1, loop});
 }
 
+// A star polygon of 20-100 points at radii 0.4-1 about the origin, counter-clockwise.
+LinearFront2 random_star(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(0, 1);
+  LinearFront2 f;
+  const int n = 20 + static_cast<int>(80 * u(rng));
+  std::vector<NodeId> loop;
+  for (int k = 0; k < n; ++k) {
+    const double t = 2 * std::numbers::pi * k / n, r = 0.4 + 0.6 * u(rng);
+    loop.push_back(static_cast<NodeId>(f.nodes.size()));
+    f.nodes.emplace_back(r * std::cos(t), r * std::sin(t));
+  }
+  f.loops.push_back({"loop", BoundaryKind::Wall, false, -1, loop});
+  return f;
+}
+
 LinearFront2 square(double scale, Vec offset, int n) {
   LinearFront2 f;
   std::vector<NodeId> loop;
@@ -186,15 +201,7 @@ TEST_CASE("advancing front: random star polygons in random metrics all fill") {
   std::uniform_real_distribution<double> u(0, 1);
   for (int trial = 0; trial < 40; ++trial) {
     INFO("trial " << trial);
-    LinearFront2 f;
-    const int n = 20 + static_cast<int>(80 * u(rng));
-    std::vector<NodeId> loop;
-    for (int k = 0; k < n; ++k) {
-      const double t = 2 * std::numbers::pi * k / n, r = 0.4 + 0.6 * u(rng);
-      loop.push_back(static_cast<NodeId>(f.nodes.size()));
-      f.nodes.emplace_back(r * std::cos(t), r * std::sin(t));
-    }
-    f.loops.push_back({"loop", BoundaryKind::Wall, false, -1, loop});
+    const LinearFront2 f = random_star(rng);
     const double h1 = 0.02 + 0.2 * u(rng), ratio = 1 + 19 * u(rng) * u(rng);
     const Eigen::Matrix2d dirs = Eigen::Rotation2Dd(std::numbers::pi * u(rng)).toRotationMatrix();
     const UniformMetricField<2> metric(Metric<2>::from_directions(dirs, Vec(h1 / ratio, h1)));
@@ -249,15 +256,7 @@ TEST_CASE("fill post-optimisation: swaps and smoothing keep the triangulation an
   double unit_gain = 0;
   for (int trial = 0; trial < 30; ++trial) {
     INFO("trial " << trial);
-    LinearFront2 f;
-    const int n = 20 + static_cast<int>(80 * u(rng));
-    std::vector<NodeId> loop;
-    for (int k = 0; k < n; ++k) {
-      const double t = 2 * std::numbers::pi * k / n, r = 0.4 + 0.6 * u(rng);
-      loop.push_back(static_cast<NodeId>(f.nodes.size()));
-      f.nodes.emplace_back(r * std::cos(t), r * std::sin(t));
-    }
-    f.loops.push_back({"loop", BoundaryKind::Wall, false, -1, loop});
+    const LinearFront2 f = random_star(rng);
     const double h1 = 0.02 + 0.2 * u(rng), ratio = 1 + 19 * u(rng) * u(rng);
     const Eigen::Matrix2d dirs = Eigen::Rotation2Dd(std::numbers::pi * u(rng)).toRotationMatrix();
     const UniformMetricField<2> uniform(Metric<2>::from_directions(dirs, Vec(h1 / ratio, h1)));
