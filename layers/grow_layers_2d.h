@@ -26,7 +26,9 @@
 //     layer height, so stop_when_linear does not hand the fill a front whose chords miss the
 //     curve the metric is measured from by more than the sizes there.
 // The guarantee (with close_linear, layer_core.h): every accepted front can be closed, each
-// closing cell's top rising until it is certified, so the fill starts from a linear front.
+// closing cell's top rising until it is certified, so the fill starts from a linear front; where
+// a closing layer still fails (a cell invalid at every height), the layers are grown again from
+// the wall with at most half as many, down to one (grow_layers).
 #pragma once
 
 #include <vector>

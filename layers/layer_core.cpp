@@ -239,7 +239,11 @@ class Growth {
       // 4. The layer's row of the table.
       finish_heights(st);
       st.cells = blocks_[0].size() - st.first_cell;
-      st.linear = all_linear;
+      // Linear when every part's front is: a part that stopped earlier while still curved keeps
+      // the layer from counting as linear (else a multi-body run whose last growing body was
+      // linear reported "linear after" while another's front stayed curved, and skipped the
+      // regrowth that closes it, grow_layers_2d.h).
+      st.linear = all_linear && std::all_of(linear_.begin(), linear_.end(), [](bool b) { return b; });
       r_.layers.push_back(st);
       if (st.linear && r_.linear_after < 0) r_.linear_after = layer;
       if (st.linear && p_.stop_when_linear) break;

@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: MIT
+// The dimension-generic layer core (layer_core.h) driven by a scripted front: what counts as a
+// linear layer when one part stops while still curved.
+#include "layers/layer_core.h"
+
+#include <doctest/doctest.h>
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+using namespace plaf;
+using Eigen::Vector2d;
+
+namespace {
+
+// Two parts, each one column of order-1 quadrilaterals stacked along y (part 0 at x in [0, 1],
+// part 1 at x in [3, 4]). Part 0 always builds a valid, linear layer. Part 1 builds a valid layer
+// that reports itself curved (an attenuation need left) on its first layer, and from its second
+// layer on only an inverted cell, so it stops, still curved, and no closing layer mends it.
+class ScriptedFronts final : public layers::FrontGrower<2> {
+ public:
+  explicit ScriptedFronts(HybridMesh<2>& mesh) : mesh_(mesh) {
+    for (int p = 0; p < 2; ++p) {
+      base_[p] = {add({3.0 * p, 0}), add({3.0 * p + 1, 0})};
+      y_[p] = 0;
+    }
+  }
+  std::array<CellType, 2> cell_types() const override { return {CellType::Quadrilateral, CellType::Triangle}; }
+  std::size_t num_parts() const override { return 2; }
+  std::string part_name(std::size_t part) const override { return "part " + std::to_string(part); }
+  std::size_t num_sites(std::size_t) const override { return 2; }
+  std::vector<Vec> stop_points(std::size_t part) const override {
+    return {mesh_.nodes[base_[part][0]], mesh_.nodes[base_[part][1]]};
+  }
+  std::size_t num_stop_points(std::size_t) const override { return 2; }
+  layers::BuiltLayer build(std::size_t part, int layer, const std::vector<double>&, const std::vector<std::uint8_t>&,
+                           double f_atten) override {
+    layers::BuiltLayer b;
+    const double x0 = 3.0 * static_cast<double>(part), y = y_[part] + 1;
+    const bool inverted = part == 1 && layer >= 2;
+    // Gmsh order: (x0, y-1), (x0+1, y-1), (x0+1, y), (x0, y); an inverted cell swaps its top.
+    const NodeId a = add({x0 + (inverted ? 1 : 0), y}), c = add({x0 + (inverted ? 0 : 1), y});
+    b.cells[0] = {base_[part][0], base_[part][1], c, a};
+    pending_ = {a, c};
+    b.linear = !(part == 1 && layer == 1 && std::isfinite(f_atten));
+    b.max_clipped_rel = b.linear ? 0 : 0.5;
+    return b;
+  }
+  std::vector<std::size_t> collisions(std::size_t) const override { return {}; }
+  Vec front_point(std::size_t) const override { return Vec::Zero(); }
+  void rescale(std::size_t, const std::vector<layers::LayerFailure>&, double factor,
+               std::vector<double>& scale) const override {
+    for (double& s : scale) s *= factor;
+  }
+  void accept(std::size_t part) override {
+    base_[part] = pending_;
+    y_[part] += 1;
+  }
+
+ private:
+  NodeId add(const Vector2d& x) {
+    mesh_.nodes.push_back(x);
+    return static_cast<NodeId>(mesh_.nodes.size() - 1);
+  }
+  HybridMesh<2>& mesh_;
+  std::array<std::array<NodeId, 2>, 2> base_{};
+  std::array<double, 2> y_{};
+  std::array<NodeId, 2> pending_{};
+};
+
+}  // namespace
+
+TEST_CASE("layer core: a layer is linear only when every part's front is, a part that stopped curved included") {
+  for (bool close : {false, true}) {
+    CAPTURE(close);
+    LayerResult<2> r;
+    ScriptedFronts fronts(r.mesh);
+    const UniformMetricField<2> metric(Metric<2>::isotropic(1));
+    layers::LayerParams p;
+    p.max_layers = 4;
+    p.stop_when_linear = true;
+    p.close_linear = close;
+    layers::grow_fronts<2>(fronts, metric, p, 1, r);
+    // Part 1 grew one curved layer, then stopped; part 0 went on with linear layers until the
+    // maximum (it never counts as linear while part 1's front is curved).
+    REQUIRE(r.layers.size() == 4);
+    for (const LayerStats& st : r.layers) CHECK_FALSE(st.linear);
+    CHECK(r.linear_after == -1);
+    bool stopped = false;
+    for (const std::string& e : r.events) stopped = stopped || e.find("part 1: stopped") != std::string::npos;
+    CHECK(stopped);
+  }
+}
