@@ -358,6 +358,9 @@ class LoopLayerBuilder {
   // higher order (Fig. 5), until sag <= f_atten h; the returned need is sag / h (0 once met), and
   // with stop_when_linear the layers go on until every chord is that flat against its height.
   double chord_sag_need(std::size_t e, const Vec& a_top, const Vec& b_top) const {
+    // Next to a concave corner the merged normal turns by half the corner on a straight panel
+    // (no sag): regular() grows such an element straight, and so it counts.
+    if (vt_[e].kind == VertexTop::Kind::Concave || vt_[(e + 1) % ne_].kind == VertexTop::Kind::Concave) return 0;
     const Vec& na = vt_[e].normals.back();
     const Vec& nb = vt_[(e + 1) % ne_].normals.front();
     const double theta = std::abs(signed_angle(na, nb));
@@ -560,8 +563,11 @@ LayerResult<2> grow_layers(const CurvedFront<2>& front, const MetricField<2>& me
   // 0.02-0.3 s on the shipped airfoils); an invalid mesh is not.
   LayerParams fewer = p;
   std::vector<std::string> earlier;
-  while (p.close_linear && r.linear_after < 0 && r.layers.size() > 1) {
-    fewer.max_layers = static_cast<int>(r.layers.size() / 2);
+  // The limit falls strictly every round (the table may hold a partial closing row, so its size
+  // alone need not shrink): the loop ends.
+  while (p.close_linear && r.linear_after < 0 && r.layers.size() > 1 &&
+         std::min(fewer.max_layers - 1, static_cast<int>(r.layers.size() / 2)) >= 1) {
+    fewer.max_layers = std::min(fewer.max_layers - 1, static_cast<int>(r.layers.size() / 2));
     earlier.insert(earlier.end(), r.events.begin(), r.events.end());
     earlier.push_back("the front could not be closed after " + std::to_string(r.layers.size()) +
                       " layers; grown again with at most " + std::to_string(fewer.max_layers));

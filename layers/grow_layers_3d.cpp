@@ -897,7 +897,8 @@ class PartLayerBuilder {
   // |c| tan(theta / 4) / 2 off it, c the chord's part across the axis d_u x d_v (so a cylinder's
   // diagonal edge sags as its section's chord); an element counts as curved until every edge's
   // sag is at most f_atten times the smaller height at its ends. Edges to a fan's arc directions
-  // are straight-sided fan cells' and are skipped. Returns the largest sag / h (0 when met).
+  // are straight-sided fan cells' and are skipped, as are edges to a concave merge (its normal
+  // turns by half the corner on flat faces). Returns the largest sag / h (0 when met).
   double chord_sag_need(const Part& nw) const {
     double need = 0;
     for (std::size_t f = 0; f < nw.num_faces(); ++f) {
@@ -906,7 +907,7 @@ class PartLayerBuilder {
       for (int k = 0; k < nv; ++k) {
         const Dir& u = dirs_[static_cast<std::size_t>(fl[k])];
         const Dir& v = dirs_[static_cast<std::size_t>(fl[(k + 1) % nv])];
-        if ((u.fan && !u.normal) || (v.fan && !v.normal)) continue;
+        if ((u.fan && !u.normal) || (v.fan && !v.normal) || u.concave || v.concave) continue;  // 2D's rule
         const Vec axis = u.d.cross(v.d);
         const double sin_t = axis.norm(), theta = std::atan2(sin_t, u.d.dot(v.d));
         if (!(sin_t > 1e-12)) continue;

@@ -254,8 +254,9 @@ class Growth {
   // while its front is still curved gets one closing layer with straight tops (unlimited
   // attenuation), tall enough to clear its curved front. First per cell: heights start at the
   // metric's, and those around a cell still invalid (its straight top too low over its base's
-  // sag) double, those around a crossing halve, up to kClosingAttempts builds (so a cell can
-  // rise to 2^kClosingAttempts metric heights where it needs to and nowhere else). Then, as a
+  // sag) double, those around a crossing halve, for up to kClosingAttempts more builds (a site
+  // in the spans of several failing cells is doubled once per cell, so heights rise fastest where
+  // failures cluster, and only around failures). Then, as a
   // last resort, the whole part at 1.5, 3 and 6 times its attenuation need (at least the metric
   // height). The paper stops the layers once the front is linear and does not meet this case; a
   // taller last cell is the robust choice (a valid mesh over metric conformity there).
