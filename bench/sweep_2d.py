@@ -28,7 +28,7 @@ scaled Jacobian, worst triangle quality, worst unit fraction, shortest edge) and
 row failed. Outputs of passing runs are deleted unless --keep.
 
     python3 bench/sweep_2d.py [--plaf build/apps/plaf] [--out sweep_out] [--jobs 2]
-                              [--subset] [--keep] [--timeout 900]
+                              [--subset] [--keep] [--timeout 900] [--only BODY,...] [--h0 H,...]
                               [--extra 30p30n=DIR/30p30n_slat.dat,DIR/30p30n_main.dat,...]
 
 --subset runs the ~20 representative rows of SUBSET (registered in ctest).
@@ -189,6 +189,9 @@ def main():
     ap.add_argument("--subset", action="store_true")
     ap.add_argument("--keep", action="store_true")
     ap.add_argument("--timeout", type=float, default=900)
+    ap.add_argument("--only", default="",
+                    help="comma-separated bodies (e.g. 30p30n,e387): run only their rows of the grid")
+    ap.add_argument("--h0", default="", help="comma-separated wall spacings: only these rows of the grid")
     ap.add_argument("--extra", action="append", default=[],
                     help="NAME=file1.dat,file2.dat,... a multi-body case (bodies named by their files)")
     args = ap.parse_args()
@@ -210,7 +213,13 @@ def main():
     if args.subset:
         rows = SUBSET
     else:
-        rows = [(b, h0, q, c, g) for b in args.bodies for h0 in H0S for q in ORDERS for c in CORNERS for g in GROWTHS]
+        only = [b for b in args.only.split(",") if b]
+        for b in only:
+            if b not in args.bodies:
+                sys.exit(f"sweep_2d: --only {b}: no such body (known: {', '.join(sorted(args.bodies))})")
+        h0s = [float(h) for h in args.h0.split(",") if h] or H0S
+        rows = [(b, h0, q, c, g) for b in args.bodies if not only or b in only
+                for h0 in h0s for q in ORDERS for c in CORNERS for g in GROWTHS]
     os.makedirs(os.path.join(args.out, "configs"), exist_ok=True)
     os.makedirs(os.path.join(args.out, "runs"), exist_ok=True)
     t0 = time.time()

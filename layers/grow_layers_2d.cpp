@@ -31,11 +31,13 @@ Vec rotate(const Vec& v, double a) {
 
 // Where a linear node's layer ends: one top for regular and concave nodes, a fan for convex ones.
 struct VertexTop {
-  enum class Kind { Regular, Concave, Convex, Stopped } kind = Kind::Regular;
+  // Merged: a regular vertex whose top is its concave neighbour's (merge_at_concave).
+  enum class Kind { Regular, Concave, Convex, Stopped, Merged } kind = Kind::Regular;
   std::vector<Vec> normals;                  // fan normals n_0 (left panel) .. n_m (right panel); one otherwise
   std::vector<Vec> tops;                     // P_k
   std::vector<std::vector<NodeId>> columns;  // Q node ids (j = 1..Q) per top
   double h = 0;                              // its metric height before scaling (HighOrderHeights)
+  std::size_t merged_into = 0;               // Merged: the concave vertex whose top it shares
 };
 
 // One built layer of one loop: the generic part, the new front and, per cell and per new front
@@ -74,6 +76,8 @@ class LoopLayerBuilder {
       const bool b_stopped = vt_[(e + 1) % ne_].kind == VertexTop::Kind::Stopped;
       if (a_stopped && b_stopped)
         emit_front(el(e)[0], el(e)[1], std::vector<NodeId>(el(e) + 2, el(e) + q_ + 1), e * q_, q_);
+      else if (!a_stopped && !b_stopped && right_column(e).back() == left_column(e + 1).back())
+        collapsed(e);
       else if (a_stopped || b_stopped)
         transition(e, a_stopped);
       else
@@ -132,8 +136,8 @@ class LoopLayerBuilder {
     }
   }
 
-  // 2. Tops of the linear nodes: regular, concave (merged normal) or convex (fan), each with its
-  // column of Q nodes.
+  // 2. Tops of the linear nodes: regular, concave (merged normal) or convex (fan), then the
+  // merges next to concave corners (merge_at_concave), then each top's column of Q nodes.
   void vertex_tops() {
     vt_.assign(ne_, VertexTop{});
     for (std::size_t e = 0; e < ne_; ++e) {
@@ -183,12 +187,62 @@ class LoopLayerBuilder {
         v.h = height(c, normal_[i]);
         v.tops = {c + v.h * scale_[i] * normal_[i]};
       }
+    }
+    merge_at_concave();
+    for (std::size_t e = 0; e < ne_; ++e) {
+      VertexTop& v = vt_[e];
+      const Vec c = at(e * q_);
+      if (v.kind == VertexTop::Kind::Merged) continue;  // after its concave vertex's column exists
       for (const Vec& t : v.tops) {
         v.columns.push_back(column(c, t));
         out_.built.columns.push_back({c[0], c[1], 0.0, (t - c).norm()});
       }
     }
+    for (std::size_t e = 0; e < ne_; ++e) {
+      VertexTop& v = vt_[e];
+      if (v.kind != VertexTop::Kind::Merged) continue;
+      const Vec c = at(e * q_);
+      const std::vector<NodeId>& into = vt_[v.merged_into].columns.front();
+      std::vector<NodeId> col;
+      for (int j = 1; j < q_; ++j) col.push_back(add_node(c + (static_cast<double>(j) / q_) * (v.tops[0] - c)));
+      col.push_back(into.back());  // the concave vertex's top node itself
+      v.columns = {std::move(col)};
+      out_.built.columns.push_back({c[0], c[1], 0.0, (v.tops[0] - c).norm()});
+    }
   }
+
+  // 2b. Next to a concave corner the top of a regular neighbour can land on the corner's top, or
+  // beyond it: at a right-angled corner whose neighbouring element is L long, the two tops are
+  // |L - h| apart for a layer h high (the 30P-30N's cove corner: 4e-5 apart at h = 5e-3 c, a
+  // near-duplicate node Gmsh's check rejects), and for h > L the element's quadrilateral folds.
+  // Sec. II.B makes the intersection of the neighbours' normals the vertex of a single element
+  // there; the robust reading: when the neighbour's top lies within kMergeShare of the smaller
+  // height from the corner's, or its element's top would run against its base, the neighbour's top
+  // becomes the corner's, the element between them a triangle (base and apex: collapsed()), and
+  // the new front loses that element. Only regular neighbours merge, each into one corner.
+  void merge_at_concave() {
+    if (ne_ < 4) return;
+    constexpr double kMergeShare = 0.25;
+    for (std::size_t e = 0; e < ne_; ++e) {
+      if (vt_[e].kind != VertexTop::Kind::Concave) continue;
+      const Vec c = at(e * q_), top = vt_[e].tops[0];
+      for (const std::size_t n : {(e + 1) % ne_, (e + ne_ - 1) % ne_}) {
+        VertexTop& w = vt_[n];
+        if (w.kind != VertexTop::Kind::Regular) continue;
+        const Vec cn = at(n * q_);
+        const double h = std::min((w.tops[0] - cn).norm(), (top - c).norm());
+        // The element's base runs from the corner to n (n after e) or from n to the corner.
+        const Vec base = n == (e + 1) % ne_ ? Vec(cn - c) : Vec(c - cn);
+        const Vec top_edge = n == (e + 1) % ne_ ? Vec(w.tops[0] - top) : Vec(top - w.tops[0]);
+        if ((w.tops[0] - top).norm() < kMergeShare * h || top_edge.dot(base) <= 0) {
+          w.kind = VertexTop::Kind::Merged;
+          w.merged_into = e;
+          w.tops = {top};
+        }
+      }
+    }
+  }
+
   const std::vector<NodeId>& right_column(std::size_t e) const { return vt_[e % ne_].columns.back(); }
   const std::vector<NodeId>& left_column(std::size_t e) const { return vt_[e % ne_].columns.front(); }
   Vec right_top(std::size_t e) const { return vt_[e % ne_].tops.back(); }
@@ -292,6 +346,43 @@ class LoopLayerBuilder {
     }
   }
 
+  // 4b'. Element e whose two ends share one top (merge_at_concave): a triangle from the element
+  // to that top, x(xi, eta) = (1 - eta) base(xi / (1 - eta)) + eta P, its sides the two end
+  // columns; it adds nothing to the new front.
+  void collapsed(std::size_t e) {
+    const std::size_t iv = e * q_;
+    const NodeId* base = el(e);
+    const LagrangeElement& tri = lagrange_element(CellType::Triangle, q_);
+    const Vec apex = right_top(e);
+    const std::vector<NodeId>& col_a = right_column(e);
+    const std::vector<NodeId>& col_b = left_column(e + 1);
+    std::vector<NodeId> ids;
+    for (const Lattice& l : tri.lattice()) {
+      const int i = l[0], j = l[1];
+      if (j == 0)
+        ids.push_back(i == 0 ? base[0] : i == q_ ? base[1] : base[1 + i]);
+      else if (i == 0)
+        ids.push_back(col_a[static_cast<std::size_t>(j - 1)]);
+      else if (i + j == q_)
+        ids.push_back(col_b[static_cast<std::size_t>(j - 1)]);
+      else {
+        const double xi = static_cast<double>(i) / q_, eta = static_cast<double>(j) / q_;
+        ids.push_back(add_node((1 - eta) * base_point(base, xi / (1 - eta)) + eta * apex));
+      }
+    }
+    out_.built.cells[1].insert(out_.built.cells[1].end(), ids.begin(), ids.end());
+    out_.triangle_seq.push_back(iv);
+  }
+  // The point at xi in [0, 1] of the curved element with nodes `base` (Gmsh line order).
+  Vec base_point(const NodeId* base, double xi) const {
+    const LagrangeElement& line = lagrange_element(CellType::Line, q_);
+    double phi[max_order + 1];
+    line.eval(&xi, phi);
+    Vec p = Vec::Zero();
+    for (int k = 0; k <= q_; ++k) p += phi[k] * mesh_.nodes[base[k]];
+    return p;
+  }
+
   // 4c. The regular element e: tops of its high-order nodes, attenuated (Fig. 5), and its quad.
   void regular(std::size_t e) {
     const std::size_t iv = e * q_;
@@ -321,7 +412,8 @@ class LoopLayerBuilder {
     // normal (at 90 degrees, one h along the wall from the corner they meet its top): the top
     // is taken straight there too.
     straight = straight || vt_[e].kind == VertexTop::Kind::Concave ||
-               vt_[(e + 1) % ne_].kind == VertexTop::Kind::Concave;
+               vt_[(e + 1) % ne_].kind == VertexTop::Kind::Concave || vt_[e].kind == VertexTop::Kind::Merged ||
+               vt_[(e + 1) % ne_].kind == VertexTop::Kind::Merged;
     double clipped = 0;
     if (straight)
       for (int k = 1; k < q_; ++k)
@@ -360,7 +452,9 @@ class LoopLayerBuilder {
   double chord_sag_need(std::size_t e, const Vec& a_top, const Vec& b_top) const {
     // Next to a concave corner the merged normal turns by half the corner on a straight panel
     // (no sag): regular() grows such an element straight, and so it counts.
-    if (vt_[e].kind == VertexTop::Kind::Concave || vt_[(e + 1) % ne_].kind == VertexTop::Kind::Concave) return 0;
+    if (vt_[e].kind == VertexTop::Kind::Concave || vt_[(e + 1) % ne_].kind == VertexTop::Kind::Concave ||
+        vt_[e].kind == VertexTop::Kind::Merged || vt_[(e + 1) % ne_].kind == VertexTop::Kind::Merged)
+      return 0;
     const Vec& na = vt_[e].normals.back();
     const Vec& nb = vt_[(e + 1) % ne_].normals.front();
     const double theta = std::abs(signed_angle(na, nb));

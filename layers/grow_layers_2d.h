@@ -12,7 +12,10 @@
 //     threshold gets a fan of extra normals dividing the corner angle, each pair of adjacent normals
 //     bounding one element whose outer edges come from intersecting perpendiculars at the normal
 //     end points, high-order nodes uniform in the bilinear quad (Fig. 4); a left turn (concave)
-//     gets one merged normal (grow_layers_2d.cpp says why);
+//     gets one merged normal (grow_layers_2d.cpp says why), and a regular neighbour whose top
+//     would land within a quarter height of the corner's, or past it, shares the corner's top:
+//     the element between them becomes a triangle and leaves the front (no near-duplicate
+//     nodes, no folded quadrilateral where the layer is as tall as the corner's elements);
 //  3. the high-order nodes of an element are uniform along its normals; a straight element, and
 //     any element next to a concave corner, grows a straight top;
 //  4. transition triangles join the elements of stopped nodes (isotropic_stop: node) to their

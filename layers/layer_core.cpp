@@ -67,6 +67,7 @@ std::string point_text(const Eigen::Matrix<double, Dim, 1>& x) {
 template <int Dim>
 class LayerAttempts {
  public:
+  static constexpr double kMinScale = 1.0 / 16;
   LayerAttempts(FrontGrower<Dim>& grower, const LayerParams& p, int order, LayerResult<Dim>& r)
       : g_(grower), p_(p), q_(order), r_(r) {}
 
@@ -119,6 +120,12 @@ class LayerAttempts {
       r_.mesh.nodes.resize(nodes_before);
       const double factor = last_failed_on_cells_ ? invalid_factor : 0.5;
       g_.rescale(part, failures, factor, scale);
+      // No height below kMinScale of the metric's: a site in the spans of several failures is
+      // scaled once per failure, and a closing layer's halvings around a crossing ran to 1/256,
+      // which put a layer's nodes 1.4e-6 c apart in the 30P-30N's flap gap (h0 1e-3 c, Q3):
+      // near-duplicates for Gmsh's check and no use to a solver. A part that needs thinner cells
+      // fails here instead, and stops (or, closing, leaves the regrowth to grow_layers).
+      for (double& x : scale) x = std::max(x, kMinScale);
       st.shrinks += failures.size();
       r_.events.push_back("layer " + std::to_string(layer) + ", " + part_name(part) + ": " +
                           std::to_string(failures.size()) + " " + why + " (first at " + point_text<Dim>(where) +

@@ -12,7 +12,8 @@
 //     Fig. 5);
 //  3. certify-and-shrink: every new cell is certified (Bezier bounds of its Jacobian, validity.h)
 //     and the new front is tested for collisions (FrontGrower::collisions); where either fails the
-//     heights around the failure are halved and the layer is rebuilt, shrink_attempts times; when
+//     heights around the failure are halved (never below 1/16 of the metric's) and the layer is
+//     rebuilt, shrink_attempts times; when
 //     that fails on an attenuated build, the part's layer is rebuilt with f_atten halved (up to 4
 //     times: the attenuation folds cells that no height shrink mends, e.g. f_atten = 1 on a thin
 //     layer); a part that still fails stops growing (an event);

@@ -6,10 +6,13 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <string>
 #include <unordered_map>
 #include <utility>
 #include <vector>
 
+#include "modules/base/error.h"
 #include "modules/geometry/predicates.h"
 
 namespace plaf::volume {
@@ -23,10 +26,21 @@ using Tri = std::array<NodeId, 3>;
 // A triangle of at least this metric shape quality is fair: smoothing may trade some of its shape
 // for unit edges, and swaps of fair pairs must also bring the diagonal nearer unit length.
 constexpr double kFair = 0.5;
-// Splits run in the first passes only (the later ones place the new nodes).
-constexpr int kSplitPasses = 3;
-// A split may make the worst triangle of its pair worse only down to this quality.
+// Splits run in all passes but the last kPlacePasses (which place the new nodes).
+constexpr int kPlacePasses = 2;
+// A split (or a collapse) may make the worst triangle of its pair (ball) worse only down to this
+// quality.
 constexpr double kSplitFloor = 0.3;
+constexpr double kLongSplitShare = 0.5;
+// No split of an edge longer than this by its ends' metrics alone: such an edge marks a region the
+// fronts left unresolved (the 30P-30N's gaps at h0 1e-6 c: edges of 120 units between fronts that
+// met), where halving cascades over the passes multiplied non-unit edges (there the unit fraction
+// fell from 0.81 to 0.79 with 10k splits; 0.89 with this bound), while an edge long only through
+// its midpoint (a thin feature) or up to 16 units is resolved in the passes there are (bench_fill
+// A: its longest edge 9.3 -> 1.7 units).
+constexpr double kMaxSplitEnds = 16;
+// edge_length_sampled reuses a midpoint's metric while the midpoint moved less than this (metric units).
+constexpr double kMidpointReuse = 0.05;
 
 class Optimizer {
  public:
@@ -38,7 +52,9 @@ class Optimizer {
   // Metric shape quality of a triangle (1 equilateral, 0 flat, negative when clockwise).
   double quality(NodeId a, NodeId b, NodeId c) const { return quality_at(a, b, c, x_[a], x_[b], x_[c]); }
   double quality_at(NodeId a, NodeId b, NodeId c, const Vec& pa, const Vec& pb, const Vec& pc) const {
-    const Mat m = (m_[a] + m_[b] + m_[c]) / 3;
+    return quality_in((m_[a] + m_[b] + m_[c]) / 3, pa, pb, pc);
+  }
+  static double quality_in(const Mat& m, const Vec& pa, const Vec& pb, const Vec& pc) {
     const Vec u = pb - pa, w = pc - pa, v = w - u;
     const double l2 = u.dot(m * u) + w.dot(m * w) + v.dot(m * v);
     const double area = 0.5 * (u.x() * w.y() - u.y() * w.x()) * std::sqrt(std::max(m.determinant(), 0.0));
@@ -47,6 +63,19 @@ class Optimizer {
   double edge_length(NodeId a, NodeId b) const {
     const Vec e = x_[b] - x_[a];
     return std::sqrt(e.dot(0.5 * (m_[a] + m_[b]) * e));
+  }
+  // The length with the metric also sampled at the midpoint (Simpson's rule on the length
+  // density): an edge that jumps a feature thinner than itself (a shock band between two nodes
+  // outside it) is long although its ends' metrics say it is not. One metric evaluation.
+  // The midpoint metrics are cached per edge and reused while the midpoint stays within
+  // kMidpointReuse metric units of where it was sampled (smoothing's later moves are small; a wall
+  // distance metric costs a closest-point search per evaluation).
+  double edge_length_sampled(NodeId a, NodeId b) {
+    const Vec e = x_[b] - x_[a], c = 0.5 * (x_[a] + x_[b]);
+    auto [it, fresh] = mid_cache_.try_emplace(key(a, b));
+    MidSample& ms = it->second;
+    if (fresh || (c - ms.at).dot(ms.m * (c - ms.at)) > kMidpointReuse * kMidpointReuse) ms = {c, metric_.evaluate(c).matrix()};
+    return (std::sqrt(e.dot(m_[a] * e)) + 4 * std::sqrt(e.dot(ms.m * e)) + std::sqrt(e.dot(m_[b] * e))) / 6;
   }
 
   // Sum over the node's edges of (ln L)^2 (0 when every edge has unit metric length), and how
@@ -63,15 +92,19 @@ class Optimizer {
   }
   static bool is_unit(double l) { return l >= M_SQRT1_2 && l <= M_SQRT2; }
 
+  // Splits and collapses never make a triangle worse than q (the fill's least quality at the
+  // start, so the optimisation does not lower it; swaps and moves never lower a ball's least).
+  void set_floor(double q) { floor_ = q; }
+
   double min_quality() const {
     double q = 1;
     for (const Tri& t : t_) q = std::min(q, quality(t[0], t[1], t[2]));
     return t_.empty() ? 0 : q;
   }
-  double unit_fraction() const {
+  double unit_fraction() {
     std::size_t unit = 0, total = 0;
     for_each_edge([&](NodeId a, NodeId b) {
-      const double l = edge_length(a, b);
+      const double l = edge_length_sampled(a, b);
       ++total;
       if (l >= M_SQRT1_2 && l <= M_SQRT2) ++unit;
     });
@@ -109,11 +142,11 @@ class Optimizer {
     return done;
   }
 
-  // One sweep of splits: an interior edge of metric length in (sqrt 2, 2 sqrt 2] gets its midpoint, a
-  // new free node, and its two triangles become four (each with half the old one's area and its
-  // orientation, so all stay counter-clockwise; checked exactly all the same). The halves of a
-  // 1.4-2 edge are unit; smoothing then places the midpoint. Each triangle splits at most once
-  // per sweep.
+  // One sweep of splits: an interior edge longer than sqrt 2 (edge_length_sampled) gets its
+  // midpoint, a new free node, and its two triangles become four (each with half the old one's
+  // area and its orientation, so all stay counter-clockwise; checked exactly all the same). The
+  // halves of a 1.4-2 edge are unit, a longer edge is split again in a later sweep; smoothing
+  // then places the midpoints. Each triangle splits at most once per sweep.
   std::size_t splits() {
     const std::vector<std::array<int, 2>> interior = interior_edges();
     std::vector<std::uint8_t> touched(t_.size(), 0);
@@ -124,8 +157,9 @@ class Optimizer {
       const int k = e1 % 3, l = e2 % 3;
       const NodeId p = t_[i][static_cast<std::size_t>(k)], q = t_[i][static_cast<std::size_t>((k + 1) % 3)],
                    r = t_[i][static_cast<std::size_t>((k + 2) % 3)], s = t_[j][static_cast<std::size_t>((l + 2) % 3)];
-      const double len = edge_length(p, q);
-      if (!(len > M_SQRT2 && len <= 2 * M_SQRT2)) continue;  // its halves unit
+      const double len = edge_length_sampled(p, q);
+      if (!(len > M_SQRT2)) continue;
+      if (edge_length(p, q) > kMaxSplitEnds) continue;
       const Vec mid = 0.5 * (x_[p] + x_[q]);
       if (!(orient2d(x_[p], mid, x_[r]) > 0) || !(orient2d(mid, x_[q], x_[r]) > 0) ||
           !(orient2d(x_[q], mid, x_[s]) > 0) || !(orient2d(mid, x_[p], x_[s]) > 0))
@@ -134,10 +168,17 @@ class Optimizer {
       x_.push_back(mid);
       m_.push_back(metric_.evaluate(mid).matrix());
       // Not at the cost of the worst shape: the four new triangles stay above the pair's least
-      // quality or kSplitFloor.
-      const double q_old = std::min(quality(p, q, r), quality(q, p, s));
+      // quality or kSplitFloor. The old pair is measured with the midpoint's metric in its mean
+      // too, as the new triangles are: an edge across a feature thinner than its triangles (bench_fill
+      // A's shock band: 9 units between two nodes whose metrics say 1) has triangles that only
+      // their vertices' metrics call fair.
+      const auto q4 = [&](NodeId a, NodeId b, NodeId c) {
+        return quality_in((m_[a] + m_[b] + m_[c] + m_[m]) / 4, x_[a], x_[b], x_[c]);
+      };
+      const double q_old = std::min(q4(p, q, r), q4(q, p, s));
       const double q_new = std::min({quality(p, m, r), quality(m, q, r), quality(q, m, s), quality(m, p, s)});
-      if (q_new < std::min(q_old, kSplitFloor)) {
+      const double floor = len > 2 * M_SQRT2 ? std::min(kLongSplitShare * q_old, kSplitFloor) : std::min(q_old, kSplitFloor);
+      if (q_new < std::max(floor, floor_)) {
         x_.pop_back();
         m_.pop_back();
         continue;
@@ -152,6 +193,117 @@ class Optimizer {
       ++done;
     }
     return done;
+  }
+
+  // One sweep of collapses: an edge shorter than 1/sqrt 2 (edge_length_sampled) with a free end v
+  // loses v, which merges into the other end u; the two triangles on the edge vanish and v's other
+  // triangles take u instead. Only when
+  //  - u and v share exactly the edge's two apexes as neighbours (the link condition: the mesh
+  //    stays a triangulation of the same region, no edge doubled) and v is not on a front;
+  //  - every changed triangle stays strictly counter-clockwise (exact orient2d);
+  //  - no new edge of u is longer than sqrt 2 and the changed triangles' least quality stays at
+  //    least min(the ball's old least quality, kSplitFloor).
+  // Each node takes part in at most one collapse per sweep; the dead triangles are dropped at the
+  // end of the sweep and the dead nodes at the end of the optimisation (compact()).
+  std::size_t collapses() {
+    std::vector<std::vector<int>> ball(x_.size());
+    for (std::size_t i = 0; i < t_.size(); ++i)
+      for (NodeId v : t_[i]) ball[static_cast<std::size_t>(v)].push_back(static_cast<int>(i));
+    std::vector<std::uint8_t> touched(x_.size(), 0), dead(t_.size(), 0);
+    std::size_t done = 0;
+    std::vector<NodeId> nu, nv;
+    const auto neighbours = [&](NodeId v, std::vector<NodeId>& out) {
+      out.clear();
+      for (int i : ball[static_cast<std::size_t>(v)])
+        for (NodeId w : t_[static_cast<std::size_t>(i)])
+          if (w != v) out.push_back(w);
+      std::sort(out.begin(), out.end());
+      out.erase(std::unique(out.begin(), out.end()), out.end());
+    };
+    for (const auto& [e1, e2] : interior_edges()) {
+      const std::size_t i = static_cast<std::size_t>(e1 / 3), j = static_cast<std::size_t>(e2 / 3);
+      if (dead[i] || dead[j]) continue;
+      const int k = e1 % 3;
+      const NodeId p = t_[i][static_cast<std::size_t>(k)], q = t_[i][static_cast<std::size_t>((k + 1) % 3)];
+      if (touched[p] || touched[q]) continue;
+      // (An edge unit or longer by its ends' metrics is not sampled: a midpoint coarser than
+      // both ends is rare, and a collapse it misses only leaves a short edge.)
+      if (!(edge_length(p, q) < 1) || !(edge_length_sampled(p, q) < M_SQRT1_2)) continue;
+      // Try removing q (into p), then p (into q); only free nodes go.
+      for (const auto& [u, v] : {std::pair{p, q}, std::pair{q, p}}) {
+        if (static_cast<std::size_t>(v) < fixed_) continue;
+        neighbours(u, nu);
+        neighbours(v, nv);
+        std::vector<NodeId> common;
+        std::set_intersection(nu.begin(), nu.end(), nv.begin(), nv.end(), std::back_inserter(common));
+        if (common.size() != 2) continue;
+        bool ok = true;
+        double q_old = 1, q_new = 1;
+        for (int b : ball[static_cast<std::size_t>(v)]) {
+          const Tri& t = t_[static_cast<std::size_t>(b)];
+          q_old = std::min(q_old, quality(t[0], t[1], t[2]));
+          if (static_cast<std::size_t>(b) == i || static_cast<std::size_t>(b) == j) continue;
+          Tri n = t;
+          for (NodeId& w : n)
+            if (w == v) w = u;
+          if (!(orient2d(x_[n[0]], x_[n[1]], x_[n[2]]) > 0)) {
+            ok = false;
+            break;
+          }
+          q_new = std::min(q_new, quality(n[0], n[1], n[2]));
+        }
+        if (!ok || q_new < std::max(std::min(q_old, kSplitFloor), floor_)) continue;
+        for (NodeId w : nv)
+          if (w != u && !std::binary_search(common.begin(), common.end(), w) && edge_length_sampled(u, w) > M_SQRT2) {
+            ok = false;
+            break;
+          }
+        if (!ok) continue;
+        dead[i] = dead[j] = 1;
+        for (int b : ball[static_cast<std::size_t>(v)]) {
+          if (dead[static_cast<std::size_t>(b)]) continue;
+          for (NodeId& w : t_[static_cast<std::size_t>(b)])
+            if (w == v) w = u;
+          ball[static_cast<std::size_t>(u)].push_back(b);
+        }
+        ball[static_cast<std::size_t>(v)].clear();
+        std::erase_if(ball[static_cast<std::size_t>(u)], [&](int b) { return dead[static_cast<std::size_t>(b)] != 0; });
+        for (NodeId c : common) std::erase_if(ball[static_cast<std::size_t>(c)], [&](int b) { return dead[static_cast<std::size_t>(b)] != 0; });
+        touched[u] = touched[v] = 1;
+        for (NodeId w : nv) touched[w] = 1;
+        ++done;
+        break;
+      }
+    }
+    if (done) {
+      std::size_t n = 0;
+      for (std::size_t b = 0; b < t_.size(); ++b)
+        if (!dead[b]) t_[n++] = t_[b];
+      t_.resize(n);
+    }
+    return done;
+  }
+
+  // Drops the nodes no triangle uses any more (collapsed ones; never a front node, which are all
+  // below fixed_) and renumbers the triangles.
+  void compact() {
+    std::vector<NodeId> renum(x_.size(), -1);
+    for (std::size_t v = 0; v < fixed_; ++v) renum[v] = static_cast<NodeId>(v);
+    std::vector<std::uint8_t> used(x_.size(), 0);
+    for (const Tri& t : t_)
+      for (NodeId v : t) used[static_cast<std::size_t>(v)] = 1;
+    std::size_t n = fixed_;
+    for (std::size_t v = fixed_; v < x_.size(); ++v)
+      if (used[v]) {
+        renum[v] = static_cast<NodeId>(n);
+        x_[n] = x_[v];
+        m_[n] = m_[v];
+        ++n;
+      }
+    x_.resize(n);
+    m_.resize(n);
+    for (Tri& t : t_)
+      for (NodeId& v : t) v = renum[static_cast<std::size_t>(v)];
   }
 
   // One smoothing sweep over the free nodes.
@@ -250,6 +402,12 @@ class Optimizer {
   const std::size_t fixed_;
   const MetricField<2>& metric_;
   std::vector<Mat> m_;  // the metric at every node
+  double floor_ = 0;  // no split or collapse makes a triangle worse than this (set_floor)
+  struct MidSample {
+    Vec at;
+    Mat m;
+  };
+  std::unordered_map<std::uint64_t, MidSample> mid_cache_;  // edge_length_sampled's midpoint metrics
 };
 
 }  // namespace
@@ -257,15 +415,25 @@ class Optimizer {
 OptimizeStats optimize_fill(FillResult<2>& fill, std::size_t fixed_nodes, const MetricField<2>& metric,
                             const OptimizeParams& params) {
   OptimizeStats st;
+  // The sweeps name a triangle's side as triangle * 3 + k in an int, and nodes are 32-bit ids.
+  if (fill.simplices.size() > static_cast<std::size_t>(std::numeric_limits<int>::max() / 3 - 4) ||
+      fill.nodes.size() > static_cast<std::size_t>(std::numeric_limits<NodeId>::max() / 2))
+    throw MesherError("fill: " + std::to_string(fill.simplices.size()) +
+                      " triangles are more than the post-optimisation can index; set fill.optimize_passes: 0");
   Optimizer o(fill, fixed_nodes, metric);
   st.quality_min_before = o.min_quality();
+  o.set_floor(st.quality_min_before);
   st.unit_fraction_before = o.unit_fraction();
   for (int pass = 0; pass < params.passes; ++pass) {
-    if (pass < kSplitPasses) st.splits += o.splits();
+    if (pass < std::max(1, params.passes - kPlacePasses)) {
+      st.splits += o.splits();
+      st.collapses += o.collapses();
+    }
     st.swaps += o.swaps();
     st.moves += o.smooth();
   }
   if (params.passes > 0) st.swaps += o.swaps();
+  o.compact();
   st.quality_min_after = o.min_quality();
   st.unit_fraction_after = o.unit_fraction();
   return st;

@@ -58,6 +58,7 @@ void register_plugins() {
             AdvancingFrontResult fill = advancing_front_fill(s.layers->fill_front, *s.metric, p);
             const OptimizeStats o = optimize_fill(fill, s.layers->fill_front.nodes.size(), *s.metric, opt);
             rep.add("optimize_splits", o.splits);
+            rep.add("optimize_collapses", o.collapses);
             rep.add("optimize_swaps", o.swaps);
             rep.add("optimize_moves", o.moves);
             rep.add("optimize_quality_min_before", o.quality_min_before);

@@ -80,15 +80,18 @@ class EdgeLengthAccumulator {
     out.histogram.assign(bins, 0);
     out.min = std::numeric_limits<double>::infinity();
   }
-  void add(double len) {
+  // Adds one length; true when it is the longest so far (the caller then sets max_at).
+  bool add(double len) {
     ++out_.count;
     sum_ += len;
     out_.min = std::min(out_.min, len);
+    const bool longest = out_.count == 1 || len > out_.max;
     out_.max = std::max(out_.max, len);
     if (len >= 1 / std::sqrt(2.0) && len <= std::sqrt(2.0)) ++unit_;
     // Clamped as a double: a collapsed edge (len 0) gives pos = -inf, whose cast is undefined.
     const double pos = (std::log2(len) + 3.0) / 6.0 * bins_;
     out_.histogram[pos > 0 ? static_cast<int>(std::min(std::floor(pos), bins_ - 1.0)) : 0]++;
+    return longest;
   }
   void finish() {
     if (out_.count) {
@@ -164,9 +167,20 @@ void measure_edges(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& bl
       length[r] = metric_length_curved<Dim>(metric, edge.data(), b.order);
     }
   });
+  // The midpoint of an edge's end nodes, for the report's max_at.
+  const auto midpoint = [&](std::size_t r) {
+    const CellBlock& b = blocks[refs[r].block];
+    const auto& en = lagrange_element(b.type, b.order).edge_nodes(static_cast<int>(refs[r].k));
+    const NodeId* c = b.cell(refs[r].cell);
+    std::ostringstream w;
+    w << "(";
+    for (int d = 0; d < Dim; ++d) w << (d ? ", " : "") << 0.5 * (mesh.nodes[c[en.front()]][d] + mesh.nodes[c[en.back()]][d]);
+    w << ")";
+    return w.str();
+  };
   for (std::size_t r = 0; r < refs.size(); ++r) {
-    acc_all.add(length[r]);
-    if (acc_simplex && in_simplex[r]) acc_simplex->add(length[r]);
+    if (acc_all.add(length[r])) all.max_at = midpoint(r);
+    if (acc_simplex && in_simplex[r] && acc_simplex->add(length[r])) simplices->max_at = midpoint(r);
   }
   acc_all.finish();
   if (acc_simplex) acc_simplex->finish();
@@ -395,6 +409,7 @@ std::string report_json(const QualityReport& r) {
     const EdgeLengthStats& m = r.metric;
     s << "  \"metric\": {\n    \"edges\": " << m.count << ",\n    \"unit_fraction\": " << json_number(m.unit_fraction)
       << ",\n    \"min\": " << json_number(m.min) << ",\n    \"max\": " << json_number(m.max)
+      << ",\n    \"max_at\": " << json_string(m.max_at)
       << ",\n    \"mean\": " << json_number(m.mean) << ",\n    \"histogram\": {\"bin_edges\": [";
     for (std::size_t k = 0; k < m.bin_edges.size(); ++k) s << (k ? ", " : "") << json_number(m.bin_edges[k]);
     s << "], \"counts\": [";
@@ -410,6 +425,7 @@ std::string report_json(const QualityReport& r) {
       s << ",\n    \"triangles\": {\"count\": " << t.triangles << ", \"edges\": " << t.edges.count
         << ", \"unit_fraction\": " << json_number(t.edges.unit_fraction)
         << ", \"edge_min\": " << json_number(t.edges.min) << ", \"edge_max\": " << json_number(t.edges.max)
+        << ", \"edge_max_at\": " << json_string(t.edges.max_at)
         << ", \"edge_mean\": " << json_number(t.edges.mean) << ", \"edge_histogram_counts\": [";
       for (std::size_t k = 0; k < t.edges.histogram.size(); ++k) s << (k ? ", " : "") << t.edges.histogram[k];
       s << "], \"quality_min\": " << json_number(t.quality_min) << ", \"quality_mean\": " << json_number(t.quality_mean)

@@ -37,6 +37,7 @@ struct EdgeLengthStats {
   std::size_t count = 0;
   double unit_fraction = 0;
   double min = 0, max = 0, mean = 0;
+  std::string max_at;                // "(x, y[, z])": the midpoint of the longest edge's end nodes
   std::vector<double> bin_edges;     // histogram of log2(length): bins between these edges
   std::vector<std::size_t> histogram;
 };

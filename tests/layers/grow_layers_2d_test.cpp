@@ -203,6 +203,36 @@ TEST_CASE("layers: a concave 90 degree corner gets valid cells") {
   }
 }
 
+TEST_CASE("layers: next to a concave corner a layer as tall as the neighbouring element merges their tops into a triangle") {
+  // The L-shaped body of the test above, its elements 0.1 long; layers of height h near 0.1 put
+  // the corner's top and its neighbour's |0.1 - h| apart (h = 0.0993: 7e-4, a near-duplicate
+  // node), or past each other (h > 0.1: a folded quadrilateral).
+  const std::vector<Vector2d> l = {{0, 0}, {0, 2}, {1, 2}, {1, 1}, {2, 1}, {2, 0}};
+  const Geometry2D geo = body(l, {0, 1, 2, 3, 4, 5});
+  const UniformMetricField<2> metric(Metric<2>::isotropic(0.1));
+  for (int q = 1; q <= 4; ++q)
+    for (double h : {0.0993, 0.1, 0.104, 0.13}) {
+      INFO("order " << q << ", h " << h);
+      const CurvedFront<2> front = mesh_curves(geo, metric, q);
+      layers::LayerParams p;
+      p.max_layers = 3;
+      const UniformMetricField<2> thin(Metric<2>::isotropic(h));
+      const LayerResult<2> r = layers::grow_layers(front, thin, p);
+      CHECK(r.layers.size() == 3);
+      const QualityReport qr = check(r);
+      CHECK(qr.cells_invalid == 0);
+      CHECK(qr.conformity.ok);
+      // The corner's two neighbours merged (no node stops here, so every triangle is a merge's).
+      CHECK(r.layers[0].transition_cells == 2);
+      // No two nodes closer than a tenth of the smallest spacing the layers are built with.
+      double closest = 1e300;
+      for (std::size_t a = 0; a < r.mesh.nodes.size(); ++a)
+        for (std::size_t b = a + 1; b < r.mesh.nodes.size(); ++b)
+          closest = std::min(closest, (r.mesh.nodes[a] - r.mesh.nodes[b]).norm());
+      CHECK(closest > 0.1 * 0.09 / q);
+    }
+}
+
 TEST_CASE("layers: Q = 1..4 on the E387 give valid, conforming layers") {
   BodyContour c = read_body_contour(PLAF_DATA "/airfoils/e387.dat");
   const Geometry2D geo = body(c.points, c.corners);
