@@ -8,7 +8,6 @@
 #include <cstdint>
 #include <limits>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -39,6 +38,8 @@ constexpr double kLongSplitShare = 0.5;
 // its midpoint (a thin feature) or up to 16 units is resolved in the passes there are (bench_fill
 // A: its longest edge 9.3 -> 1.7 units).
 constexpr double kMaxSplitEnds = 16;
+// Smoothing leaves a node whose target is nearer than this (metric units).
+constexpr double kSettled = 0.02;
 // edge_length_sampled reuses a midpoint's metric while the midpoint moved less than this (metric units).
 constexpr double kMidpointReuse = 0.05;
 
@@ -67,15 +68,31 @@ class Optimizer {
   // The length with the metric also sampled at the midpoint (Simpson's rule on the length
   // density): an edge that jumps a feature thinner than itself (a shock band between two nodes
   // outside it) is long although its ends' metrics say it is not. One metric evaluation.
-  // The midpoint metrics are cached per edge and reused while the midpoint stays within
+  double edge_length_sampled(NodeId a, NodeId b) const {
+    return simpson(a, b, metric_.evaluate(0.5 * (x_[a] + x_[b])).matrix());
+  }
+  double simpson(NodeId a, NodeId b, const Mat& mid) const {
+    const Vec e = x_[b] - x_[a];
+    return (std::sqrt(e.dot(m_[a] * e)) + 4 * std::sqrt(e.dot(mid * e)) + std::sqrt(e.dot(m_[b] * e))) / 6;
+  }
+  // The same for side k of triangle i (side 3 i + k, from vertex k to k + 1), its midpoint metric
+  // cached per side and reused while the triangle is unchanged and the midpoint stays within
   // kMidpointReuse metric units of where it was sampled (smoothing's later moves are small; a wall
-  // distance metric costs a closest-point search per evaluation).
-  double edge_length_sampled(NodeId a, NodeId b) {
-    const Vec e = x_[b] - x_[a], c = 0.5 * (x_[a] + x_[b]);
-    auto [it, fresh] = mid_cache_.try_emplace(key(a, b));
-    MidSample& ms = it->second;
-    if (fresh || (c - ms.at).dot(ms.m * (c - ms.at)) > kMidpointReuse * kMidpointReuse) ms = {c, metric_.evaluate(c).matrix()};
-    return (std::sqrt(e.dot(m_[a] * e)) + 4 * std::sqrt(e.dot(ms.m * e)) + std::sqrt(e.dot(m_[b] * e))) / 6;
+  // distance metric costs a closest-point search per evaluation, a background one a point location).
+  double side_length(std::size_t side) {
+    const Tri& t = t_[side / 3];
+    const NodeId a = t[side % 3], b = t[(side + 1) % 3];
+    const Vec c = 0.5 * (x_[a] + x_[b]);
+    if (side_mid_.size() < 3 * t_.size()) side_mid_.resize(3 * t_.size());
+    MidSample& ms = side_mid_[side];
+    if (!ms.valid || (c - ms.at).dot(ms.m * (c - ms.at)) > kMidpointReuse * kMidpointReuse)
+      ms = {c, metric_.evaluate(c).matrix(), true};
+    return simpson(a, b, ms.m);
+  }
+  // Triangle i changed: its sides' samples are stale.
+  void changed(std::size_t i) {
+    if (side_mid_.size() < 3 * t_.size()) side_mid_.resize(3 * t_.size());
+    for (std::size_t k = 0; k < 3; ++k) side_mid_[3 * i + k].valid = false;
   }
 
   // Sum over the node's edges of (ln L)^2 (0 when every edge has unit metric length), and how
@@ -96,6 +113,8 @@ class Optimizer {
   // start, so the optimisation does not lower it; swaps and moves never lower a ball's least).
   void set_floor(double q) { floor_ = q; }
 
+  std::size_t triangles() const { return t_.size(); }
+
   double min_quality() const {
     double q = 1;
     for (const Tri& t : t_) q = std::min(q, quality(t[0], t[1], t[2]));
@@ -103,11 +122,11 @@ class Optimizer {
   }
   double unit_fraction() {
     std::size_t unit = 0, total = 0;
-    for_each_edge([&](NodeId a, NodeId b) {
-      const double l = edge_length_sampled(a, b);
+    for (std::size_t side : distinct_sides()) {
+      const double l = side_length(side);
       ++total;
       if (l >= M_SQRT1_2 && l <= M_SQRT2) ++unit;
-    });
+    }
     return total ? static_cast<double>(unit) / static_cast<double>(total) : 0;
   }
 
@@ -136,6 +155,8 @@ class Optimizer {
         continue;
       t_[i] = {r, p, s};
       t_[j] = {s, q, r};
+      changed(i);
+      changed(j);
       touched[i] = touched[j] = 1;
       ++done;
     }
@@ -157,7 +178,7 @@ class Optimizer {
       const int k = e1 % 3, l = e2 % 3;
       const NodeId p = t_[i][static_cast<std::size_t>(k)], q = t_[i][static_cast<std::size_t>((k + 1) % 3)],
                    r = t_[i][static_cast<std::size_t>((k + 2) % 3)], s = t_[j][static_cast<std::size_t>((l + 2) % 3)];
-      const double len = edge_length_sampled(p, q);
+      const double len = side_length(static_cast<std::size_t>(e1));
       if (!(len > M_SQRT2)) continue;
       if (edge_length(p, q) > kMaxSplitEnds) continue;
       const Vec mid = 0.5 * (x_[p] + x_[q]);
@@ -187,6 +208,10 @@ class Optimizer {
       t_[j] = {q, m, s};
       t_.push_back({m, q, r});
       t_.push_back({m, p, s});
+      changed(i);
+      changed(j);
+      changed(t_.size() - 2);
+      changed(t_.size() - 1);
       touched[i] = touched[j] = 1;
       touched.push_back(1);
       touched.push_back(1);
@@ -228,7 +253,7 @@ class Optimizer {
       if (touched[p] || touched[q]) continue;
       // (An edge unit or longer by its ends' metrics is not sampled: a midpoint coarser than
       // both ends is rare, and a collapse it misses only leaves a short edge.)
-      if (!(edge_length(p, q) < 1) || !(edge_length_sampled(p, q) < M_SQRT1_2)) continue;
+      if (!(edge_length(p, q) < 1) || !(side_length(static_cast<std::size_t>(e1)) < M_SQRT1_2)) continue;
       // Try removing q (into p), then p (into q); only free nodes go.
       for (const auto& [u, v] : {std::pair{p, q}, std::pair{q, p}}) {
         if (static_cast<std::size_t>(v) < fixed_) continue;
@@ -264,11 +289,10 @@ class Optimizer {
           if (dead[static_cast<std::size_t>(b)]) continue;
           for (NodeId& w : t_[static_cast<std::size_t>(b)])
             if (w == v) w = u;
-          ball[static_cast<std::size_t>(u)].push_back(b);
+          changed(static_cast<std::size_t>(b));
         }
-        ball[static_cast<std::size_t>(v)].clear();
-        std::erase_if(ball[static_cast<std::size_t>(u)], [&](int b) { return dead[static_cast<std::size_t>(b)] != 0; });
-        for (NodeId c : common) std::erase_if(ball[static_cast<std::size_t>(c)], [&](int b) { return dead[static_cast<std::size_t>(b)] != 0; });
+        // Every vertex of v's old ball is touched now, so no ball read later in this sweep holds
+        // a dead or changed triangle: the balls need no update.
         touched[u] = touched[v] = 1;
         for (NodeId w : nv) touched[w] = 1;
         ++done;
@@ -278,8 +302,12 @@ class Optimizer {
     if (done) {
       std::size_t n = 0;
       for (std::size_t b = 0; b < t_.size(); ++b)
-        if (!dead[b]) t_[n++] = t_[b];
+        if (!dead[b]) {
+          for (std::size_t k = 0; k < 3; ++k) side_mid_[3 * n + k] = side_mid_[3 * b + k];
+          t_[n++] = t_[b];
+        }
       t_.resize(n);
+      side_mid_.resize(3 * n);
     }
     return done;
   }
@@ -331,6 +359,9 @@ class Optimizer {
         target += l > 0 ? Vec(x_[u] + (x0 - x_[u]) / l) : x0;
       }
       target /= static_cast<double>(nbr.size());
+      // Converged: a node whose target is within kSettled metric units stays (most nodes after
+      // the first passes; each trial costs a metric evaluation and the ball's checks).
+      if ((target - x0).dot(m_[v] * (target - x0)) < kSettled * kSettled) continue;
       double q_old = 1;
       for (int i : b) q_old = std::min(q_old, quality(t_[i][0], t_[i][1], t_[i][2]));
       const auto [e_old, unit_old] = length_energy(id, nbr);
@@ -375,26 +406,35 @@ class Optimizer {
   // The edges shared by two triangles, each as its two sides (triangle * 3 + local edge k, the
   // edge from vertex k to k + 1).
   std::vector<std::array<int, 2>> interior_edges() const {
-    std::unordered_map<std::uint64_t, std::pair<int, int>> edges;  // (min, max) -> triangle, local edge
-    edges.reserve(t_.size() * 2);
-    std::vector<std::array<int, 2>> interior;
+    // Sorted (edge key, side) pairs: a shared edge's two sides end up adjacent (no hash map: it
+    // allocated a node per edge on every sweep, most of the optimisation's time at 60k triangles).
+    std::vector<std::pair<std::uint64_t, int>> sides;
+    sides.reserve(t_.size() * 3);
     for (std::size_t i = 0; i < t_.size(); ++i)
-      for (int k = 0; k < 3; ++k) {
-        const NodeId a = t_[i][static_cast<std::size_t>(k)], b = t_[i][static_cast<std::size_t>((k + 1) % 3)];
-        const auto [it, fresh] = edges.try_emplace(key(a, b), static_cast<int>(i), k);
-        if (!fresh) interior.push_back({it->second.first * 3 + it->second.second, static_cast<int>(i) * 3 + k});
+      for (int k = 0; k < 3; ++k)
+        sides.emplace_back(key(t_[i][static_cast<std::size_t>(k)], t_[i][static_cast<std::size_t>((k + 1) % 3)]),
+                           static_cast<int>(i) * 3 + k);
+    std::sort(sides.begin(), sides.end());
+    std::vector<std::array<int, 2>> interior;
+    interior.reserve(sides.size() / 2);
+    for (std::size_t a = 0; a + 1 < sides.size(); ++a)
+      if (sides[a].first == sides[a + 1].first) {
+        interior.push_back({sides[a].second, sides[a + 1].second});
+        ++a;
       }
     return interior;
   }
-  template <typename F>
-  void for_each_edge(F&& f) const {
-    std::unordered_map<std::uint64_t, char> seen;
-    seen.reserve(t_.size() * 2);
-    for (const Tri& t : t_)
-      for (int k = 0; k < 3; ++k) {
-        const NodeId a = t[static_cast<std::size_t>(k)], b = t[static_cast<std::size_t>((k + 1) % 3)];
-        if (seen.emplace(key(a, b), 0).second) f(a, b);
-      }
+  // One side (3 i + k) of every distinct edge.
+  std::vector<std::size_t> distinct_sides() const {
+    std::vector<std::pair<std::uint64_t, std::size_t>> sides;
+    sides.reserve(t_.size() * 3);
+    for (std::size_t i = 0; i < t_.size(); ++i)
+      for (std::size_t k = 0; k < 3; ++k) sides.emplace_back(key(t_[i][k], t_[i][(k + 1) % 3]), 3 * i + k);
+    std::sort(sides.begin(), sides.end());
+    std::vector<std::size_t> out;
+    for (std::size_t a = 0; a < sides.size(); ++a)
+      if (a == 0 || sides[a].first != sides[a - 1].first) out.push_back(sides[a].second);
+    return out;
   }
 
   std::vector<Vec>& x_;
@@ -404,10 +444,11 @@ class Optimizer {
   std::vector<Mat> m_;  // the metric at every node
   double floor_ = 0;  // no split or collapse makes a triangle worse than this (set_floor)
   struct MidSample {
-    Vec at;
-    Mat m;
+    Vec at = Vec::Zero();
+    Mat m = Mat::Zero();
+    bool valid = false;
   };
-  std::unordered_map<std::uint64_t, MidSample> mid_cache_;  // edge_length_sampled's midpoint metrics
+  std::vector<MidSample> side_mid_;  // side_length's midpoint metrics, per triangle side
 };
 
 }  // namespace
@@ -424,12 +465,17 @@ OptimizeStats optimize_fill(FillResult<2>& fill, std::size_t fixed_nodes, const 
   st.quality_min_before = o.min_quality();
   o.set_floor(st.quality_min_before);
   st.unit_fraction_before = o.unit_fraction();
+  bool topology = true;
   for (int pass = 0; pass < params.passes; ++pass) {
-    if (pass < std::max(1, params.passes - kPlacePasses)) {
-      st.splits += o.splits();
-      st.collapses += o.collapses();
+    std::size_t a = 0, b = 0;
+    if (pass < std::max(1, params.passes - kPlacePasses) && topology) {
+      st.splits += a = o.splits();
+      st.collapses += b = o.collapses();
     }
     st.swaps += o.swaps();
+    // The splits and collapses stop once a pass changes fewer than 1 in 1000 triangles (a sweep
+    // costs a sampled length per edge; the last passes of bench_fill A found a few dozen each).
+    if (pass > 0 && (a + b) * 1000 < o.triangles()) topology = false;
     st.moves += o.smooth();
   }
   if (params.passes > 0) st.swaps += o.swaps();
