@@ -4,6 +4,7 @@
 #include "layers/grow_layers_2d.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -49,6 +50,10 @@ struct LoopLayer {
   std::vector<std::size_t> triangle_seq;  // per triangle: the sequence index of its base's start
   FrontLoop top;
   std::vector<std::size_t> top_seq;  // per new front element: the sequence index it grew from
+  // Per quad, triangle and new front element: the concave corners whose tops its ends share
+  // (merge_at_concave; -1: none), whose heights a failure there scales too: the shared top is the
+  // corner's, outside the element's own span.
+  std::vector<std::array<long, 2>> cell_extra, triangle_extra, top_extra;
   std::vector<int> top_span;         // ... and how many sequence indices its base spans
 };
 
@@ -71,12 +76,18 @@ class LoopLayerBuilder {
     out_.top.kind = loop_.kind;
     out_.top.geometry_loop = loop_.geometry_loop;
     for (std::size_t e = 0; e < ne_; ++e) {
+      extra_ = {-1, -1};
+      for (int end = 0; end < 2; ++end) {
+        const VertexTop& v = vt_[(e + static_cast<std::size_t>(end)) % ne_];
+        if (v.kind == VertexTop::Kind::Merged) extra_[static_cast<std::size_t>(end)] = static_cast<long>(v.merged_into * q_);
+      }
       fan(e);
       const bool a_stopped = vt_[e].kind == VertexTop::Kind::Stopped;
       const bool b_stopped = vt_[(e + 1) % ne_].kind == VertexTop::Kind::Stopped;
       if (a_stopped && b_stopped)
         emit_front(el(e)[0], el(e)[1], std::vector<NodeId>(el(e) + 2, el(e) + q_ + 1), e * q_, q_);
-      else if (!a_stopped && !b_stopped && right_column(e).back() == left_column(e + 1).back())
+      else if ((vt_[e].kind == VertexTop::Kind::Merged && vt_[e].merged_into == (e + 1) % ne_) ||
+               (vt_[(e + 1) % ne_].kind == VertexTop::Kind::Merged && vt_[(e + 1) % ne_].merged_into == e))
         collapsed(e);
       else if (a_stopped || b_stopped)
         transition(e, a_stopped);
@@ -251,10 +262,12 @@ class LoopLayerBuilder {
   void emit_cell(std::size_t seq_first, int span) {
     for (const Lattice& l : quad_.lattice()) out_.built.cells[0].push_back(g_at(l[0], l[1]));
     out_.cell_seq.push_back(seq_first);
+    out_.cell_extra.push_back(extra_);
     out_.cell_span.push_back(span);
   }
   void emit_front(NodeId a, NodeId b, const std::vector<NodeId>& interior, std::size_t seq_first, int span) {
     out_.top_seq.push_back(seq_first);
+    out_.top_extra.push_back(extra_);
     out_.top_span.push_back(span);
     out_.top.elements.push_back(a);
     out_.top.elements.push_back(b);
@@ -335,6 +348,7 @@ class LoopLayerBuilder {
     }
     out_.built.cells[1].insert(out_.built.cells[1].end(), ids.begin(), ids.end());
     out_.triangle_seq.push_back(iv);
+    out_.triangle_extra.push_back(extra_);
     // The hypotenuse is the new front: stopped node -> top (a stopped) or top -> stopped node.
     std::vector<NodeId> inner;
     if (a_stopped) {
@@ -372,6 +386,7 @@ class LoopLayerBuilder {
     }
     out_.built.cells[1].insert(out_.built.cells[1].end(), ids.begin(), ids.end());
     out_.triangle_seq.push_back(iv);
+    out_.triangle_extra.push_back(extra_);
   }
   // The point at xi in [0, 1] of the curved element with nodes `base` (Gmsh line order).
   Vec base_point(const NodeId* base, double xi) const {
@@ -482,6 +497,7 @@ class LoopLayerBuilder {
   std::vector<Vec> panel_, normal_;
   std::vector<double> turning_;
   std::vector<VertexTop> vt_;
+  std::array<long, 2> extra_ = {-1, -1};  // the element being built's LoopLayer::*_extra entry
   LoopLayer out_;
 };
 
@@ -573,17 +589,23 @@ class LoopFronts final : public FrontGrower<2> {
     for (const LayerFailure& f : failures) {
       std::size_t first;
       int span;
+      std::array<long, 2> extra;
       if (f.block == LayerFailure::kFrontElement) {
         first = pending_.top_seq[f.index];
         span = pending_.top_span[f.index];
+        extra = pending_.top_extra[f.index];
       } else if (f.block == 0) {
         first = pending_.cell_seq[f.index];
         span = pending_.cell_span[f.index];
+        extra = pending_.cell_extra[f.index];
       } else {
         first = pending_.triangle_seq[f.index];
         span = q_;
+        extra = pending_.triangle_extra[f.index];
       }
       for (int s2 = -1; s2 <= span + 1; ++s2) scale[(first + n - 1 + static_cast<std::size_t>(s2 + 1)) % n] *= factor;
+      for (long x : extra)
+        if (x >= 0) scale[static_cast<std::size_t>(x)] *= factor;
     }
   }
   void accept(std::size_t part) override { loops_[part] = std::move(pending_.top); }

@@ -119,6 +119,7 @@ class LayerAttempts {
       if (failures.empty()) return true;
       r_.mesh.nodes.resize(nodes_before);
       const double factor = last_failed_on_cells_ ? invalid_factor : 0.5;
+      const std::vector<double> previous = scale;
       g_.rescale(part, failures, factor, scale);
       // No height below kMinScale of the metric's: a site in the spans of several failures is
       // scaled once per failure, and a closing layer's halvings around a crossing ran to 1/256,
@@ -126,6 +127,14 @@ class LayerAttempts {
       // near-duplicates for Gmsh's check and no use to a solver. A part that needs thinner cells
       // fails here instead, and stops (or, closing, leaves the regrowth to grow_layers).
       for (double& x : scale) x = std::max(x, kMinScale);
+      // Every failing site already at the floor: the next build would be this one again.
+      if (scale == previous) {
+        r_.events.push_back("layer " + std::to_string(layer) + ", " + part_name(part) + ": " +
+                            std::to_string(failures.size()) + " " + why + " (first at " + point_text<Dim>(where) +
+                            "), heights already at 1/16 of the metric's there");
+        st.shrinks += failures.size();
+        return false;
+      }
       st.shrinks += failures.size();
       r_.events.push_back("layer " + std::to_string(layer) + ", " + part_name(part) + ": " +
                           std::to_string(failures.size()) + " " + why + " (first at " + point_text<Dim>(where) +

@@ -456,6 +456,7 @@ class Optimizer {
 OptimizeStats optimize_fill(FillResult<2>& fill, std::size_t fixed_nodes, const MetricField<2>& metric,
                             const OptimizeParams& params) {
   OptimizeStats st;
+  if (params.passes <= 0) return st;
   // The sweeps name a triangle's side as triangle * 3 + k in an int, and nodes are 32-bit ids.
   if (fill.simplices.size() > static_cast<std::size_t>(std::numeric_limits<int>::max() / 3 - 4) ||
       fill.nodes.size() > static_cast<std::size_t>(std::numeric_limits<NodeId>::max() / 2))

@@ -65,7 +65,8 @@ void register_plugins() {
             rep.add("optimize_quality_min_after", o.quality_min_after);
             rep.add("optimize_unit_fraction_before", o.unit_fraction_before);
             rep.add("optimize_unit_fraction_after", o.unit_fraction_after);
-            rep.line("fill: optimised in the metric: " + std::to_string(o.splits) + " splits, " + std::to_string(o.swaps) +
+            rep.line("fill: optimised in the metric: " + std::to_string(o.splits) + " splits, " +
+                     std::to_string(o.collapses) + " collapses, " + std::to_string(o.swaps) +
                      " swaps, " + std::to_string(o.moves) +
                      " moves; triangle quality min " + num(o.quality_min_before) + " -> " + num(o.quality_min_after) +
                      ", unit edges " + num(100 * o.unit_fraction_before) + " % -> " +

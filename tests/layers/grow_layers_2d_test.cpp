@@ -233,6 +233,28 @@ TEST_CASE("layers: next to a concave corner a layer as tall as the neighbouring 
     }
 }
 
+TEST_CASE("layers: a layer more than twice as tall as the elements at a concave corner shrinks the corner's top too") {
+  // h = 0.25 over elements 0.1 long: the corner's neighbour merges (its top lies past the
+  // corner's), and the next element's top runs back from the corner's top. Its failure must
+  // lower the corner's height, which lies outside the element's own span; else every shrink
+  // leaves the corner's top where it is and the part stops before its first layer (Q >= 2).
+  const std::vector<Vector2d> l = {{0, 0}, {0, 2}, {1, 2}, {1, 1}, {2, 1}, {2, 0}};
+  const Geometry2D geo = body(l, {0, 1, 2, 3, 4, 5});
+  const UniformMetricField<2> metric(Metric<2>::isotropic(0.1));
+  for (int q = 1; q <= 3; ++q) {
+    INFO("order " << q);
+    const CurvedFront<2> front = mesh_curves(geo, metric, q);
+    layers::LayerParams p;
+    p.max_layers = 1;
+    const UniformMetricField<2> tall(Metric<2>::isotropic(0.25));
+    const LayerResult<2> r = layers::grow_layers(front, tall, p);
+    CHECK(r.layers.size() == 1);
+    const QualityReport qr = check(r);
+    CHECK(qr.cells_invalid == 0);
+    CHECK(qr.conformity.ok);
+  }
+}
+
 TEST_CASE("layers: Q = 1..4 on the E387 give valid, conforming layers") {
   BodyContour c = read_body_contour(PLAF_DATA "/airfoils/e387.dat");
   const Geometry2D geo = body(c.points, c.corners);
