@@ -308,16 +308,21 @@ TEST_CASE("cli: the outputs are one set: a writer that fails half-way, or a stop
   // twice, and once more stopped later (after the first files are staged).
   const fs::path big = write_text(d / "big.yaml", "name: big\norder: 4\ngeometry: {type: annulus, angle_deg: 360}\n"
                                                   "metric: {type: uniform, h: 0.012}\n");
+  int round = 0;
   for (const char* extra : {"0", "0", "0.3"}) {
-    const fs::path out = d / ("killed_" + std::to_string(std::rand()));
-    const fs::path err = d / "killed.err";
+    const fs::path out = d / ("killed_" + std::to_string(round));
+    // A file of its own per round: with one shared file, a loaded machine let the loop below find
+    // the previous round's "quality:" before the new run had truncated it, and the stop came
+    // before the run had begun.
+    const fs::path err = d / ("killed_" + std::to_string(round++) + ".err");
     const std::string cmd = "sh -c '" + std::string(PLAF_EXE) + " run " + big.string() + " --out " + out.string() +
                             " > /dev/null 2> " + err.string() + " & p=$!; i=0; while ! grep -q \"quality:\" " +
                             err.string() + " && [ $i -lt 20000 ]; do sleep 0.01; i=$((i+1)); done; sleep " + extra +
                             "; kill -TERM $p; wait $p; exit $?'";
     const int status = std::system(cmd.c_str());
     const std::string log = read_text(err);
-    INFO("stopped " << extra << " s after the quality stage, exit status " << status << "\n" << log);
+    const std::string when = extra;  // INFO captures by reference: named, not a temporary
+    INFO("stopped " << when << " s after the quality stage, exit status " << status << "\n" << log);
     REQUIRE(log.find("quality:") != std::string::npos);  // the stop came in the output phase
     CHECK(WIFEXITED(status));
     CHECK(WEXITSTATUS(status) == 128 + SIGTERM);  // stopped by the signal, not finished
