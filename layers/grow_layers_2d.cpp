@@ -106,10 +106,12 @@ class LoopLayerBuilder {
     mesh_.nodes.push_back(x);
     return static_cast<NodeId>(mesh_.nodes.size() - 1);
   }
-  // Column of Q nodes from base (excluded) to top (included), uniform.
-  std::vector<NodeId> column(const Vec& base, const Vec& top) {
+  // Column of Q nodes from base (excluded) to top (included), uniform; its top the existing node
+  // top_id when given (a merged vertex's: its concave corner's top).
+  std::vector<NodeId> column(const Vec& base, const Vec& top, NodeId top_id = -1) {
     std::vector<NodeId> c;
-    for (int j = 1; j <= q_; ++j) c.push_back(add_node(base + (static_cast<double>(j) / q_) * (top - base)));
+    for (int j = 1; j <= q_; ++j)
+      c.push_back(j == q_ && top_id >= 0 ? top_id : add_node(base + (static_cast<double>(j) / q_) * (top - base)));
     return c;
   }
   NodeId& g_at(int u, int v) { return grid_[static_cast<std::size_t>(v * (q_ + 1) + u)]; }
@@ -213,11 +215,7 @@ class LoopLayerBuilder {
       VertexTop& v = vt_[e];
       if (v.kind != VertexTop::Kind::Merged) continue;
       const Vec c = at(e * q_);
-      const std::vector<NodeId>& into = vt_[v.merged_into].columns.front();
-      std::vector<NodeId> col;
-      for (int j = 1; j < q_; ++j) col.push_back(add_node(c + (static_cast<double>(j) / q_) * (v.tops[0] - c)));
-      col.push_back(into.back());  // the concave vertex's top node itself
-      v.columns = {std::move(col)};
+      v.columns = {column(c, v.tops[0], vt_[v.merged_into].columns.front().back())};
       out_.built.columns.push_back({c[0], c[1], 0.0, (v.tops[0] - c).norm()});
     }
   }
@@ -318,16 +316,8 @@ class LoopLayerBuilder {
     const std::size_t iv = e * q_;
     const NodeId* base = el(e);
     const LagrangeElement& tri = lagrange_element(CellType::Triangle, q_);
-    const LagrangeElement& line = lagrange_element(CellType::Line, q_);
     const Vec apex = a_stopped ? left_top(e + 1) : right_top(e);
     const std::vector<NodeId>& col = a_stopped ? left_column(e + 1) : right_column(e);
-    double phi[max_order + 1];
-    auto base_at = [&](double s) {
-      line.eval(&s, phi);
-      Vec p = Vec::Zero();
-      for (int k = 0; k <= q_; ++k) p += phi[k] * mesh_.nodes[base[k]];
-      return p;
-    };
     std::vector<NodeId> ids;
     std::vector<NodeId> hyp(static_cast<std::size_t>(q_ + 1), -1);  // hypotenuse, by eta index j
     for (const Lattice& l : tri.lattice()) {
@@ -341,7 +331,7 @@ class LoopLayerBuilder {
         id = col[static_cast<std::size_t>(j - 1)];
       } else {
         const double xi = static_cast<double>(i) / q_, eta = static_cast<double>(j) / q_;
-        id = add_node((1 - eta) * base_at(xi / (1 - eta)) + eta * apex);
+        id = add_node((1 - eta) * base_point(base, xi / (1 - eta)) + eta * apex);
       }
       if ((a_stopped && i == 0) || (!a_stopped && i + j == q_)) hyp[static_cast<std::size_t>(j)] = id;
       ids.push_back(id);

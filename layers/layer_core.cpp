@@ -128,17 +128,14 @@ class LayerAttempts {
       // fails here instead, and stops (or, closing, leaves the regrowth to grow_layers).
       for (double& x : scale) x = std::max(x, kMinScale);
       // Every failing site already at the floor: the next build would be this one again.
-      if (scale == previous) {
-        r_.events.push_back("layer " + std::to_string(layer) + ", " + part_name(part) + ": " +
-                            std::to_string(failures.size()) + " " + why + " (first at " + point_text<Dim>(where) +
-                            "), heights already at 1/16 of the metric's there");
-        st.shrinks += failures.size();
-        return false;
-      }
+      const bool stuck = scale == previous;
       st.shrinks += failures.size();
       r_.events.push_back("layer " + std::to_string(layer) + ", " + part_name(part) + ": " +
                           std::to_string(failures.size()) + " " + why + " (first at " + point_text<Dim>(where) +
-                          "), heights " + (factor < 1 ? "halved" : "raised x" + num(factor)) + " around them");
+                          "), heights " +
+                          (stuck ? std::string("already at 1/16 of the metric's there")
+                                 : (factor < 1 ? "halved" : "raised x" + num(factor)) + " around them"));
+      if (stuck) return false;
     }
     return false;
   }

@@ -184,10 +184,17 @@ TEST_CASE("layers: convex corners of 90, 150 and 179 degrees get fans of valid c
   }
 }
 
+namespace {
+
+// An L-shaped body (clockwise): the corner at (1, 1) turns left by 90 degrees.
+Geometry2D l_body() {
+  return body({{0, 0}, {0, 2}, {1, 2}, {1, 1}, {2, 1}, {2, 0}}, {0, 1, 2, 3, 4, 5});
+}
+
+}  // namespace
+
 TEST_CASE("layers: a concave 90 degree corner gets valid cells") {
-  // An L-shaped body (clockwise): the corner at (1, 1) turns left by 90 degrees.
-  const std::vector<Vector2d> l = {{0, 0}, {0, 2}, {1, 2}, {1, 1}, {2, 1}, {2, 0}};
-  const Geometry2D geo = body(l, {0, 1, 2, 3, 4, 5});
+  const Geometry2D geo = l_body();
   const UniformMetricField<2> metric(Metric<2>::isotropic(0.1));
   for (int q = 1; q <= 4; ++q) {
     const CurvedFront<2> front = mesh_curves(geo, metric, q);
@@ -207,8 +214,7 @@ TEST_CASE("layers: next to a concave corner a layer as tall as the neighbouring 
   // The L-shaped body of the test above, its elements 0.1 long; layers of height h near 0.1 put
   // the corner's top and its neighbour's |0.1 - h| apart (h = 0.0993: 7e-4, a near-duplicate
   // node), or past each other (h > 0.1: a folded quadrilateral).
-  const std::vector<Vector2d> l = {{0, 0}, {0, 2}, {1, 2}, {1, 1}, {2, 1}, {2, 0}};
-  const Geometry2D geo = body(l, {0, 1, 2, 3, 4, 5});
+  const Geometry2D geo = l_body();
   const UniformMetricField<2> metric(Metric<2>::isotropic(0.1));
   for (int q = 1; q <= 4; ++q)
     for (double h : {0.0993, 0.1, 0.104, 0.13}) {
@@ -238,8 +244,7 @@ TEST_CASE("layers: a layer more than twice as tall as the elements at a concave 
   // corner's), and the next element's top runs back from the corner's top. Its failure must
   // lower the corner's height, which lies outside the element's own span; else every shrink
   // leaves the corner's top where it is and the part stops before its first layer (Q >= 2).
-  const std::vector<Vector2d> l = {{0, 0}, {0, 2}, {1, 2}, {1, 1}, {2, 1}, {2, 0}};
-  const Geometry2D geo = body(l, {0, 1, 2, 3, 4, 5});
+  const Geometry2D geo = l_body();
   const UniformMetricField<2> metric(Metric<2>::isotropic(0.1));
   for (int q = 1; q <= 3; ++q) {
     INFO("order " << q);
