@@ -186,22 +186,21 @@ TEST_CASE("layers: convex corners of 90, 150 and 179 degrees get fans of valid c
 
 namespace {
 
-// An L-shaped body (clockwise): the corner at (1, 1) turns left by 90 degrees.
-Geometry2D l_body() {
-  return body({{0, 0}, {0, 2}, {1, 2}, {1, 1}, {2, 1}, {2, 0}}, {0, 1, 2, 3, 4, 5});
+// `layers` layers of height h (an isotropic metric) at order q on an L-shaped body (clockwise:
+// the corner at (1, 1) turns left by 90 degrees) whose elements are 0.1 long.
+LayerResult<2> grow_on_l(int q, int layers, double h) {
+  const Geometry2D geo = body({{0, 0}, {0, 2}, {1, 2}, {1, 1}, {2, 1}, {2, 0}}, {0, 1, 2, 3, 4, 5});
+  const CurvedFront<2> front = mesh_curves(geo, UniformMetricField<2>(Metric<2>::isotropic(0.1)), q);
+  layers::LayerParams p;
+  p.max_layers = layers;
+  return layers::grow_layers(front, UniformMetricField<2>(Metric<2>::isotropic(h)), p);
 }
 
 }  // namespace
 
 TEST_CASE("layers: a concave 90 degree corner gets valid cells") {
-  const Geometry2D geo = l_body();
-  const UniformMetricField<2> metric(Metric<2>::isotropic(0.1));
   for (int q = 1; q <= 4; ++q) {
-    const CurvedFront<2> front = mesh_curves(geo, metric, q);
-    layers::LayerParams p;
-    p.max_layers = 4;
-    const UniformMetricField<2> thin(Metric<2>::isotropic(0.02));
-    const LayerResult<2> r = layers::grow_layers(front, thin, p);
+    const LayerResult<2> r = grow_on_l(q, 4, 0.02);
     CHECK(r.layers.size() == 4);
     CHECK(r.events.empty());  // no cell had to be shrunk: growth alone keeps them valid
     const QualityReport qr = check(r);
@@ -214,16 +213,10 @@ TEST_CASE("layers: next to a concave corner a layer as tall as the neighbouring 
   // The L-shaped body of the test above, its elements 0.1 long; layers of height h near 0.1 put
   // the corner's top and its neighbour's |0.1 - h| apart (h = 0.0993: 7e-4, a near-duplicate
   // node), or past each other (h > 0.1: a folded quadrilateral).
-  const Geometry2D geo = l_body();
-  const UniformMetricField<2> metric(Metric<2>::isotropic(0.1));
   for (int q = 1; q <= 4; ++q)
     for (double h : {0.0993, 0.1, 0.104, 0.13}) {
       INFO("order " << q << ", h " << h);
-      const CurvedFront<2> front = mesh_curves(geo, metric, q);
-      layers::LayerParams p;
-      p.max_layers = 3;
-      const UniformMetricField<2> thin(Metric<2>::isotropic(h));
-      const LayerResult<2> r = layers::grow_layers(front, thin, p);
+      const LayerResult<2> r = grow_on_l(q, 3, h);
       CHECK(r.layers.size() == 3);
       const QualityReport qr = check(r);
       CHECK(qr.cells_invalid == 0);
@@ -244,15 +237,9 @@ TEST_CASE("layers: a layer more than twice as tall as the elements at a concave 
   // corner's), and the next element's top runs back from the corner's top. Its failure must
   // lower the corner's height, which lies outside the element's own span; else every shrink
   // leaves the corner's top where it is and the part stops before its first layer (Q >= 2).
-  const Geometry2D geo = l_body();
-  const UniformMetricField<2> metric(Metric<2>::isotropic(0.1));
   for (int q = 1; q <= 3; ++q) {
     INFO("order " << q);
-    const CurvedFront<2> front = mesh_curves(geo, metric, q);
-    layers::LayerParams p;
-    p.max_layers = 1;
-    const UniformMetricField<2> tall(Metric<2>::isotropic(0.25));
-    const LayerResult<2> r = layers::grow_layers(front, tall, p);
+    const LayerResult<2> r = grow_on_l(q, 1, 0.25);
     CHECK(r.layers.size() == 1);
     const QualityReport qr = check(r);
     CHECK(qr.cells_invalid == 0);
