@@ -327,7 +327,7 @@ TEST_CASE("cli: the outputs are one set: a writer that fails half-way, or a stop
     CHECK(WIFEXITED(status));
     CHECK(WEXITSTATUS(status) == 128 + SIGTERM);  // stopped by the signal, not finished
     CHECK(log.find("[plaf] write:") == std::string::npos);
-    CHECK(fs::is_directory(out));
-    CHECK(fs::is_empty(out));
+    // Stopped before the writers made the folder (a loaded machine), or after: nothing is left.
+    CHECK((!fs::exists(out) || fs::is_empty(out)));
   }
 }
