@@ -28,6 +28,13 @@ using WriterRegistry = Registry<void(const WriteJob<Dim>&)>;
 // Built-in: msh (Gmsh 4.1), vtu (VTK Lagrange cells), report (JSON); 2D also png (picture).
 template <int Dim>
 WriterRegistry<Dim>& writer_registry();
+// Explicitly specialised in writers.cpp; declared here so that no translation unit instantiates
+// the primary template first ([temp.expl.spec]: a use before the specialisation's declaration is
+// ill-formed, which a unity build exposes).
+template <>
+WriterRegistry<2>& writer_registry<2>();
+template <>
+WriterRegistry<3>& writer_registry<3>();
 
 }  // namespace pipeline
 }  // namespace plaf
