@@ -11,13 +11,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-probe=$(mktemp)
-if ! echo 'int main() { return 0; }' | "${CXX:-c++}" -x c++ -fsanitize=address,undefined - -o "$probe" 2>/dev/null; then
-  rm -f "$probe"
-  echo "sanitize: ${CXX:-c++} does not build with -fsanitize=address,undefined; skipped" >&2
-  exit 0
-fi
-rm -f "$probe"
+bash scripts/sanitizers_available.sh sanitize || exit 0
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=None -DCMAKE_CXX_FLAGS=-O1 -DPLAF_SANITIZE=ON
 cmake --build build-asan -j2 --target plaf plaf_tests
 logs=$PWD/build-asan/sanitizer-logs
