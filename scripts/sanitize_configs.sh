@@ -12,7 +12,7 @@
 # - The configs meshing a discrete surface (geometry type surface_file: ONERA M6, BWB, 717 wing):
 #   under the sanitizers their remeshing alone takes 8 to over 20 min each. Their reader is
 #   fuzzed (tests/fuzz) and their stages run sanitized on the analytic surfaces below.
-# - UBSan's alignment, object-size, null and vptr checks: they double the sanitized compile time
+# - UBSan's alignment, object-size, null and vptr checks: together 60 % more sanitized compile time
 #   (metric.cpp: 80 s with them, 49 s without). ASan still reports null dereferences and
 #   out-of-bounds accesses; scripts/sanitize.sh keeps all four.
 # Measured here (scripts/sanitize_configs.sh alone, 2 cores): 10 min 19 s for the build and the
