@@ -12,21 +12,27 @@
 #include "apps/study.h"
 #include "modules/base/error.h"
 #include "modules/io/atomic_file.h"
+#include "modules/pipeline/data_root.h"
 
 namespace {
 
 constexpr const char* usage =
-    "usage: plaf run CONFIG.yaml [--out DIR]   mesh a configured case into DIR (default: output.dir)\n"
-    "       plaf check MESH.msh [--metric CONFIG.yaml] [--report FILE.json]\n"
+    "usage: plaf run CONFIG.yaml [--out DIR] [--data DIR]\n"
+    "                                          mesh a configured case into DIR (default: output.dir)\n"
+    "       plaf check MESH.msh [--metric CONFIG.yaml] [--report FILE.json] [--data DIR]\n"
     "                                          re-read a Gmsh MSH 4.1 mesh and certify its cells; measure\n"
     "                                          its edges in CONFIG's metric; write the JSON report\n"
-    "       plaf compare-attenuation STUDY.yaml [--out DIR]\n"
+    "       plaf compare-attenuation STUDY.yaml [--out DIR] [--data DIR]\n"
     "                                          run paired 2D and 3D layer cases (a section and its extrusion,\n"
     "                                          a circle and a sphere) over f_atten and h0; write the tables,\n"
     "                                          JSON and charts into DIR (default out/<study name>)\n"
+    "       plaf data [REL...] [--data DIR]    where published files are found: the data roots in order,\n"
+    "                                          or the path of each data:REL file (exit 1 naming a missing one)\n"
     "       plaf plugins                        list the registered type of every stage (geometry, metric,\n"
     "                                          surface, layers, fill) and the output formats\n"
     "       plaf --help | --version\n"
+    "--data DIR: the data root, where a config's data:REL paths (published geometry) are found; then\n"
+    "the environment's PLAF_DATA, then ../shared/data beside the source tree (docs/data.md).\n"
     "Outputs of run: <name>.msh (Gmsh 4.1), <name>.vtu (VTK Lagrange cells), <name>.report.json, <name>.png.\n"
     "Exit codes: 0 success, 1 bad input or usage (nothing written), 2 mesh written but invalid or not\n"
     "conforming, 3 a bug in plaf (nothing written; please report it).\n";
@@ -60,6 +66,9 @@ int main(int argc, char** argv) {
         if (args[i] == "--out") {
           if (i + 1 >= args.size()) return fail_usage("--out needs a directory");
           out = args[++i];
+        } else if (args[i] == "--data") {
+          if (i + 1 >= args.size()) return fail_usage("--data needs a directory");
+          plaf::set_data_root_option(args[++i]);
         } else if (!args[i].empty() && args[i][0] == '-') {
           return fail_usage("unknown option '" + args[i] + "'");
         } else if (file) {
@@ -73,6 +82,20 @@ int main(int argc, char** argv) {
       if (out) out_dir = *out;
       return run ? plaf::run_command(*file, out_dir) : plaf::compare_attenuation_command(*file, out_dir);
     }
+    if (args[0] == "data") {
+      std::vector<std::string> files;
+      for (std::size_t i = 1; i < args.size(); ++i) {
+        if (args[i] == "--data") {
+          if (i + 1 >= args.size()) return fail_usage("--data needs a directory");
+          plaf::set_data_root_option(args[++i]);
+        } else if (!args[i].empty() && args[i][0] == '-') {
+          return fail_usage("unknown option '" + args[i] + "'");
+        } else {
+          files.push_back(args[i]);
+        }
+      }
+      return plaf::data_command(files);
+    }
     if (args[0] == "plugins") {
       if (args.size() > 1) return fail_usage("plugins takes no argument");
       return plaf::plugins_command();
@@ -84,6 +107,9 @@ int main(int argc, char** argv) {
           if (i + 1 >= args.size()) return fail_usage(args[i] + " needs a file");
           (args[i] == "--metric" ? metric : report) = args[i + 1];
           ++i;
+        } else if (args[i] == "--data") {
+          if (i + 1 >= args.size()) return fail_usage("--data needs a directory");
+          plaf::set_data_root_option(args[++i]);
         } else if (!args[i].empty() && args[i][0] == '-') {
           return fail_usage("unknown option '" + args[i] + "'");
         } else if (mesh) {

@@ -16,6 +16,7 @@
 #include "modules/io/atomic_file.h"
 #include "modules/base/format.h"
 #include "modules/pipeline/budget.h"
+#include "modules/pipeline/data_root.h"
 #include "modules/elements/lagrange.h"
 #include "modules/io/msh_io.h"
 #include "modules/io/output_set.h"
@@ -385,6 +386,21 @@ int check_command(const std::filesystem::path& path, const std::optional<std::fi
     std::cerr << "plaf: error: " << path.string() << " is NOT valid: " << report.cells_invalid << " invalid cells"
               << (report.conformity.ok ? "" : ", " + report.conformity.first_problem) << '\n';
     return 2;
+  }
+  return 0;
+}
+
+int data_command(const std::vector<std::string>& files) {
+  if (files.empty()) {
+    for (const DataRoot& r : data_roots())
+      std::cout << r.origin << ": "
+                << (r.dir ? *r.dir + (std::filesystem::is_directory(*r.dir) ? "" : " (missing)") : std::string("-"))
+                << '\n';
+    return 0;
+  }
+  for (const std::string& f : files) {
+    const std::string value = f.rfind(kDataPrefix, 0) == 0 ? f : kDataPrefix + f;
+    std::cout << resolve_data_path(value, "plaf data " + f) << '\n';
   }
   return 0;
 }

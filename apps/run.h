@@ -49,6 +49,11 @@ void register_all_plugins();
 // Prints every stage's registered types; returns 0.
 int plugins_command();
 
+// `plaf data`: without files, the data roots in the order they are tried (modules/pipeline/
+// data_root.h); with files (REL or data:REL), the path where each is found, one per line; a
+// missing one throws MissingDataError (exit 1) naming the roots and its source.
+int data_command(const std::vector<std::string>& files);
+
 // Re-reads a Gmsh MSH 4.1 file and reports validity and quality; 0 when valid and conforming.
 // With metric_config, the edges are also measured in that run configuration's metric (its
 // geometry is built when the metric needs it), so meshes of other tools are judged by the same

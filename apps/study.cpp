@@ -24,6 +24,7 @@
 #include "modules/base/format.h"
 #include "modules/geometry/geometry2d.h"
 #include "modules/io/atomic_file.h"
+#include "modules/pipeline/data_root.h"
 #include "modules/io/chart.h"
 #include "modules/metric/wall_metric.h"
 #include "modules/pipeline/config.h"
@@ -85,14 +86,16 @@ void check_sweep(const ConfigNode& n, const std::string& key, const std::vector<
   if (v.empty()) throw ConfigError(n.where(key) + ": give at least one value");
 }
 
-// Relative `file` values (a body's contour, a background metric) made absolute against the study's
-// folder: the generated configurations live elsewhere.
+// Relative path values (`file`: a body's contour, a background metric; `sol`) made absolute
+// against the study's folder: the generated configurations live elsewhere. A data-root path
+// (`data:REL`, data_root.h) is found from anywhere and stays as written.
 void absolutize_files(YAML::Node node, const fs::path& dir) {
   if (node.IsMap()) {
     for (auto kv : node) {
-      if (kv.first.Scalar() == "file" && kv.second.IsScalar()) {
+      if ((kv.first.Scalar() == "file" || kv.first.Scalar() == "sol") && kv.second.IsScalar()) {
         const fs::path p(kv.second.Scalar());
-        if (p.is_relative()) kv.second = (dir / p).lexically_normal().string();
+        if (p.is_relative() && kv.second.Scalar().rfind(kDataPrefix, 0) != 0)
+          kv.second = (dir / p).lexically_normal().string();
       } else {
         absolutize_files(kv.second, dir);
       }

@@ -14,12 +14,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "modules/geometry/geometry2d.h"
 #include "modules/metric/wall_metric.h"
+#include "modules/pipeline/data_root.h"
 
 namespace {
 
@@ -90,7 +92,8 @@ double spline_distance(const std::vector<SplineLoop>& walls, const Vector2d& x) 
 
 struct Case {
   const char* name;
-  std::vector<std::string> files;
+  std::string file;  // a published contour in the data root (modules/pipeline/data_root.h), or
+  std::optional<plaf::NacaSection> naca;  // a generated section
   double corner_angle_deg;  // as in configs/<case>.yaml
   WallLawParams law;        // as in configs/<case>.yaml
 };
@@ -98,7 +101,18 @@ struct Case {
 void run_case(const Case& c, std::size_t queries, std::size_t brute_queries, int polyline_points) {
   // 1. Walls.
   plaf::AirfoilsParams a;
-  for (const std::string& f : c.files) a.bodies.push_back({std::string(PLAF_DATA) + "/airfoils/" + f, f, {}});
+  plaf::BodyParams body;
+  body.name = "wall";
+  body.naca = c.naca;
+  if (!c.naca) {
+    const std::optional<std::string> found = plaf::find_data_file(c.file);
+    if (!found) {
+      std::printf("%s: skipped, %s is in no data root (docs/data.md)\n", c.name, c.file.c_str());
+      return;
+    }
+    body.file = *found;
+  }
+  a.bodies.push_back(body);
   a.corner_angle_deg = c.corner_angle_deg;
   std::vector<SplineLoop> walls;
   for (const plaf::GeometryLoop& g : plaf::build_airfoils_geometry(a).loops)
@@ -203,8 +217,8 @@ int main(int argc, char** argv) {
   blunt.h0 = 0.001;
   blunt.h_corner = 0.005;
   const Case cases[] = {
-      {"E387", {"e387.dat"}, 70.0, e387},
-      {"NACA 0012, blunt TE", {"naca0012.dat"}, 30.0, blunt},
+      {"E387", "airfoils/e387.dat", std::nullopt, 70.0, e387},
+      {"NACA 0012, blunt TE (generated)", "", plaf::NacaSection{"0012", false, 100}, 30.0, blunt},
   };
   for (const Case& c : cases)
     run_case(c, static_cast<std::size_t>(queries), static_cast<std::size_t>(brute_queries), polyline_points);

@@ -9,7 +9,7 @@
 // - ellipsoid: centre, semi-axes (a, b, c) along x, y, z (closest point by Newton on the
 //   Lagrange-multiplier equation);
 // - box: axis-aligned, corners lo and hi; 12 convex ridge curves, 8 convex corners;
-// - wing: a straight wing along +z from z = 0 to z = span, its section a 2D airfoil file (chord
+// - wing: a straight wing along +z from z = 0 to z = span, its section a 2D airfoil file or a NACA section (chord
 //   along x, thickness along y, as read by airfoil_io.h with the spline loop and corners of
 //   spline_loop.h) scaled by chord; each end is a flat tip (a planar cap, ridge curve along the
 //   section contour), a rounded tip (a half body of revolution about the section's camber line:
@@ -22,9 +22,11 @@
 #include <Eigen/Core>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "modules/geometry/tri_surface.h"
+#include "modules/io/naca_section.h"
 #include "surface3d/discrete_reference.h"
 
 namespace plaf {
@@ -40,7 +42,8 @@ AnalyticBody make_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, doub
 
 enum class WingEnd { Flat, Rounded, Symmetry };
 struct WingParams {
-  std::filesystem::path file;        // airfoil coordinates (Selig or Lednicer)
+  std::filesystem::path file;        // airfoil coordinates (Selig or Lednicer), or
+  std::optional<NacaSection> naca;   // a generated NACA section (modules/io/naca_section.h)
   double chord = 1;
   double span = 1;
   WingEnd root = WingEnd::Symmetry;  // at z = 0

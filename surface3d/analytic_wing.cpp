@@ -281,7 +281,7 @@ struct Section {
 };
 
 Section read_section(const WingParams& params) {
-  Section sec{read_body_contour(params.file), {}};
+  Section sec{params.naca ? naca_contour(*params.naca) : read_body_contour(params.file), {}};
   for (Vector2d& p : sec.contour.points) p *= params.chord;
   sec.corners = detect_corners(sec.contour.points, params.corner_angle_deg);
   sec.corners.insert(sec.corners.end(), sec.contour.corners.begin(), sec.contour.corners.end());
@@ -347,7 +347,7 @@ ContourSamples sample_simple_contour(const WingReference& ref, double h, const s
 }  // namespace
 
 AnalyticBody make_wing(const WingParams& params, double h) {
-  const std::string name = "wing " + params.file.string();
+  const std::string name = "wing " + (params.naca ? naca_name(*params.naca) : params.file.string());
   // 1. The parameters and the section.
   check_params(params, h, name);
   const Section sec = read_section(params);

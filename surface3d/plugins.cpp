@@ -13,6 +13,7 @@
 #include "modules/metric/metric_fields.h"
 #include "modules/metric/metric_integrals.h"
 #include "modules/pipeline/budget.h"
+#include "modules/pipeline/naca_config.h"
 #include "modules/pipeline/run_state.h"
 #include "modules/pipeline/stages.h"
 #include "surface3d/analytic.h"
@@ -53,7 +54,9 @@ Geometry3Params parse_geometry3_params(const ConfigNode& g, const std::string& t
   }
   if (type == "wing") {
     s.file = g.get_path("file", "");
-    if (s.file.empty()) throw ConfigError(g.where() + ": file (the airfoil section) is required for a wing");
+    s.naca = parse_naca(g);
+    if (s.file.empty() == !s.naca)
+      throw ConfigError(g.where() + ": a wing needs its section: file (an airfoil file) or naca (a NACA section), one of them");
     s.chord = g.get_positive("chord", s.chord);
     s.span = g.get_positive("span", s.span);
     s.root = g.get_choice("root", s.root, {"flat", "rounded", "symmetry"});
@@ -152,6 +155,7 @@ AnalyticBody make_body(const std::string& type, const Geometry3Params& g, double
   if (type == "box") return make_box(vec(g.lo), vec(g.hi), std::min(h, (vec(g.hi) - vec(g.lo)).minCoeff() / 2));
   WingParams w;
   w.file = g.file;
+  w.naca = g.naca;
   w.chord = g.chord;
   w.span = g.span;
   w.root = wing_end(g.root);

@@ -6,14 +6,15 @@
 //     type: ellipsoid       center, semi_axes: [a, b, c] along x, y, z   default: [1.5, 1.2, 1]
 //     type: box             lo: [x, y, z], hi: [x, y, z]          default: [-1,-1,-1], [1,1,1]
 //     type: wing            a straight wing along +z from z = 0 to span (analytic.h)
-//       file: <path>        airfoil section (Selig or Lednicer)   (required)
+//       file: <path>        airfoil section (Selig or Lednicer; data:REL in the data root), or
+//       naca: "0012"        a generated NACA section (modules/pipeline/naca_config.h); one of them
 //       chord: <>0>         default: 1        span: <>0>          default: 1
 //       root: flat|rounded|symmetry   the end at z = 0            default: symmetry
 //       tip: flat|rounded|symmetry    the end at z = span         default: flat
 //       corner_angle_deg: <(0, 180)>  section corners             default: 30
 //     type: surface_file    a triangulated or Plot3D surface (read_surface.h), validated
 //                           (validate.h), its features detected (features.h); its own reference
-//       file: <path>        .stl .obj .off .ply .fmt .p3d         (required)
+//       file: <path>        .stl .obj .off .ply .fmt .p3d, or data:REL  (required)
 //       weld_rel: <0..0.1>  merge points closer than this x bbox diagonal   default: 1e-9
 //       symmetry_planes:    open boundaries allowed on these planes, tagged symmetry:
 //         - normal: [nx, ny, nz]   (required)   offset: <d>   (the plane normal . x = d, default 0)
@@ -43,9 +44,11 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "modules/io/naca_section.h"
 #include "modules/pipeline/config.h"
 #include "modules/pipeline/run_config.h"
 
@@ -63,6 +66,7 @@ struct Geometry3Params {
   std::array<double, 3> semi_axes = {1.5, 1.2, 1.0};
   std::array<double, 3> lo = {-1, -1, -1}, hi = {1, 1, 1};
   std::string file;  // wing section or surface file
+  std::optional<NacaSection> naca;  // or a generated wing section
   double chord = 1, span = 1;
   std::string root = "symmetry", tip = "flat";
   double corner_angle_deg = 30;

@@ -9,6 +9,7 @@
 #include "modules/base/coordinates.h"
 #include "modules/base/error.h"
 #include "modules/base/format.h"
+#include "modules/pipeline/naca_config.h"
 
 namespace plaf {
 inline namespace geometry {
@@ -46,15 +47,17 @@ AirfoilsParams parse_airfoils_params(const ConfigNode& g) {
     const ConfigNode& b = bodies[i];
     BodyParams body;
     body.file = b.get_path("file", "");
+    body.naca = parse_naca(b);
     body.circle = b.has("circle");
+    if (!body.file.empty() + body.circle + body.naca.has_value() > 1)
+      throw ConfigError(b.where() + ": give a body one of file, naca or circle");
     if (body.circle) {
-      if (!body.file.empty()) throw ConfigError(b.where("circle") + ": give a body either a file or a circle, not both");
       const ConfigNode c = b.child("circle");
       body.circle_center = get_pair(c, "center", body.circle_center);
       if (!c.has("radius")) throw ConfigError(c.where() + ": radius is required");
       body.circle_radius = c.get_positive("radius", 1.0);
-    } else if (body.file.empty()) {
-      throw ConfigError(b.where() + ": file (or circle) is required");
+    } else if (body.file.empty() && !body.naca) {
+      throw ConfigError(b.where() + ": file, naca or circle is required");
     }
     body.name = b.get_string("name", i == 0 ? "wall" : "wall_" + std::to_string(i + 1));
     // A body tagged "farfield" would merge with the farfield loop's tag (and make it a wall).
@@ -101,7 +104,7 @@ SplineLoop farfield_rectangle(const Eigen::Vector2d& center, double width, doubl
 Geometry2D build_airfoils_geometry(const AirfoilsParams& params) {
   // 1. Contours: read, check, and find their corners.
   std::vector<BodyContour> contours;
-  for (const BodyParams& b : params.bodies) contours.push_back(b.circle ? circle_contour(b) : read_body_contour(b.file));
+  for (const BodyParams& b : params.bodies) contours.push_back(b.circle ? circle_contour(b) : b.naca ? naca_contour(*b.naca) : read_body_contour(b.file));
   check_disjoint(contours);
   Geometry2D g;
   g.body_min = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());

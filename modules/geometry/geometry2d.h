@@ -5,11 +5,13 @@
 // normals (into the domain).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "modules/geometry/reference.h"
 #include "modules/mesh/hybrid_mesh.h"
+#include "modules/io/naca_section.h"
 #include "modules/pipeline/config.h"
 #include "modules/geometry/spline_loop.h"
 
@@ -20,7 +22,9 @@ inline namespace geometry {
 //   geometry:
 //     type: airfoils        bodies from coordinate files (airfoil_io.h), splines with corners
 //     bodies:               a list, one map per body:
-//       - file: <path>      Selig or Lednicer file, relative to the config file
+//       - file: <path>      Selig or Lednicer file, relative to the config file, or data:REL
+//                           in the data root (modules/pipeline/data_root.h)
+//         naca: "0012"      or a generated NACA 4/5-digit section (modules/pipeline/naca_config.h)
 //         circle:           or a circle instead of a file (a periodic spline through 256 points,
 //           center: [x, y]  no corner; the circle of the attenuation study)   default: [0, 0]
 //           radius: <>0>                                                        (required)
@@ -33,12 +37,13 @@ inline namespace geometry {
 //       size: [w, h]        rectangle width and height            default: [40, 40]
 //       center: [x, y]      default: the centre of the bodies' bounding box
 struct BodyParams {
-  std::string file;  // empty for a circle
+  std::string file;  // empty for a circle or a NACA section
   std::string name;
   std::vector<std::array<double, 2>> corners;
   bool circle = false;
   std::array<double, 2> circle_center = {0.0, 0.0};
   double circle_radius = 0;
+  std::optional<NacaSection> naca = std::nullopt;  // a generated section instead of a file
 };
 
 struct FarfieldParams {

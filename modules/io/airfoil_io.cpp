@@ -362,6 +362,23 @@ BodyContour read_body_contour(const std::filesystem::path& path) {
   return body;
 }
 
+BodyContour contour_from_points(const std::vector<Vector2d>& points, const std::string& name) {
+  BodyContour body;
+  body.file = name;
+  body.title = name;
+  std::vector<DataPoint> loop;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite()) throw InputError(location(name, static_cast<int>(i) + 1) + "coordinate is not finite");
+    loop.push_back({points[i], static_cast<int>(i) + 1});
+  }
+  if (loop.size() < 4)
+    throw InputError(name + ": only " + std::to_string(loop.size()) + " points, a contour needs at least 4");
+  close_contour(loop, body);
+  check_simple(body);
+  orient_clockwise(body);
+  return body;
+}
+
 void check_disjoint(const std::vector<BodyContour>& bodies) {
   // 1. No two contours cross or touch.
   std::vector<Segment> segments;

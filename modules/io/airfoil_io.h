@@ -42,6 +42,11 @@ inline constexpr double kMaxContourCoordinate = kMaxCoordinate;
 // repeated consecutive points, a self-intersecting contour.
 BodyContour read_body_contour(const std::filesystem::path& path);
 
+// A contour from points in Selig order (TE -> upper -> LE -> lower -> TE, or any closed loop),
+// closed, checked and oriented exactly as a file's points are; `name` stands for the file in
+// messages and each point's "line" is its 1-based index. For generated sections (naca_section.h).
+BodyContour contour_from_points(const std::vector<Eigen::Vector2d>& points, const std::string& name);
+
 // Throws InputError naming both files and lines if two contours intersect or one lies inside
 // the other.
 void check_disjoint(const std::vector<BodyContour>& bodies);

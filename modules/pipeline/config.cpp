@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "modules/base/error.h"
+#include "modules/pipeline/data_root.h"
 
 namespace plaf {
 inline namespace pipeline {
@@ -136,6 +137,11 @@ bool ConfigNode::has(const std::string& key) const {
   s_->asked.insert(key);
   const YAML::Node n = lookup(s_->node, key);
   return n.IsDefined() && !n.IsNull();
+}
+
+bool ConfigNode::is_map(const std::string& key) const {
+  s_->asked.insert(key);
+  return lookup(s_->node, key).IsMap();
 }
 
 const YAML::Node* ConfigNode::value(const std::string& key) const {
@@ -315,6 +321,7 @@ std::vector<ConfigNode> ConfigNode::child_list(const std::string& key) const {
 std::string ConfigNode::get_path(const std::string& key, const std::string& fallback) const {
   const std::string v = get_string(key, fallback);
   if (v.empty()) return v;
+  if (v.rfind(kDataPrefix, 0) == 0) return resolve_data_path(v, where(key));  // data_root.h
   const std::filesystem::path p(v);
   if (p.is_absolute()) return v;
   return (std::filesystem::path(s_->file).parent_path() / p).lexically_normal().string();

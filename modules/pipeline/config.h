@@ -28,6 +28,8 @@ class ConfigNode {
   ConfigNode& operator=(const ConfigNode&);
 
   bool has(const std::string& key) const;
+  // The key holds a map (a section), not a scalar or a list.
+  bool is_map(const std::string& key) const;
   // Values with defaults used when the key is absent; ranges are inclusive unless *_exclusive.
   double get_double(const std::string& key, double fallback) const;
   double get_positive(const std::string& key, double fallback) const;  // > 0
@@ -47,7 +49,8 @@ class ConfigNode {
   ConfigNode child(const std::string& key) const;
   // A list of maps (empty when absent), e.g. `bodies: [{file: a.dat}, {file: b.dat}]`.
   std::vector<ConfigNode> child_list(const std::string& key) const;
-  // A path value, resolved relative to the folder of the config file (absolute paths stay).
+  // A path value, resolved relative to the folder of the config file (absolute paths stay), or
+  // "data:REL", a published file found in the data roots (data_root.h; MissingDataError if none has it).
   std::string get_path(const std::string& key, const std::string& fallback) const;
 
   // The raw YAML value of a key (marked as asked; undefined when absent), for a caller that

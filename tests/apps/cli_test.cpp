@@ -14,6 +14,7 @@
 
 #include "apps/exit_codes.h"
 #include "tests/test_support.h"
+#include "tests/published_data.h"
 
 namespace fs = std::filesystem;
 using plaf::test::count_files;
@@ -142,8 +143,7 @@ TEST_CASE("cli: exit codes are the documented four, and a bug (code 3) asks for 
 
 TEST_CASE("cli: a fill without layers meshes from the surface front, and layers and fill of type none are accepted") {
   const TempDir d("cli_fill_only");
-  const std::string airfoil = "order: 1\ngeometry:\n  type: airfoils\n  bodies: [{file: " +
-                              std::string(PLAF_DATA) + "/airfoils/naca0012.dat}]\n" +
+  const std::string airfoil = std::string("order: 1\ngeometry:\n  type: airfoils\n  bodies: [{naca: {digits: \"0012\", trailing_edge: blunt}}]\n") +
                               "  farfield: {radius: 3}\nmetric: {type: uniform, h: 0.3}\n";
   for (const std::string& extra : {std::string("fill: {}\n"), std::string("layers: {type: none}\nfill: {}\n")}) {
     INFO(extra);
@@ -185,12 +185,13 @@ TEST_CASE("cli: check --metric refuses a 3D configuration, and --out '' is an ou
 }
 
 TEST_CASE("cli: a mesher failure on valid keys names the config and the keys most likely to help, and writes nothing") {
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
   // The E387's sharp trailing edge without a fan (corner angle 179) and a first layer of 5e-7 c:
   // no first layer can be grown there.
   const TempDir d("cli_mesher_hint");
   const fs::path cfg = write_text(d / "nofan.yaml",
                                   "order: 3\n"
-                                  "geometry: {type: airfoils, bodies: [{file: " PLAF_DATA "/airfoils/e387.dat}], corner_angle_deg: 179}\n"
+                                  "geometry: {type: airfoils, bodies: [{file: data:airfoils/e387.dat}], corner_angle_deg: 179}\n"
                                   "metric: {type: wall_power_law, h0: 5.0e-7, growth: 1.2, h_max: 10, h_wall_max: 0.05, "
                                   "curvature_factor: 0.04, h_corner: 0.01}\n"
                                   "layers: {max: 1, corner_angle_deg: 179}\n");
@@ -228,7 +229,7 @@ TEST_CASE("cli: a run beyond its size budget stops before meshing, naming the es
     std::string yaml;
     const char* message;
   };
-  const std::string naca = "{file: " PLAF_DATA "/airfoils/naca0012_sharp.dat}";
+  const std::string naca = "{file: " PLAF_REPO_DATA "/airfoils/naca0012_sharp.dat}";
   const std::vector<Case> cases = {
       // Issue 17's probe: each ran for minutes into gigabytes before.
       {"annulus_q4", "order: 4\ngeometry: {type: annulus, angle_deg: 360}\nmetric: {type: uniform, h: 9.0e-4}\n",
@@ -297,7 +298,7 @@ TEST_CASE("cli: the outputs are one set: a writer that fails half-way, or a stop
   CHECK(count_files(d / "out") == 5);
   // A run of the same name that writes no boundary file (a 2D surface: lines alone) does not
   // leave the earlier run's one beside its own files.
-  const fs::path lines = write_text(d / "lines.yaml", "name: kept\norder: 2\ngeometry: {type: airfoils, bodies: [{file: " PLAF_DATA
+  const fs::path lines = write_text(d / "lines.yaml", "name: kept\norder: 2\ngeometry: {type: airfoils, bodies: [{file: " PLAF_REPO_DATA
                                                       "/airfoils/naca0012_sharp.dat}]}\nmetric: {type: uniform, h: 0.2}\n");
   REQUIRE(run_plaf("run " + lines.string() + " --out " + (d / "out").string(), d).code == 0);
   CHECK_FALSE(fs::exists(d / "out" / "kept_boundary.vtu"));

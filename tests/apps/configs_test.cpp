@@ -25,7 +25,9 @@
 #include "modules/geometry/geometry2d.h"
 #include "modules/pipeline/config.h"
 #include "modules/pipeline/run_config.h"
+#include "modules/pipeline/data_root.h"
 #include "tests/gmsh_support.h"
+#include "tests/published_data.h"
 #include "tests/test_support.h"
 
 namespace fs = std::filesystem;
@@ -196,7 +198,7 @@ std::string runs_stamp() {
     s << p.string() << ' ' << fs::file_size(p) << ' ' << fs::last_write_time(p).time_since_epoch().count() << '\n';
   };
   add(PLAF_EXE);
-  for (const char* root : {PLAF_CONFIGS, PLAF_DATA}) {
+  for (const char* root : {PLAF_CONFIGS, PLAF_REPO_DATA}) {
     std::vector<fs::path> files;
     for (const auto& e : fs::recursive_directory_iterator(root))
       if (e.is_regular_file()) files.push_back(e.path());
@@ -236,6 +238,7 @@ class RunsLock {
 // replaces the outputs under a reader.
 struct ShippedRuns {
   std::vector<Run> runs;
+  std::vector<std::string> left_out;  // configs whose published files no data root holds
   RunsLock lock{[] {
     fs::create_directories(PLAF_CONFIG_RUNS);
     return fs::path(PLAF_CONFIG_RUNS) / "lock";
@@ -248,10 +251,16 @@ struct ShippedRuns {
       if (e.path().extension() == ".yaml" && !is_study(e.path())) configs.push_back(e.path());
     std::sort(configs.begin(), configs.end());
     for (const fs::path& c : configs) {
-      const plaf::RunConfig rc = plaf::load_run_config(c);
-      runs.push_back({c, dir / "out" / c.stem(), rc.name, rc.geometry.type == "airfoils", rc.dim, -1, ""});
+      try {
+        const plaf::RunConfig rc = plaf::load_run_config(c);
+        runs.push_back({c, dir / "out" / c.stem(), rc.name, rc.geometry.type == "airfoils", rc.dim, -1, ""});
+      } catch (const plaf::MissingDataError& e) {  // a published file in no data root: left out
+        left_out.push_back(c.filename().string() + " (" + e.what() + ")");
+      }
     }
-    const std::string stamp = "run command v1: plaf run CONFIG --out DIR\n" + runs_stamp();
+    std::string stamp = "run command v1: plaf run CONFIG --out DIR\n" + runs_stamp();
+    for (const plaf::DataRoot& root : plaf::data_roots()) stamp += "data root " + root.origin + ": " + root.dir.value_or("") + "\n";
+    for (const Run& r : runs) stamp += "run " + r.config.string() + "\n";
     const fs::path stamp_file = dir / "stamp";
     if (fs::exists(stamp_file) && read_text(stamp_file.string()) == stamp) {
       for (std::size_t i = 0; i < runs.size(); ++i) {
@@ -272,8 +281,14 @@ struct ShippedRuns {
   }
 };
 
+// The runs of the shipped configs whose files are all there; a test case over them is reported
+// skipped when any config was left out for a published file no data root holds
+// (tests/published_data.h).
 const std::vector<Run>& shipped_runs() {
   static const ShippedRuns shipped;
+  if (!shipped.left_out.empty())
+    plaf::test::request_skip(std::to_string(shipped.left_out.size()) + " shipped configs left out without their published files, first " +
+                             shipped.left_out.front());
   return shipped.runs;
 }
 
@@ -481,8 +496,8 @@ TEST_CASE("configs: a background metric from .mesh/.sol and from MSH 4.1 gives t
   const double r = 5;
   const Eigen::Vector2d c(0.5, 0.0);
   const std::string geometry =
-      "name: bg\ngeometry:\n  type: airfoils\n  bodies:\n    - file: " + std::string(PLAF_DATA) +
-      "/airfoils/naca0012.dat\n  farfield: {shape: circle, radius: 5, center: [0.5, 0]}\n"
+      "name: bg\ngeometry:\n  type: airfoils\n  bodies:\n    - naca: {digits: \"0012\", trailing_edge: blunt}\n"
+      "  farfield: {shape: circle, radius: 5, center: [0.5, 0]}\n"
       "output: {formats: [msh, report]}\n";
   write_text(d.path / "meshb.yaml", geometry + "metric: {type: background, file: bg.mesh, sol: bg.sol}\n");
   write_text(d.path / "msh.yaml", geometry + "metric: {type: background, file: bg.msh}\n");

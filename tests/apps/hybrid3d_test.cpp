@@ -141,7 +141,7 @@ TEST_CASE("hybrid 3D: a sphere in a box is closed and conforming, its cells fill
 TEST_CASE("hybrid 3D: a wing between two symmetry planes stays between them, every face on them tagged") {
   const TempDir d("hybrid_wing_planes");
   const std::string cfg = "name: case\norder: 2\n"
-                          "geometry: {type: wing, file: " PLAF_DATA "/airfoils/naca0012.dat, chord: 1, span: 0.3, "
+                          "geometry: {type: wing, naca: {digits: \"0012\", trailing_edge: blunt}, chord: 1, span: 0.3, "
                           "root: symmetry, tip: symmetry}\n"
                           "metric: {type: wall_power_law, h0: 0.0005, growth: 1.25, h_max: 2.0, h_wall_max: 0.1}\n"
                           "surface: {curvature_factor: 0.1, curvature_h_min: 0.005}\n"
@@ -188,7 +188,7 @@ TEST_CASE("layers table: a 2D run with transition triangles and split_quads repo
   // merges away (an out-of-range block, "geometry order 0").
   const TempDir d("table_split_quads");
   const std::string cfg = "name: case\norder: 3\n"
-                          "geometry: {type: airfoils, bodies: [{file: " PLAF_DATA "/airfoils/naca0012_sharp.dat}], "
+                          "geometry: {type: airfoils, bodies: [{file: " PLAF_REPO_DATA "/airfoils/naca0012_sharp.dat}], "
                           "farfield: {shape: circle, radius: 20}}\n"
                           "metric: {type: wall_power_law, h0: 0.01, growth: 1.5, h_max: 2.0, h_wall_max: 0.04, "
                           "curvature_factor: 0.3, h_corner: 0.005}\n"

@@ -1,9 +1,14 @@
 // SPDX-License-Identifier: MIT
-// The repository stands alone: every path a shipped configuration names resolves to a file inside
-// the repository, the tests' data folders are inside it, and no shipped source, script, config or
-// document points beside it (the data once lived in a folder next to the repository, which a
-// clone does not have).
+// The repository stands alone: every path a shipped configuration names is a file inside the
+// repository or a published file named through the data root (`data:REL`, listed in the provenance
+// catalogue of modules/pipeline/data_root.h); the tests' data folders are inside it; data/ holds
+// only generated files and their generators; and no shipped source, script, config or document
+// points beside it except the data root's own rule (its code and its documentation).
 #include <doctest/doctest.h>
+
+#include <unistd.h>
+
+#include <cstdlib>
 
 #include <filesystem>
 #include <fstream>
@@ -12,6 +17,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "modules/pipeline/data_root.h"
 
 namespace fs = std::filesystem;
 
@@ -66,7 +73,13 @@ TEST_CASE("repository: every path a shipped config names is a file inside the re
       const std::string code = line.substr(0, line.find('#'));
       for (std::sregex_iterator m(code.begin(), code.end(), path_key), end; m != end; ++m) {
         ++paths;
-        const fs::path value = (*m)[2].str();
+        const std::string raw = (*m)[2].str();
+        INFO(e.path().filename().string() << ":" << n << ": " << (*m)[1].str() << ": " << raw);
+        if (raw.rfind(plaf::kDataPrefix, 0) == 0) {  // published: in the catalogue
+          CHECK(plaf::data_provenance(raw.substr(std::string(plaf::kDataPrefix).size())).has_value());
+          continue;
+        }
+        const fs::path value = raw;
         const fs::path resolved = value.is_absolute() ? value : e.path().parent_path() / value;
         INFO(e.path().filename().string() << ":" << n << ": " << (*m)[1].str() << ": " << value.string());
         CHECK(value.is_relative());
@@ -80,7 +93,7 @@ TEST_CASE("repository: every path a shipped config names is a file inside the re
 }
 
 TEST_CASE("repository: the tests' data folders are inside the repository") {
-  for (const char* dir : {PLAF_DATA, PLAF_TEST_DATA, PLAF_CONFIGS}) {
+  for (const char* dir : {PLAF_REPO_DATA, PLAF_TEST_DATA, PLAF_CONFIGS}) {
     INFO(dir);
     CHECK(inside_root(dir));
     CHECK(fs::is_directory(dir));
@@ -93,8 +106,16 @@ TEST_CASE("repository: no shipped file refers to a folder beside the repository"
   const std::string up = "/..";
   const std::vector<std::string> outside = {".." + std::string("/shared"), "shared" + std::string("/data"),
                                             "PROJECT_SOURCE_DIR}" + up, "CMAKE_SOURCE_DIR}" + up};
+  // The data root's rule names the shelf beside the repository: its code, the CLI's usage, the
+  // test helper that follows it, and the documents that explain it.
+  const std::set<std::string> rule = {"modules/pipeline/data_root.cpp", "modules/pipeline/data_root.h",
+                                      "apps/plaf_main.cpp", "tests/published_data.h",
+                                      "tests/modules/pipeline/data_root_test.cpp",
+                                      "docs/data.md",
+                                      "README.md", "docs/architecture.md"};
   int scanned = 0;
   for (const fs::path& f : shipped_text_files()) {
+    if (rule.count(f.lexically_relative(root).generic_string())) continue;
     ++scanned;
     const std::string text = read_all(f);
     for (const std::string& s : outside) {
@@ -103,4 +124,36 @@ TEST_CASE("repository: no shipped file refers to a folder beside the repository"
     }
   }
   CHECK(scanned > 100);
+}
+
+TEST_CASE("repository: data/ holds only generators and the files they write, each rewritten bit for bit") {
+  // Every file under data/ is a generator (make_*.py) or the output of one: the generator run into
+  // a scratch file writes the same bytes.
+  const fs::path data = root / "data";
+  std::set<std::string> outputs;
+  int generators = 0;
+  for (const auto& e : fs::directory_iterator(data)) {
+    const std::string name = e.path().filename().string();
+    if (!e.is_regular_file() || name.rfind("make_", 0) != 0 || e.path().extension() != ".py") continue;
+    ++generators;
+    // The output a generator writes by default is named in its docstring: "Writes DIR/FILE".
+    const std::string text = read_all(e.path());
+    std::smatch m;
+    REQUIRE_MESSAGE(std::regex_search(text, m, std::regex(R"(Writes ([A-Za-z0-9_/]+\.dat))")), name);
+    const std::string out = m[1].str();
+    outputs.insert(out);
+    const fs::path scratch = fs::temp_directory_path() / ("plaf_generated_" + std::to_string(::getpid()) + ".dat");
+    const std::string cmd = "python3 " + e.path().string() + " " + scratch.string() + " > /dev/null";
+    INFO(cmd);
+    REQUIRE(std::system(cmd.c_str()) == 0);
+    CHECK(read_all(scratch) == read_all(data / out));
+    fs::remove(scratch);
+  }
+  CHECK(generators == 2);
+  for (const auto& f : fs::recursive_directory_iterator(data)) {
+    if (!f.is_regular_file()) continue;
+    const std::string rel = f.path().lexically_relative(data).generic_string();
+    INFO(rel);
+    CHECK((outputs.count(rel) || (rel.rfind("make_", 0) == 0 && f.path().extension() == ".py")));
+  }
 }

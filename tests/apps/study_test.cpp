@@ -18,6 +18,7 @@
 
 #include "tests/gmsh_support.h"
 #include "tests/test_support.h"
+#include "tests/published_data.h"
 
 namespace fs = std::filesystem;
 using plaf::test::read_lines;
@@ -94,7 +95,7 @@ std::string small_study() {
          "    extrude: {span: 0.2}\n"
          "    sphere: true\n"
          "  - name: e387\n"
-         "    geometry: {type: airfoils, bodies: [{file: " PLAF_DATA "/airfoils/e387.dat}], corner_angle_deg: 70}\n"
+         "    geometry: {type: airfoils, bodies: [{file: data:airfoils/e387.dat}], corner_angle_deg: 70}\n"
          "    metric: {type: wall_power_law, h0: 0.005, growth: 1.2, h_max: 10.0, h_wall_max: 0.05,\n"
          "             curvature_factor: 0.04, h_corner: 0.01}\n"
          "    layers: {max: 24, f_atten: 0.2, corner_angle_deg: 70}\n"
@@ -104,6 +105,7 @@ std::string small_study() {
 }  // namespace
 
 TEST_CASE("study: a circle, its cylinder and sphere, the E387 and its wing: honest pairs, tables that are the runs' reports") {
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
   TempDir d("study_small");
   const fs::path study = write_text(d / "small.yaml", small_study());
   const fs::path out = d / "out";
@@ -227,6 +229,7 @@ TEST_CASE("study: a circle, its cylinder and sphere, the E387 and its wing: hone
 }
 
 TEST_CASE("study: bad study files fail with one line naming the file and key, before anything is written") {
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
   TempDir d("study_bad");
   const std::string good = small_study();
   struct Bad {
@@ -244,13 +247,13 @@ TEST_CASE("study: bad study files fail with one line naming the file and key, be
       {replace("    sphere: true\n", ""), ""},  // still valid: the circle keeps its cylinder
       {replace("    extrude: {span: 0.2}\n    sphere: true\n", ""), "no 3D partner"},
       {replace("name: e387\n", "name: circle\n"), "named twice"},
-      {replace("bodies: [{circle: {center: [0, 0], radius: 0.5}}]", "bodies: [{file: " PLAF_DATA "/airfoils/e387.dat}]"),
+      {replace("bodies: [{circle: {center: [0, 0], radius: 0.5}}]", "bodies: [{file: data:airfoils/e387.dat}]"),
        "one circle body"},
       {replace("h_wall_max: 0.1}", "h_wall_max: 0.1, curvature_factor: 0.1}"), "curvature_factor * radius"},
       {replace("isotropic_stop: all}", "isotropic_stop: all, colour: red}"), "case 'circle'"},
       {replace("type: wall_power_law, h0: 0.001", "type: uniform, h: 0.1"), "wall_power_law"},
       {replace("extrude: {span: 0.2}\n    sphere", "extrude: {span: -1}\n    sphere"), "span"},
-      {replace("/airfoils/e387.dat", "/airfoils/missing.dat"), "missing.dat"},
+      {replace("data:airfoils/e387.dat", "data:airfoils/missing.dat"), "missing.dat"},
   };
   for (std::size_t i = 0; i < bad.size(); ++i) {
     const fs::path f = write_text(d / ("bad" + std::to_string(i) + ".yaml"), bad[i].text);
@@ -272,6 +275,7 @@ TEST_CASE("study: bad study files fail with one line naming the file and key, be
 }
 
 TEST_CASE("study: the shipped attenuation study: every run valid, the E387 wing and the cylinder reproduce their sections") {
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
   // configs/attenuation_study.yaml in one command (the README's table comes from it).
   const fs::path out = fs::path(PLAF_CONFIG_RUNS).parent_path() / "attenuation_study";
   fs::remove_all(out);

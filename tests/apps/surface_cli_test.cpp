@@ -19,6 +19,7 @@
 
 #include "tests/surface3d/test_surfaces.h"
 #include "tests/test_support.h"
+#include "tests/published_data.h"
 
 namespace fs = std::filesystem;
 using plaf::TriangleSoup;
@@ -41,7 +42,6 @@ std::string last_line(const std::string& text) {
   return text.substr(begin == std::string::npos ? 0 : begin + 1, end - (begin == std::string::npos ? 0 : begin + 1) + 1);
 }
 
-const std::string data = std::string(PLAF_DATA) + "/surfaces/";
 
 // A surface_file configuration; `file` is relative to the configuration's folder or absolute.
 std::string surface(const std::string& file, const std::string& extra = "") {
@@ -118,7 +118,6 @@ TEST_CASE("surface cli: each bad surface gives its own one-line error, exit code
   pierced.points[0] *= -1.5;
   const Case cases[] = {
       {"open scan", sphere_with_holes(5), surface("case.stl"), "5 open boundary loops not on a symmetry plane"},
-      {"open half wing without its plane", {}, surface(data + "onera_m6_small.fmt"), "open boundary loop"},
       {"stray inner pieces", sphere_with_inner_pieces(), surface("case.stl"), "2 components inside another"},
       {"self-intersections", pierced, surface("case.stl", "  inner_components: drop\n"),
        "self-intersecting triangle pair"},
@@ -148,7 +147,18 @@ TEST_CASE("surface cli: each bad surface gives its own one-line error, exit code
   CHECK(plaf::test::count_files(d / "out") == 0);
 }
 
-TEST_CASE("surface cli: an inward surface is repaired and meshed, an open half wing on its plane is tagged symmetry") {
+TEST_CASE("surface cli: the published ONERA M6 half wing without its symmetry plane is refused as open") {
+  PLAF_NEEDS_PUBLISHED("surfaces/onera_m6_small.fmt");
+  const TempDir d("surface_cli_m6_open");
+  const PlafResult r = run_config(d, surface("data:surfaces/onera_m6_small.fmt"));
+  INFO(r.err);
+  CHECK(r.code == 1);
+  CHECK(last_line(r.err).rfind("plaf: error: ", 0) == 0);
+  CHECK(last_line(r.err).find("open boundary loop") != std::string::npos);
+  CHECK(plaf::test::count_files(d / "out") == 0);
+}
+
+TEST_CASE("surface cli: an inward surface is repaired and meshed") {
   {
     // An ellipsoid (semi-axes 1.5, 1.2, 1) from the icosphere with m = 12, turned inside out.
     TriangleSoup inward = plaf::test::icosphere_soup(12);
@@ -165,12 +175,16 @@ TEST_CASE("surface cli: an inward surface is repaired and meshed, an open half w
     CHECK(report.find("\"euler_characteristic\": 2") != std::string::npos);
     CHECK(report.find("\"invalid\": 0") != std::string::npos);
   }
+}
+
+TEST_CASE("surface cli: the published ONERA M6 half wing on its plane is tagged symmetry") {
+  PLAF_NEEDS_PUBLISHED("surfaces/onera_m6_small.fmt");
   {
     const TempDir d("surface_cli_m6");
     // At h = 0.2 (a quarter of the chord) the surface cannot follow the wing within the default
     // fidelity tolerance (1e-3 of the diagonal; measured: 0.031); this case checks the repairs and
     // the tags, and bounds the distance at 0.05.
-    std::string config = surface(data + "onera_m6_small.fmt", "  symmetry_planes: [{normal: [0, 0, 1]}]\n");
+    std::string config = surface("data:surfaces/onera_m6_small.fmt", "  symmetry_planes: [{normal: [0, 0, 1]}]\n");
     config.replace(config.find("surface: {iterations: 2}"), 24, "surface: {iterations: 2, fidelity_tol: 0.05}");
     const PlafResult r = run_config(d, config);
     INFO(r.err);
@@ -247,14 +261,17 @@ TEST_CASE("surface cli: a wall_power_law metric meshes the surface at its sizes 
     INFO(yaml << s.err);
     CHECK(s.code == 0);
   }
-  // On the wall the sizes along it are h_wall_max: the shipped wing (uniform h = 0.08, whose
-  // initial triangulation is sized at its root's leading edge, on the wall) meshed with
-  // wall_power_law and h_wall_max = 0.08 writes the same file.
+}
+
+TEST_CASE("surface cli: on the wall the sizes along it are h_wall_max: the E387 wing's surface as at a uniform size") {
+  // The shipped wing (uniform h = 0.08, whose initial triangulation is sized at its root's leading
+  // edge, on the wall) meshed with wall_power_law and h_wall_max = 0.08 writes the same file. Its
+  // section is data:airfoils/e387.dat, found from any folder.
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
   std::string wing = read_text(std::string(PLAF_CONFIGS) + "/wing_symmetry_surface.yaml");
-  const std::string section_file = "file: ../data/", uniform = "metric:\n  type: uniform\n  h: 0.08\n";
-  REQUIRE(wing.find(section_file) != std::string::npos);
+  const std::string uniform = "metric:\n  type: uniform\n  h: 0.08\n";
+  REQUIRE(wing.find("file: data:airfoils/e387.dat") != std::string::npos);
   REQUIRE(wing.find(uniform) != std::string::npos);
-  wing.replace(wing.find(section_file), section_file.size(), "file: " + std::string(PLAF_DATA) + "/");
   std::string walled = wing;
   walled.replace(wing.find(uniform), uniform.size(),
                  "metric:\n  type: wall_power_law\n  h0: 1e-5\n  h_wall_max: 0.08\n");

@@ -46,7 +46,11 @@ seed_surface() {  # selector byte % 6: 0 stl, 1 obj, 2 off, 3 ply, 4 fmt, 5 p3d 
     copy "$f" "$corpus/surface/seed-$(basename "$f")" "$sel"
   done
   copy "$here/seeds/surface/two_blocks.fmt" "$corpus/surface/seed-two_blocks.p3d" '\x05'
-  copy "$root/data/surfaces/sphere_cube6_even.fmt" "$corpus/surface/seed-sphere_cube6_even.fmt" '\x04'  # 11 kB
+  # A published Plot3D file from the data root, when one holds it (11 kB; docs/data.md).
+  local p3d
+  if p3d=$("$root/build/apps/plaf" data surfaces/sphere_cube6_even.fmt 2> /dev/null); then
+    copy "$p3d" "$corpus/surface/seed-sphere_cube6_even.fmt" '\x04'
+  fi
 }
 seed_msh() {
   for f in "$here"/seeds/msh/*.msh "$here"/seeds/background/*.msh; do copy "$f" "$corpus/msh/seed-$(basename "$f")"; done

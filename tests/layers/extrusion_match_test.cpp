@@ -18,6 +18,7 @@
 #include "modules/metric/extruded_metric.h"
 #include "modules/metric/wall_metric.h"
 #include "tests/layers/layer_test_support.h"
+#include "tests/published_data.h"
 
 using namespace plaf;
 using Eigen::Vector2d;
@@ -127,7 +128,8 @@ TEST_CASE("extruded layers: an ellipse's wing grows the ellipse's layers at mid-
 }
 
 TEST_CASE("extruded layers: the E387 wing grows the E387's layers at mid-span, trailing-edge fan included") {
-  const BodyContour c = read_body_contour(PLAF_DATA "/airfoils/e387.dat");
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
+  const BodyContour c = read_body_contour(plaf::test::published("airfoils/e387.dat"));
   const Geometry2D geo = test::body(c.points, c.corners);
   const WallPowerLawField metric = wall_law(geo, 5e-5);
   for (int q = 1; q <= 3; ++q) {

@@ -13,6 +13,7 @@
 #include "modules/mesh/curve_mesh.h"
 #include "modules/metric/wall_metric.h"
 #include "tests/layers/layer_test_support.h"
+#include "tests/published_data.h"
 
 using namespace plaf;
 using Eigen::Vector2d;
@@ -248,7 +249,8 @@ TEST_CASE("layers: a layer more than twice as tall as the elements at a concave 
 }
 
 TEST_CASE("layers: Q = 1..4 on the E387 give valid, conforming layers") {
-  BodyContour c = read_body_contour(PLAF_DATA "/airfoils/e387.dat");
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
+  BodyContour c = read_body_contour(plaf::test::published("airfoils/e387.dat"));
   const Geometry2D geo = body(c.points, c.corners);
   WallLawParams w;
   w.h0 = 0.005;
@@ -360,9 +362,10 @@ TEST_CASE("layers: close_linear ends a front that is still curved with one valid
 }
 
 TEST_CASE("layers: fans grow on the first layer only: NLR 7301's blunt trailing edge at h0 1e-5 keeps its cell count and stays valid") {
+  PLAF_NEEDS_PUBLISHED("airfoils/nlr7301.dat");
   // Its two 90 degree trailing-edge corners used to fan again at every kite vertex, multiplying
   // kites until layer 5 folded (issue 12).
-  BodyContour c = read_body_contour(PLAF_DATA "/airfoils/nlr7301.dat");
+  BodyContour c = read_body_contour(plaf::test::published("airfoils/nlr7301.dat"));
   const Geometry2D geo = body(c.points, c.corners);
   WallLawParams w;
   w.h0 = 1e-5;

@@ -16,6 +16,7 @@
 #include "modules/base/error.h"
 #include "modules/geometry/spline_loop.h"
 #include "tests/surface3d/feature_checks.h"
+#include "tests/published_data.h"
 
 namespace {
 
@@ -26,7 +27,6 @@ using plaf::EdgeFeature;
 using plaf::TriSurface;
 using plaf::VertexFeature;
 
-const std::string kAirfoils = std::string(PLAF_DATA) + "/airfoils/";
 
 double signed_volume(const TriSurface& s) {
   double v = 0;
@@ -268,16 +268,16 @@ struct Section {
   plaf::SplineLoop loop;
   std::vector<Vector2d> dense;
   double xmin = 1e300, xmax = -1e300;
-  static plaf::SplineLoop make(const std::string& file, double chord, double corner_deg) {
-    plaf::BodyContour c = plaf::read_body_contour(file);
+  static plaf::SplineLoop make(const plaf::WingParams& w, double chord, double corner_deg) {
+    plaf::BodyContour c = w.naca ? plaf::naca_contour(*w.naca) : plaf::read_body_contour(w.file);
     for (auto& p : c.points) p *= chord;
     std::vector<int> corners = plaf::detect_corners(c.points, corner_deg);
     corners.insert(corners.end(), c.corners.begin(), c.corners.end());
     std::sort(corners.begin(), corners.end());
     corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
-    return plaf::SplineLoop(c.points, corners, file);
+    return plaf::SplineLoop(c.points, corners, c.file);
   }
-  Section(const std::string& file, double chord, double corner_deg) : loop(make(file, chord, corner_deg)) {
+  Section(const plaf::WingParams& w, double chord, double corner_deg) : loop(make(w, chord, corner_deg)) {
     const int n = 200 * loop.num_points();
     for (int k = 0; k < n; ++k) {
       dense.push_back(loop.point(loop.period() * k / n));
@@ -309,6 +309,16 @@ double corner_angle(const std::string& file) {
   return file == "e387.dat" ? 70.0 : 30.0;
 }
 
+// A wing's section: "naca NNNN sharp|blunt" is generated (modules/io/naca_section.h), a file name
+// is a published contour in the data root (the test case checks it is there).
+void set_section(plaf::WingParams& p, const std::string& section) {
+  if (section.rfind("naca ", 0) == 0) {
+    p.naca = plaf::NacaSection{section.substr(5, section.find(' ', 5) - 5), section.find("sharp") != std::string::npos, 100};
+  } else {
+    p.file = plaf::test::published("airfoils/" + section);
+  }
+}
+
 struct WingCase {
   std::string file;
   plaf::WingEnd root, tip;
@@ -322,14 +332,14 @@ void check_wing(const WingCase& w, double chord, double span, double h) {
   CAPTURE(static_cast<int>(w.root));
   CAPTURE(static_cast<int>(w.tip));
   plaf::WingParams p;
-  p.file = kAirfoils + w.file;
+  set_section(p, w.file);
   p.chord = chord;
   p.span = span;
   p.root = w.root;
   p.tip = w.tip;
   p.corner_angle_deg = corner_angle(w.file);
   const AnalyticBody b = plaf::make_wing(p, h);
-  const Section sec(p.file.string(), chord, p.corner_angle_deg);
+  const Section sec(p, chord, p.corner_angle_deg);
   const double tol = 1e-9 * b.reference->scale();
   // On the surface: the side (on the contour, 0 <= z <= span), a flat end (inside the contour),
   // or a rounded end (on the half circle through the upper and lower points at its x).
@@ -382,6 +392,7 @@ void check_wing(const WingCase& w, double chord, double span, double h) {
 }  // namespace
 
 TEST_CASE("analytic wing: E387 (sharp trailing edge) with each end type") {
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
   // Sharp TE: one spanwise ridge; each flat or symmetry end adds one contour curve.
   check_wing({"e387.dat", plaf::WingEnd::Symmetry, plaf::WingEnd::Flat, 1, 3, 2}, 1.0, 1.5, 0.1);
   check_wing({"e387.dat", plaf::WingEnd::Flat, plaf::WingEnd::Rounded, 2, 2, 2}, 1.0, 1.0, 0.1);
@@ -389,18 +400,26 @@ TEST_CASE("analytic wing: E387 (sharp trailing edge) with each end type") {
   check_wing({"e387.dat", plaf::WingEnd::Rounded, plaf::WingEnd::Rounded, 2, 1, 2}, 1.0, 0.8, 0.08);
 }
 
-TEST_CASE("analytic wing: NACA 0012 (blunt trailing edge) with each end type") {
+TEST_CASE("analytic wing: a generated NACA 4412 (sharp trailing edge) with each end type, as the E387") {
+  check_wing({"naca 4412 sharp", plaf::WingEnd::Symmetry, plaf::WingEnd::Flat, 1, 3, 2}, 1.0, 1.5, 0.1);
+  check_wing({"naca 4412 sharp", plaf::WingEnd::Flat, plaf::WingEnd::Rounded, 2, 2, 2}, 1.0, 1.0, 0.1);
+  check_wing({"naca 4412 sharp", plaf::WingEnd::Symmetry, plaf::WingEnd::Symmetry, 0, 3, 2}, 2.0, 1.0, 0.2);
+  check_wing({"naca 4412 sharp", plaf::WingEnd::Rounded, plaf::WingEnd::Rounded, 2, 1, 2}, 1.0, 0.8, 0.08);
+}
+
+TEST_CASE("analytic wing: a generated NACA 0012 (blunt trailing edge) with each end type") {
   // Blunt TE: two spanwise ridges and a flat base; flat/symmetry ends add two contour curves,
   // rounded ends join both ridges through the base's half circle.
-  check_wing({"naca0012.dat", plaf::WingEnd::Flat, plaf::WingEnd::Flat, 2, 6, 4}, 1.0, 1.0, 0.1);
-  check_wing({"naca0012.dat", plaf::WingEnd::Symmetry, plaf::WingEnd::Rounded, 1, 3, 2}, 1.0, 1.0, 0.1);
-  check_wing({"naca0012.dat", plaf::WingEnd::Rounded, plaf::WingEnd::Rounded, 2, 1, 0}, 1.0, 1.0, 0.1);
-  check_wing({"naca0012.dat", plaf::WingEnd::Symmetry, plaf::WingEnd::Symmetry, 0, 6, 4}, 1.0, 1.0, 0.1);
+  check_wing({"naca 0012 blunt", plaf::WingEnd::Flat, plaf::WingEnd::Flat, 2, 6, 4}, 1.0, 1.0, 0.1);
+  check_wing({"naca 0012 blunt", plaf::WingEnd::Symmetry, plaf::WingEnd::Rounded, 1, 3, 2}, 1.0, 1.0, 0.1);
+  check_wing({"naca 0012 blunt", plaf::WingEnd::Rounded, plaf::WingEnd::Rounded, 2, 1, 0}, 1.0, 1.0, 0.1);
+  check_wing({"naca 0012 blunt", plaf::WingEnd::Symmetry, plaf::WingEnd::Symmetry, 0, 6, 4}, 1.0, 1.0, 0.1);
 }
 
 TEST_CASE("analytic wing: corner vertices by end type and projections onto curves") {
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
   plaf::WingParams p;
-  p.file = kAirfoils + "e387.dat";
+  p.file = plaf::test::published("airfoils/e387.dat");
   p.root = plaf::WingEnd::Symmetry;
   p.tip = plaf::WingEnd::Flat;
   p.corner_angle_deg = 70;
@@ -438,13 +457,26 @@ TEST_CASE("analytic bodies: bad parameters give a clear error") {
   CHECK_THROWS_WITH_AS(plaf::make_box(Vector3d::Ones(), Vector3d::Zero(), 0.1), doctest::Contains("lo < hi"),
                        plaf::ConfigError);
   plaf::WingParams p;
-  p.file = kAirfoils + "e387.dat";
+  p.naca = plaf::NacaSection{"4412", true, 100};
   p.span = 0;
   CHECK_THROWS_WITH_AS(plaf::make_wing(p, 0.1), doctest::Contains("span"), plaf::ConfigError);
   p.span = 1;
   p.chord = -1;
   CHECK_THROWS_WITH_AS(plaf::make_wing(p, 0.1), doctest::Contains("chord"), plaf::ConfigError);
   p.chord = 1;
+  p.corner_angle_deg = 0;
+  CHECK_THROWS_AS(plaf::make_wing(p, 0.1), plaf::ConfigError);
+  p.corner_angle_deg = 30;
+  CHECK_NOTHROW(plaf::make_wing(p, 0.1));
+  p.naca.reset();
+  p.file = std::string(PLAF_REPO_DATA) + "/airfoils/no_such_airfoil.dat";
+  CHECK_THROWS_AS(plaf::make_wing(p, 0.1), plaf::InputError);
+}
+
+TEST_CASE("analytic wing: a rounded end cannot follow the E387's leading-edge corners at 30 degrees") {
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
+  plaf::WingParams p;
+  p.file = plaf::test::published("airfoils/e387.dat");
   // At 30 degrees the E387 leading-edge points are corners: a rounded end cannot follow them.
   p.corner_angle_deg = 30;
   p.tip = plaf::WingEnd::Rounded;
@@ -453,14 +485,14 @@ TEST_CASE("analytic bodies: bad parameters give a clear error") {
   CHECK_THROWS_AS(plaf::make_wing(p, 0.1), plaf::ConfigError);
   p.corner_angle_deg = 70;
   CHECK_NOTHROW(plaf::make_wing(p, 0.1));
-  p.file = kAirfoils + "no_such_airfoil.dat";
-  CHECK_THROWS_AS(plaf::make_wing(p, 0.1), plaf::InputError);
 }
-TEST_CASE("analytic wing: a rounded tip is a half body of revolution, tangent-continuous with the side") {
-  for (const std::string file : {"e387.dat", "naca0012.dat"}) {
+// A wing with a rounded tip on the section (set_section): the cap is a half body of revolution,
+// tangent-continuous with the side.
+static void check_rounded_tip(const std::string& file) {
+  {
     CAPTURE(file);
     plaf::WingParams p;
-    p.file = kAirfoils + file;
+    set_section(p, file);
     p.corner_angle_deg = corner_angle(file);
     p.chord = 2;
     p.span = 3;
@@ -468,7 +500,7 @@ TEST_CASE("analytic wing: a rounded tip is a half body of revolution, tangent-co
     p.tip = plaf::WingEnd::Rounded;
     const AnalyticBody b = plaf::make_wing(p, 0.2);
     const plaf::ReferenceGeometry<3>& ref = *b.reference;
-    const Section sec(p.file.string(), p.chord, p.corner_angle_deg);
+    const Section sec(p, p.chord, p.corner_angle_deg);
     // Points above the tip land on the cap: on the half circle through the upper and lower
     // surface points of their chord station, with the outward radial normal.
     int on_cap = 0;
@@ -495,7 +527,7 @@ TEST_CASE("analytic wing: a rounded tip is a half body of revolution, tangent-co
     // The trailing edge: a sharp one ends its ridge at the cap's tip (a convex corner); a blunt
     // one continues both ridges into the half circle closing its flat base (no corner at all).
     const Counts counts = count(b.initial);
-    if (file == "e387.dat") {
+    if (p.naca ? p.naca->sharp : true) {
       CHECK(counts.vertices.at(VertexFeature::ConvexCorner) == 1);
       CHECK(counts.vertices.at(VertexFeature::BoundaryCorner) == 1);
     } else {
@@ -527,4 +559,14 @@ TEST_CASE("analytic wing: a rounded tip is a half body of revolution, tangent-co
       CHECK(h2.y() > 0);
     }
   }
+}
+
+TEST_CASE("analytic wing: a rounded tip is a half body of revolution, tangent-continuous with the side") {
+  check_rounded_tip("naca 4412 sharp");
+  check_rounded_tip("naca 0012 blunt");
+}
+
+TEST_CASE("analytic wing: the E387's rounded tip is a half body of revolution, tangent-continuous with the side") {
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
+  check_rounded_tip("e387.dat");
 }

@@ -19,6 +19,7 @@
 #include "surface3d/high_order.h"
 #include "surface3d/remesh.h"
 #include "tests/surface3d/test_surfaces.h"
+#include "tests/published_data.h"
 
 using namespace plaf;
 
@@ -57,8 +58,9 @@ TEST_CASE("fidelity: a sphere's flat triangles sit their chord sag inside it, a 
 }
 
 TEST_CASE("fidelity: the E387 half wing remeshed with the curvature metric keeps its noses") {
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
   WingParams w;
-  w.file = std::string(PLAF_DATA) + "/airfoils/e387.dat";
+  w.file = plaf::test::published("airfoils/e387.dat");
   w.span = 1.5;
   w.root = WingEnd::Symmetry;
   w.tip = WingEnd::Symmetry;

@@ -20,13 +20,13 @@
 #include "modules/base/error.h"
 #include "tests/surface3d/test_surfaces.h"
 #include "tests/test_support.h"
+#include "tests/published_data.h"
 
 namespace plaf {
 namespace {
 
 using Vec3 = Eigen::Vector3d;
 
-const std::string kSurfaces = std::string(PLAF_DATA) + "/surfaces/";
 
 // Edge use of a soup: boundary edges (one triangle), and whether every interior edge is used by
 // exactly two triangles in opposite directions (manifold and consistently oriented).
@@ -86,9 +86,9 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 void check_file(const Expect& e, bool timed = false) {
   CAPTURE(e.file);
   const auto t0 = std::chrono::steady_clock::now();
-  const TriangleSoup s = read_surface_file(kSurfaces + e.file);
+  const TriangleSoup s = read_surface_file(plaf::test::published(std::string("surfaces/") + e.file));
   if (timed) MESSAGE(std::string(e.file) << " read in " << seconds_since(t0) << " s");
-  CHECK(s.source == kSurfaces + e.file);
+  CHECK(s.source == plaf::test::published(std::string("surfaces/") + e.file));
   CHECK(s.triangles.size() == e.triangles);
   CHECK(s.points.size() == e.vertices);
   CHECK(all_points_referenced(s));
@@ -197,7 +197,8 @@ TEST_CASE("read_surface: an OBJ's unreferenced vertices are dropped, the referen
   CHECK(moved < 1e-7);
 }
 
-TEST_CASE("read_surface: the Plot3D files of data/ read with merged interfaces and outward triangles") {
+TEST_CASE("read_surface: the published Plot3D files read with merged interfaces and outward triangles") {
+  PLAF_NEEDS_PUBLISHED("surfaces/onera_m6_small.fmt", "surfaces/bwb_half.fmt", "surfaces/wing_717_small.fmt", "surfaces/sphere_cube6_even.fmt", "surfaces/sphere_cube6_uneven.fmt");
   // Unique nodes and 2 x quads triangles (no quad of these files is collapsed: each wing is a
   // disc, V - E + F = 1 on the quads, so none is skipped); open only at the z = 0 root.
   check_file({"onera_m6_small.fmt", 2 * 15232, 15321, 176, 0.0338, 2e-3}, true);
@@ -205,7 +206,7 @@ TEST_CASE("read_surface: the Plot3D files of data/ read with merged interfaces a
   check_file({"wing_717_small.fmt", 2 * 12096, 12177, 160, 12.65, 2e-3});
   check_file({"sphere_cube6_even.fmt", 2 * 96, 98, 0, 3.92, 2e-3});
   check_file({"sphere_cube6_uneven.fmt", 2 * 1536, 1538, 0, 4.17, 2e-3});
-  const TriangleSoup m6 = read_plot3d(kSurfaces + "onera_m6_small.fmt");
+  const TriangleSoup m6 = read_plot3d(plaf::test::published("surfaces/onera_m6_small.fmt"));
   REQUIRE(m6.patch.size() == m6.triangles.size());
   std::vector<std::size_t> per_block(9, 0);
   for (const int b : m6.patch) {

@@ -212,7 +212,7 @@ namespace {
 
 TEST_CASE("remesh: tags, features and curves stay consistent on a half wing (symmetry root, flat tip)") {
   WingParams w;
-  w.file = std::string(PLAF_DATA) + "/airfoils/e387.dat";
+  w.naca = NacaSection{"4412", true, 100};  // cambered, sharp trailing edge
   w.span = 1.0;
   w.root = WingEnd::Symmetry;
   w.tip = WingEnd::Flat;

@@ -13,14 +13,17 @@
 
 #include "modules/base/error.h"
 #include "modules/metric/metric.h"
+#include "tests/published_data.h"
 
 using namespace plaf;
 using Eigen::Vector2d;
 
 namespace {
 
+// A contour: the generated naca0012_sharp.dat of the repository's data/, or a published one.
 std::string airfoil(const std::string& file) {
-  return std::string(PLAF_DATA) + "/airfoils/" + file;
+  if (file == "naca0012_sharp.dat") return std::string(PLAF_REPO_DATA) + "/airfoils/" + file;
+  return plaf::test::published("airfoils/" + file);
 }
 
 AirfoilsParams bodies(const std::vector<std::string>& files) {
@@ -106,7 +109,8 @@ TEST_CASE("geometry: the farfield rectangle is counter-clockwise with area w h a
 }
 
 TEST_CASE("geometry: the farfield is centred on the bodies' bounding box unless a center is given") {
-  // E387 (SOURCES.md): x from the min-x point 0.00044 to the TE 1.0, y in [-0.01502, 0.08247].
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
+  // E387 (docs/data.md): x from the min-x point 0.00044 to the TE 1.0, y in [-0.01502, 0.08247].
   const Vector2d body_min(0.00044, -0.01502), body_max(1.0, 0.08247);
   const Vector2d mid = 0.5 * (body_min + body_max);
   AirfoilsParams a = bodies({"e387.dat"});
@@ -142,6 +146,7 @@ TEST_CASE("geometry: the farfield is centred on the bodies' bounding box unless 
 }
 
 TEST_CASE("geometry: a farfield that does not enclose every body is a ConfigError") {
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
   // E387's TE (1, 0) is 0.5009 from the bounding-box centre (0.50022, 0.033725), its LE 0.4998.
   struct Case {
     const char* what;
@@ -179,7 +184,8 @@ TEST_CASE("geometry: a farfield that does not enclose every body is a ConfigErro
 }
 
 TEST_CASE("geometry: body loops are clockwise whatever the file's orientation, the farfield counter-clockwise") {
-  // SOURCES.md: the E387, RAE 2822 and NACA 0012 files run counter-clockwise (clockwise files:
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat", "airfoils/rae2822.dat", "airfoils/naca0012.dat");
+  // docs/data.md: the E387, RAE 2822 and NACA 0012 files run counter-clockwise (clockwise files:
   // airfoil_io_test); the E387 polygon encloses 0.0573 (3 digits).
   const Geometry2D e387 = build_airfoils_geometry(bodies({"e387.dat"}));
   CHECK(e387.loops[0].loop.signed_area() == doctest::Approx(-0.0573).epsilon(1e-3));
@@ -199,6 +205,7 @@ TEST_CASE("geometry: body loops are clockwise whatever the file's orientation, t
 }
 
 TEST_CASE("geometry: a corner given as [x, y] becomes a corner at the nearest contour point") {
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
   // E387 polygon turning angles (from the file's coordinates): 176.1 degrees at the TE (1, 0),
   // 39.4 and 52.5 at the two points around the smooth LE, (0.00044, 0.00234) and
   // (0.00091, -0.00286); every other point turns by less than 17 degrees.
@@ -239,6 +246,7 @@ TEST_CASE("geometry: a corner given as [x, y] becomes a corner at the nearest co
 }
 
 TEST_CASE("geometry: a point offset by d along a body's normal is within d of the body (exact closest point)") {
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat", "airfoils/rae2822.dat", "airfoils/naca0012.dat");
   // The foot p(t) is on the spline, so the distance from x = p(t) + d n(t) is at most d, to
   // rounding (coordinates O(1): 1e-14). Regression input, verbatim: a point where the closest
   // point's Newton iteration, converged to rounding, fell back to bisection in a stale bracket

@@ -35,7 +35,7 @@ double max_radial_error(const SplineLoop& s, const Vector2d& c, double r, int fi
 }
 
 // NACA 0012 with the closed-TE thickness law y = 0.6 (0.2969 sqrt x - 0.1260 x - 0.3516 x^2
-// + 0.2843 x^3 - 0.1036 x^4) (the formula SOURCES.md checks naca0012_sharp.dat against),
+// + 0.2843 x^3 - 0.1036 x^4) (the formula docs/data.md checks naca0012_sharp.dat against),
 // cosine spacing, clockwise from the TE: TE -> lower -> LE -> upper; the TE (index 0) is a corner.
 std::vector<Vector2d> naca0012_clockwise(int intervals) {
   const auto y = [](double x) {

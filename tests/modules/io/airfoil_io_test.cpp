@@ -11,6 +11,7 @@
 
 #include "modules/base/error.h"
 #include "modules/geometry/spline_loop.h"
+#include "tests/published_data.h"
 #include "tests/test_support.h"
 
 using namespace plaf;
@@ -22,7 +23,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path airfoils = fs::path(PLAF_DATA) / "airfoils";
+// A contour file: absolute as given, the generated naca0012_sharp.dat of the repository's data/,
+// or a published one in the data root (tests/published_data.h).
+fs::path airfoil(const fs::path& file) {
+  if (file.is_absolute()) return file;
+  if (file == "naca0012_sharp.dat") return fs::path(PLAF_REPO_DATA) / "airfoils" / file;
+  return plaf::test::published("airfoils/" + file.string());
+}
 
 double signed_area(const std::vector<Vector2d>& p) {
   double twice = 0;
@@ -70,13 +77,14 @@ fs::path write_reversed(const fs::path& from, const fs::path& to) {
 
 }  // namespace
 
-TEST_CASE("airfoil: every real file reads with the point count and trailing edge of SOURCES.md") {
-  // All facts from data/SOURCES.md: file points, header, TE closed (first == last) or the
+TEST_CASE("airfoil: every real file reads with the point count and trailing edge of docs/data.md") {
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat", "airfoils/rae2822.dat", "airfoils/naca0012.dat", "airfoils/n0012.dat", "airfoils/nlr7301.dat");
+  // All facts from docs/data.md: file points, header, TE closed (first == last) or the
   // two open TE end points, and whether the file runs counter-clockwise (Selig) or clockwise.
   // Every shipped file runs counter-clockwise: the clockwise ones are two of them reversed.
   const TempDir dir("airfoil_clockwise");
-  const fs::path e387_cw = write_reversed(airfoils / "e387.dat", dir / "e387_cw.dat");
-  const fs::path naca0012_cw = write_reversed(airfoils / "naca0012.dat", dir / "naca0012_cw.dat");
+  const fs::path e387_cw = write_reversed(airfoil("e387.dat"), dir / "e387_cw.dat");
+  const fs::path naca0012_cw = write_reversed(airfoil("naca0012.dat"), dir / "naca0012_cw.dat");
   struct Case {
     fs::path file;
     int file_points;
@@ -96,7 +104,7 @@ TEST_CASE("airfoil: every real file reads with the point count and trailing edge
       {naca0012_cw, 69, false, "", {1.0, -0.00126}, {1.0, 0.00126}, false},
   };
   for (const Case& k : cases) {
-    const fs::path path = airfoils / k.file;  // k.file itself when it is absolute
+    const fs::path path = airfoil(k.file);
     CAPTURE(path.string());
     const BodyContour b = read_body_contour(path);
     const int n = static_cast<int>(b.points.size());
@@ -128,17 +136,17 @@ TEST_CASE("airfoil: every real file reads with the point count and trailing edge
     const SplineLoop loop(b.points, b.corners, b.file);
     CHECK(loop.signed_area() < 0);
   }
-  // SOURCES.md: E387 shoelace area +0.0573 in file order.
-  CHECK(signed_area(read_body_contour(airfoils / "e387.dat").points) == doctest::Approx(-0.0573).epsilon(1e-3));
+  // docs/data.md: E387 shoelace area +0.0573 in file order.
+  CHECK(signed_area(read_body_contour(airfoil("e387.dat")).points) == doctest::Approx(-0.0573).epsilon(1e-3));
   // A file and its reverse read to the same clockwise points, sharp or blunt.
-  CHECK(read_body_contour(e387_cw).points == read_body_contour(airfoils / "e387.dat").points);
-  CHECK(read_body_contour(naca0012_cw).points == read_body_contour(airfoils / "naca0012.dat").points);
+  CHECK(read_body_contour(e387_cw).points == read_body_contour(airfoil("e387.dat")).points);
+  CHECK(read_body_contour(naca0012_cw).points == read_body_contour(airfoil("naca0012.dat")).points);
 }
 
 TEST_CASE("airfoil: the Lednicer layout reads to the same loop as the Selig layout") {
   TempDir dir("airfoil_lednicer");
   SUBCASE("separate LE points (naca0012_sharp: the upper surface ends where y turns negative)") {
-    const std::vector<std::string> lines = read_lines(airfoils / "naca0012_sharp.dat");
+    const std::vector<std::string> lines = read_lines(airfoil("naca0012_sharp.dat"));
     size_t split = 0;
     while (split < lines.size() && std::stod(lines[split].substr(lines[split].find(' '))) >= 0) ++split;
     std::string text = "NACA 0012 sharp, Lednicer layout\n" + std::to_string(split) + ".\t" +
@@ -147,7 +155,7 @@ TEST_CASE("airfoil: the Lednicer layout reads to the same loop as the Selig layo
     text += "\n";
     for (size_t k = split; k < lines.size(); ++k) text += lines[k] + "\n";  // lower LE -> TE
     write_text(dir / "lednicer.dat", text);
-    const BodyContour selig = read_body_contour(airfoils / "naca0012_sharp.dat");
+    const BodyContour selig = read_body_contour(airfoil("naca0012_sharp.dat"));
     const BodyContour lednicer = read_body_contour(dir / "lednicer.dat");
     CHECK(lednicer.title == "NACA 0012 sharp, Lednicer layout");
     CHECK(lednicer.points == selig.points);
@@ -155,13 +163,14 @@ TEST_CASE("airfoil: the Lednicer layout reads to the same loop as the Selig layo
     CHECK(lednicer.blunt == selig.blunt);
   }
   SUBCASE("a shared LE point given in both blocks (rae2822: 65 upper and 65 lower points)") {
-    const std::vector<std::string> lines = read_lines(airfoils / "rae2822.dat");  // title + 129
+    PLAF_NEEDS_PUBLISHED("airfoils/rae2822.dat");
+    const std::vector<std::string> lines = read_lines(airfoil("rae2822.dat"));  // title + 129
     std::string text = "RAE 2822, Lednicer layout\n65. 65.\n\n";
     for (size_t k = 65; k >= 1; --k) text += lines[k] + "\n";  // upper LE -> TE
     text += "\n";
     for (size_t k = 65; k <= 129; ++k) text += lines[k] + "\n";  // lower LE -> TE
     write_text(dir / "rae_lednicer.dat", text);
-    const BodyContour selig = read_body_contour(airfoils / "rae2822.dat");
+    const BodyContour selig = read_body_contour(airfoil("rae2822.dat"));
     const BodyContour lednicer = read_body_contour(dir / "rae_lednicer.dat");
     CHECK(lednicer.points.size() == 128);
     CHECK(lednicer.points == selig.points);
@@ -170,6 +179,7 @@ TEST_CASE("airfoil: the Lednicer layout reads to the same loop as the Selig layo
 }
 
 TEST_CASE("airfoil: numbers in UIUC styles, tabs, CRLF and scales from 1e-8 to 1e8") {
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
   TempDir dir("airfoil_styles");
   write_text(dir / "styles.dat", "title\r\n 1.0\t0.0\r\n.5   .05\r\n\t0 0\r\n5E-1 -.05\r\n+1. -0\r\n");
   const BodyContour b = read_body_contour(dir / "styles.dat");
@@ -180,7 +190,7 @@ TEST_CASE("airfoil: numbers in UIUC styles, tabs, CRLF and scales from 1e-8 to 1
   CHECK(b.corners == std::vector<int>{0});
 
   // Coincidence tolerances are relative to the chord.
-  const std::vector<std::string> lines = read_lines(airfoils / "e387.dat");
+  const std::vector<std::string> lines = read_lines(airfoil("e387.dat"));
   for (double scale : {1e-8, 1e8}) {
     std::ostringstream text;
     text.precision(17);
@@ -238,7 +248,8 @@ TEST_CASE("airfoil: bad files are rejected with file:line and the reason") {
 }
 
 TEST_CASE("airfoil: check_disjoint accepts close bodies and rejects crossing and nested contours") {
-  const BodyContour e387 = read_body_contour(airfoils / "e387.dat");
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
+  const BodyContour e387 = read_body_contour(airfoil("e387.dat"));
   CHECK_NOTHROW(check_disjoint({e387, transformed(e387, 1.0, Vector2d(1.5, 0.0), "e387_behind.dat")}));
   // A slat and a flap of 0.3 chord, 0.05 ahead of the LE and 0.002 behind the TE (E387's y range
   // [-0.01502, 0.08247] scaled: [-0.0045, 0.0247]; the copies sit 0.03 lower).
@@ -251,7 +262,7 @@ TEST_CASE("airfoil: check_disjoint accepts close bodies and rejects crossing and
   CHECK(crossing.find("e387_shifted.dat") != std::string::npos);
   CHECK(crossing.find("intersects the contour of") != std::string::npos);
 
-  // E387 is 0.09 thick near x = 0.3 (SOURCES.md); a 0.1-chord copy at (0.25, 0.02) spans
+  // E387 is 0.09 thick near x = 0.3 (docs/data.md); a 0.1-chord copy at (0.25, 0.02) spans
   // y in [0.0185, 0.0283], well inside.
   const BodyContour small = transformed(e387, 0.1, Vector2d(0.25, 0.02), "small.dat");
   for (const auto& bodies : {std::vector<BodyContour>{e387, small}, std::vector<BodyContour>{small, e387}}) {

@@ -13,6 +13,7 @@
 
 #include "modules/base/error.h"
 #include "surface3d/analytic.h"
+#include "tests/published_data.h"
 
 using namespace plaf;
 using Eigen::Vector3d;
@@ -186,10 +187,11 @@ TEST_CASE("wall metric 3D: no wall is an error") {
 }
 
 TEST_CASE("wall metric 3D: behind a thin trailing edge the normal is the direction from the edge, across its whole fan") {
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
   // The E387's trailing edge turns by 175 degrees: the fan behind it reaches from the upper
   // side's normal to the lower side's, and the reference reports one side's normal at the edge.
   WingParams wp;
-  wp.file = PLAF_DATA "/airfoils/e387.dat";
+  wp.file = plaf::test::published("airfoils/e387.dat");
   wp.root = WingEnd::Symmetry;
   wp.tip = WingEnd::Symmetry;
   wp.span = 0.2;

@@ -212,7 +212,7 @@ TEST_CASE("run config: one bad value per key is a ConfigError naming file:line:c
       {"geometry.bodies", "geometry: ^{type: airfoils}\n", "at least one body"},
       {"geometry.bodies", "geometry: {type: airfoils, bodies: ^{file: a.dat}}\n", "list of maps"},
       {"geometry.bodies[1]", "geometry: {type: airfoils, bodies: [{file: a.dat}, ^{name: slat}]}\n",
-       "file (or circle) is required"},
+       "file, naca or circle is required"},
       {"geometry.bodies[0].name", b + "name: ^[x]}]}\n", "expected a word"},
       {"geometry.bodies[0].name", b + "name: ^farfield}]}\n", "farfield"},
       {"geometry.bodies[0].corners", b + "corners: [[1, 2], ^[1]]}]}\n", "list of points"},
@@ -361,7 +361,7 @@ TEST_CASE("run config: 3D keys are checked like the 2D ones") {
   CHECK(err("geometry: {type: box, lo: [0, 0, 0], hi: [1, 0, 1]}\n") ==
         doctest::Contains("must exceed lo"));
   CHECK(err("geometry: {type: sphere, center: [0, 0]}\n") == doctest::Contains("three numbers"));
-  CHECK(err("geometry: {type: wing}\n") == doctest::Contains("file (the airfoil section) is required"));
+  CHECK(err("geometry: {type: wing}\n") == doctest::Contains("a wing needs its section: file (an airfoil file) or naca"));
   CHECK(err("geometry: {type: wing, file: a.dat, tip: pointed}\n") == doctest::Contains("pointed"));
   CHECK(err("geometry: {type: surface_file}\n") == doctest::Contains("file is required"));
   CHECK(err("geometry: {type: surface_file, file: a.stl, symmetry_planes: [{normal: [0, 0, 0]}]}\n") ==
@@ -449,6 +449,6 @@ TEST_CASE("run config: a circle body instead of a file, its radius required and 
   CHECK(err("geometry: {type: airfoils, bodies: [{circle: {radius: -1}}]}\n") ==
         doctest::Contains("radius"));
   CHECK(err("geometry: {type: airfoils, bodies: [{file: a.dat, circle: {radius: 1}}]}\n") ==
-        doctest::Contains("either a file or a circle"));
-  CHECK(err("geometry: {type: airfoils, bodies: [{name: x}]}\n") == doctest::Contains("file (or circle)"));
+        doctest::Contains("one of file, naca or circle"));
+  CHECK(err("geometry: {type: airfoils, bodies: [{name: x}]}\n") == doctest::Contains("file, naca or circle is required"));
 }
