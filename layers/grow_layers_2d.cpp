@@ -208,7 +208,7 @@ class LoopLayerBuilder {
       if (v.kind == VertexTop::Kind::Merged) continue;  // after its concave vertex's column exists
       for (const Vec& t : v.tops) {
         v.columns.push_back(column(c, t));
-        out_.built.columns.push_back({c[0], c[1], 0.0, (t - c).norm()});
+        out_.built.columns.push_back({c[0], c[1], 0.0, (t - c).norm(), scale_[e * q_]});
       }
     }
     for (std::size_t e = 0; e < ne_; ++e) {
@@ -216,7 +216,7 @@ class LoopLayerBuilder {
       if (v.kind != VertexTop::Kind::Merged) continue;
       const Vec c = at(e * q_);
       v.columns = {column(c, v.tops[0], vt_[v.merged_into].columns.front().back())};
-      out_.built.columns.push_back({c[0], c[1], 0.0, (v.tops[0] - c).norm()});
+      out_.built.columns.push_back({c[0], c[1], 0.0, (v.tops[0] - c).norm(), scale_[e * q_]});
     }
   }
 
@@ -508,6 +508,17 @@ class LoopFronts final : public FrontGrower<2> {
     const FrontLoop& l = loops_[part];
     for (std::size_t e = 0; e < l.size(); ++e) v.push_back(mesh_.nodes[l.elements[e * static_cast<std::size_t>(q_ + 1)]]);
     return v;
+  }
+  // Half of each chord of the loop's elements to each end.
+  std::vector<double> stop_point_measure(std::size_t part) const override {
+    const std::vector<Vec> v = stop_points(part);
+    std::vector<double> m(v.size(), 0.0);
+    for (std::size_t e = 0; e < v.size(); ++e) {
+      const double half = 0.5 * (v[(e + 1) % v.size()] - v[e]).norm();
+      m[e] += half;
+      m[(e + 1) % v.size()] += half;
+    }
+    return m;
   }
   BuiltLayer build(std::size_t part, int layer, const std::vector<double>& scale,
                    const std::vector<std::uint8_t>& stopped, double f_atten) override {

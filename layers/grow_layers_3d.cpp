@@ -328,17 +328,19 @@ class PartLayerBuilder {
  public:
   PartLayerBuilder(HybridMesh<3>& mesh, const MetricField<3>& metric, const LayerParams& p, int q,
                    const CurvedFront<3>& front0, const Part& part, const std::vector<Plane>& planes, bool first_layer,
-                   const std::vector<double>& scale, double f_atten, std::vector<std::pair<std::string, std::size_t>>* counts)
+                   const std::vector<double>& scale, const std::vector<std::uint8_t>& stopped, double f_atten,
+                   std::vector<std::pair<std::string, std::size_t>>* counts)
       : mesh_(mesh), metric_(metric), p_(p), q_(q), np_(num_nodes(CellType::Triangle, q)),
         front0_(front0), part_(part), planes_(planes), first_(first_layer),
-        scale_(scale), f_atten_(f_atten), counts_(counts) {}
+        scale_(scale), stopped_(stopped), f_atten_(f_atten), counts_(counts) {}
 
   PartLayer build() {
     const std::size_t n = part_.size();
     x_.resize(n);
     for (std::size_t l = 0; l < n; ++l) x_[l] = mesh_.nodes[static_cast<std::size_t>(part_.ids[l])];
+    stops();
     normals();
-    if (first_ && std::isfinite(f_atten_)) fans();
+    if (first_ && std::isfinite(f_atten_) && !any_stop_) fans();
     check_cusps();
     if (!fanned_) {
       dirs_.resize(n);
@@ -358,6 +360,25 @@ class PartLayerBuilder {
   const Part& next() const { return out_.next ? *out_.next : part_; }
   std::size_t ent_begin(std::size_t l) const { return static_cast<std::size_t>(ent_start_[l]); }
   std::size_t ent_end(std::size_t l) const { return static_cast<std::size_t>(ent_start_[l + 1]); }
+
+  // Local stops (layer_core.h, step 3): the stopped vertices, and the high-order nodes whose
+  // element's vertices all stopped, keep their place (no column); every cell of a layer with a
+  // stop is cut into tetrahedra (columns_and_cells), those of a collapsed column dropped.
+  void stops() {
+    const std::size_t n = part_.size();
+    stop_.assign(n, 0);
+    for (std::size_t k = 0; k < stopped_.size() && k < part_.vertices.size(); ++k)
+      if (stopped_[k]) stop_[static_cast<std::size_t>(part_.vertices[k])] = 1;
+    for (std::size_t l = 0; l < n; ++l) {
+      if (part_.is_vertex[l]) continue;
+      bool all = true;
+      for (int k = 0; k < 4; ++k)
+        if (part_.tw[l][static_cast<std::size_t>(k)] > 0) all = all && stop_[static_cast<std::size_t>(part_.tv[l][static_cast<std::size_t>(k)])];
+      stop_[l] = all ? 1 : 0;
+    }
+    any_stop_ = std::any_of(stop_.begin(), stop_.end(), [](std::uint8_t b) { return b != 0; });
+  }
+  bool stopped_dir(std::size_t d) const { return any_stop_ && !fanned_ && stop_[static_cast<std::size_t>(dirs_[d].base)]; }
 
   // 2. Normals: per node, the sub-triangle normals around it with their angles there and faces.
   void normals() {
@@ -424,13 +445,13 @@ class PartLayerBuilder {
       try {
         r = normal_at(l, fv, w, to_nb, corner_rad);
       } catch (const MesherError& e) {
-        // A cusp (no direction sees every face) is an error unless a fan takes the node (a thin
-        // trailing edge): decided after the fans (check_cusps).
-        if (!first_) throw;
+        // A cusp (no direction sees every face): the direction that sees them best (the largest
+        // smallest cosine, negative here: Aubry and Loehner's "most normal" direction), counted;
+        // the cells it folds fail certification, shrink, and where even the floor fails the
+        // column stops (layer_core.h, step 3) -- a cusp is no error for the whole run.
         cusp_.emplace_back(l, e.what());
-        Vec m = Vec::Zero();
-        for (std::size_t k = 0; k < fv.size(); ++k) m += w[k] * fv[k];
-        r.n = m.norm() > 0 ? Vec(m.normalized()) : fv.front();
+        r.n = most_normal(fv);
+        if (r.n.isZero()) r.n = fv.front();
         r.kind = NodeClass::ConvexRidge;
       }
       // The first layer starts from the reference normal where the surface is smooth (Sec. II.B).
@@ -441,15 +462,12 @@ class PartLayerBuilder {
     }
   }
 
-  // A cusp node needs its own merged normal unless it is a fan vertex other than a corner (whose
-  // patch is centred on the merged normal) or a fan edge's high-order node.
-  void check_cusps() const {
+  // The cusp nodes a fan does not take (a fan vertex other than a corner, a fan edge's high-order
+  // node), for the first layer's counts: they grow along their most normal direction.
+  void check_cusps() {
     for (const auto& [l, what] : cusp_) {
       const bool fan = fanned_ && fan_node_[l] && !corner_node_.count(static_cast<int>(l));
-      if (fan) continue;
-      throw MesherError(what + (fanned_ && corner_node_.count(static_cast<int>(l))
-                                    ? std::string(" (a corner of fans: its patch needs that direction)")
-                                    : std::string(" (no fan there: a ridge's fan must run from corner to corner, plane or around)")));
+      if (!fan) ++cusps_;
     }
   }
 
@@ -889,6 +907,7 @@ class PartLayerBuilder {
     for (const FanEdge& fe : fan_edges_) sectors += static_cast<std::size_t>(fe.k);
     counts_->push_back({"ridge_fans.sectors", sectors});
     counts_->push_back({"corner_fans", corner_fans_});
+    counts_->push_back({"nodes.cusp", cusps_});
   }
 
   // 3-4. Heights, tops (on the symmetry planes), attenuation of the high-order tops.
@@ -960,8 +979,8 @@ class PartLayerBuilder {
     for (std::size_t d = 0; d < nd; ++d) {
       const Dir& r = dirs_[d];
       const std::size_t l = static_cast<std::size_t>(r.base);
-      dh_[d] = h_[l] * r.stretch;
-      top_[d] = onto_planes(x_[l] + dh_[d] * r.d, part_.plane[l], planes_);
+      dh_[d] = stopped_dir(d) ? 0.0 : h_[l] * r.stretch;
+      top_[d] = stopped_dir(d) ? x_[l] : onto_planes(x_[l] + dh_[d] * r.d, part_.plane[l], planes_);
     }
     // Straight tops: on a straight base (the node at its linear position) and on every face
     // touching a concave node.
@@ -969,13 +988,14 @@ class PartLayerBuilder {
     for (std::size_t f = 0; f < nw.num_faces(); ++f) {
       const int* fl = nw.face(f);
       bool c = false;
-      for (int v = 0; v < nw.face_vertices(f); ++v) c = c || dirs_[static_cast<std::size_t>(fl[v])].concave;
+      for (int v = 0; v < nw.face_vertices(f); ++v)
+        c = c || dirs_[static_cast<std::size_t>(fl[v])].concave || stopped_dir(static_cast<std::size_t>(fl[v]));
       if (c)
         for (int k = nw.face_vertices(f); k < nw.face_size(f); ++k) straight[static_cast<std::size_t>(fl[k])] = 1;
     }
     double clipped_max = 0;
     for (std::size_t d = 0; d < nd; ++d) {
-      if (nw.is_vertex[d] || dirs_[d].fan) continue;
+      if (nw.is_vertex[d] || dirs_[d].fan || stopped_dir(d)) continue;
       const std::size_t l = static_cast<std::size_t>(dirs_[d].base);
       Vec target = Vec::Zero(), linear = Vec::Zero();
       double size = 0;
@@ -999,9 +1019,9 @@ class PartLayerBuilder {
     // The layer's heights along the vertex columns grown along a normal (a fan's wedge and kite
     // normals, not its arc directions), as 2D records them.
     for (std::size_t d = 0; d < nd; ++d) {
-      if (!nw.is_vertex[d] || (dirs_[d].fan && !dirs_[d].normal)) continue;
+      if (!nw.is_vertex[d] || (dirs_[d].fan && !dirs_[d].normal) || stopped_dir(d)) continue;
       const Vec& b = x_[static_cast<std::size_t>(dirs_[d].base)];
-      out_.built.columns.push_back({b[0], b[1], b[2], (top_[d] - b).norm()});
+      out_.built.columns.push_back({b[0], b[1], b[2], (top_[d] - b).norm(), scale_[static_cast<std::size_t>(dirs_[d].base)]});
     }
   }
 
@@ -1009,7 +1029,7 @@ class PartLayerBuilder {
   // (an arc direction inside a sector of the first layer's fans has only its top).
   NodeId at(int d, int level) {
     const std::size_t b = static_cast<std::size_t>(dirs_[static_cast<std::size_t>(d)].base);
-    if (level == 0) return part_.ids[b];
+    if (level == 0 || stopped_dir(static_cast<std::size_t>(d))) return part_.ids[b];
     NodeId& id = col_[static_cast<std::size_t>(d) * static_cast<std::size_t>(q_) + static_cast<std::size_t>(level) - 1];
     if (id < 0) {
       mesh_.nodes.push_back(x_[b] + (static_cast<double>(level) / q_) * (top_[static_cast<std::size_t>(d)] - x_[b]));
@@ -1056,17 +1076,29 @@ class PartLayerBuilder {
     std::vector<NodeId>& prisms = out_.built.cells[0];
     std::vector<NodeId>& tets = out_.built.cells[1];
     const std::size_t grown = fanned_ ? part_.nt() : nw.num_faces();  // faces grown from an old face
+    const bool tetra = fanned_ || any_stop_;
+    const std::size_t npt = static_cast<std::size_t>(num_nodes(CellType::Tetrahedron, q_));
     for (std::size_t f = 0; f < grown; ++f) {
       const int* fl = nw.face(f);
-      if (fanned_) {
-        // The first layer of a part with fans is all tetrahedra (grow_layers_3d.h, step 6).
+      if (tetra) {
+        // The first layer of a part with fans is all tetrahedra (grow_layers_3d.h, step 6), and
+        // so is a layer with stopped columns: a prism over a face with a stopped vertex is a
+        // pyramid (two stopped, a tetrahedron), which only tetrahedra meet conformingly, and a
+        // quadrilateral shared with a whole prism must be cut alike. The cut's tetrahedron
+        // holding both ends of a collapsed column has no volume and is dropped.
         std::array<long, 6> rank{};
         for (int k = 0; k < 3; ++k) {
           rank[static_cast<std::size_t>(k)] = base_rank(dirs_[static_cast<std::size_t>(fl[k])].base);
           rank[static_cast<std::size_t>(k + 3)] = top_rank(fl[k]);
         }
-        split_tets(fl, column_order(rank), tets);
-        for (int k = 0; k < 3; ++k) out_.cell_face[1].push_back(static_cast<int>(f));
+        const std::size_t before = tets.size();
+        bool touches_stop = false;
+        for (int k = 0; k < 3; ++k) touches_stop = touches_stop || stopped_dir(static_cast<std::size_t>(fl[k]));
+        if (touches_stop)
+          transition_tets(fl, column_order(rank), tets);
+        else
+          split_tets(fl, column_order(rank), tets);
+        for (std::size_t k = before; k < tets.size(); k += npt) out_.cell_face[1].push_back(static_cast<int>(f));
       } else {
         for (int k = 0; k < pe.size(); ++k)
           prisms.push_back(at(fl[tri_of_prism_node[static_cast<std::size_t>(k)]], pe.lattice()[static_cast<std::size_t>(k)][2]));
@@ -1082,7 +1114,7 @@ class PartLayerBuilder {
       if (f >= grown) continue;
       const int* fl = nw.face(f);
       const int tag = planes_[static_cast<std::size_t>(re[2])].tag;
-      if (fanned_) {
+      if (tetra) {
         // The side of a first-layer prism cut into tetrahedra: the two triangles of its cut
         // (column_order's rule on the quadrilateral (u from the edge's second vertex to its first,
         // v up the layer)).
@@ -1092,9 +1124,15 @@ class PartLayerBuilder {
         const long r00 = base_rank(dirs_[static_cast<std::size_t>(d0)].base), rq0 = base_rank(dirs_[static_cast<std::size_t>(d1)].base);
         const long rqq = top_rank(d1), r0q = top_rank(d0);
         for (const QuadCorners& h : quad_cut(q_, r00, rq0, rqq, r0q)) {
+          Corner corner[3];
+          for (int k = 0; k < 3; ++k)
+            corner[k] = {h[static_cast<std::size_t>(k)][0] == 0 ? d0 : d1, h[static_cast<std::size_t>(k)][1] == 0 ? 0 : 1};
+          if (collapsed(corner, 3)) continue;  // a stopped column's side of no area
           for (const Lattice& lat : te.lattice()) {
             const auto [u, v] = quad_point(h, lat, q_);
-            out_.sym_tris.push_back(node(u, v));
+            const int w[3] = {q_ - lat[0] - lat[1], lat[0], lat[1]};
+            const int d = fl[en[static_cast<std::size_t>(q_ - u)]];
+            out_.sym_tris.push_back(any_stop_ ? layer_node(corner, w, 3, d, v) : node(u, v));
           }
           out_.sym_tri_tag.push_back(tag);
         }
@@ -1102,6 +1140,87 @@ class PartLayerBuilder {
         const std::vector<int>& en = te.edge_nodes(re[1]);
         for (const Lattice& lat : qe.lattice()) out_.sym_quads.push_back(at(fl[en[static_cast<std::size_t>(q_ - lat[0])]], lat[1]));
         out_.sym_quad_tag.push_back(tag);
+      }
+    }
+  }
+
+  // A corner of a cell or facet of a tetrahedral layer: direction d's column at level 0 or 1 (its
+  // base or its top).
+  struct Corner {
+    int d = 0;
+    int level = 0;
+  };
+  NodeId corner_node(const Corner& c) { return at(c.d, c.level * q_); }
+  // True when two corners are one node (a stopped column's base and top): no volume or area.
+  bool collapsed(const Corner* c, int n) {
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b)
+        if (corner_node(c[a]) == corner_node(c[b])) return true;
+    return false;
+  }
+
+  // The node of a tetrahedral layer with stopped columns (layer_core.h, step 3) at the point of
+  // lattice weights w (summing to Q) over the n corners of a cell or facet, the point being at
+  // level `level` of the column of direction d (the prism's lattice). On the old front (every
+  // corner with weight a base, or a stopped column's top, which is its base): that column's base;
+  // on the new front (every such corner a top, or a stopped column's base): the new front's node d; touching a stopped
+  // column elsewhere: a node on the straight simplex of those corners, one per corner set and
+  // weights (so the two cells beside a stopped column's side share it); else the column's node.
+  // The rule reads only the corners and weights, so every cell and facet sharing a point agrees;
+  // and a cell beside a stopped column is straight there, where the prism's map collapses (its
+  // lattice would give the cell a zero Jacobian at the stopped base).
+  NodeId layer_node(const Corner* corners, const int* w, int n, int d, int level) {
+    bool bottom = true, top = true, stop = false;
+    for (int k = 0; k < n; ++k) {
+      if (w[k] == 0) continue;
+      const bool st = stopped_dir(static_cast<std::size_t>(corners[k].d));
+      bottom = bottom && (corners[k].level == 0 || st);
+      top = top && (corners[k].level == 1 || st);
+      stop = stop || st;
+    }
+    if (bottom) return at(d, 0);
+    if (top) return at(d, q_);
+    if (!stop) return at(d, level);
+    std::vector<std::pair<NodeId, int>> key;
+    for (int k = 0; k < n; ++k)
+      if (w[k] > 0) key.emplace_back(corner_node(corners[k]), w[k]);
+    std::sort(key.begin(), key.end());
+    const auto it = straight_.find(key);
+    if (it != straight_.end()) return it->second;
+    Vec x = Vec::Zero();
+    for (const auto& [id, wk] : key) x += (static_cast<double>(wk) / q_) * mesh_.nodes[static_cast<std::size_t>(id)];
+    mesh_.nodes.push_back(x);
+    const NodeId id = static_cast<NodeId>(mesh_.nodes.size() - 1);
+    straight_.emplace(std::move(key), id);
+    return id;
+  }
+
+  // The tetrahedra of the prism over triangle fl with column order r (prism_tets' cut) where a
+  // vertex of fl stopped: the cut's tetrahedra holding both ends of a collapsed column have no
+  // volume and are left out, and the others' nodes follow layer_node.
+  void transition_tets(const int* fl, const std::array<int, 3>& r, std::vector<NodeId>& tets) {
+    const LagrangeElement& tet = lagrange_element(CellType::Tetrahedron, q_);
+    const LagrangeElement& te = lagrange_element(CellType::Triangle, q_);
+    const int s = r[0], m = r[1], t = r[2];
+    const std::array<std::array<int, 2>, 4> cells[3] = {{{{s, 0}, {m, 0}, {t, 0}, {t, 1}}},
+                                                        {{{s, 0}, {m, 0}, {m, 1}, {t, 1}}},
+                                                        {{{s, 0}, {s, 1}, {m, 1}, {t, 1}}}};
+    auto lat_of = [&](const std::array<int, 2>& vl) {
+      return Eigen::Vector3i(vl[0] == 1 ? q_ : 0, vl[0] == 2 ? q_ : 0, vl[1] * q_);
+    };
+    for (auto c : cells) {
+      const Eigen::Vector3i a = lat_of(c[0]), b = lat_of(c[1]), cc = lat_of(c[2]), dd = lat_of(c[3]);
+      const Eigen::Matrix3d m3 = (Eigen::Matrix3d() << (b - a).cast<double>(), (cc - a).cast<double>(), (dd - a).cast<double>()).finished();
+      if (m3.determinant() < 0) std::swap(c[2], c[3]);
+      Corner corner[4];
+      for (int k = 0; k < 4; ++k) corner[k] = {fl[c[static_cast<std::size_t>(k)][0]], c[static_cast<std::size_t>(k)][1]};
+      if (collapsed(corner, 4)) continue;
+      for (const Lattice& lat : tet.lattice()) {
+        const int w[4] = {q_ - lat[0] - lat[1] - lat[2], lat[0], lat[1], lat[2]};
+        Eigen::Vector3i pt = Eigen::Vector3i::Zero();
+        for (int k = 0; k < 4; ++k) pt += w[k] * lat_of(c[static_cast<std::size_t>(k)]);
+        pt /= q_;
+        tets.push_back(layer_node(corner, w, 4, fl[te.find({pt[0], pt[1], 0})], pt[2]));
       }
     }
   }
@@ -1236,12 +1355,16 @@ class PartLayerBuilder {
   const std::vector<Plane>& planes_;
   const bool first_;
   const std::vector<double>& scale_;
+  const std::vector<std::uint8_t>& stopped_;  // per stop point (Part::vertices): stopped locally
   const double f_atten_;
   std::vector<std::pair<std::string, std::size_t>>* counts_;
   std::vector<Vec> x_, top_;
   std::vector<double> h_, dh_;
   std::vector<NodeNormal> nn_;
   std::vector<std::pair<std::size_t, std::string>> cusp_;  // nodes with no merged normal, and why
+  std::size_t cusps_ = 0;               // of them, those no fan takes
+  std::vector<std::uint8_t> stop_;      // per node: stopped (stops())
+  bool any_stop_ = false;
   std::set<int> corner_node_;
   std::vector<int> ent_start_, ent_f_;  // per node: its sub-triangle normals, angles and faces
   std::vector<Vec> ent_n_;
@@ -1254,6 +1377,7 @@ class PartLayerBuilder {
   std::vector<std::pair<int, int>> corner_tets_;  // (corner node, new front triangle)
   std::size_t corner_fans_ = 0;
   std::map<std::vector<std::pair<int, int>>, NodeId> fan_points_;
+  std::map<std::vector<std::pair<NodeId, int>>, NodeId> straight_;  // layer_node's straight nodes
   std::vector<NodeId> col_;
   PartLayer out_;
 };
@@ -1279,13 +1403,13 @@ class SurfaceFronts final : public FrontGrower<3> {
     return v;
   }
   BuiltLayer build(std::size_t part, int /*layer*/, const std::vector<double>& scale,
-                   const std::vector<std::uint8_t>&, double f_atten) override {
+                   const std::vector<std::uint8_t>& stopped, double f_atten) override {
     pending_part_ = part;
     // A part's first layer is its first accepted one (layer 1, or a closing layer after a failed
     // layer 1); a closing layer (straight tops, f_atten infinite) grows no fans: they are curved.
     const bool first = !grown_[part];
     std::vector<std::pair<std::string, std::size_t>> counts;
-    pending_ = PartLayerBuilder(mesh_, metric_, p_, q_, front0_, parts_[part], planes_, first, scale, f_atten,
+    pending_ = PartLayerBuilder(mesh_, metric_, p_, q_, front0_, parts_[part], planes_, first, scale, stopped, f_atten,
                                 first ? &counts : nullptr)
                    .build();
     pending_counts_ = first ? counts : std::vector<std::pair<std::string, std::size_t>>{};
@@ -1302,6 +1426,40 @@ class SurfaceFronts final : public FrontGrower<3> {
   }
   Vec front_point(std::size_t e) const override {
     return mesh_.nodes[static_cast<std::size_t>(pending_.top[static_cast<std::size_t>(pending_front().face(e)[0])])];
+  }
+  bool stops_locally() const override { return true; }
+  // The vertices of the old faces behind the failures.
+  std::vector<std::size_t> failure_stop_points(std::size_t part, const std::vector<LayerFailure>& failures) const override {
+    const Part& p = parts_[part];
+    std::vector<int> index(p.size(), -1);
+    for (std::size_t k = 0; k < p.vertices.size(); ++k) index[static_cast<std::size_t>(p.vertices[k])] = static_cast<int>(k);
+    std::vector<std::size_t> out;
+    for (const LayerFailure& fl : failures) {
+      const std::size_t f = static_cast<std::size_t>(
+          fl.block == LayerFailure::kFrontElement ? pending_.face_origin[fl.index]
+                                                  : pending_.cell_face[static_cast<std::size_t>(fl.block)][fl.index]);
+      if (f >= p.num_faces()) continue;  // a fan cell of a first layer (its faces are the new front's)
+      for (int v = 0; v < p.face_vertices(f); ++v) out.push_back(static_cast<std::size_t>(index[static_cast<std::size_t>(p.face(f)[v])]));
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+  // A third of the area of each (linear) face to each of its vertices.
+  std::vector<double> stop_point_measure(std::size_t part) const override {
+    const Part& p = parts_[part];
+    std::vector<int> index(p.size(), -1);
+    for (std::size_t k = 0; k < p.vertices.size(); ++k) index[static_cast<std::size_t>(p.vertices[k])] = static_cast<int>(k);
+    std::vector<double> m(p.vertices.size(), 0.0);
+    for (std::size_t f = 0; f < p.num_faces(); ++f) {
+      const int* fl = p.face(f);
+      const Vec a = mesh_.nodes[static_cast<std::size_t>(p.ids[static_cast<std::size_t>(fl[0])])],
+                b = mesh_.nodes[static_cast<std::size_t>(p.ids[static_cast<std::size_t>(fl[1])])],
+                c = mesh_.nodes[static_cast<std::size_t>(p.ids[static_cast<std::size_t>(fl[2])])];
+      const double third = (b - a).cross(c - a).norm() / 6;
+      for (int v = 0; v < 3; ++v) m[static_cast<std::size_t>(index[static_cast<std::size_t>(fl[v])])] += third;
+    }
+    return m;
   }
   // Heights are scaled on the nodes of the old faces behind the failures and of every face around
   // them.

@@ -54,8 +54,22 @@
 //     smallest metric height over the node's normals (wedge directions, kite normals, a
 //     corner's centre; 2D takes the two sides, the same where the metric's normal at the ridge
 //     is one side's).
-// Not yet: isotropic_stop: node (stopped nodes would need pyramids or tetrahedra; the plugin
-// refuses it in 3D).
+//  7. local stops (layer_core.h, step 3): where a cell cannot be valid even at 1/16 of the
+//     metric's height, the vertices of its old face stop (their columns end there, and so do the
+//     high-order nodes between stopped vertices); the part's layers from then on are tetrahedra
+//     (each prism cut by the rule of step 6, the cut's tetrahedron holding both ends of a stopped
+//     column left out), because a prism over a face with a stopped vertex is a pyramid and a
+//     prism's quadrilateral can meet only a prism's or be cut alike on both sides. Next to a
+//     stopped column a cell's nodes off the two fronts and the whole columns lie on the straight
+//     simplex of its corners (the prism's map collapses there), shared by every cell and symmetry
+//     facet with the same corners; the faces touching a stop grow straight tops. Elsewhere the
+//     part's other columns grow on to the stop rule. A cusp (no direction sees every face around
+//     a node) grows along the most normal direction (normals_3d.h) and, where its cells cannot be
+//     valid, stops there too: no run ends on a cusp. Tetrahedra cut from a curved prism are valid
+//     while the wall triangles are small against their radius of curvature (the cut's error
+//     relative to the layer height is about (size / radius)^Q, independent of the height).
+// Not yet: isotropic_stop: node (the plugin refuses it in 3D; the stopped columns above would
+// serve it).
 #pragma once
 
 #include "layers/layer_core.h"

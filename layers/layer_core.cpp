@@ -117,6 +117,7 @@ class LayerAttempts {
         }
       }
       if (failures.empty()) return true;
+      last_failures_ = failures;
       r_.mesh.nodes.resize(nodes_before);
       const double factor = last_failed_on_cells_ ? invalid_factor : 0.5;
       const std::vector<double> previous = scale;
@@ -143,6 +144,8 @@ class LayerAttempts {
   std::string part_name(std::size_t part) const { return g_.part_name(part); }
   // Whether the last failed attempt failed on invalid cells (else on front crossings).
   bool last_failed_on_cells() const { return last_failed_on_cells_; }
+  // The failures of the last failed attempt.
+  const std::vector<LayerFailure>& last_failures() const { return last_failures_; }
 
  private:
   FrontGrower<Dim>& g_;
@@ -162,6 +165,7 @@ class LayerAttempts {
   std::vector<std::vector<double>> coords_ = std::vector<std::vector<double>>(certifiers_.size());
   std::vector<std::uint8_t> valid_;
   bool last_failed_on_cells_ = false;
+  std::vector<LayerFailure> last_failures_;
 };
 
 void append(std::array<CellBlock, 2>& blocks, const BuiltLayer& built) {
@@ -172,7 +176,7 @@ void append(std::array<CellBlock, 2>& blocks, const BuiltLayer& built) {
 // Adds the accepted build's columns that the probe accepts to the layer's height columns (the
 // mean is a sum until finish_heights).
 void add_heights(const BuiltLayer& built, const LayerParams& p, LayerStats& st) {
-  for (const std::array<double, 4>& c : built.columns) {
+  for (const std::array<double, 5>& c : built.columns) {
     if (p.height_probe && !p.height_probe(Eigen::Vector3d(c[0], c[1], c[2]))) continue;
     st.height_min = st.height_columns == 0 ? c[3] : std::min(st.height_min, c[3]);
     st.height_max = std::max(st.height_max, c[3]);
@@ -191,10 +195,18 @@ class Growth {
  public:
   static constexpr int kAttenuationRetries = 4;
   static constexpr int kClosingAttempts = 8;
+  static constexpr int kLocalStopRounds = 64;
   Growth(FrontGrower<Dim>& g, const MetricField<Dim>& metric, const LayerParams& p, int q, LayerResult<Dim>& r)
       : g_(g), metric_(metric), p_(p), q_(q), r_(r), types_(g.cell_types()),
         blocks_{CellBlock{types_[0], q, -1, {}}, CellBlock{types_[1], q, -1, {}}}, parts_(g.num_parts()),
-        growing_(parts_, true), clip_(parts_, 0.0), linear_(parts_, false), attempts_(g, p, q, r) {}
+        growing_(parts_, true), clip_(parts_, 0.0), linear_(parts_, false), failed_(parts_, false),
+        first_taken_(parts_, false), attempts_(g, p, q, r) {
+    for (std::size_t part = 0; part < parts_; ++part) {
+      measure_.push_back(g_.stop_point_measure(part));
+      held_.emplace_back(measure_.back().size(), 0);
+      for (double m : measure_.back()) r_.coverage.wall += m;
+    }
+  }
 
   // Steps 1-4 of layer_core.h for every layer, up to max_layers.
   void layers() {
@@ -209,6 +221,7 @@ class Growth {
         if (!growing_[part]) continue;
         std::vector<std::uint8_t> stopped;
         if (stops_isotropic(part, layer, stopped)) continue;
+        for (std::size_t k = 0; k < stopped.size(); ++k) stopped[k] = stopped[k] || held_[part][k];
         std::vector<double> scale(g_.num_sites(part), 1.0);
         BuiltLayer built;
         double f = p_.f_atten;
@@ -229,10 +242,12 @@ class Growth {
                               ": cells still invalid; rebuilt with f_atten " + num(f));
           ok = attempts_.run(part, layer, scale, stopped, f, st, built);
         }
+        if (!ok && g_.stops_locally()) ok = stop_locally(part, layer, scale, stopped, f, st, built);
         if (ok) st.f_atten = std::min(st.f_atten, f);
         if (ok && std::any_of(scale.begin(), scale.end(), [](double x) { return x < 1; })) st.shrunk = true;
         if (!ok) {
           growing_[part] = false;
+          failed_[part] = true;
           r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
                               ": stopped, cells still invalid or colliding after " +
                               std::to_string(p_.shrink_attempts) + " shrinks");
@@ -243,14 +258,18 @@ class Growth {
         any = true;
         append(blocks_, built);
         add_heights(built, p_, st);
+        add_first(part, built);
+        st.coverage += growing_measure(part, stopped);
         st.transition_cells += built.cells[1].size() / static_cast<std::size_t>(num_nodes(types_[1], q_));
         st.max_clipped_rel = std::max(st.max_clipped_rel, built.max_clipped_rel);
         all_linear = all_linear && built.linear;
         g_.accept(part);
+        refresh_stop_points(part);
       }
       if (!any) break;
       // 4. The layer's row of the table.
       finish_heights(st);
+      st.coverage /= r_.coverage.wall > 0 ? r_.coverage.wall : 1.0;
       st.cells = blocks_[0].size() - st.first_cell;
       // Linear when every part's front is: a part that stopped earlier while still curved keeps
       // the layer from counting as linear (else a multi-body run whose last growing body was
@@ -282,7 +301,7 @@ class Growth {
     bool any = false;
     for (std::size_t part = 0; part < parts_; ++part) {
       if (linear_[part]) continue;
-      const std::vector<std::uint8_t> stopped(g_.num_stop_points(part), 0);
+      const std::vector<std::uint8_t>& stopped = held_[part];  // where even the floor failed: no closing cell
       bool closed = false;
       for (double factor : {0.0, 1.5, 3.0, 6.0}) {
         const bool per_cell = factor == 0;
@@ -298,11 +317,14 @@ class Growth {
         }
         append(blocks_, built);
         add_heights(built, p_, st);
+        add_first(part, built);
+        st.coverage += growing_measure(part, stopped);
         const auto [lo, hi] = std::minmax_element(scale.begin(), scale.end());
         r_.events.push_back("layer " + std::to_string(st.layer) + ", " + attempts_.part_name(part) +
                             ": a closing layer with straight tops (heights x" + num(*lo) +
                             (*hi > *lo ? " to x" + num(*hi) : std::string()) + ")");
         g_.accept(part);
+        refresh_stop_points(part);
         linear_[part] = closed = any = true;
         break;
       }
@@ -312,10 +334,27 @@ class Growth {
     }
     if (!any) return;
     finish_heights(st);
+    st.coverage /= r_.coverage.wall > 0 ? r_.coverage.wall : 1.0;
     st.cells = blocks_[0].size() - st.first_cell;
     st.linear = std::all_of(linear_.begin(), linear_.end(), [](bool b) { return b; });
     r_.layers.push_back(st);
     if (st.linear && r_.linear_after < 0) r_.linear_after = st.layer;
+  }
+
+  // The coverage (LayerCoverage): the columns of a part that failed, and those stopped locally,
+  // did not reach the stop rule.
+  void coverage() {
+    LayerCoverage& c = r_.coverage;
+    double complete = 0;
+    for (std::size_t part = 0; part < parts_; ++part)
+      for (std::size_t k = 0; k < measure_[part].size(); ++k) {
+        ++c.columns;
+        if (failed_[part] || held_[part][k]) continue;
+        ++c.columns_complete;
+        complete += measure_[part][k];
+      }
+    c.complete = c.wall > 0 ? complete / c.wall : 1.0;
+    if (c.first_columns > 0) c.first_mean /= static_cast<double>(c.first_columns);
   }
 
   // The new cells into the mesh: the main block first (cells[0], even when empty: a 3D first layer
@@ -327,6 +366,75 @@ class Growth {
   }
 
  private:
+  // Step 3's local stops: while the failures of the last build sit on stop points that still
+  // grow, those stop for good (their columns end here; the grower makes the layer's cells around
+  // them tetrahedra) and the layer is rebuilt, at most kLocalStopRounds times. The paper does not meet the case; a stack that ends where no valid cell can be grown,
+  // while the rest of the wall keeps its layers, is the robust choice. True when a build passed.
+  bool stop_locally(std::size_t part, int layer, std::vector<double>& scale, std::vector<std::uint8_t>& stopped,
+                    double f, LayerStats& st, BuiltLayer& built) {
+    for (int round = 0; round < kLocalStopRounds; ++round) {
+      std::size_t added = 0, first = 0;
+      double area = 0;
+      for (std::size_t k : g_.failure_stop_points(part, attempts_.last_failures())) {
+        if (held_[part][k]) continue;
+        if (added++ == 0) first = k;
+        held_[part][k] = stopped[k] = 1;
+        area += measure_[part][k];
+      }
+      const std::size_t held = static_cast<std::size_t>(std::count(held_[part].begin(), held_[part].end(), 1));
+      if (added == 0 || held == held_[part].size()) return false;
+      const std::string line = "layer " + std::to_string(layer) + ", " + attempts_.part_name(part) + ": " +
+                               std::to_string(added) + " columns stopped where no valid cell could be grown at 1/16 of " +
+                               "the metric's height (wall " + num(area) + ", first at " +
+                               point_text<Dim>(g_.stop_points(part)[first]) + ")";
+      r_.events.push_back(line);
+      r_.coverage.stopped_early.push_back(line);
+      // The heights stay as the shrinks left them: sites next to the stop that failed too are at
+      // the floor already, and stop in the next round without four more halvings.
+      if (attempts_.run(part, layer, scale, stopped, f, st, built)) return true;
+    }
+    return false;
+  }
+
+  // A layer that changed the part's front (3D fans add kite vertices) changes its stop points: their
+  // measures are taken anew and scaled to the part's wall (the coverage stays a wall fraction).
+  // Fans grow only on a layer without local stops, so no stop is lost.
+  void refresh_stop_points(std::size_t part) {
+    if (g_.num_stop_points(part) == held_[part].size()) return;
+    double wall = 0, now = 0;
+    for (double m : measure_[part]) wall += m;
+    measure_[part] = g_.stop_point_measure(part);
+    for (double m : measure_[part]) now += m;
+    if (now > 0)
+      for (double& m : measure_[part]) m *= wall / now;
+    held_[part].assign(measure_[part].size(), 0);
+  }
+
+  // The wall measure of the part's stop points that grew this layer, over nothing yet (the layer's
+  // row divides by the wall).
+  double growing_measure(std::size_t part, const std::vector<std::uint8_t>& stopped) const {
+    double m = 0;
+    for (std::size_t k = 0; k < measure_[part].size(); ++k)
+      if (k >= stopped.size() || !stopped[k]) m += measure_[part][k];
+    return m;
+  }
+
+  // The first accepted build of each part gives the first layer's heights against the metric's
+  // (a closing layer where layer 1 failed).
+  void add_first(std::size_t part, const BuiltLayer& built) {
+    if (first_taken_[part]) return;
+    first_taken_[part] = true;
+    LayerCoverage& c = r_.coverage;
+    for (const std::array<double, 5>& col : built.columns) {
+      const double ratio = col[4];
+      c.first_min = c.first_columns == 0 ? ratio : std::min(c.first_min, ratio);
+      c.first_max = std::max(c.first_max, ratio);
+      c.first_mean += ratio;
+      ++c.first_columns;
+      if (ratio > 4) ++c.first_over_4;
+    }
+  }
+
   // 1. Isotropic stop: where the metric is isotropic at a front node, a layer would be as tall as
   // the metric's size in every direction: no more anisotropic layer is wanted there. Fills
   // `stopped` (per stop point); true when the whole part stops (an event).
@@ -367,6 +475,10 @@ class Growth {
   std::vector<bool> growing_;
   std::vector<double> clip_;
   std::vector<bool> linear_;
+  std::vector<bool> failed_;       // per part: growth ended on a failure, not a stop rule
+  std::vector<bool> first_taken_;  // per part: its first layer's columns are counted
+  std::vector<std::vector<double>> measure_;       // per part and stop point: its wall measure
+  std::vector<std::vector<std::uint8_t>> held_;    // per part and stop point: stopped locally
   LayerAttempts<Dim> attempts_;
 };
 
@@ -378,6 +490,7 @@ void grow_fronts(FrontGrower<Dim>& g, const MetricField<Dim>& metric, const Laye
   Growth<Dim> growth(g, metric, p, q, r);
   growth.layers();
   if (p.close_linear) growth.close();
+  growth.coverage();
   growth.finish();
 }
 

@@ -17,7 +17,13 @@
 //     that fails on an attenuated build, the part's layer is rebuilt with f_atten halved (up to 4
 //     times: the attenuation folds cells that no height shrink mends, e.g. f_atten = 1 on a thin
 //     layer); a part that still fails stops growing (an event);
-//  4. the per-layer table (LayerStats) and the events record what happened.
+//     (3D, FrontGrower::stops_locally) where the failures remain with their heights at the floor,
+//     the stop points behind them stop there (their columns end; the part's layer becomes
+//     tetrahedra around them, grow_layers_3d.h) and the layer is rebuilt, the rest of the part
+//     growing on to its stop rule: a failure ends the stack locally, not on the whole part;
+//  4. the per-layer table (LayerStats), the coverage (LayerCoverage: how much of the wall each
+//     layer covers, whether each column reached its stop rule, the first layer's height against
+//     the metric's) and the events record what happened.
 // With close_linear, a part that stops while its front is still curved gets one closing layer
 // with straight tops (unlimited attenuation), so the fill starts from a linear front: its heights
 // start at the metric's and double around every cell still invalid (a straight top too low over
@@ -68,6 +74,9 @@ struct LayerParams {
   IsotropicStop isotropic_stop = IsotropicStop::Off;
   HighOrderHeights high_order_heights = HighOrderHeights::Default;
   int shrink_attempts = 4;
+  // The run fails below this coverage of the requested stack (LayerCoverage::complete; the layer
+  // plugins give the verdict).
+  double min_coverage = 0.95;
   // End with a linear front (for the fill): a part whose front is still curved when it stops
   // gets a closing layer with straight tops.
   bool close_linear = false;
@@ -101,9 +110,11 @@ struct BuiltLayer {
   double max_clipped_rel = 0;
   bool linear = true;
   // The layer's height along every vertex column grown along a normal (2D: regular, concave and
-  // fan normals; 3D: the same, a fan's arc directions left out): its base (z = 0 in 2D) and
-  // |top - base|. The core summarises them into LayerStats::height_*.
-  std::vector<std::array<double, 4>> columns;
+  // fan normals; 3D: the same, a fan's arc directions left out): its base (z = 0 in 2D),
+  // |top - base| and the height scale it was built with (1: the metric's height; below after
+  // shrinks, above in a closing layer). The core summarises them into LayerStats::height_* and
+  // the first layer's LayerCoverage::first_*.
+  std::vector<std::array<double, 5>> columns;
 };
 
 // A failure of the last build: cell `index` of cell type `block`, or (block == kFrontElement)
@@ -114,7 +125,7 @@ struct LayerFailure {
   std::size_t index = 0;
 };
 
-// The front's specifics, one implementation per dimension (grow_layers_2d.h; 3D prisms next).
+// The front's specifics, one implementation per dimension (grow_layers_2d.h, grow_layers_3d.h).
 // It appends the nodes it creates to the mesh it was built on; the core rolls them back when a
 // build is rejected.
 template <int Dim>
@@ -145,6 +156,17 @@ class FrontGrower {
                        std::vector<double>& scale) const = 0;
   // The last build becomes the part's front.
   virtual void accept(std::size_t part) = 0;
+
+  // Local stops (step 3): a front that can stop single stop points (`stopped` in build()) where
+  // no valid cell can be grown even at the height floor, while the rest of the part grows on.
+  virtual bool stops_locally() const { return false; }
+  // The stop points behind the failures of the last build (what a local stop stops).
+  virtual std::vector<std::size_t> failure_stop_points(std::size_t /*part*/,
+                                                       const std::vector<LayerFailure>& /*failures*/) const {
+    return {};
+  }
+  // The wall measure (2D length, 3D area) each stop point stands for, for the coverage.
+  virtual std::vector<double> stop_point_measure(std::size_t part) const = 0;
 };
 
 // Grows layers on every part of `grower` into r.mesh (whose nodes the grower appends to),

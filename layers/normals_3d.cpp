@@ -43,11 +43,16 @@ std::vector<Vec> distinct(const std::vector<Vec>& f) {
 }  // namespace
 
 Vec visibility_normal(const std::vector<Vec>& faces) {
+  const Vec n = most_normal(faces);
+  return min_cos(n, faces) > 0 ? n : Vec::Zero();
+}
+
+Vec most_normal(const std::vector<Vec>& faces) {
   // The centre of the smallest spherical cap holding the f_k is the max-min direction; it is
   // determined by one, two (their bisector) or three (equal angles) of them.
   const std::vector<Vec> f = distinct(faces);
   Vec best = Vec::Zero();
-  double best_val = 0;  // only directions that see every face (min cosine > 0)
+  double best_val = -std::numeric_limits<double>::infinity();
   auto consider = [&](Vec n) {
     const double len = n.norm();
     if (!(len > 1e-12)) return;
@@ -65,9 +70,10 @@ Vec visibility_normal(const std::vector<Vec>& faces) {
       consider(f[a] + f[b]);
       for (std::size_t c = b + 1; c < k; ++c) {
         // n . f_a = n . f_b = n . f_c: n is along the normal of the plane through the three tips.
-        Vec n = (f[b] - f[a]).cross(f[c] - f[a]);
-        if (n.dot(f[a] + f[b] + f[c]) < 0) n = -n;
+        // Both orientations: beyond a hemisphere (a cusp) the best can be the one facing away.
+        const Vec n = (f[b] - f[a]).cross(f[c] - f[a]);
         consider(n);
+        consider(-n);
       }
     }
   }

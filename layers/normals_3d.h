@@ -38,6 +38,10 @@ struct NodeNormal {
 // direction sees every f (they do not fit in an open hemisphere).
 Eigen::Vector3d visibility_normal(const std::vector<Eigen::Vector3d>& f);
 
+// The same maximiser also where the smallest cosine is not positive (at a cusp no direction sees
+// every face): Aubry and Loehner's "most normal" direction, unit (zero only for no face).
+Eigen::Vector3d most_normal(const std::vector<Eigen::Vector3d>& f);
+
 // The node's normal from its faces' unit normals `faces` with weights, and the directions from
 // the node to its neighbouring vertices (to tell convex from concave). corner_rad: the angle
 // between face normals beyond which they belong to different sides. Throws MesherError when no

@@ -2,6 +2,8 @@
 #include "layers/plugins.h"
 
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include "layers/grow_layers_2d.h"
 #include "layers/grow_layers_3d.h"
@@ -32,6 +34,7 @@ LayerParams parse_layer_params(const ConfigNode& l) {
                      : stop == "any" ? IsotropicStop::Any
                      : stop == "all" ? IsotropicStop::All
                                      : IsotropicStop::Off;
+  p.min_coverage = l.get_in_range("min_coverage", p.min_coverage, 0.0, 1.0);
   const std::string hh = l.get_choice("high_order_heights", "default", {"default", "own", "interpolated"});
   p.high_order_heights = hh == "own"            ? HighOrderHeights::Own
                          : hh == "interpolated" ? HighOrderHeights::Interpolated
@@ -40,6 +43,48 @@ LayerParams parse_layer_params(const ConfigNode& l) {
 }
 
 namespace {
+
+// The coverage (LayerCoverage) into the layers section, a line, and the verdict: the boundary
+// layer that was asked for is there on at least min_coverage of the wall, and its first layer is
+// at most 4 times the metric's height on all but 1 % of the columns; else the run fails loudly.
+template <int Dim>
+void report_coverage(const LayerResult<Dim>& r, const LayerParams& p, StageReport& rep) {
+  const LayerCoverage& c = r.coverage;
+  const double over4 = c.first_columns ? static_cast<double>(c.first_over_4) / static_cast<double>(c.first_columns) : 0.0;
+  const bool ok = c.complete >= p.min_coverage && over4 <= 0.01;
+  rep.add("coverage.complete", c.complete);
+  rep.add("coverage.min_coverage", p.min_coverage);
+  rep.add("coverage.columns", c.columns);
+  rep.add("coverage.columns_complete", c.columns_complete);
+  rep.add("coverage.wall", c.wall);
+  rep.add("coverage.first_height_over_metric.min", c.first_columns ? c.first_min : std::nan(""));
+  rep.add("coverage.first_height_over_metric.mean", c.first_columns ? c.first_mean : std::nan(""));
+  rep.add("coverage.first_height_over_metric.max", c.first_columns ? c.first_max : std::nan(""));
+  rep.add("coverage.first_over_4_fraction", over4);
+  std::vector<std::string> early;
+  for (const std::string& e : c.stopped_early) early.push_back(json_string(e));
+  rep.add_json("coverage.stopped_early", json_array(early));
+  rep.add("coverage.ok", ok);
+  std::ostringstream line;
+  line << std::fixed << std::setprecision(1) << "coverage: " << 100 * c.complete << " % of the wall ("
+       << c.columns_complete << " of " << c.columns << " columns) reached its stop rule; first layer "
+       << std::setprecision(2) << (c.first_columns ? c.first_min : 0.0) << " to " << (c.first_columns ? c.first_max : 0.0)
+       << " x the metric's height (mean " << (c.first_columns ? c.first_mean : 0.0) << "), "
+       << std::setprecision(1) << 100 * over4 << " % of the columns above 4 x";
+  rep.line(line.str());
+  if (ok) return;
+  std::ostringstream why;
+  why << std::fixed << std::setprecision(1) << "layers: the boundary layer asked for is NOT there: ";
+  if (c.complete < p.min_coverage)
+    why << 100 * c.complete << " % of the wall reached its stop rule (layers.min_coverage " << 100 * p.min_coverage
+        << " %)" << (c.stopped_early.empty() ? "" : "; first stop: " + c.stopped_early.front());
+  if (c.complete < p.min_coverage && over4 > 0.01) why << "; ";
+  if (over4 > 0.01)
+    why << "the first layer is taller than 4 x the metric's height on " << 100 * over4
+        << " % of the columns (at most 1 %; up to " << std::setprecision(0) << c.first_max << " x)";
+  why << "; see layers.coverage and layers.events in the report";
+  rep.fail(why.str());
+}
 
 // The size budget (modules/pipeline/budget.h): every wall element's column at most max_layers
 // high (an upper bound: most runs stop earlier, at the isotropic size), quadrilaterals of q^2
@@ -58,7 +103,7 @@ void register_plugins() {
   static const bool once = [] {
     stage_registry<2>(StageKind::Layers).add("extrude", [](const ConfigNode& section) -> Stage<2> {
       LayerParams p = parse_layer_params(section);
-      return [p](RunState<2>& s, StageReport&) mutable {
+      return [p](RunState<2>& s, StageReport& rep) mutable {
         if (!s.front) throw MesherError("layers: the geometry gave no surface front to grow from");
         if (p.max_layers == 0) {  // the surface mesh alone
           s.layers = unlayered(*s.front);
@@ -73,6 +118,7 @@ void register_plugins() {
           throw MesherError("layers: not even the first layer could be grown (" +
                             (s.layers->events.empty() ? std::string("no wall loop") : s.layers->events.back()) +
                             ")");
+        report_coverage(*s.layers, p, rep);
       };
     });
     stage_registry<3>(StageKind::Layers).add("extrude", [](const ConfigNode& section) -> Stage<3> {
@@ -98,6 +144,7 @@ void register_plugins() {
                                         : ev.size() == 1 ? ev.back() : "first: " + ev.front() + "; last: " + ev.back()) +
                             ")");
         }
+        report_coverage(*s.layers, p, rep);
       };
     });
     return true;

@@ -15,6 +15,10 @@
 //     isotropic_stop: off|node|any|all  stop a node where the metric is isotropic there, or the
 //                           loop when it is so at any/all nodes
 //                           default: all with stop_when_linear, else off
+//     min_coverage: <0..1>  the fraction of the wall whose columns must reach their stop rule
+//                           (not end on a failure); below it, or with the first layer taller
+//                           than 4 times the metric's height on over 1 % of the wall's columns,
+//                           the run fails (exit 2; layers.coverage in the report)   default: 0.95
 // With a fill after the layers, a loop that stops curved gets a closing layer (layer_core.h).
 #pragma once
 

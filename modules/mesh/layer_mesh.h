@@ -37,9 +37,30 @@ struct LayerStats {
   double height_min = 0, height_mean = 0, height_max = 0;
   std::size_t height_columns = 0;
   // The same, NaN when no column was measured (null in reports).
+  // The fraction of the wall (its area in 3D, length in 2D) whose columns grew this layer.
+  double coverage = 0;
   double min_height() const { return height_columns ? height_min : std::numeric_limits<double>::quiet_NaN(); }
   double mean_height() const { return height_columns ? height_mean : std::numeric_limits<double>::quiet_NaN(); }
   double max_height() const { return height_columns ? height_max : std::numeric_limits<double>::quiet_NaN(); }
+};
+
+// How much of the boundary layer that was asked for is there (layers/layer_core.h, step 4). A
+// column is a wall stop point's stack (3D: a vertex of the wall's triangles; 2D: a loop vertex),
+// weighed by the wall measure it stands for (a third of its triangles' areas; half its edges).
+struct LayerCoverage {
+  double wall = 0;       // the wall's measure (area in 3D, length in 2D) over the grown parts
+  // Fraction of the wall whose columns ended by a stop rule (max layers, a linear front, the
+  // metric isotropic), not by a failure: the requested stack is there.
+  double complete = 0;
+  std::size_t columns = 0, columns_complete = 0;  // the same by columns
+  // The first layer each column grew (a closing layer where layer 1 failed) against the metric's
+  // height there along the column: height / metric height, over the columns grown along a normal.
+  double first_min = 0, first_mean = 0, first_max = 0;
+  std::size_t first_columns = 0;
+  std::size_t first_over_4 = 0;  // of them, those taller than 4 times the metric's height
+  // Where columns stopped early: one line per part and layer (the stop points, their wall
+  // measure and a point), as the events say it.
+  std::vector<std::string> stopped_early;
 };
 
 // The layer stage's product. Node-numbering contract: mesh.nodes starts with the input
@@ -55,6 +76,7 @@ struct LayerResult {
   std::vector<LayerStats> layers;
   int linear_after = -1;            // 1-based index of the first layer with a linear front, -1 if none
   std::vector<std::string> events;  // what stopped or shrank growth, one line each
+  LayerCoverage coverage;
   // What the front's specifics counted, for the report (3D: the classes of the first front's
   // nodes, concave merges, symmetry nodes).
   std::vector<std::pair<std::string, std::size_t>> counts;

@@ -55,7 +55,7 @@ std::vector<LayerRow> layer_rows(const LayerResult<Dim>& lr, const HybridMesh<Di
 template <int Dim>
 void report_layer_table(const LayerResult<Dim>& lr, const std::vector<LayerRow>& rows, StageReport& report) {
   std::vector<std::string> json;
-  report.line("layer  cells  trans  curved  max_clip/h  min_scaled_J  max_aspect    height_min    height_max");
+  report.line("layer  cells  trans  curved  max_clip/h  min_scaled_J  max_aspect    height_min    height_max  coverage");
   for (const LayerRow& row : rows) {
     const LayerStats& st = row.stats;
     const std::string curved_json = row.measured ? std::to_string(row.curved) : "null";
@@ -70,12 +70,14 @@ void report_layer_table(const LayerResult<Dim>& lr, const std::vector<LayerRow>&
                    ", \"height_min\": " + json_number(st.min_height()) +
                    ", \"height_mean\": " + json_number(st.mean_height()) +
                    ", \"height_max\": " + json_number(st.max_height()) +
-                   ", \"height_columns\": " + std::to_string(st.height_columns) + "}");
+                   ", \"height_columns\": " + std::to_string(st.height_columns) +
+                   ", \"coverage\": " + json_number(st.coverage) + "}");
     std::ostringstream o;
     o << std::setw(5) << st.layer << std::setw(7) << st.cells << std::setw(7) << st.transition_cells << std::setw(8)
       << curved_json << std::setw(12) << std::setprecision(3) << st.max_clipped_rel << std::setw(14)
       << row.min_scaled_jacobian << std::setw(12) << row.max_aspect_ratio << std::setw(14) << std::setprecision(4)
-      << st.min_height() << std::setw(14) << st.max_height();  // nan: no column measured
+      << st.min_height() << std::setw(14) << st.max_height()  // nan: no column measured
+      << std::setw(9) << std::fixed << std::setprecision(1) << 100 * st.coverage << " %";
     report.line(o.str());
   }
   std::vector<std::string> events;

@@ -577,11 +577,85 @@ TEST_CASE("layers 3D: two spheres too close for their layers stop without crossi
   bool crossing_event = false;
   for (const std::string& e : r.events) crossing_event = crossing_event || e.find("front crossings") != std::string::npos;
   CHECK(crossing_event);
+
   // No two top faces of the final fronts cross.
   std::vector<int> local(r.outer.triangles.size());
   std::vector<NodeId> ids(r.outer.triangles.begin(), r.outer.triangles.end());
   for (std::size_t i = 0; i < local.size(); ++i) local[i] = static_cast<int>(i);
   CHECK(front_collisions({{&local, &ids}}, r.mesh.nodes, 2).empty());
+}
+
+TEST_CASE("normals 3D: at a cusp no direction sees every face, the most normal one is still given") {
+  // Five faces whose normals span more than a hemisphere: the best direction has a negative
+  // smallest cosine, the visibility normal none.
+  std::vector<Vector3d> f = {Vector3d(1, 0, 0.2).normalized(), Vector3d(-1, 0, 0.2).normalized(),
+                             Vector3d(0, 1, -0.3).normalized(), Vector3d(0, -1, 0.2).normalized(),
+                             Vector3d(0, 0, 1)};
+  CHECK(visibility_normal(f).isZero());
+  const Vector3d n = most_normal(f);
+  CHECK(n.norm() == doctest::Approx(1.0));
+  double worst = 2;
+  for (const Vector3d& v : f) worst = std::min(worst, n.dot(v));
+  CHECK(worst < 0);
+  // No unit direction does better (a dense sample of the sphere).
+  double best = -2;
+  for (int i = 0; i <= 200; ++i)
+    for (int j = 0; j < 400; ++j) {
+      const double th = M_PI * i / 200, ph = 2 * M_PI * j / 400;
+      const Vector3d d(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+      double w = 2;
+      for (const Vector3d& v : f) w = std::min(w, d.dot(v));
+      best = std::max(best, w);
+    }
+  CHECK(worst >= best - 1e-3);
+}
+
+TEST_CASE("layers 3D: where two spheres' gap is used up their columns stop, the rest of both grows every layer") {
+  // Spheres of radius 1, 0.05 apart, layers of 0.01: the facing columns meet after about 2.5
+  // layers each; there even the floor height (1/16) crosses, those columns stop (layer_core.h,
+  // step 3) and every other column grows its 10 layers, the layers with stops as tetrahedra.
+  for (int q : {1, 2}) {
+    CAPTURE(q);
+    CurvedFront<3> a = sphere(1, Vector3d::Zero(), 3, q, "a");
+    const CurvedFront<3> b = sphere(1, Vector3d(2.05, 0, 0), 3, q, "b");
+    const NodeId off = static_cast<NodeId>(a.nodes.size());
+    a.nodes.insert(a.nodes.end(), b.nodes.begin(), b.nodes.end());
+    a.normals.insert(a.normals.end(), b.normals.begin(), b.normals.end());
+    for (NodeId id : b.triangles) a.triangles.push_back(id + off);
+    a.tags.push_back({"b", BoundaryKind::Wall});
+    for (std::size_t t = 0; t < b.num_triangles(); ++t) a.triangle_tag.push_back(1);
+    const UniformMetricField<3> m(Metric<3>::isotropic(0.01));
+    LayerParams p;
+    p.max_layers = 10;
+    const LayerResult<3> r = grow_layers(a, m, p);
+    REQUIRE_FALSE(r.coverage.stopped_early.empty());
+    MESSAGE("coverage " << r.coverage.complete << " (" << r.coverage.columns_complete << " of " << r.coverage.columns
+                        << " columns); first stop: " << r.coverage.stopped_early.front());
+    CHECK(r.layers.size() == 10);
+    CHECK(r.coverage.complete < 1);
+    CHECK(r.coverage.complete > 0.95);
+    CHECK(r.layers.back().coverage < 1);
+    CHECK(r.coverage.first_max == doctest::Approx(1.0));
+    // Certified, conforming, and the outer fronts do not cross.
+    JacobianCertifier cert;
+    std::size_t invalid = 0;
+    for (const CellBlock& blk : r.mesh.cells) {
+      std::vector<double> coords(static_cast<std::size_t>(3 * blk.nodes_per_cell()));
+      for (std::size_t c = 0; c < blk.size(); ++c) {
+        gather_coords<3>(r.mesh, blk, c, coords.data());
+        if (!cert.certify(blk.type, q, coords.data()).valid) ++invalid;
+      }
+    }
+    CHECK(invalid == 0);
+    REQUIRE(r.mesh.cells.size() == 2);
+    CHECK(r.mesh.cells[1].size() > 0);
+    const ConformityReport cr = check_conformity<3>(assemble_hybrid_3d(r.mesh, r.outer));
+    CHECK_MESSAGE(cr.ok, cr.first_problem);
+    std::vector<int> local(r.outer.triangles.size());
+    std::vector<NodeId> ids(r.outer.triangles.begin(), r.outer.triangles.end());
+    for (std::size_t i = 0; i < local.size(); ++i) local[i] = static_cast<int>(i);
+    CHECK(front_collisions({{&local, &ids}}, r.mesh.nodes, q).empty());
+  }
 }
 
 TEST_CASE("layers 3D: an open surface whose rim is not on a plane is refused") {

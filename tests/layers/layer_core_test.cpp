@@ -35,6 +35,7 @@ class ScriptedFronts final : public layers::FrontGrower<2> {
     return {mesh_.nodes[base_[part][0]], mesh_.nodes[base_[part][1]]};
   }
   std::size_t num_stop_points(std::size_t) const override { return 2; }
+  std::vector<double> stop_point_measure(std::size_t) const override { return {0.5, 0.5}; }
   layers::BuiltLayer build(std::size_t part, int layer, const std::vector<double>&, const std::vector<std::uint8_t>&,
                            double f_atten) override {
     layers::BuiltLayer b;
@@ -91,5 +92,13 @@ TEST_CASE("layer core: a layer is linear only when every part's front is, a part
     bool stopped = false;
     for (const std::string& e : r.events) stopped = stopped || e.find("part 1: stopped") != std::string::npos;
     CHECK(stopped);
+    // The coverage: part 1 ended on a failure, so half of the wall has its requested stack; every
+    // layer after the first covers part 0 alone; the first layer is the metric's height.
+    CHECK(r.coverage.wall == doctest::Approx(2.0));
+    CHECK(r.coverage.complete == doctest::Approx(0.5));
+    CHECK(r.coverage.columns == 4);
+    CHECK(r.coverage.columns_complete == 2);
+    CHECK(r.layers[0].coverage == doctest::Approx(1.0));
+    for (std::size_t k = 1; k < r.layers.size(); ++k) CHECK(r.layers[k].coverage == doctest::Approx(0.5));
   }
 }
