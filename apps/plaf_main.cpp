@@ -17,8 +17,10 @@
 namespace {
 
 constexpr const char* usage =
-    "usage: plaf run CONFIG.yaml [--out DIR] [--data DIR]\n"
-    "                                          mesh a configured case into DIR (default: output.dir)\n"
+    "usage: plaf run CONFIG.yaml [--out DIR] [--data DIR] [--keep-invalid]\n"
+    "                                          mesh a configured case into DIR (default: output.dir); a\n"
+    "                                          failed run writes its report and picture to DIR/NAME.failed/\n"
+    "                                          (its mesh too with --keep-invalid)\n"
     "       plaf check MESH.msh [--metric CONFIG.yaml] [--report FILE.json] [--data DIR]\n"
     "                                          re-read a Gmsh MSH 4.1 mesh and certify its cells; measure\n"
     "                                          its edges in CONFIG's metric; write the JSON report\n"
@@ -34,8 +36,9 @@ constexpr const char* usage =
     "--data DIR: the data root, where a config's data:REL paths (published geometry) are found; then\n"
     "the environment's PLAF_DATA, then ../shared/data beside the source tree (docs/data.md).\n"
     "Outputs of run: <name>.msh (Gmsh 4.1), <name>.vtu (VTK Lagrange cells), <name>.report.json, <name>.png.\n"
-    "Exit codes: 0 success, 1 bad input or usage (nothing written), 2 mesh written but invalid or not\n"
-    "conforming, 3 a bug in plaf (nothing written; please report it).\n";
+    "Exit codes: 0 success, 1 bad input or usage (nothing written), 2 the run failed: invalid or not\n"
+    "conforming cells, or the boundary layer asked for is not there (layers.min_coverage); its report\n"
+    "and picture are in DIR/NAME.failed/; 3 a bug in plaf (nothing written; please report it).\n";
 
 int fail_usage(const std::string& why) {
   std::cerr << "plaf: error: " << why << "\n" << usage;
@@ -62,8 +65,11 @@ int main(int argc, char** argv) {
       const bool run = args[0] == "run";
       const std::string what = run ? "config file" : "study file";
       std::optional<std::string> file, out;
+      bool keep_invalid = false;
       for (std::size_t i = 1; i < args.size(); ++i) {
-        if (args[i] == "--out") {
+        if (args[i] == "--keep-invalid" && run) {
+          keep_invalid = true;
+        } else if (args[i] == "--out") {
           if (i + 1 >= args.size()) return fail_usage("--out needs a directory");
           out = args[++i];
         } else if (args[i] == "--data") {
@@ -80,7 +86,7 @@ int main(int argc, char** argv) {
       if (!file) return fail_usage(args[0] + " needs a " + what);
       std::optional<std::filesystem::path> out_dir;
       if (out) out_dir = *out;
-      return run ? plaf::run_command(*file, out_dir) : plaf::compare_attenuation_command(*file, out_dir);
+      return run ? plaf::run_command(*file, out_dir, keep_invalid) : plaf::compare_attenuation_command(*file, out_dir);
     }
     if (args[0] == "data") {
       std::vector<std::string> files;

@@ -263,24 +263,9 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
   for (const StageReport& r : reports) r.append_to(report);
   clock.done("quality", std::to_string(report.cells_invalid) + " invalid cells");
 
-  // 8. Outputs, each written atomically and all as one set (output_set.h: staged, then moved in
-  //    together; a failure or a stop signal leaves none); the report last, with every stage's time.
-  OutputSet outputs(c.output.dir, c.name);
-  if (c.output.wants("vtu")) outputs.own("_boundary.vtu");  // not written without a boundary
-  const std::filesystem::path base = outputs.staged_base();
-  for (const std::string& format : c.output.formats)
-    if (format != "report")
-      writer_registry<Dim>().create(format, c.file.string() + ": output.formats",
-                                    WriteJob<Dim>{mesh, per_cell, report, c, base});
-  clock.done("write", outputs.final_base().string() + ".*");
-  report.timings_s = timings;
-  if (c.output.wants("report"))
-    writer_registry<Dim>().create("report", "", WriteJob<Dim>{mesh, per_cell, report, c, base});
-  outputs.commit();
-
-  // 9. The verdict: a stage's failure (one line each) or else an invalid, non-conforming mesh
-  //    exits 2; the files are written for inspection.
-  out << report_summary(report);
+  // 8. The verdict: a stage's failure (one line each) or else an invalid, non-conforming mesh
+  //    exits 2. Known before writing: a failed run's outputs go to OUTDIR/NAME.failed/ (the report
+  //    and the picture, to see why; the mesh only with keep_invalid), never beside a valid run's.
   for (const StageReport& r : reports)
     if (!r.failure().empty()) outcome.failures.push_back(r.failure());
   if (outcome.failures.empty() && !report.ok())
@@ -289,7 +274,37 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
         std::to_string(report.cells_invalid) + " invalid " + (report.surface ? "triangles" : "cells") +
         (report.first_invalid.empty() ? "" : " (first: " + report.first_invalid + ")") +
         (report.conformity.ok ? "" : ", " + report.conformity.first_problem));
+  const bool failed = !outcome.failures.empty();
+
+  // 9. Outputs, each written atomically and all as one set (output_set.h: staged, then moved in
+  //    together; a failure or a stop signal leaves none); the report last, with every stage's time.
+  OutputSet outputs(failed ? c.output.dir / (c.name + ".failed") : c.output.dir, c.name);
+  if (c.output.wants("vtu")) outputs.own("_boundary.vtu");  // not written without a boundary
+  const std::filesystem::path base = outputs.staged_base();
+  std::vector<std::string> formats = c.output.formats;
+  if (failed) {
+    if (!c.output.keep_invalid)
+      formats.erase(std::remove_if(formats.begin(), formats.end(),
+                                   [](const std::string& f) { return f != "report" && f != "png"; }),
+                    formats.end());
+    for (const char* f : {"report", "png"})
+      if (std::find(formats.begin(), formats.end(), f) == formats.end()) formats.push_back(f);
+  }
+  for (const std::string& format : formats)
+    if (format != "report")
+      writer_registry<Dim>().create(format, c.file.string() + ": output.formats",
+                                    WriteJob<Dim>{mesh, per_cell, report, c, base});
+  clock.done("write", outputs.final_base().string() + ".*");
+  report.timings_s = timings;
+  if (std::find(formats.begin(), formats.end(), "report") != formats.end())
+    writer_registry<Dim>().create("report", "", WriteJob<Dim>{mesh, per_cell, report, c, base});
+  outputs.commit();
+  out << report_summary(report);
   for (const std::string& f : outcome.failures) std::cerr << "plaf: error: " << config_path.string() << ": " << f << '\n';
+  if (failed)
+    std::cerr << "plaf: error: " << config_path.string() << ": the run FAILED; its report and picture are in "
+              << outputs.final_base().parent_path().string() << "/"
+              << (c.output.keep_invalid ? " with the mesh" : " (the mesh too with --keep-invalid)") << '\n';
   outcome.code = outcome.failures.empty() ? 0 : 2;
   outcome.report = std::move(report);
   outcome.base = outputs.final_base();
@@ -320,11 +335,13 @@ void register_all_plugins() {
   volume::register_plugins();
 }
 
-int run_command(const std::filesystem::path& config_path, const std::optional<std::filesystem::path>& out_dir) {
+int run_command(const std::filesystem::path& config_path, const std::optional<std::filesystem::path>& out_dir,
+                bool keep_invalid) {
   register_all_plugins();
   // Everything is validated before anything is written.
   RunConfig c = load_run_config(config_path);
   if (out_dir) c.output.dir = *out_dir;
+  c.output.keep_invalid = keep_invalid;
   try {
     return run_config(c).code;
   } catch (const MesherError& e) {

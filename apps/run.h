@@ -41,7 +41,9 @@ RunOutcome run_config(const RunConfig& config, bool quiet = false);
 // Runs a configuration; returns the process exit code (0: a valid, conforming mesh was written;
 // 2: the mesh was written but a stage failed, e.g. a folded surface, or it has invalid cells or
 // is not conforming). Throws plaf::Error on bad input before any output is written.
-int run_command(const std::filesystem::path& config, const std::optional<std::filesystem::path>& out_dir);
+// keep_invalid: a failed run's mesh is written too (into DIR/NAME.failed/, with its report).
+int run_command(const std::filesystem::path& config, const std::optional<std::filesystem::path>& out_dir,
+                bool keep_invalid = false);
 
 // Registers every library's stage plugins (idempotent).
 void register_all_plugins();

@@ -112,6 +112,9 @@ struct OutputParams {
   bool has_cut = false;
   std::array<double, 3> cut_point{0, 0, 0}, cut_normal{0, 0, 1};
   std::array<double, 3> view{-1, -0.6, -0.8};
+  // A failed run (exit 2) writes its report and picture to DIR/NAME.failed/; its mesh too only
+  // with this (the CLI's --keep-invalid, not a config key).
+  bool keep_invalid = false;
   bool wants(const std::string& f) const;
 };
 

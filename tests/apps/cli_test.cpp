@@ -137,7 +137,7 @@ TEST_CASE("cli: exit codes are the documented four, and a bug (code 3) asks for 
   const TempDir d("cli_exit_codes");
   REQUIRE(std::system((std::string(PLAF_EXE) + " --help > " + (d / "help.txt").string()).c_str()) == 0);
   const std::string usage = read_text(d / "help.txt");
-  for (const char* code : {"0 success", "1 bad input", "2 mesh written", "3 a bug"})
+  for (const char* code : {"0 success", "1 bad input", "2 the run failed", "3 a bug"})
     CHECK_MESSAGE(usage.find(code) != std::string::npos, code);
 }
 

@@ -284,3 +284,51 @@ TEST_CASE("surface cli: on the wall the sizes along it are h_wall_max: the E387 
   }
   CHECK(read_text(e / "uniform" / "wing_symmetry_surface.msh") == read_text(e / "wall" / "wing_symmetry_surface.msh"));
 }
+
+TEST_CASE("surface cli: columns that cannot grow stop locally; below layers.min_coverage the run fails into NAME.failed/") {
+  // Two unit spheres 0.2 apart, 10 layers from 0.005 growing by 1.2 (0.13 in all): where the gap
+  // runs out the heights shrink to the floor (1/16) and, where even that crosses, the columns stop
+  // (layer_core.h, step 3); the others grow their 10 layers.
+  TriangleSoup two = plaf::test::icosphere_soup(6);
+  const TriangleSoup b = plaf::test::icosphere_soup(6);
+  const int off = static_cast<int>(two.points.size());
+  for (const Eigen::Vector3d& p : b.points) two.points.push_back(p + Eigen::Vector3d(2.2, 0, 0));
+  for (auto t : b.triangles) two.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
+  const std::string yaml = "name: case\norder: 2\ngeometry: {type: surface_file, file: case.stl}\n"
+                           "metric: {type: wall_power_law, h0: 0.005, growth: 1.2, h_wall_max: 0.3, h_max: 1}\n"
+                           "surface: {iterations: 2}\n";
+  auto coverage = [](const std::string& report) {
+    const std::size_t at = report.find("\"complete\": ");
+    return at == std::string::npos ? -1.0 : std::strtod(report.c_str() + at + 12, nullptr);
+  };
+  {  // the default min_coverage (0.95): the run passes, saying how much of the wall has its stack
+    const TempDir d("surface_cli_cover_ok");
+    write_text(d / "case.stl", ascii_stl(two));
+    const PlafResult r = run_config(d, yaml + "layers: {max: 10}\n");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string report = read_text(d / "out" / "case.report.json");
+    CHECK(coverage(report) < 1);
+    CHECK(coverage(report) >= 0.95);
+    CHECK(report.find("columns stopped where no valid cell could be grown") != std::string::npos);
+    CHECK(fs::exists(d / "out" / "case.msh"));
+  }
+  for (const bool keep : {false, true}) {  // all of it asked for: the run fails
+    CAPTURE(keep);
+    const TempDir d("surface_cli_cover_fail");
+    write_text(d / "case.stl", ascii_stl(two));
+    const fs::path cfg = write_text(d / "case.yaml", yaml + "layers: {max: 10, min_coverage: 1}\n");
+    const PlafResult r = plaf::test::run_plaf(
+        "run " + cfg.string() + " --out " + (d / "out").string() + (keep ? " --keep-invalid" : ""), d);
+    INFO(r.err);
+    CHECK(r.code == 2);
+    CHECK(r.err.find("layers: the boundary layer asked for is NOT there") != std::string::npos);
+    CHECK(r.err.find("layers.min_coverage 100.0 %") != std::string::npos);
+    const fs::path failed = d / "out" / "case.failed";
+    CHECK(fs::exists(failed / "case.report.json"));
+    CHECK(fs::exists(failed / "case.png"));
+    CHECK(fs::exists(failed / "case.msh") == keep);
+    CHECK_FALSE(fs::exists(d / "out" / "case.msh"));
+    CHECK(read_text(failed / "case.report.json").find("\"ok\": false") != std::string::npos);
+  }
+}
