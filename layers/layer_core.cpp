@@ -301,7 +301,10 @@ class Growth {
     bool any = false;
     for (std::size_t part = 0; part < parts_; ++part) {
       if (linear_[part]) continue;
-      const std::vector<std::uint8_t>& stopped = held_[part];  // where even the floor failed: no closing cell
+      // Every column closes, those stopped locally too: their front is as curved as where they
+      // stopped, and the closing layer's tall straight cells (heights raised, not shrunk, around
+      // invalid ones) are what makes it linear for the fill.
+      const std::vector<std::uint8_t> stopped(g_.num_stop_points(part), 0);
       bool closed = false;
       for (double factor : {0.0, 1.5, 3.0, 6.0}) {
         const bool per_cell = factor == 0;
