@@ -392,8 +392,10 @@ class Growth {
                                point_text<Dim>(g_.stop_points(part)[first]) + ")";
       r_.events.push_back(line);
       r_.coverage.stopped_early.push_back(line);
-      // The heights stay as the shrinks left them: sites next to the stop that failed too are at
-      // the floor already, and stop in the next round without four more halvings.
+      // The heights start again at the metric's: the shrinks around the old failures are undone,
+      // so only the columns that fail again at the floor stop (keeping them shrunk stopped four
+      // times as many on the ONERA M6's tip: 94.4 % coverage instead of 99.9 %).
+      scale.assign(scale.size(), 1.0);
       if (attempts_.run(part, layer, scale, stopped, f, st, built)) return true;
     }
     return false;
