@@ -242,6 +242,11 @@ StudyRun make_run(const Study& st, const StudyCase& sc, const std::string& partn
   layers["f_atten"] = f;
   // The same rule for high-order heights in both dimensions (their defaults differ, layer_core.h).
   if (!layers["high_order_heights"].IsDefined()) layers["high_order_heights"] = "interpolated";
+  // The study measures where the layers stop as well as how they attenuate: a part that fails
+  // stops whole in both dimensions (3D's local stops would grow on where 2D stopped, and the
+  // pair would no longer compare layer by layer), and its coverage is reported, not enforced.
+  if (!layers["local_stops"].IsDefined()) layers["local_stops"] = false;
+  if (!layers["min_coverage"].IsDefined()) layers["min_coverage"] = 0.0;
   r.metric_text = emit(metric);
   r.layers_text = emit(layers);
   YAML::Node n(YAML::NodeType::Map);

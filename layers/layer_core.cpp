@@ -242,7 +242,7 @@ class Growth {
                               ": cells still invalid; rebuilt with f_atten " + num(f));
           ok = attempts_.run(part, layer, scale, stopped, f, st, built);
         }
-        if (!ok && g_.stops_locally()) ok = stop_locally(part, layer, scale, stopped, f, st, built);
+        if (!ok && p_.local_stops && g_.stops_locally()) ok = stop_locally(part, layer, scale, stopped, f, st, built);
         if (ok) st.f_atten = std::min(st.f_atten, f);
         if (ok && std::any_of(scale.begin(), scale.end(), [](double x) { return x < 1; })) st.shrunk = true;
         if (!ok) {

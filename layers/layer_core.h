@@ -77,6 +77,8 @@ struct LayerParams {
   // The run fails below this coverage of the requested stack (LayerCoverage::complete; the layer
   // plugins give the verdict).
   double min_coverage = 0.95;
+  // Local stops (step 3) where the front supports them; false stops the whole part instead.
+  bool local_stops = true;
   // End with a linear front (for the fill): a part whose front is still curved when it stops
   // gets a closing layer with straight tops.
   bool close_linear = false;

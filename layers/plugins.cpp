@@ -35,6 +35,7 @@ LayerParams parse_layer_params(const ConfigNode& l) {
                      : stop == "all" ? IsotropicStop::All
                                      : IsotropicStop::Off;
   p.min_coverage = l.get_in_range("min_coverage", p.min_coverage, 0.0, 1.0);
+  p.local_stops = l.get_bool("local_stops", p.local_stops);
   const std::string hh = l.get_choice("high_order_heights", "default", {"default", "own", "interpolated"});
   p.high_order_heights = hh == "own"            ? HighOrderHeights::Own
                          : hh == "interpolated" ? HighOrderHeights::Interpolated

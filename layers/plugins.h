@@ -15,6 +15,9 @@
 //     isotropic_stop: off|node|any|all  stop a node where the metric is isotropic there, or the
 //                           loop when it is so at any/all nodes
 //                           default: all with stop_when_linear, else off
+//     local_stops: <bool>   3D: where a cell cannot be valid even at 1/16 of the metric's height,
+//                           stop its columns there and grow the rest (false: stop the whole
+//                           surface, as 2D does)                      default: true
 //     min_coverage: <0..1>  the fraction of the wall whose columns must reach their stop rule
 //                           (not end on a failure); below it, or with the first layer taller
 //                           than 4 times the metric's height on over 1 % of the wall's columns,
