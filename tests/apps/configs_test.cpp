@@ -568,6 +568,8 @@ TEST_CASE("configs: 3D prism layers are certified, conforming and attenuate to a
       const plaf::test::GmshJacobians gj = plaf::test::gmsh_jacobians("mesh.msh", dir);
       CHECK(gj.min_j > 0);
       CHECK(gj.worst_ratio == doctest::Approx(json_number(report, "min", report.find("\"scaled_jacobian\""))).epsilon(0.01));
+    } else {
+      plaf::test::request_skip("gmsh is not on PATH: Gmsh's checks of the 3D layers not run");
     }
     if (r.name == "wing_symmetry_layers") {
       // The E387 wing between symmetry planes: a fan along the trailing edge from plane to plane;
@@ -700,7 +702,7 @@ TEST_CASE("configs: VTK's surface filter takes both .vtu files of a 3D surface w
   // VTK 9.1's vtkDataSetSurfaceFilter crashes on nonlinear 1D cells at a nonlinear subdivision
   // level >= 2 (what ParaView uses to draw curved cells); plaf's files hold none.
   if (std::system("/usr/bin/python3 -c 'import vtk' > /dev/null 2>&1") != 0) {
-    MESSAGE("skipped: no Python vtk module (python3-vtk9)");
+    plaf::test::request_skip("no Python vtk module (python3-vtk9): VTK's check not run");
     return;
   }
   const TempDir d("configs_vtk_surface");

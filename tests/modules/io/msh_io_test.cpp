@@ -22,6 +22,7 @@
 #include "modules/io/atomic_file.h"
 #include "modules/base/error.h"
 #include "tests/test_support.h"
+#include "tests/published_data.h"
 
 using namespace plaf;
 using test::read_text;
@@ -904,7 +905,7 @@ TEST_CASE("io: MSH entities list their bounding entities and no physical group i
 TEST_CASE("io: Gmsh's API finds plaf's bounding entities and no empty physical group") {
   // Gmsh's own eye, where its Python module is installed (python3-gmsh).
   if (std::system("/usr/bin/python3 -c 'import gmsh' > /dev/null 2>&1") != 0) {
-    MESSAGE("skipped: no Python gmsh module (python3-gmsh)");
+    plaf::test::request_skip("no Python gmsh module (python3-gmsh): Gmsh's reader not run");
     return;
   }
   TempDir dir("msh_gmsh_api");
