@@ -23,6 +23,7 @@
 #include "surface3d/high_order.h"
 #include "surface3d/read_surface.h"
 #include "surface3d/remesh.h"
+#include "surface3d/smooth_reference.h"
 #include "surface3d/validate.h"
 
 namespace plaf {
@@ -82,6 +83,7 @@ Geometry3Params parse_geometry3_params(const ConfigNode& g, const std::string& t
     }
     s.check_self_intersections = g.get_choice("self_intersections", "check", {"check", "skip"}) == "check";
     s.drop_inner_components = g.get_choice("inner_components", "error", {"error", "drop"}) == "drop";
+    s.smooth_reference = g.get_choice("reference", "facets", {"smooth", "facets"}) == "smooth";
   }
   return s;
 }
@@ -164,6 +166,11 @@ AnalyticBody make_body(const std::string& type, const Geometry3Params& g, double
   return make_wing(w, std::min(h, std::min(g.chord, g.span) / 4));
 }
 
+// A surface file's reference: smooth patches on it or its flat facets (plugins.h: reference).
+std::unique_ptr<ReferenceGeometry<3>> file_reference(const TriSurface& surface, bool smooth) {
+  return smooth ? make_smooth_reference(surface) : make_discrete_reference(surface);
+}
+
 // A surface file: read and validated (repairs reported), its features detected; it is its own
 // reference.
 void surface_file(const Geometry3Params& g, RunState<3>& s, StageReport& rep) {
@@ -178,11 +185,12 @@ void surface_file(const Geometry3Params& g, RunState<3>& s, StageReport& rep) {
   // Its own reference, with the features of the default options (the surface stage detects them
   // again when its section asks for other angles).
   const FeatureReport features = detect_features(s.surface, feature_options(SurfaceParams{}));
-  s.reference = make_discrete_reference(s.surface);
+  s.reference = file_reference(s.surface, g.smooth_reference);
   std::vector<std::string> repairs;
   for (const std::string& r : k.repairs) repairs.push_back(json_string(r));
   rep.set_section("surface");
   rep.add("geometry", s.config.geometry.type);
+  rep.add("reference", g.smooth_reference ? "smooth" : "facets");
   rep.add("input_triangles", k.input_triangles);
   rep.add("input.components", k.components);
   rep.add("input.euler_characteristic", k.euler_characteristic);
@@ -273,7 +281,7 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
     fo.crest_scale = 0.5 * smallest_size(sp, s);
     fo.min_curve_length = 0.5 * smallest_size(sp, s);
     const FeatureReport features = detect_features(s.surface, fo);
-    s.reference = make_discrete_reference(s.surface);
+    s.reference = file_reference(s.surface, is_smooth_reference(*s.reference));
     rep.line("features (input, at the mesh's scale): " + feature_line(features) +
              (features.dropped_curves ? ", " + std::to_string(features.dropped_curves) +
                                             " curves shorter than half the smallest size dropped"
@@ -298,8 +306,10 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
     const TriangleSoup soup = soup_from_surface(surface);
     check_surface_budget(c, kTrianglesPerMetricArea * metric_surface_area(soup.points, soup.triangles, field));
   }
-  // The body sampled before the remesher moves anything (fidelity.h).
-  const std::vector<Eigen::Vector3d> body = reference_samples(s.surface, *s.reference, !s.build_body);
+  // The body sampled before the remesher moves anything (fidelity.h); a surface file's facets are
+  // the body only for the facets reference (the smooth one curves between the vertices).
+  const std::vector<Eigen::Vector3d> body =
+      reference_samples(s.surface, *s.reference, !s.build_body && !is_smooth_reference(*s.reference));
   RemeshReport rr;
   if (sp.remesh) {
     RemeshOptions ro;

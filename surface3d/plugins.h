@@ -15,6 +15,11 @@
 //     type: surface_file    a triangulated or Plot3D surface (read_surface.h), validated
 //                           (validate.h), its features detected (features.h); its own reference
 //       file: <path>        .stl .obj .off .ply .fmt .p3d, or data:REL  (required)
+//       reference: smooth|facets  what nodes are projected onto: smooth, cubic patches through the
+//                           vertices with the feature curves kept sharp (smooth_reference.h), or
+//                           the flat facets themselves (discrete_reference.h)   default: facets
+//                           (smooth is not yet the default: on the pyHyp BWB its surface stage
+//                           takes 737 s and folds 44 triangles)
 //       weld_rel: <0..0.1>  merge points closer than this x bbox diagonal   default: 1e-9
 //       symmetry_planes:    open boundaries allowed on these planes, tagged symmetry:
 //         - normal: [nx, ny, nz]   (required)   offset: <d>   (the plane normal . x = d, default 0)
@@ -74,6 +79,7 @@ struct Geometry3Params {
   std::vector<SymmetryPlaneParams> symmetry_planes;
   bool check_self_intersections = true;
   bool drop_inner_components = false;
+  bool smooth_reference = false;  // surface_file: smooth patches, else the flat facets
 };
 
 struct SurfaceParams {
