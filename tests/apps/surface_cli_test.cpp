@@ -285,7 +285,7 @@ TEST_CASE("surface cli: on the wall the sizes along it are h_wall_max: the E387 
   CHECK(read_text(e / "uniform" / "wing_symmetry_surface.msh") == read_text(e / "wall" / "wing_symmetry_surface.msh"));
 }
 
-TEST_CASE("surface cli: columns that cannot grow stop locally; below layers.min_coverage the run fails into NAME.failed/") {
+TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.min_coverage the run fails into NAME.failed/") {
   // Two unit spheres 0.005 apart, 8 layers from 0.005 growing by 1.2: where the gap runs out the
   // heights shrink to the floor (1/16) and, where even that crosses, the columns stop
   // (layer_core.h, step 3; measured: 62 of 2884 columns, 97.7 % coverage); the others grow their
