@@ -1201,17 +1201,7 @@ class PartLayerBuilder {
   void transition_tets(const int* fl, const std::array<int, 3>& r, std::vector<NodeId>& tets) {
     const LagrangeElement& tet = lagrange_element(CellType::Tetrahedron, q_);
     const LagrangeElement& te = lagrange_element(CellType::Triangle, q_);
-    const int s = r[0], m = r[1], t = r[2];
-    const std::array<std::array<int, 2>, 4> cells[3] = {{{{s, 0}, {m, 0}, {t, 0}, {t, 1}}},
-                                                        {{{s, 0}, {m, 0}, {m, 1}, {t, 1}}},
-                                                        {{{s, 0}, {s, 1}, {m, 1}, {t, 1}}}};
-    auto lat_of = [&](const std::array<int, 2>& vl) {
-      return Eigen::Vector3i(vl[0] == 1 ? q_ : 0, vl[0] == 2 ? q_ : 0, vl[1] * q_);
-    };
-    for (auto c : cells) {
-      const Eigen::Vector3i a = lat_of(c[0]), b = lat_of(c[1]), cc = lat_of(c[2]), dd = lat_of(c[3]);
-      const Eigen::Matrix3d m3 = (Eigen::Matrix3d() << (b - a).cast<double>(), (cc - a).cast<double>(), (dd - a).cast<double>()).finished();
-      if (m3.determinant() < 0) std::swap(c[2], c[3]);
+    for (const auto& c : prism_cut(r)) {
       Corner corner[4];
       for (int k = 0; k < 4; ++k) corner[k] = {fl[c[static_cast<std::size_t>(k)][0]], c[static_cast<std::size_t>(k)][1]};
       if (collapsed(corner, 4)) continue;
@@ -1246,24 +1236,34 @@ class PartLayerBuilder {
     return r;
   }
 
-  // The three tetrahedra of a prism with column order r: node(a, b, c) is its lattice node (a, b
-  // on the triangle as in the prism's Gmsh lattice, c the level); the diagonals run from the
-  // bottom of the earlier column to the top of the later (acyclic, so they fill the prism).
-  template <class NodeAt>
-  void prism_tets(const NodeAt& node, const std::array<int, 3>& r, std::vector<NodeId>& tets) const {
-    const LagrangeElement& tet = lagrange_element(CellType::Tetrahedron, q_);
+  // A corner of a prism's cut: (vertex 0-2 of its triangle, level 0 or 1), and its point of the
+  // prism's lattice.
+  using PrismCorner = std::array<int, 2>;
+  Eigen::Vector3i lat_of(const PrismCorner& vl) const {
+    return Eigen::Vector3i(vl[0] == 1 ? q_ : 0, vl[0] == 2 ? q_ : 0, vl[1] * q_);
+  }
+  // The three tetrahedra of a prism with column order r, each positively oriented in the reference
+  // prism (its Jacobian has the prism's sign): the diagonals run from the bottom of the earlier
+  // column to the top of the later (acyclic, so they fill the prism).
+  std::array<std::array<PrismCorner, 4>, 3> prism_cut(const std::array<int, 3>& r) const {
     const int s = r[0], m = r[1], t = r[2];
-    const std::array<std::array<int, 2>, 4> cells[3] = {{{{s, 0}, {m, 0}, {t, 0}, {t, 1}}},
+    std::array<std::array<PrismCorner, 4>, 3> cells = {{{{{s, 0}, {m, 0}, {t, 0}, {t, 1}}},
                                                         {{{s, 0}, {m, 0}, {m, 1}, {t, 1}}},
-                                                        {{{s, 0}, {s, 1}, {m, 1}, {t, 1}}}};
-    auto lat_of = [&](const std::array<int, 2>& vl) {
-      return Eigen::Vector3i(vl[0] == 1 ? q_ : 0, vl[0] == 2 ? q_ : 0, vl[1] * q_);
-    };
-    for (auto c : cells) {
-      // Positive orientation in the reference prism (its Jacobian has the prism's sign).
+                                                        {{{s, 0}, {s, 1}, {m, 1}, {t, 1}}}}};
+    for (auto& c : cells) {
       const Eigen::Vector3i a = lat_of(c[0]), b = lat_of(c[1]), cc = lat_of(c[2]), dd = lat_of(c[3]);
       const Eigen::Matrix3d m3 = (Eigen::Matrix3d() << (b - a).cast<double>(), (cc - a).cast<double>(), (dd - a).cast<double>()).finished();
       if (m3.determinant() < 0) std::swap(c[2], c[3]);
+    }
+    return cells;
+  }
+
+  // The three tetrahedra of a prism with column order r (prism_cut): node(a, b, c) is its lattice
+  // node (a, b on the triangle as in the prism's Gmsh lattice, c the level).
+  template <class NodeAt>
+  void prism_tets(const NodeAt& node, const std::array<int, 3>& r, std::vector<NodeId>& tets) const {
+    const LagrangeElement& tet = lagrange_element(CellType::Tetrahedron, q_);
+    for (const auto& c : prism_cut(r)) {
       for (const Lattice& lat : tet.lattice()) {
         const int w[4] = {q_ - lat[0] - lat[1] - lat[2], lat[0], lat[1], lat[2]};
         Eigen::Vector3i pt = Eigen::Vector3i::Zero();

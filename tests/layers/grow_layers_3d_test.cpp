@@ -559,16 +559,22 @@ TEST_CASE("layers 3D: the prisms of each layer tile the volume between its front
   }
 }
 
-TEST_CASE("layers 3D: two spheres too close for their layers stop without crossing") {
-  CurvedFront<3> a = sphere(1, Vector3d::Zero(), 1, 2, "a");
-  const CurvedFront<3> b = sphere(1, Vector3d(2.05, 0, 0), 1, 2, "b");
-  // One front of two parts: b's nodes after a's.
+// Two unit icospheres (`levels` splits, order q) tagged a and b, centres 2 + gap apart on x: one
+// front of two parts, b's nodes after a's.
+CurvedFront<3> two_spheres(int levels, int q, double gap) {
+  CurvedFront<3> a = sphere(1, Vector3d::Zero(), levels, q, "a");
+  const CurvedFront<3> b = sphere(1, Vector3d(2 + gap, 0, 0), levels, q, "b");
   const NodeId off = static_cast<NodeId>(a.nodes.size());
   a.nodes.insert(a.nodes.end(), b.nodes.begin(), b.nodes.end());
   a.normals.insert(a.normals.end(), b.normals.begin(), b.normals.end());
   for (NodeId id : b.triangles) a.triangles.push_back(id + off);
   a.tags.push_back({"b", BoundaryKind::Wall});
   for (std::size_t t = 0; t < b.num_triangles(); ++t) a.triangle_tag.push_back(1);
+  return a;
+}
+
+TEST_CASE("layers 3D: two spheres too close for their layers stop without crossing") {
+  const CurvedFront<3> a = two_spheres(1, 2, 0.05);
   // Uniform layer heights of 0.01: the fronts meet after about 2.5 layers each.
   const UniformMetricField<3> m(Metric<3>::isotropic(0.01));
   LayerParams p;
@@ -616,14 +622,7 @@ TEST_CASE("layers 3D: where two spheres' gap is used up their columns stop, the 
   // step 3) and every other column grows its 10 layers, the layers with stops as tetrahedra.
   for (int q : {1, 2}) {
     CAPTURE(q);
-    CurvedFront<3> a = sphere(1, Vector3d::Zero(), 3, q, "a");
-    const CurvedFront<3> b = sphere(1, Vector3d(2.05, 0, 0), 3, q, "b");
-    const NodeId off = static_cast<NodeId>(a.nodes.size());
-    a.nodes.insert(a.nodes.end(), b.nodes.begin(), b.nodes.end());
-    a.normals.insert(a.normals.end(), b.normals.begin(), b.normals.end());
-    for (NodeId id : b.triangles) a.triangles.push_back(id + off);
-    a.tags.push_back({"b", BoundaryKind::Wall});
-    for (std::size_t t = 0; t < b.num_triangles(); ++t) a.triangle_tag.push_back(1);
+    const CurvedFront<3> a = two_spheres(3, q, 0.05);
     const UniformMetricField<3> m(Metric<3>::isotropic(0.01));
     LayerParams p;
     p.max_layers = 10;
