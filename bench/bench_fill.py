@@ -3,7 +3,7 @@
 
 A. Metric-conforming linear triangles, plaf vs BAMG (F. Hecht's bidimensional anisotropic mesh
    generator; Debian's freefem++ ships it as /usr/bin/ffbamg, also looked up as `bamg`).
-   Domain: the NACA 0012 with a sharp trailing edge (data/airfoils/naca0012_sharp.dat,
+   Domain: the NACA 0012 with a sharp trailing edge (written by data/make_naca0012_sharp.py,
    199 distinct points) inside a circle of radius R = 10 centred at (0.5, 0).
    Metric: analytic, anisotropic, smooth: the intersection (simultaneous reduction) of
      - a boundary-layer-like field: normal size h_n = 0.005 + 0.15 d (d: distance to the airfoil
@@ -91,9 +91,12 @@ def die(msg):
 # ---- airfoil and geometry helpers ----------------------------------------------------------
 
 def find_airfoil():
-    p = os.path.join(REPO, "data", "airfoils", "naca0012_sharp.dat")
-    if not os.path.isfile(p):
-        die(f"{p} not found (python3 data/make_naca0012_sharp.py writes it)")
+    """The sharp NACA 0012's 200 points, written by data/make_naca0012_sharp.py into a scratch
+    file (the repository ships the generator, not its output)."""
+    p = os.path.join(tempfile.mkdtemp(prefix="bench_fill_"), "naca0012_sharp.dat")
+    gen = os.path.join(REPO, "data", "make_naca0012_sharp.py")
+    if subprocess.run([sys.executable, gen, p], capture_output=True).returncode != 0 or not os.path.isfile(p):
+        die(f"{gen} could not write {p}")
     return p
 
 

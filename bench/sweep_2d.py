@@ -3,7 +3,7 @@
 and growth through the complete pipeline (surface mesh, layers until linear, advancing front).
 
 Grid: the published airfoils (e387, rae2822, naca0012, n0012, nlr7301), found in the data root as
-plaf finds them (`plaf data`, docs/data.md), the generated naca0012_sharp of data/, the generated
+plaf finds them (`plaf data`, docs/data.md), the sharp NACA 0012 data/make_naca0012_sharp.py writes, the generated
 NACA 4412 (sharp) and 23012 (blunt) sections (`naca:`), one body each, and every --extra case
 (several bodies, e.g. the 30P-30N from the data root: pass their paths)
   x h0 in {1e-6, 1e-5, 1e-4, 1e-3, 5e-3} (chords)
@@ -211,7 +211,13 @@ def main():
     args = ap.parse_args()
     if not os.access(args.plaf, os.X_OK):
         sys.exit(f"sweep_2d: {args.plaf}: no plaf binary (build first, or pass --plaf)")
-    args.bodies = {"naca0012_sharp": [("wall", os.path.join(REPO, "data", "airfoils", "naca0012_sharp.dat"))]}
+    # The sharp NACA 0012 the project's meshes were made from: its generator writes it (the
+    # repository ships the script, not its output).
+    os.makedirs(args.out, exist_ok=True)
+    sharp = os.path.join(os.path.abspath(args.out), "naca0012_sharp.dat")
+    subprocess.run([sys.executable, os.path.join(REPO, "data", "make_naca0012_sharp.py"), sharp], check=True,
+                   capture_output=True)
+    args.bodies = {"naca0012_sharp": [("wall", sharp)]}
     for name, spec in GENERATED.items():
         args.bodies[name] = [("wall", spec)]
     missing = []

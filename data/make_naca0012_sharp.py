@@ -14,7 +14,9 @@ out, so the two points nearest the LE are (x_1, +-y(x_1)) with x_1 = 2.467e-4. N
 "%.15e %.15e" per line.
 
 Usage: python3 data/make_naca0012_sharp.py [output]  (default: airfoils/naca0012_sharp.dat beside
-this script).
+this script). The repository ships this script, not its output: the reference shelf holds the
+same bytes (docs/data.md), configs generate the section in-process (`naca: "0012"`), and
+bench/bench_fill.py and bench/sweep_2d.py write the file where they need it.
 """
 import math
 import os

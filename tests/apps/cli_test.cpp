@@ -229,7 +229,7 @@ TEST_CASE("cli: a run beyond its size budget stops before meshing, naming the es
     std::string yaml;
     const char* message;
   };
-  const std::string naca = "{file: " PLAF_REPO_DATA "/airfoils/naca0012_sharp.dat}";
+  const std::string naca = "{naca: \"0012\"}";
   const std::vector<Case> cases = {
       // Issue 17's probe: each ran for minutes into gigabytes before.
       {"annulus_q4", "order: 4\ngeometry: {type: annulus, angle_deg: 360}\nmetric: {type: uniform, h: 9.0e-4}\n",
@@ -298,8 +298,8 @@ TEST_CASE("cli: the outputs are one set: a writer that fails half-way, or a stop
   CHECK(count_files(d / "out") == 5);
   // A run of the same name that writes no boundary file (a 2D surface: lines alone) does not
   // leave the earlier run's one beside its own files.
-  const fs::path lines = write_text(d / "lines.yaml", "name: kept\norder: 2\ngeometry: {type: airfoils, bodies: [{file: " PLAF_REPO_DATA
-                                                      "/airfoils/naca0012_sharp.dat}]}\nmetric: {type: uniform, h: 0.2}\n");
+  const fs::path lines = write_text(d / "lines.yaml", "name: kept\norder: 2\ngeometry: {type: airfoils, bodies: [{naca: \"0012\"}]}\n"
+                                                      "metric: {type: uniform, h: 0.2}\n");
   REQUIRE(run_plaf("run " + lines.string() + " --out " + (d / "out").string(), d).code == 0);
   CHECK_FALSE(fs::exists(d / "out" / "kept_boundary.vtu"));
   CHECK(count_files(d / "out") == 4);

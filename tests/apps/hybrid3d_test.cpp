@@ -191,7 +191,7 @@ TEST_CASE("layers table: a 2D run with transition triangles and split_quads repo
   // merges away (an out-of-range block, "geometry order 0").
   const TempDir d("table_split_quads");
   const std::string cfg = "name: case\norder: 3\n"
-                          "geometry: {type: airfoils, bodies: [{file: " PLAF_REPO_DATA "/airfoils/naca0012_sharp.dat}], "
+                          "geometry: {type: airfoils, bodies: [{naca: \"0012\"}], "
                           "farfield: {shape: circle, radius: 20}}\n"
                           "metric: {type: wall_power_law, h0: 0.01, growth: 1.5, h_max: 2.0, h_wall_max: 0.04, "
                           "curvature_factor: 0.3, h_corner: 0.005}\n"

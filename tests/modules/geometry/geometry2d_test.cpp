@@ -20,9 +20,8 @@ using Eigen::Vector2d;
 
 namespace {
 
-// A contour: the generated naca0012_sharp.dat of the repository's data/, or a published one.
+// A published contour in the data root (tests/published_data.h).
 std::string airfoil(const std::string& file) {
-  if (file == "naca0012_sharp.dat") return std::string(PLAF_REPO_DATA) + "/airfoils/" + file;
   return plaf::test::published("airfoils/" + file);
 }
 
@@ -246,7 +245,7 @@ TEST_CASE("geometry: a corner given as [x, y] becomes a corner at the nearest co
 }
 
 TEST_CASE("geometry: a point offset by d along a body's normal is within d of the body (exact closest point)") {
-  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat", "airfoils/rae2822.dat", "airfoils/naca0012.dat");
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat", "airfoils/rae2822.dat", "airfoils/naca0012.dat", "airfoils/naca0012_sharp.dat");
   // The foot p(t) is on the spline, so the distance from x = p(t) + d n(t) is at most d, to
   // rounding (coordinates O(1): 1e-14). Regression input, verbatim: a point where the closest
   // point's Newton iteration, converged to rounding, fell back to bisection in a stale bracket

@@ -23,11 +23,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A contour file: absolute as given, the generated naca0012_sharp.dat of the repository's data/,
-// or a published one in the data root (tests/published_data.h).
+// A contour file: absolute as given, or a published one in the data root (tests/published_data.h).
 fs::path airfoil(const fs::path& file) {
   if (file.is_absolute()) return file;
-  if (file == "naca0012_sharp.dat") return fs::path(PLAF_REPO_DATA) / "airfoils" / file;
   return plaf::test::published("airfoils/" + file.string());
 }
 
@@ -78,7 +76,8 @@ fs::path write_reversed(const fs::path& from, const fs::path& to) {
 }  // namespace
 
 TEST_CASE("airfoil: every real file reads with the point count and trailing edge of docs/data.md") {
-  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat", "airfoils/rae2822.dat", "airfoils/naca0012.dat", "airfoils/n0012.dat", "airfoils/nlr7301.dat");
+  PLAF_NEEDS_PUBLISHED("airfoils/e387.dat", "airfoils/rae2822.dat", "airfoils/naca0012.dat", "airfoils/n0012.dat",
+                       "airfoils/nlr7301.dat", "airfoils/naca0012_sharp.dat");
   // All facts from docs/data.md: file points, header, TE closed (first == last) or the
   // two open TE end points, and whether the file runs counter-clockwise (Selig) or clockwise.
   // Every shipped file runs counter-clockwise: the clockwise ones are two of them reversed.
@@ -146,6 +145,7 @@ TEST_CASE("airfoil: every real file reads with the point count and trailing edge
 TEST_CASE("airfoil: the Lednicer layout reads to the same loop as the Selig layout") {
   TempDir dir("airfoil_lednicer");
   SUBCASE("separate LE points (naca0012_sharp: the upper surface ends where y turns negative)") {
+    PLAF_NEEDS_PUBLISHED("airfoils/naca0012_sharp.dat");
     const std::vector<std::string> lines = read_lines(airfoil("naca0012_sharp.dat"));
     size_t split = 0;
     while (split < lines.size() && std::stod(lines[split].substr(lines[split].find(' '))) >= 0) ++split;
