@@ -137,13 +137,7 @@ class DiscreteReference final : public ReferenceGeometry<3> {
 
 DiscreteReference::DiscreteReference(const TriSurface& s) {
   const TriMesh& m = s.mesh;
-  points_.assign(m.n_vertices(), Vector3d::Zero());
-  Eigen::AlignedBox3d box;
-  for (const auto v : m.vertices()) {
-    points_[idx(v.idx())] = m.point(v);
-    box.extend(m.point(v));
-  }
-  scale_ = box.isEmpty() ? 0.0 : box.diagonal().norm();
+  points_ = vertex_points(s, scale_);
   if (m.n_faces() == 0) throw MesherError("discrete reference: the surface has no faces");
   add_normals(s);
   tree_ = TriangleTree(points_, tris_);
@@ -213,6 +207,17 @@ Vector3d DiscreteReference::project_to_curve(const Vector3d& p, int curve) const
 
 std::unique_ptr<ReferenceGeometry<3>> make_discrete_reference(const TriSurface& input) {
   return std::make_unique<DiscreteReference>(input);
+}
+
+std::vector<Vector3d> vertex_points(const TriSurface& s, double& diagonal) {
+  std::vector<Vector3d> points(s.mesh.n_vertices(), Vector3d::Zero());
+  Eigen::AlignedBox3d box;
+  for (const auto v : s.mesh.vertices()) {
+    points[static_cast<std::size_t>(v.idx())] = s.mesh.point(v);
+    box.extend(s.mesh.point(v));
+  }
+  diagonal = box.isEmpty() ? 0.0 : box.diagonal().norm();
+  return points;
 }
 
 }  // namespace plaf

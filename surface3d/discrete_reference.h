@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <vector>
 
 #include "modules/geometry/reference.h"
 #include "modules/geometry/tri_surface.h"
@@ -17,5 +18,9 @@ namespace plaf {
 // closest face, blended with its neighbours' by the barycentric coordinates; curves from
 // feature_curves(input) as polylines). input must have its features detected; it is copied.
 std::unique_ptr<ReferenceGeometry<3>> make_discrete_reference(const TriSurface& input);
+
+// The surface's vertex points by index and the diagonal of their bounding box (0 without
+// vertices): what both references (this one and smooth_reference.h) start from.
+std::vector<Eigen::Vector3d> vertex_points(const TriSurface& s, double& diagonal);
 
 }  // namespace plaf

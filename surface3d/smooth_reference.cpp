@@ -14,6 +14,7 @@
 
 #include "modules/base/error.h"
 #include "modules/geometry/aabb_tree.h"
+#include "surface3d/discrete_reference.h"
 
 namespace plaf {
 
@@ -226,13 +227,7 @@ class SmoothReference final : public ReferenceGeometry<3> {
 
 SmoothReference::SmoothReference(const TriSurface& s) {
   const TriMesh& m = s.mesh;
-  points_.assign(m.n_vertices(), Vector3d::Zero());
-  Eigen::AlignedBox3d box;
-  for (const auto v : m.vertices()) {
-    points_[idx(v.idx())] = m.point(v);
-    box.extend(m.point(v));
-  }
-  scale_ = box.isEmpty() ? 0.0 : box.diagonal().norm();
+  points_ = vertex_points(s, scale_);
   if (m.n_faces() == 0) throw MesherError("smooth reference: the surface has no faces");
   add_faces(s);
   tree_ = TriangleTree(points_, tris_);
