@@ -82,7 +82,7 @@ Geometry3Params parse_geometry3_params(const ConfigNode& g, const std::string& t
       s.symmetry_planes.push_back(plane);
     }
     s.check_self_intersections = g.get_choice("self_intersections", "check", {"check", "skip"}) == "check";
-    s.drop_inner_components = g.get_choice("inner_components", "error", {"error", "drop"}) == "drop";
+    s.drop_inner_components = g.get_choice("inner_components", "drop", {"error", "drop"}) == "drop";
     s.smooth_reference = g.get_choice("reference", "facets", {"smooth", "facets"}) == "smooth";
   }
   return s;

@@ -24,7 +24,8 @@
 //       symmetry_planes:    open boundaries allowed on these planes, tagged symmetry:
 //         - normal: [nx, ny, nz]   (required)   offset: <d>   (the plane normal . x = d, default 0)
 //       self_intersections: check|skip                            default: check
-//       inner_components: error|drop  bodies nested in another    default: error
+//       inner_components: drop|error  bodies nested inside another (the flow never meets them):
+//                         dropped with a repair line, or an error     default: drop
 //   surface:                the `remesh` surface stage: features, remeshing (features.h, remesh.h),
 //                           order-Q nodes on the reference, every triangle certified (high_order.h)
 //     ridge_angle_deg: <0..180>   dihedral deviation of a ridge   default: 30
@@ -78,7 +79,7 @@ struct Geometry3Params {
   double weld_rel = 1e-9;
   std::vector<SymmetryPlaneParams> symmetry_planes;
   bool check_self_intersections = true;
-  bool drop_inner_components = false;
+  bool drop_inner_components = true;
   bool smooth_reference = false;  // surface_file: smooth patches, else the flat facets
 };
 

@@ -18,7 +18,9 @@
 //  6. inward orientation -> fixed per component by the sign of its enclosed volume (closed by the
 //     symmetry planes, so an open half model counts too); a component with (near) zero volume ->
 //     error; components nested inside another (a point of one inside the other, by ray parity)
-//     -> error, or dropped when drop_inner_components (repair);
+//     -> dropped (a repair line: inside a closed body they never meet the flow; CAD exports and
+//     scans carry such pieces, e.g. the published Orion capsule's two), or an error when
+//     drop_inner_components is false (geometry.inner_components: error);
 //  7. self-intersections: triangle pairs from the AABB tree's overlapping boxes tested exactly
 //     (predicates.h); pairs sharing a vertex or an edge count only if they overlap beyond it
 //     -> error naming the count and the first pair with a point.
@@ -41,7 +43,7 @@ struct SurfaceCheckOptions {
   std::vector<SymmetryPlane> symmetry_planes;
   double plane_tol_rel = 1e-6;
   bool check_self_intersections = true;
-  bool drop_inner_components = false;
+  bool drop_inner_components = true;
   std::string wall_tag = "wall";
 };
 

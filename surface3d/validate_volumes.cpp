@@ -233,7 +233,7 @@ std::vector<char> drop_nested_components(const Work& w, const Components& comps,
                              fmt_point(inside.inner_point[fc]) + " inside the component with triangle " +
                              std::to_string(w.input_index[idx(comps.tris[idx(inside.inner_of[fc])].front())]);
     if (!drop_inner_components)
-      throw InputError(w.source() + ": " + what + " (set drop_inner_components to drop them)");
+      throw InputError(w.source() + ": " + what + " (geometry.inner_components is error; drop drops them)");
     for (std::size_t c = 0; c < n_comps; ++c)
       if (inside.inner_of[c] >= 0) {
         for (const int t : comps.tris[c]) alive[idx(t)] = 0;

@@ -118,8 +118,9 @@ TEST_CASE("surface cli: each bad surface gives its own one-line error, exit code
   pierced.points[0] *= -1.5;
   const Case cases[] = {
       {"open scan", sphere_with_holes(5), surface("case.stl"), "5 open boundary loops not on a symmetry plane"},
-      {"stray inner pieces", sphere_with_inner_pieces(), surface("case.stl"), "2 components inside another"},
-      {"self-intersections", pierced, surface("case.stl", "  inner_components: drop\n"),
+      {"stray inner pieces", sphere_with_inner_pieces(), surface("case.stl", "  inner_components: error\n"),
+       "2 components inside another"},
+      {"self-intersections", pierced, surface("case.stl"),
        "self-intersecting triangle pair"},
       {"missing file", {}, surface("no_such_file.stl"), "no_such_file.stl"},
       {"wing section missing", {}, "geometry: {type: wing, file: nothing.dat}\nmetric: {type: uniform, h: 0.2}\n",

@@ -247,10 +247,10 @@ TEST_CASE("validate: disjoint bodies pass, nested ones are an error or dropped")
 
   // A small cube inside a large one (given first), inward as a cavity would be.
   const TriangleSoup nested = merged(cube(Vector3d::Constant(-1), 3), flipped(cube(Vector3d::Constant(0.25), 0.5)));
-  CHECK_THROWS_WITH_AS(validate_surface(nested, {}), doctest::Contains("1 component inside another"), InputError);
-  SurfaceCheckOptions opt;
-  opt.drop_inner_components = true;
-  const TriSurface big = validate_surface(nested, opt, &rep);
+  SurfaceCheckOptions strict;
+  strict.drop_inner_components = false;
+  CHECK_THROWS_WITH_AS(validate_surface(nested, strict), doctest::Contains("1 component inside another"), InputError);
+  const TriSurface big = validate_surface(nested, {}, &rep);  // dropped by default
   CHECK(rep.dropped_inner == 12);
   CHECK(rep.components == 1);
   CHECK(big.mesh.n_faces() == 12);
@@ -267,6 +267,7 @@ TEST_CASE("validate: disjoint bodies pass, nested ones are an error or dropped")
   CHECK(rep.components == 2);
   // A closed body inside the half model is.
   const TriangleSoup inside = merged(without(cube(Vector3d(0, 0, 0), 2), {8, 9}), cube(Vector3d(0.5, 0.5, 0.5)));
+  half.drop_inner_components = false;
   CHECK_THROWS_WITH_AS(validate_surface(inside, half), doctest::Contains("inside another"), InputError);
 }
 

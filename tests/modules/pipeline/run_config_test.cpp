@@ -343,11 +343,11 @@ TEST_CASE("run config: 3D geometries make a 3D run with its surface section, a 3
   CHECK(parse_uniform_metric(ConfigNode::load_string(wing, "w.yaml").child("metric"), 3).sizes.size() == 3);
 
   const Geometry3Params f = geometry3("geometry: {type: surface_file, file: m6.fmt, symmetry_planes: "
-                                      "[{normal: [0, 0, 2], offset: 1}], inner_components: drop}\n");
+                                      "[{normal: [0, 0, 2], offset: 1}], inner_components: error}\n");
   REQUIRE(f.symmetry_planes.size() == 1);
   CHECK(f.symmetry_planes[0].normal[2] == doctest::Approx(1));
   CHECK(f.symmetry_planes[0].offset == doctest::Approx(0.5));  // normalised with the normal
-  CHECK(f.drop_inner_components);
+  CHECK(!f.drop_inner_components);  // default: drop
   CHECK(f.check_self_intersections);
 
   // 2D runs are untouched.
