@@ -5,6 +5,8 @@
 #include "apps/stage_clock.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -162,6 +164,58 @@ std::vector<Eigen::Vector3d> front_nodes(const CurvedFront<3>& f, const std::vec
   return v;
 }
 
+// Where a failed run's picture looks (QualityReport::focus): the invalid cell of the smallest
+// scaled Jacobian, a few of its sizes around it; else the largest group of columns the layers
+// stopped early (LayerCoverage::sites), a box about its size; in both at least 1 % of the mesh's
+// extent.
+template <int Dim>
+void set_failure_focus(const HybridMesh<Dim>& mesh, const CellQuality& per_cell, const LayerCoverage* coverage,
+                       QualityReport& report) {
+  using Point = typename HybridMesh<Dim>::Point;
+  Point lo = Point::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Point& x : mesh.nodes) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const double floor = mesh.nodes.empty() ? 0.0 : 0.01 * (hi - lo).norm();
+  // The worst invalid cell.
+  std::size_t k = 0, worst_block = 0, worst_cell = 0;
+  double worst = std::numeric_limits<double>::infinity();
+  bool any = false;
+  for (std::size_t b = 0; b < mesh.cells.size(); ++b)
+    for (std::size_t i = 0; i < mesh.cells[b].size(); ++i, ++k)
+      if (k < per_cell.valid.size() && !per_cell.valid[k]) {
+        const double sj = k < per_cell.scaled_jacobian.size() ? per_cell.scaled_jacobian[k] : 0.0;
+        if (!any || sj < worst) {
+          worst = sj;
+          worst_block = b;
+          worst_cell = i;
+          any = true;
+        }
+      }
+  if (any) {
+    const CellBlock& block = mesh.cells[worst_block];
+    const NodeId* c = block.cell(worst_cell);
+    Point clo = Point::Constant(std::numeric_limits<double>::infinity()), chi = -clo;
+    for (int n = 0; n < block.nodes_per_cell(); ++n) {
+      clo = clo.cwiseMin(mesh.nodes[static_cast<std::size_t>(c[n])]);
+      chi = chi.cwiseMax(mesh.nodes[static_cast<std::size_t>(c[n])]);
+    }
+    const Point mid = 0.5 * (clo + chi);
+    report.focus.assign(mid.data(), mid.data() + Dim);
+    report.focus_radius = std::max(4 * (chi - clo).norm(), floor);
+    report.focus_label = "worst invalid cell (scaled Jacobian " + num(worst) + ")";
+    return;
+  }
+  if (!coverage || coverage->sites.empty()) return;
+  const auto site = std::max_element(coverage->sites.begin(), coverage->sites.end(),
+                                     [](const auto& a, const auto& b) { return a.measure < b.measure; });
+  report.focus.assign(site->point.begin(), site->point.begin() + Dim);
+  const double extent = Dim == 3 ? std::sqrt(site->measure) : site->measure;
+  report.focus_radius = std::max(0.5 * extent, floor);
+  report.focus_label = "largest early stop of the layers (wall " + num(site->measure) + ")";
+}
+
 template <int Dim>
 RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
   const std::filesystem::path& config_path = c.file;
@@ -275,6 +329,17 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
         (report.first_invalid.empty() ? "" : " (first: " + report.first_invalid + ")") +
         (report.conformity.ok ? "" : ", " + report.conformity.first_problem));
   const bool failed = !outcome.failures.empty();
+  if (failed) {
+    set_failure_focus<Dim>(mesh, per_cell, s.layers ? &s.layers->coverage : nullptr, report);
+    if (!report.focus.empty()) {
+      std::ostringstream j;
+      j << "{\"point\": [";
+      for (std::size_t i = 0; i < report.focus.size(); ++i) j << (i ? ", " : "") << json_number(report.focus[i]);
+      j << "], \"radius\": " << json_number(report.focus_radius) << ", \"why\": " << json_string(report.focus_label)
+        << "}";
+      report.extra.emplace_back("failure.focus", j.str());
+    }
+  }
 
   // 9. Outputs, each written atomically and all as one set (output_set.h: staged, then moved in
   //    together; a failure or a stop signal leaves none); the report last, with every stage's time.

@@ -248,6 +248,12 @@ class Growth {
         if (!ok) {
           growing_[part] = false;
           failed_[part] = true;
+          const std::vector<std::size_t> at = g_.failure_stop_points(part, attempts_.last_failures());
+          if (!at.empty()) {
+            double m = 0;
+            for (std::size_t k : at) m += k < measure_[part].size() ? measure_[part][k] : 0.0;
+            add_site(g_.stop_points(part)[at.front()], m);
+          }
           r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
                               ": stopped, cells still invalid or colliding after " +
                               std::to_string(p_.shrink_attempts) + " shrinks");
@@ -378,23 +384,36 @@ class Growth {
     for (int round = 0; round < kLocalStopRounds; ++round) {
       std::size_t added = 0, first = 0;
       double area = 0;
+      const std::vector<typename FrontGrower<Dim>::Vec> points = g_.stop_points(part);
+      typename FrontGrower<Dim>::Vec centre = FrontGrower<Dim>::Vec::Zero();
+      std::vector<std::size_t> now;
       for (std::size_t k : g_.failure_stop_points(part, attempts_.last_failures())) {
         if (held_[part][k]) continue;
         if (added++ == 0) first = k;
         held_[part][k] = stopped[k] = 1;
         area += measure_[part][k];
+        centre += points[k];
+        now.push_back(k);
       }
-      // More than a quarter of the part stopped: the failures are not local (the tetrahedra cut
-      // from curved prisms fail where the wall's triangles are large against their radius of
-      // curvature, grow_layers_3d.h, step 7), and the part stops whole, as without local stops.
-      const std::size_t held = static_cast<std::size_t>(std::count(held_[part].begin(), held_[part].end(), 1));
-      if (added == 0 || 4 * held > held_[part].size()) return false;
+      // However many columns have stopped, the rest grows on: the coverage says how much of the
+      // wall has its stack. (An earlier rule stopped the whole part once a quarter of it had
+      // stopped, so that the published spot, h0 1e-5 L, 40 layers, ended at layer 38 with a
+      // coverage of 0; without it all 40 layers grow on 70.6 % of its wall, in 192 s instead of
+      // 110 s.)
+      if (added == 0) return false;
       const std::string line = "layer " + std::to_string(layer) + ", " + attempts_.part_name(part) + ": " +
                                std::to_string(added) + " columns stopped where no valid cell could be grown at 1/16 of " +
                                "the metric's height (wall " + num(area) + ", first at " +
                                point_text<Dim>(g_.stop_points(part)[first]) + ")";
       r_.events.push_back(line);
       r_.coverage.stopped_early.push_back(line);
+      // The group's site: its stop point nearest the group's centre (a stop point is on the wall,
+      // the centre of a ring of stops need not be).
+      centre /= static_cast<double>(added);
+      add_site(points[*std::min_element(now.begin(), now.end(), [&](std::size_t a, std::size_t b) {
+                 return (points[a] - centre).squaredNorm() < (points[b] - centre).squaredNorm();
+               })],
+               area);
       // The heights start again at the metric's: the shrinks around the old failures are undone,
       // so only the columns that fail again at the floor stop (keeping them shrunk stopped four
       // times as many on the ONERA M6's tip: 94.4 % coverage instead of 99.9 %).
@@ -402,6 +421,13 @@ class Growth {
       if (attempts_.run(part, layer, scale, stopped, f, st, built)) return true;
     }
     return false;
+  }
+
+  void add_site(const typename FrontGrower<Dim>::Vec& x, double measure) {
+    LayerCoverage::Site s;
+    for (int i = 0; i < Dim; ++i) s.point[static_cast<std::size_t>(i)] = x[i];
+    s.measure = measure;
+    r_.coverage.sites.push_back(s);
   }
 
   // A layer that changed the part's front (3D fans add kite vertices) changes its stop points: their

@@ -256,7 +256,7 @@ void draw_cut(cairo_t* cr, const View& v, const Cut& cut, double lw) {
 
 // The shaded outer front (or wall) in the panel (ox, oy, w, h).
 void draw_shaded(cairo_t* cr, const HybridMesh<3>& mesh, const Vec& view, double ox, double oy, double w, double h,
-                 double lw) {
+                 double lw, const std::optional<Vec>& focus) {
   int outer = -1;
   for (std::size_t t = 0; t < mesh.tags.size(); ++t)
     if (mesh.tags[t].name == "layers_outer") outer = static_cast<int>(t);
@@ -314,6 +314,14 @@ void draw_shaded(cairo_t* cr, const HybridMesh<3>& mesh, const Vec& view, double
     cairo_set_line_width(cr, 0.3 * lw);
     cairo_stroke(cr);  // hides the seams between sub-triangles
   }
+  if (focus) {  // drawn over everything: it may lie behind the body in this view
+    const Vec2 f = to2(*focus);
+    cairo_new_path(cr);
+    cairo_arc(cr, v.px(f.x()), v.py(f.y()), 14 * lw, 0, 2 * M_PI);
+    cairo_set_source_rgb(cr, 0.9, 0, 0);
+    cairo_set_line_width(cr, 3 * lw);
+    cairo_stroke(cr);
+  }
 }
 
 }  // namespace
@@ -356,7 +364,13 @@ void write_png(const HybridMesh<3>& mesh, const std::vector<std::uint8_t>& valid
   const Frame fr(options.cut_point, options.cut_normal);
   const Cut cut = cut_mesh(mesh, valid, fr, diag);
   const int w = options.width, h = options.height;
-  const int panels = static_cast<int>(options.zooms.size());
+  std::vector<ZoomBox> zooms = options.zooms;
+  if (options.focus) {
+    const Vec2 c = fr.to2(*options.focus);
+    const double r = options.focus_radius;
+    zooms.insert(zooms.begin(), ZoomBox{options.focus_label, c.x() - r, c.x() + r, c.y() - r, c.y() + r});
+  }
+  const int panels = static_cast<int>(zooms.size());
   const int main_h = panels ? h * 2 / 3 : h;
   const int cut_w = w * 11 / 20;
   cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
@@ -374,7 +388,7 @@ void write_png(const HybridMesh<3>& mesh, const std::vector<std::uint8_t>& valid
   cairo_save(cr);
   cairo_rectangle(cr, cut_w, 0, w - cut_w, main_h);
   cairo_clip(cr);
-  draw_shaded(cr, mesh, options.view, cut_w, 0, w - cut_w, main_h, lw);
+  draw_shaded(cr, mesh, options.view, cut_w, 0, w - cut_w, main_h, lw, options.focus);
   cairo_restore(cr);
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_set_font_size(cr, 16);
@@ -387,7 +401,7 @@ void write_png(const HybridMesh<3>& mesh, const std::vector<std::uint8_t>& valid
                             std::to_string(fr.n.y()) + ", " + std::to_string(fr.n.z()) + ")";
   cairo_move_to(cr, 10, 48);
   cairo_show_text(cr, plane.c_str());
-  zoom_panels(cr, options.zooms, w, h, main_h, [&](const View& v) { draw_cut(cr, v, cut, lw); });
+  zoom_panels(cr, zooms, w, h, main_h, [&](const View& v) { draw_cut(cr, v, cut, lw); });
   draw_title(cr, options.title);
   finish_png(cr, surface, path);
 }

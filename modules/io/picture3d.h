@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,12 @@ struct Picture3Options {
   Eigen::Vector3d cut_normal = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d view = Eigen::Vector3d(-1, -0.6, -0.8);  // the shaded view looks along this
   std::vector<ZoomBox> zooms;                              // boxes in the cut plane's (u, v)
+  // A point to look at (a failed run's, apps/run.cpp): its box of half-width focus_radius in the
+  // cut plane's (u, v) comes first among the zoom panels, and a red circle marks it in the
+  // shaded view.
+  std::optional<Eigen::Vector3d> focus;
+  double focus_radius = 0;
+  std::string focus_label;
 };
 
 // The default cut of a mesh: the plane of its first symmetry facet, if any, else the plane through

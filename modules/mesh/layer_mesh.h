@@ -4,6 +4,8 @@
 // per-layer table and events). The algorithms live in layers/layer_core.h.
 #pragma once
 
+#include <array>
+
 #include <limits>
 #include <string>
 #include <utility>
@@ -61,6 +63,13 @@ struct LayerCoverage {
   // Where columns stopped early: one line per part and layer (the stop points, their wall
   // measure and a point), as the events say it.
   std::vector<std::string> stopped_early;
+  // The same stops as points (2D: z = 0) with the wall measure they stand for, and a part that
+  // stopped whole at its first failure's stop points: where a failed run's picture looks.
+  struct Site {
+    std::array<double, 3> point{};
+    double measure = 0;
+  };
+  std::vector<Site> sites;
 };
 
 // The layer stage's product. Node-numbering contract: mesh.nodes starts with the input

@@ -76,6 +76,11 @@ struct QualityReport {
   EdgeLengthStats tetrahedron_edges;     // 3D, when has_metric: the tetrahedra's distinct edges (count 0: none)
   ConformityReport conformity;
   std::vector<std::pair<std::string, double>> timings_s;
+  // Where a failed run's picture looks (apps/run.cpp): a point (Dim coordinates; empty: none),
+  // the radius around it, and why.
+  std::vector<double> focus;
+  double focus_radius = 0;
+  std::string focus_label;
   // Further sections added by later stages, as (dotted key, JSON value text).
   std::vector<std::pair<std::string, std::string>> extra;
 

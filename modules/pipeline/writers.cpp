@@ -52,8 +52,16 @@ Options picture_options(const WriteJob<Dim>& j) {
   return po;
 }
 
+// A failed run's focus (QualityReport::focus) as one more zoom panel, first.
+std::string focus_label(const QualityReport& r) { return "where it failed: " + r.focus_label; }
+
 void write_picture(const WriteJob<2>& j) {
-  write_png(j.mesh, j.per_cell.valid, j.base.string() + ".png", picture_options<PictureOptions>(j));
+  PictureOptions po = picture_options<PictureOptions>(j);
+  const QualityReport& r = j.report;
+  if (r.focus.size() == 2)
+    po.zooms.insert(po.zooms.begin(), ZoomBox{focus_label(r), r.focus[0] - r.focus_radius, r.focus[0] + r.focus_radius,
+                                              r.focus[1] - r.focus_radius, r.focus[1] + r.focus_radius});
+  write_png(j.mesh, j.per_cell.valid, j.base.string() + ".png", po);
 }
 
 void write_picture_3d(const WriteJob<3>& j) {
@@ -64,6 +72,13 @@ void write_picture_3d(const WriteJob<3>& j) {
     po.cut_normal = Eigen::Vector3d(o.cut_normal[0], o.cut_normal[1], o.cut_normal[2]);
   } else {
     default_cut(j.mesh, po.cut_point, po.cut_normal);
+  }
+  const QualityReport& r = j.report;
+  if (r.focus.size() == 3) {  // the cut through the focus (the configured plane's normal kept)
+    po.focus = Eigen::Vector3d(r.focus[0], r.focus[1], r.focus[2]);
+    po.focus_radius = r.focus_radius;
+    po.focus_label = focus_label(r);
+    po.cut_point = *po.focus;
   }
   po.view = Eigen::Vector3d(o.view[0], o.view[1], o.view[2]);
   // A surface run's flags are its facets' (no cells): the picture draws them all valid.

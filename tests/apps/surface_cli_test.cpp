@@ -331,6 +331,17 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
     CHECK(fs::exists(failed / "case.png"));
     CHECK(fs::exists(failed / "case.msh") == keep);
     CHECK_FALSE(fs::exists(d / "out" / "case.msh"));
-    CHECK(read_text(failed / "case.report.json").find("\"ok\": false") != std::string::npos);
+    const std::string report = read_text(failed / "case.report.json");
+    CHECK(report.find("\"ok\": false") != std::string::npos);
+    // The picture looks where the columns stopped: in the gap (x = 1.0025), at a stopped column's
+    // top (within the 8 layers' 0.2 of a sphere).
+    const std::size_t at = report.find("\"focus\": {\"point\": [");
+    REQUIRE(at != std::string::npos);
+    const char* c = report.c_str() + at + 20;
+    char* end = nullptr;
+    const double x = std::strtod(c, &end), y = std::strtod(end + 1, &end), z = std::strtod(end + 1, &end);
+    CHECK(std::abs(x - 1.0025) < 0.02);
+    CHECK(std::min(std::hypot(x, y, z), std::hypot(x - 2.005, y, z)) - 1 < 0.2);
+    CHECK(report.find("largest early stop of the layers") != std::string::npos);
   }
 }
