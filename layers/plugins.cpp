@@ -124,6 +124,10 @@ void register_plugins() {
     });
     stage_registry<3>(StageKind::Layers).add("extrude", [](const ConfigNode& section) -> Stage<3> {
       LayerParams p = parse_layer_params(section);
+      // The 3D grower has no normal smoothing (its normals see every face around a node by
+      // construction, normals_3d.h): refused rather than silently ignored.
+      if (p.smooth_normals)
+        throw ConfigError(section.where("smooth_normals") + ": true is 2D only (the 3D layers do not smooth normals)");
       if (p.isotropic_stop == IsotropicStop::Node)
         throw ConfigError(section.where("isotropic_stop") + ": node is not available in 3D (use any, all or off)");
       return [p](RunState<3>& s, StageReport& rep) mutable {
