@@ -340,6 +340,7 @@ class PartLayerBuilder {
     for (std::size_t l = 0; l < n; ++l) x_[l] = mesh_.nodes[static_cast<std::size_t>(part_.ids[l])];
     stops();
     normals();
+    relax_normals();
     if (first_ && std::isfinite(f_atten_) && !any_stop_) fans();
     check_cusps();
     if (!fanned_) {
@@ -459,6 +460,51 @@ class PartLayerBuilder {
       if (first_ && r.kind == NodeClass::Smooth && id < front0_.normals.size()) r.n = front0_.normals[id];
       r.n = in_plane(l, r.n);
       nn_[l] = r;
+    }
+  }
+
+  // Normal relaxation (layers.smooth_normals; Aubry and Loehner's smoothing of the marching
+  // directions, issue 30's "relax the normals over the next layers"): after the first layer, two
+  // Jacobi passes move each smooth node's normal halfway toward the mean of the normals of the
+  // nodes of its faces, kept in its symmetry planes, and taken only where every face around the
+  // node still sees it at least as well as cos 75 degrees or as before. Columns over a concave
+  // bend or beside a fan turn with their neighbours instead of converging on them. Fan, ridge,
+  // corner, cusp and stopped nodes keep their normals.
+  void relax_normals() {
+    if (!p_.smooth_normals || first_) return;
+    const std::size_t n = part_.size();
+    const double floor = std::cos(75 * M_PI / 180);
+    std::vector<Vec> next(n);
+    for (int pass = 0; pass < 2; ++pass) {
+      for (std::size_t l = 0; l < n; ++l) {
+        next[l] = nn_[l].n;
+        if (nn_[l].kind != NodeClass::Smooth || part_.keep[l].squaredNorm() > 0 || stop_[l]) continue;
+        Vec sum = Vec::Zero();
+        int count = 0;
+        for (int k = part_.node_face_start[l]; k < part_.node_face_start[l + 1]; ++k) {
+          const std::size_t f = static_cast<std::size_t>(part_.node_face[static_cast<std::size_t>(k)]);
+          for (int v = 0; v < part_.face_size(f); ++v) {
+            const std::size_t m = static_cast<std::size_t>(part_.face(f)[v]);
+            if (m == l) continue;
+            sum += nn_[m].n;
+            ++count;
+          }
+        }
+        if (count == 0) continue;
+        const Vec mid = nn_[l].n + sum / count;
+        if (!(mid.norm() > 1e-12)) continue;
+        const Vec c = in_plane(l, mid.normalized());
+        double worst = 1;
+        for (std::size_t e = ent_begin(l); e < ent_end(l); ++e) worst = std::min(worst, c.dot(ent_n_[e]));
+        if (worst >= std::min(nn_[l].min_cosine, floor)) next[l] = c;
+      }
+      for (std::size_t l = 0; l < n; ++l) {
+        if (next[l] == nn_[l].n) continue;
+        double worst = 1;
+        for (std::size_t e = ent_begin(l); e < ent_end(l); ++e) worst = std::min(worst, next[l].dot(ent_n_[e]));
+        nn_[l].n = next[l];
+        nn_[l].min_cosine = worst;
+      }
     }
   }
 

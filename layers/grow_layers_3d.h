@@ -10,6 +10,11 @@
 //     the first layer at smooth nodes; otherwise the angle-weighted average of the normals of the
 //     front's linear sub-triangles around the node (the 2D panel average), and at ridges and
 //     corners the normal that sees every face, stretched at concave ones (the 3D concave merge);
+//     after the first layer, with smooth_normals (not yet the default, plugins.cpp), the smooth
+//     nodes' normals are relaxed toward their neighbours' (two Jacobi passes, halfway each, kept
+//     in their symmetry planes and seeing every face around at cos 75 degrees or as well as
+//     before): the columns bend with their neighbours instead of converging at concave bends and
+//     beside fans (the published AMReX airfoil slab, h0 1e-5 L, q2: 100 % coverage, not 84.2 %);
 //  3. symmetry planes: the front's rim (edges used by one triangle) must lie on planes (fitted per
 //     connected rim, to 1e-6 of its size); the normals of rim nodes are projected into the plane
 //     and their new nodes put on it, so the prisms' side faces there lie on the plane; they are

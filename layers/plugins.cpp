@@ -22,6 +22,12 @@ LayerParams parse_layer_params(const ConfigNode& l) {
   p.corner_angle_deg = l.get_in_range("corner_angle_deg", p.corner_angle_deg, 1.0, 179.0);
   p.fan_angle_deg = l.get_in_range("fan_angle_deg", p.fan_angle_deg, 5.0, 90.0);
   p.integrate_height = l.get_choice("height", "size", {"size", "integrate"}) == "integrate";
+  // Off by default in 3D too, for now: the relaxation (grow_layers_3d.h, step 2) raised the
+  // coverage of the published AMReX airfoil slab (h0 1e-5 L, q2, 40 layers, bbox-sized) from
+  // 84.2 % to 100 %, of the 717 wing from 91.3 % to 93.5 %, of the BWB from 93.1 % to 94.0 % and
+  // of spot from 70.6 % to 71.8 %, but its changed outer front gives wing_symmetry_hybrid's
+  // TetGen fill a sliver of 0.56 degrees (4 vertices on the two symmetry planes, in the far wake;
+  // 3.57 degrees without), which the fill cannot yet remove (issue 32).
   p.smooth_normals = l.get_bool("smooth_normals", p.smooth_normals);
   // With stop_when_linear the layers also stop where they have become isotropic cells at every
   // node (isotropic_stop: all): no boundary layer is left to grow, and a front still curved
@@ -124,10 +130,6 @@ void register_plugins() {
     });
     stage_registry<3>(StageKind::Layers).add("extrude", [](const ConfigNode& section) -> Stage<3> {
       LayerParams p = parse_layer_params(section);
-      // The 3D grower has no normal smoothing (its normals see every face around a node by
-      // construction, normals_3d.h): refused rather than silently ignored.
-      if (p.smooth_normals)
-        throw ConfigError(section.where("smooth_normals") + ": true is 2D only (the 3D layers do not smooth normals)");
       if (p.isotropic_stop == IsotropicStop::Node)
         throw ConfigError(section.where("isotropic_stop") + ": node is not available in 3D (use any, all or off)");
       return [p](RunState<3>& s, StageReport& rep) mutable {

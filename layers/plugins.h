@@ -8,7 +8,8 @@
 //     corner_angle_deg: <1..179>  turning angle of a corner       default: 30
 //     fan_angle_deg: <5..90>  largest angle between fan normals   default: 45
 //     height: size|integrate  metric size along the normal, or unit metric length   default: size
-//     smooth_normals: <bool>  2D: smooth the normals of each layer (3D: an error)   default: false
+//     smooth_normals: <bool>  smooth the normals of each layer (2D: one Laplacian pass; 3D: the
+//                           relaxation of grow_layers_3d.h, step 2)   default: false
 //     high_order_heights: default|own|interpolated  a high-order node's height: its own metric
 //                           height, or its element's vertex heights interpolated (layer_core.h)
 //                           default: interpolated (2D and 3D)
