@@ -23,7 +23,9 @@ from an analytic body's parameters. With L the bounding box's largest extent:
     fill: {type: tetgen, farfield: {shape: box, size: [10 L, 10 L, 10 L], center: bbox centre}}
                                          (only with --fill; by default layers only, much faster)
     output: {formats: [report]}          (+ msh with --keep)
-and nothing else: no tuned layer count, no curvature_h_min, no ridge angles. Half models get
+and nothing else: no tuned layer count, no curvature_h_min, no ridge angles (--layer-key KEY=VALUE
+adds a layers key to every run, to study an option across the bodies: then the rows are that
+study's, not the rule's). Half models get
 `symmetry_planes: [{normal: [0, 0, 1], offset: 0}]`. Each run is named BODY_h0H_qQ.
 
 Per run, one row: exit code (0 ok, 1 bad input, 2 written but failed, 3 bug, or `timeout`); wall
@@ -196,7 +198,7 @@ def h0_tag(h):
     return f"{m}e{int(e)}"
 
 
-def config_text(name, body, h, order, fill, keep):
+def config_text(name, body, h, order, fill, keep, layer_keys=()):
     geo_lines, lo, hi, half = body
     ext = [hi[k] - lo[k] for k in range(3)]
     size = max(ext)
@@ -217,6 +219,7 @@ def config_text(name, body, h, order, fill, keep):
         "layers:",
         "  max: 40",
     ]
+    lines += [f"  {k}: {v}" for k, v in layer_keys]
     if fill:
         lines += [
             "  stop_when_linear: true",
@@ -247,7 +250,7 @@ def run_one(args, body_name, h, order):
     cfg = os.path.join(args.out, "configs", name + ".yaml")
     run_dir = os.path.join(args.out, "runs", name)
     with open(cfg, "w") as f:
-        f.write(config_text(name, args.bodies[body_name], h, order, args.fill, args.keep))
+        f.write(config_text(name, args.bodies[body_name], h, order, args.fill, args.keep, args.layer_keys))
     shutil.rmtree(run_dir, ignore_errors=True)
     r = {c: "" for c in COLUMNS}
     r.update(run=name, body=body_name, h0=h, order=order)
@@ -311,6 +314,9 @@ def main():
     ap.add_argument("--only", default="", help="comma-separated bodies (e.g. spot,sphere): only their rows")
     ap.add_argument("--h0", default="", help="comma-separated h0 factors (of the body's size), e.g. 1e-5")
     ap.add_argument("--orders", default="", help="comma-separated orders, e.g. 1,2")
+    ap.add_argument("--layer-key", action="append", default=[], metavar="KEY=VALUE",
+                    help="one more key of every run's layers section, to study an option across the "
+                         "bodies (e.g. smooth_normals=true); the rule's configurations have none")
     args = ap.parse_args()
     if not os.access(args.plaf, os.X_OK):
         sys.exit(f"sweep_3d: {args.plaf}: no plaf binary (build first, or pass --plaf)")
@@ -326,6 +332,12 @@ def main():
             continue
         lo, hi = bbox_file(path)
         args.bodies[name] = (["type: surface_file", f"file: data:surfaces/{file}"], lo, hi, half)
+    args.layer_keys = []
+    for kv in args.layer_key:
+        key, sep, value = kv.partition("=")
+        if not sep or not key.strip() or not value.strip():
+            sys.exit(f"sweep_3d: --layer-key {kv}: expected KEY=VALUE (e.g. smooth_normals=true)")
+        args.layer_keys.append((key.strip(), value.strip()))
     known = list(PUBLISHED) + list(ANALYTIC)
     if args.subset:
         rows = [r for r in SUBSET if r[0] in args.bodies]
