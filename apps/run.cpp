@@ -166,18 +166,26 @@ std::vector<Eigen::Vector3d> front_nodes(const CurvedFront<3>& f, const std::vec
 
 // Where a failed run's picture looks (QualityReport::focus): the invalid cell of the smallest
 // scaled Jacobian, a few of its sizes around it; else the largest group of columns the layers
-// stopped early (LayerCoverage::sites), a box about its size; in both at least 1 % of the mesh's
-// extent.
+// stopped early (LayerCoverage::sites; given only when the layer stage is what failed), a box
+// about its size; in both at least 1 % of the wall's extent (its facets' nodes; the mesh's
+// without wall facets -- not the farfield's, which would zoom out of the layers).
 template <int Dim>
 void set_failure_focus(const HybridMesh<Dim>& mesh, const CellQuality& per_cell, const LayerCoverage* coverage,
                        QualityReport& report) {
   using Point = typename HybridMesh<Dim>::Point;
   Point lo = Point::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (const Point& x : mesh.nodes) {
-    lo = lo.cwiseMin(x);
-    hi = hi.cwiseMax(x);
-  }
-  const double floor = mesh.nodes.empty() ? 0.0 : 0.01 * (hi - lo).norm();
+  for (const CellBlock& b : mesh.boundary)
+    if (b.tag >= 0 && mesh.tags[static_cast<std::size_t>(b.tag)].kind == BoundaryKind::Wall)
+      for (const NodeId n : b.connectivity) {
+        lo = lo.cwiseMin(mesh.nodes[static_cast<std::size_t>(n)]);
+        hi = hi.cwiseMax(mesh.nodes[static_cast<std::size_t>(n)]);
+      }
+  if (!std::isfinite(lo[0]))
+    for (const Point& x : mesh.nodes) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+  const double floor = std::isfinite(lo[0]) ? 0.01 * (hi - lo).norm() : 0.0;
   // The worst invalid cell.
   std::size_t k = 0, worst_block = 0, worst_cell = 0;
   double worst = std::numeric_limits<double>::infinity();
@@ -330,7 +338,10 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
         (report.conformity.ok ? "" : ", " + report.conformity.first_problem));
   const bool failed = !outcome.failures.empty();
   if (failed) {
-    set_failure_focus<Dim>(mesh, per_cell, s.layers ? &s.layers->coverage : nullptr, report);
+    const bool layers_failed = std::any_of(reports.begin(), reports.end(), [](const StageReport& r) {
+      return r.section() == stage_kind_name(StageKind::Layers) && !r.failure().empty();
+    });
+    set_failure_focus<Dim>(mesh, per_cell, layers_failed && s.layers ? &s.layers->coverage : nullptr, report);
     if (!report.focus.empty()) {
       std::ostringstream j;
       j << "{\"point\": [";

@@ -217,12 +217,14 @@ def config_text(name, body, h, order, fill, keep, layer_keys=()):
         "surface:",
         "  curvature_factor: 0.3",
         "layers:",
-        "  max: 40",
     ]
-    lines += [f"  {k}: {v}" for k, v in layer_keys]
+    layers = {"max": "40"}
+    if fill:
+        layers["stop_when_linear"] = "true"
+    layers.update(dict(layer_keys))  # --layer-key overrides the rule's keys, never repeats them
+    lines += [f"  {k}: {v}" for k, v in layers.items()]
     if fill:
         lines += [
-            "  stop_when_linear: true",
             "fill:",
             "  type: tetgen",
             "  farfield:",

@@ -493,7 +493,11 @@ class PartLayerBuilder {
         if (count == 0) continue;
         const Vec mid = nn_[l].n + sum / count;
         if (!(mid.norm() > 1e-12)) continue;
-        const Vec c = in_plane(l, mid.normalized());
+        // In its symmetry planes (skipped where the projection is too short to trust: in_plane
+        // would end the run there, and the relaxation is optional).
+        const Vec planar = in_planes(mid.normalized(), part_.plane[l], planes_);
+        if (!(planar.norm() > 1e-3)) continue;
+        const Vec c = planar.normalized();
         double worst = 1;
         for (std::size_t e = ent_begin(l); e < ent_end(l); ++e) worst = std::min(worst, c.dot(ent_n_[e]));
         if (worst >= std::min(nn_[l].min_cosine, floor)) next[l] = c;

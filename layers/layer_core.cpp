@@ -219,6 +219,13 @@ class Growth {
       bool any = false, all_linear = true;
       for (std::size_t part = 0; part < parts_; ++part) {
         if (!growing_[part]) continue;
+        // Every column of the part stopped locally: it grows no more (its coverage says so).
+        if (!held_[part].empty() && std::all_of(held_[part].begin(), held_[part].end(), [](std::uint8_t h) { return h; })) {
+          growing_[part] = false;
+          r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
+                              ": stopped, every column has stopped locally");
+          continue;
+        }
         std::vector<std::uint8_t> stopped;
         if (stops_isotropic(part, layer, stopped)) continue;
         for (std::size_t k = 0; k < stopped.size(); ++k) stopped[k] = stopped[k] || held_[part][k];
@@ -248,11 +255,12 @@ class Growth {
         if (!ok) {
           growing_[part] = false;
           failed_[part] = true;
+          // Its site: the failing stop point nearest their centre, standing for the wall the part
+          // loses (every column that had not stopped yet).
           const std::vector<std::size_t> at = g_.failure_stop_points(part, attempts_.last_failures());
           if (!at.empty()) {
-            double m = 0;
-            for (std::size_t k : at) m += k < measure_[part].size() ? measure_[part][k] : 0.0;
-            add_site(g_.stop_points(part)[at.front()], m);
+            const std::vector<typename FrontGrower<Dim>::Vec> points = g_.stop_points(part);
+            add_site(points[nearest_centre(points, at)], growing_measure(part, held_[part]));
           }
           r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
                               ": stopped, cells still invalid or colliding after " +
@@ -385,14 +393,12 @@ class Growth {
       std::size_t added = 0, first = 0;
       double area = 0;
       const std::vector<typename FrontGrower<Dim>::Vec> points = g_.stop_points(part);
-      typename FrontGrower<Dim>::Vec centre = FrontGrower<Dim>::Vec::Zero();
       std::vector<std::size_t> now;
       for (std::size_t k : g_.failure_stop_points(part, attempts_.last_failures())) {
         if (held_[part][k]) continue;
         if (added++ == 0) first = k;
         held_[part][k] = stopped[k] = 1;
         area += measure_[part][k];
-        centre += points[k];
         now.push_back(k);
       }
       // However many columns have stopped, the rest grows on: the coverage says how much of the
@@ -407,13 +413,7 @@ class Growth {
                                point_text<Dim>(g_.stop_points(part)[first]) + ")";
       r_.events.push_back(line);
       r_.coverage.stopped_early.push_back(line);
-      // The group's site: its stop point nearest the group's centre (a stop point is on the wall,
-      // the centre of a ring of stops need not be).
-      centre /= static_cast<double>(added);
-      add_site(points[*std::min_element(now.begin(), now.end(), [&](std::size_t a, std::size_t b) {
-                 return (points[a] - centre).squaredNorm() < (points[b] - centre).squaredNorm();
-               })],
-               area);
+      add_site(points[nearest_centre(points, now)], area);
       // The heights start again at the metric's: the shrinks around the old failures are undone,
       // so only the columns that fail again at the floor stop (keeping them shrunk stopped four
       // times as many on the ONERA M6's tip: 94.4 % coverage instead of 99.9 %).
@@ -421,6 +421,18 @@ class Growth {
       if (attempts_.run(part, layer, scale, stopped, f, st, built)) return true;
     }
     return false;
+  }
+
+  // Of the stop points `group` (not empty), the one nearest their centre (a stop point is on the
+  // front; the centre of a ring of stops need not be).
+  static std::size_t nearest_centre(const std::vector<typename FrontGrower<Dim>::Vec>& points,
+                                    const std::vector<std::size_t>& group) {
+    typename FrontGrower<Dim>::Vec centre = FrontGrower<Dim>::Vec::Zero();
+    for (std::size_t k : group) centre += points[k];
+    centre /= static_cast<double>(group.size());
+    return *std::min_element(group.begin(), group.end(), [&](std::size_t a, std::size_t b) {
+      return (points[a] - centre).squaredNorm() < (points[b] - centre).squaredNorm();
+    });
   }
 
   void add_site(const typename FrontGrower<Dim>::Vec& x, double measure) {

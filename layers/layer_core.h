@@ -70,7 +70,8 @@ struct LayerParams {
   double corner_angle_deg = 30.0;  // |turning angle| (2D) or dihedral deviation (3D) of a corner/ridge
   double fan_angle_deg = 45.0;     // largest angle between adjacent normals of a convex fan
   bool integrate_height = false;   // unit metric length along the normal instead of the size
-  bool smooth_normals = false;     // one Laplacian pass over the normals of each new layer
+  bool smooth_normals = false;     // 2D: one Laplacian pass over each new layer's normals; 3D: the
+                                   // relaxation of grow_layers_3d.h, step 2
   IsotropicStop isotropic_stop = IsotropicStop::Off;
   HighOrderHeights high_order_heights = HighOrderHeights::Default;
   int shrink_attempts = 4;

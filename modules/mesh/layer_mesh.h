@@ -63,8 +63,10 @@ struct LayerCoverage {
   // Where columns stopped early: one line per part and layer (the stop points, their wall
   // measure and a point), as the events say it.
   std::vector<std::string> stopped_early;
-  // The same stops as points (2D: z = 0) with the wall measure they stand for, and a part that
-  // stopped whole at its first failure's stop points: where a failed run's picture looks.
+  // The same stops as points with the wall measure they stand for, and a part that stopped whole
+  // (its failing stop points' centre, standing for the wall it lost): where a failed run's
+  // picture looks. Only fronts that map failures to stop points record them (3D; the 2D loops do
+  // not, so a 2D run's picture looks at its worst invalid cell alone).
   struct Site {
     std::array<double, 3> point{};
     double measure = 0;

@@ -657,24 +657,42 @@ TEST_CASE("layers 3D: where two spheres' gap is used up their columns stop, the 
   }
 }
 
-TEST_CASE("layers 3D: relaxed normals (smooth_normals) keep a plate's exact layers and two close spheres' cells valid") {
-  // A plate between symmetry planes: every normal is the plate's, so the relaxation changes
-  // nothing and the layers stay the exact geometric series right above the plate's nodes.
+TEST_CASE("layers 3D: relaxed normals (smooth_normals) keep rim nodes on their symmetry planes and two close spheres' cells valid") {
+  // A cylinder between two symmetry planes (z = 0.7 and 1.5): the relaxed normals of the rim
+  // nodes stay in their planes, so every symmetry facet's node stays on its plane, and every cell
+  // is certified.
   {
-    const CurvedFront<3> f = plate(4, 2);
-    const TestWallMetric m(1e-4, 1.3, 0.25, [](const Vector3d& x) { return x.z(); },
-                           [](const Vector3d&) { return Vector3d::UnitZ(); });
+    const Vector3d c(-0.4, 0.25, 0.7);
+    const CurvedFront<3> f = cylinder(1, c, 0.8, 16, 3, 2);
+    const TestWallMetric m(
+        1e-3, 1.3, 0.3, [c](const Vector3d& x) { return std::hypot(x.x() - c.x(), x.y() - c.y()) - 1; },
+        [c](const Vector3d& x) { return Vector3d(Vector3d(x.x() - c.x(), x.y() - c.y(), 0).normalized()); });
     LayerParams p;
-    p.max_layers = 8;
+    p.max_layers = 12;
     p.smooth_normals = true;
     const LayerResult<3> r = grow_layers(f, m, p);
-    REQUIRE(r.layers.size() == 8);
-    std::size_t moved = 0;
-    for (const Vector3d& x : r.mesh.nodes) {
-      const double gx = x.x() * 8, gy = x.y() * 8;
-      if (std::abs(gx - std::round(gx)) > 1e-12 || std::abs(gy - std::round(gy)) > 1e-12) ++moved;
+    REQUIRE(r.layers.size() == 12);
+    std::size_t off_plane = 0, sym = 0;
+    for (const CellBlock& b : r.mesh.boundary) {
+      if (b.tag < 0 || r.mesh.tags[static_cast<std::size_t>(b.tag)].kind != BoundaryKind::Symmetry) continue;
+      for (const NodeId n : b.connectivity) {
+        const double z = r.mesh.nodes[static_cast<std::size_t>(n)].z();
+        ++sym;
+        if (std::abs(z - 0.7) > 1e-12 && std::abs(z - 1.5) > 1e-12) ++off_plane;
+      }
     }
-    CHECK(moved == 0);
+    CHECK(sym > 0);
+    CHECK(off_plane == 0);
+    JacobianCertifier cert;
+    std::size_t invalid = 0;
+    for (const CellBlock& blk : r.mesh.cells) {
+      std::vector<double> coords(static_cast<std::size_t>(3 * blk.nodes_per_cell()));
+      for (std::size_t i = 0; i < blk.size(); ++i) {
+        gather_coords<3>(r.mesh, blk, i, coords.data());
+        if (!cert.certify(blk.type, 2, coords.data()).valid) ++invalid;
+      }
+    }
+    CHECK(invalid == 0);
   }
   // Two spheres 0.05 apart: the relaxation turns the columns (over two layers, before any stop,
   // the second layer's nodes move by a little against the unrelaxed ones), and over ten layers

@@ -347,7 +347,8 @@ TEST_CASE("run config: 3D geometries make a 3D run with its surface section, a 3
   REQUIRE(f.symmetry_planes.size() == 1);
   CHECK(f.symmetry_planes[0].normal[2] == doctest::Approx(1));
   CHECK(f.symmetry_planes[0].offset == doctest::Approx(0.5));  // normalised with the normal
-  CHECK(!f.drop_inner_components);  // default: drop
+  CHECK(!f.drop_inner_components);
+  CHECK(geometry3("geometry: {type: surface_file, file: m6.fmt}\n").drop_inner_components);  // the default
   CHECK(f.check_self_intersections);
 
   // 2D runs are untouched.
