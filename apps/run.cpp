@@ -165,8 +165,8 @@ std::vector<Eigen::Vector3d> front_nodes(const CurvedFront<3>& f, const std::vec
 }
 
 // Where a failed run's picture looks (QualityReport::focus): the invalid cell of the smallest
-// scaled Jacobian, a few of its sizes around it; else the largest group of columns the layers
-// stopped early (LayerCoverage::sites; given only when the layer stage is what failed), a box
+// scaled Jacobian, a few of its sizes around it; else the largest region of columns the layers
+// stopped early (stop_regions of LayerCoverage::sites; only when the layer stage failed), a box
 // about its size; in both at least 1 % of the wall's extent (its facets' nodes; the mesh's
 // without wall facets -- not the farfield's, which would zoom out of the layers).
 template <int Dim>
@@ -216,12 +216,15 @@ void set_failure_focus(const HybridMesh<Dim>& mesh, const CellQuality& per_cell,
     return;
   }
   if (!coverage || coverage->sites.empty()) return;
-  const auto site = std::max_element(coverage->sites.begin(), coverage->sites.end(),
-                                     [](const auto& a, const auto& b) { return a.measure < b.measure; });
-  report.focus.assign(site->point.begin(), site->point.begin() + Dim);
-  const double extent = Dim == 3 ? std::sqrt(site->measure) : site->measure;
+  // The largest region of stops (stop_regions, as the layers' report groups them: within 5 % of
+  // the wall's extent).
+  const std::vector<StopRegion> regions = stop_regions(*coverage, 5 * floor);
+  const StopRegion& g = regions.front();
+  report.focus.assign(g.point.begin(), g.point.begin() + Dim);
+  const double extent = Dim == 3 ? std::sqrt(g.measure) : g.measure;
   report.focus_radius = std::max(0.5 * extent, floor);
-  report.focus_label = "largest early stop of the layers (wall " + num(site->measure) + ")";
+  report.focus_label = "largest region of columns stopped early (wall " + num(g.measure) + ", layers " +
+                       std::to_string(g.first_layer) + "-" + std::to_string(g.last_layer) + ")";
 }
 
 template <int Dim>

@@ -260,7 +260,7 @@ class Growth {
           const std::vector<std::size_t> at = g_.failure_stop_points(part, attempts_.last_failures());
           if (!at.empty()) {
             const std::vector<typename FrontGrower<Dim>::Vec> points = g_.stop_points(part);
-            add_site(points[nearest_centre(points, at)], growing_measure(part, held_[part]));
+            add_site(points[nearest_centre(points, at)], growing_measure(part, held_[part]), layer);
           }
           r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
                               ": stopped, cells still invalid or colliding after " +
@@ -413,7 +413,7 @@ class Growth {
                                point_text<Dim>(g_.stop_points(part)[first]) + ")";
       r_.events.push_back(line);
       r_.coverage.stopped_early.push_back(line);
-      add_site(points[nearest_centre(points, now)], area);
+      add_site(points[nearest_centre(points, now)], area, layer);
       // The heights start again at the metric's: the shrinks around the old failures are undone,
       // so only the columns that fail again at the floor stop (keeping them shrunk stopped four
       // times as many on the ONERA M6's tip: 94.4 % coverage instead of 99.9 %).
@@ -435,10 +435,14 @@ class Growth {
     });
   }
 
-  void add_site(const typename FrontGrower<Dim>::Vec& x, double measure) {
+  // A site of the last build's failures (LayerCoverage::Site).
+  void add_site(const typename FrontGrower<Dim>::Vec& x, double measure, int layer) {
     LayerCoverage::Site s;
     for (int i = 0; i < Dim; ++i) s.point[static_cast<std::size_t>(i)] = x[i];
     s.measure = measure;
+    s.layer = layer;
+    const std::vector<LayerFailure>& f = attempts_.last_failures();
+    s.crossing = std::any_of(f.begin(), f.end(), [](const LayerFailure& e) { return e.block == LayerFailure::kFrontElement; });
     r_.coverage.sites.push_back(s);
   }
 

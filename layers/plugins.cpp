@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include "layers/grow_layers_2d.h"
@@ -71,6 +72,32 @@ void report_coverage(const LayerResult<Dim>& r, const LayerParams& p, StageRepor
   std::vector<std::string> early;
   for (const std::string& e : c.stopped_early) early.push_back(json_string(e));
   rep.add_json("coverage.stopped_early", json_array(early));
+  // The stops grouped by region (within 5 % of the layers' extent of each other), largest first:
+  // where the boundary layer is missing, and why.
+  Eigen::Matrix<double, Dim, 1> lo = Eigen::Matrix<double, Dim, 1>::Constant(std::numeric_limits<double>::infinity()),
+                                hi = -lo;
+  for (const auto& x : r.mesh.nodes) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const std::vector<StopRegion> regions =
+      stop_regions(c, r.mesh.nodes.empty() ? 0.0 : 0.05 * (hi - lo).norm());
+  auto cause = [](const StopRegion& g) {
+    return std::string(g.invalid && g.crossing ? "invalid cells and crossing fronts"
+                       : g.crossing            ? "crossing fronts"
+                                               : "invalid cells");
+  };
+  std::vector<std::string> reg;
+  for (const StopRegion& g : regions) {
+    std::ostringstream o;
+    o << "{\"point\": [";
+    for (int i = 0; i < Dim; ++i) o << (i ? ", " : "") << json_number(g.point[static_cast<std::size_t>(i)]);
+    o << "], \"wall_fraction\": " << json_number(c.wall > 0 ? g.measure / c.wall : 0.0) << ", \"layers\": ["
+      << g.first_layer << ", " << g.last_layer << "], \"groups\": " << g.groups << ", \"cause\": "
+      << json_string(cause(g)) << "}";
+    reg.push_back(o.str());
+  }
+  rep.add_json("coverage.regions", json_array(reg));
   rep.add("coverage.ok", ok);
   std::ostringstream line;
   line << std::fixed << std::setprecision(1) << "coverage: " << 100 * c.complete << " % of the wall ("
@@ -78,6 +105,13 @@ void report_coverage(const LayerResult<Dim>& r, const LayerParams& p, StageRepor
        << std::setprecision(2) << (c.first_columns ? c.first_min : 0.0) << " to " << (c.first_columns ? c.first_max : 0.0)
        << " x the metric's height (mean " << (c.first_columns ? c.first_mean : 0.0) << "), "
        << std::setprecision(1) << 100 * over4 << " % of the columns above 4 x";
+  if (!regions.empty()) {
+    const StopRegion& g = regions.front();
+    line << "; columns stopped early in " << regions.size() << (regions.size() == 1 ? " region" : " regions")
+         << ", the largest " << 100 * (c.wall > 0 ? g.measure / c.wall : 0.0) << " % of the wall near (";
+    for (int i = 0; i < Dim; ++i) line << (i ? ", " : "") << std::setprecision(4) << g.point[static_cast<std::size_t>(i)];
+    line << std::setprecision(1) << "), layers " << g.first_layer << "-" << g.last_layer << ", " << cause(g);
+  }
   rep.line(line.str());
   if (ok) return;
   std::ostringstream why;

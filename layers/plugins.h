@@ -22,7 +22,8 @@
 //     min_coverage: <0..1>  the fraction of the wall whose columns must reach their stop rule
 //                           (not end on a failure); below it, or with the first layer taller
 //                           than 4 times the metric's height on over 1 % of the wall's columns,
-//                           the run fails (exit 2; layers.coverage in the report)   default: 0.95
+//                           the run fails (exit 2; layers.coverage in the report, with the early
+//                           stops grouped by region)                  default: 0.95
 // With a fill after the layers, a loop that stops curved gets a closing layer (layer_core.h).
 #pragma once
 

@@ -1,8 +1,39 @@
 // SPDX-License-Identifier: MIT
 #include "modules/mesh/layer_mesh.h"
 
+#include <algorithm>
+
 namespace plaf {
 inline namespace mesh {
+
+std::vector<StopRegion> stop_regions(const LayerCoverage& coverage, double radius) {
+  std::vector<const LayerCoverage::Site*> sites;
+  for (const LayerCoverage::Site& s : coverage.sites) sites.push_back(&s);
+  std::stable_sort(sites.begin(), sites.end(), [](const auto* a, const auto* b) { return a->measure > b->measure; });
+  std::vector<StopRegion> regions;
+  for (const LayerCoverage::Site* s : sites) {
+    auto near = [&](const StopRegion& r) {
+      double d2 = 0;
+      for (std::size_t i = 0; i < 3; ++i) d2 += (r.point[i] - s->point[i]) * (r.point[i] - s->point[i]);
+      return d2 <= radius * radius;
+    };
+    auto it = std::find_if(regions.begin(), regions.end(), near);
+    if (it == regions.end()) {
+      StopRegion r;
+      r.point = s->point;
+      r.first_layer = r.last_layer = s->layer;
+      regions.push_back(r);
+      it = regions.end() - 1;
+    }
+    it->measure += s->measure;
+    it->first_layer = std::min(it->first_layer, s->layer);
+    it->last_layer = std::max(it->last_layer, s->layer);
+    ++it->groups;
+    (s->crossing ? it->crossing : it->invalid) = true;
+  }
+  std::stable_sort(regions.begin(), regions.end(), [](const StopRegion& a, const StopRegion& b) { return a.measure > b.measure; });
+  return regions;
+}
 
 LinearLoop linear_loop(const CurvedFront<2>& front, const FrontLoop& l, bool layered, int source_loop) {
   LinearLoop out{l.tag, l.kind, layered, source_loop, {}};

@@ -70,9 +70,23 @@ struct LayerCoverage {
   struct Site {
     std::array<double, 3> point{};
     double measure = 0;
+    int layer = 0;          // the layer where they stopped
+    bool crossing = false;  // the failures included front crossings (else invalid cells only)
   };
   std::vector<Site> sites;
 };
+
+// The stops of a coverage grouped by region: each site joins the first region (largest first)
+// whose point lies within `radius` of its own, else starts one. A region's point is its largest
+// site's; its measure their sum; its layers their range; its causes their union.
+struct StopRegion {
+  std::array<double, 3> point{};
+  double measure = 0;
+  int first_layer = 0, last_layer = 0;
+  std::size_t groups = 0;
+  bool invalid = false, crossing = false;
+};
+std::vector<StopRegion> stop_regions(const LayerCoverage& coverage, double radius);
 
 // The layer stage's product. Node-numbering contract: mesh.nodes starts with the input
 // CurvedFront's nodes, same ids, then the nodes the layers added; fill_front (linear_front.h)

@@ -342,6 +342,11 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
     const double x = std::strtod(c, &end), y = std::strtod(end + 1, &end), z = std::strtod(end + 1, &end);
     CHECK(std::abs(x - 1.0025) < 0.02);
     CHECK(std::min(std::hypot(x, y, z), std::hypot(x - 2.005, y, z)) - 1 < 0.2);
-    CHECK(report.find("largest early stop of the layers") != std::string::npos);
+    CHECK(report.find("largest region of columns stopped early") != std::string::npos);
+    // The layers' report groups the stops by region, the gap's first.
+    const std::string regions_key = "\"regions\": [{\"point\": [";
+    const std::size_t regions = report.find(regions_key);
+    REQUIRE(regions != std::string::npos);
+    CHECK(std::abs(std::strtod(report.c_str() + regions + regions_key.size(), nullptr) - 1.0025) < 0.02);
   }
 }
