@@ -173,19 +173,7 @@ template <int Dim>
 void set_failure_focus(const HybridMesh<Dim>& mesh, const CellQuality& per_cell, const LayerCoverage* coverage,
                        QualityReport& report) {
   using Point = typename HybridMesh<Dim>::Point;
-  Point lo = Point::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (const CellBlock& b : mesh.boundary)
-    if (b.tag >= 0 && mesh.tags[static_cast<std::size_t>(b.tag)].kind == BoundaryKind::Wall)
-      for (const NodeId n : b.connectivity) {
-        lo = lo.cwiseMin(mesh.nodes[static_cast<std::size_t>(n)]);
-        hi = hi.cwiseMax(mesh.nodes[static_cast<std::size_t>(n)]);
-      }
-  if (!std::isfinite(lo[0]))
-    for (const Point& x : mesh.nodes) {
-      lo = lo.cwiseMin(x);
-      hi = hi.cwiseMax(x);
-    }
-  const double floor = std::isfinite(lo[0]) ? 0.01 * (hi - lo).norm() : 0.0;
+  const double floor = 0.01 * wall_diagonal(mesh);
   // The worst invalid cell.
   std::size_t k = 0, worst_block = 0, worst_cell = 0;
   double worst = std::numeric_limits<double>::infinity();
@@ -217,7 +205,7 @@ void set_failure_focus(const HybridMesh<Dim>& mesh, const CellQuality& per_cell,
   }
   if (!coverage || coverage->sites.empty()) return;
   // The largest region of stops (stop_regions, as the layers' report groups them: within 5 % of
-  // the wall's extent).
+  // the wall's diagonal).
   const std::vector<StopRegion> regions = stop_regions(*coverage, 5 * floor);
   const StopRegion& g = regions.front();
   report.focus.assign(g.point.begin(), g.point.begin() + Dim);

@@ -475,9 +475,11 @@ class PartLayerBuilder {
     const std::size_t n = part_.size();
     const double floor = std::cos(75 * M_PI / 180);
     std::vector<Vec> next(n);
+    std::vector<double> next_cosine(n);
     for (int pass = 0; pass < 2; ++pass) {
       for (std::size_t l = 0; l < n; ++l) {
         next[l] = nn_[l].n;
+        next_cosine[l] = nn_[l].min_cosine;
         if (nn_[l].kind != NodeClass::Smooth || part_.keep[l].squaredNorm() > 0 || stop_[l]) continue;
         Vec sum = Vec::Zero();
         int count = 0;
@@ -500,14 +502,14 @@ class PartLayerBuilder {
         const Vec c = planar.normalized();
         double worst = 1;
         for (std::size_t e = ent_begin(l); e < ent_end(l); ++e) worst = std::min(worst, c.dot(ent_n_[e]));
-        if (worst >= std::min(nn_[l].min_cosine, floor)) next[l] = c;
+        if (worst >= std::min(nn_[l].min_cosine, floor)) {
+          next[l] = c;
+          next_cosine[l] = worst;
+        }
       }
       for (std::size_t l = 0; l < n; ++l) {
-        if (next[l] == nn_[l].n) continue;
-        double worst = 1;
-        for (std::size_t e = ent_begin(l); e < ent_end(l); ++e) worst = std::min(worst, next[l].dot(ent_n_[e]));
         nn_[l].n = next[l];
-        nn_[l].min_cosine = worst;
+        nn_[l].min_cosine = next_cosine[l];
       }
     }
   }

@@ -389,10 +389,10 @@ class Growth {
   // while the rest of the wall keeps its layers, is the robust choice. True when a build passed.
   bool stop_locally(std::size_t part, int layer, std::vector<double>& scale, std::vector<std::uint8_t>& stopped,
                     double f, LayerStats& st, BuiltLayer& built) {
+    const std::vector<typename FrontGrower<Dim>::Vec> points = g_.stop_points(part);  // the same every round
     for (int round = 0; round < kLocalStopRounds; ++round) {
       std::size_t added = 0, first = 0;
       double area = 0;
-      const std::vector<typename FrontGrower<Dim>::Vec> points = g_.stop_points(part);
       std::vector<std::size_t> now;
       for (std::size_t k : g_.failure_stop_points(part, attempts_.last_failures())) {
         if (held_[part][k]) continue;
@@ -410,7 +410,7 @@ class Growth {
       const std::string line = "layer " + std::to_string(layer) + ", " + attempts_.part_name(part) + ": " +
                                std::to_string(added) + " columns stopped where no valid cell could be grown at 1/16 of " +
                                "the metric's height (wall " + num(area) + ", first at " +
-                               point_text<Dim>(g_.stop_points(part)[first]) + ")";
+                               point_text<Dim>(points[first]) + ")";
       r_.events.push_back(line);
       r_.coverage.stopped_early.push_back(line);
       add_site(points[nearest_centre(points, now)], area, layer);

@@ -72,16 +72,10 @@ void report_coverage(const LayerResult<Dim>& r, const LayerParams& p, StageRepor
   std::vector<std::string> early;
   for (const std::string& e : c.stopped_early) early.push_back(json_string(e));
   rep.add_json("coverage.stopped_early", json_array(early));
-  // The stops grouped by region (within 5 % of the layers' extent of each other), largest first:
-  // where the boundary layer is missing, and why.
-  Eigen::Matrix<double, Dim, 1> lo = Eigen::Matrix<double, Dim, 1>::Constant(std::numeric_limits<double>::infinity()),
-                                hi = -lo;
-  for (const auto& x : r.mesh.nodes) {
-    lo = lo.cwiseMin(x);
-    hi = hi.cwiseMax(x);
-  }
-  const std::vector<StopRegion> regions =
-      stop_regions(c, r.mesh.nodes.empty() ? 0.0 : 0.05 * (hi - lo).norm());
+  // The stops grouped by region (within 5 % of the wall's diagonal of each other; a failed run's
+  // picture zooms on the same largest region, apps/run.cpp), largest first: where the boundary
+  // layer is missing, and why.
+  const std::vector<StopRegion> regions = stop_regions(c, 0.05 * wall_diagonal(r.mesh));
   auto cause = [](const StopRegion& g) {
     return std::string(g.invalid && g.crossing ? "invalid cells and crossing fronts"
                        : g.crossing            ? "crossing fronts"

@@ -116,6 +116,26 @@ inline double straight_tolerance(double size, double magnitude, double rel_tol =
 template <int Dim>
 bool is_curved(const HybridMesh<Dim>& mesh, const CellBlock& block, std::size_t cell, double rel_tol = 1e-12);
 
+// The diagonal of the bounding box of the nodes of the facets tagged as walls (of every node when
+// there are none; 0 for no node): the body's size, without a farfield's.
+template <int Dim>
+double wall_diagonal(const HybridMesh<Dim>& mesh) {
+  using Point = typename HybridMesh<Dim>::Point;
+  Point lo = Point::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const CellBlock& b : mesh.boundary)
+    if (b.tag >= 0 && mesh.tags[static_cast<std::size_t>(b.tag)].kind == BoundaryKind::Wall)
+      for (const NodeId n : b.connectivity) {
+        lo = lo.cwiseMin(mesh.nodes[static_cast<std::size_t>(n)]);
+        hi = hi.cwiseMax(mesh.nodes[static_cast<std::size_t>(n)]);
+      }
+  if (!(lo[0] <= hi[0]))
+    for (const Point& x : mesh.nodes) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+  return lo[0] <= hi[0] ? (hi - lo).norm() : 0.0;
+}
+
 // Coordinates of cell i of block b, row-major (Dim per node), in Gmsh order, into out.
 template <int Dim>
 void gather_coords(const HybridMesh<Dim>& mesh, const CellBlock& b, std::size_t i, double* out) {

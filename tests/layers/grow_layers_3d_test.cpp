@@ -561,6 +561,30 @@ TEST_CASE("layers 3D: the prisms of each layer tile the volume between its front
 
 // Two unit icospheres (`levels` splits, order q) tagged a and b, centres 2 + gap apart on x: one
 // front of two parts, b's nodes after a's.
+// The cells of r that the certificate does not prove valid.
+std::size_t invalid_cells(const LayerResult<3>& r, int q) {
+  JacobianCertifier cert;
+  std::size_t invalid = 0;
+  for (const CellBlock& blk : r.mesh.cells) {
+    std::vector<double> coords(static_cast<std::size_t>(3 * blk.nodes_per_cell()));
+    for (std::size_t c = 0; c < blk.size(); ++c) {
+      gather_coords<3>(r.mesh, blk, c, coords.data());
+      if (!cert.certify(blk.type, q, coords.data()).valid) ++invalid;
+    }
+  }
+  return invalid;
+}
+
+// Closed by its outer front the layer mesh conforms, and the outer front does not cross itself.
+void check_conforming_and_apart(const LayerResult<3>& r, int q) {
+  const ConformityReport cr = check_conformity<3>(assemble_hybrid_3d(r.mesh, r.outer));
+  CHECK_MESSAGE(cr.ok, cr.first_problem);
+  std::vector<int> local(r.outer.triangles.size());
+  std::vector<NodeId> ids(r.outer.triangles.begin(), r.outer.triangles.end());
+  for (std::size_t i = 0; i < local.size(); ++i) local[i] = static_cast<int>(i);
+  CHECK(front_collisions({{&local, &ids}}, r.mesh.nodes, q).empty());
+}
+
 CurvedFront<3> two_spheres(int levels, int q, double gap) {
   CurvedFront<3> a = sphere(1, Vector3d::Zero(), levels, q, "a");
   const CurvedFront<3> b = sphere(1, Vector3d(2 + gap, 0, 0), levels, q, "b");
@@ -636,24 +660,10 @@ TEST_CASE("layers 3D: where two spheres' gap is used up their columns stop, the 
     CHECK(r.layers.back().coverage < 1);
     CHECK(r.coverage.first_max == doctest::Approx(1.0));
     // Certified, conforming, and the outer fronts do not cross.
-    JacobianCertifier cert;
-    std::size_t invalid = 0;
-    for (const CellBlock& blk : r.mesh.cells) {
-      std::vector<double> coords(static_cast<std::size_t>(3 * blk.nodes_per_cell()));
-      for (std::size_t c = 0; c < blk.size(); ++c) {
-        gather_coords<3>(r.mesh, blk, c, coords.data());
-        if (!cert.certify(blk.type, q, coords.data()).valid) ++invalid;
-      }
-    }
-    CHECK(invalid == 0);
+    CHECK(invalid_cells(r, q) == 0);
     REQUIRE(r.mesh.cells.size() == 2);
     CHECK(r.mesh.cells[1].size() > 0);
-    const ConformityReport cr = check_conformity<3>(assemble_hybrid_3d(r.mesh, r.outer));
-    CHECK_MESSAGE(cr.ok, cr.first_problem);
-    std::vector<int> local(r.outer.triangles.size());
-    std::vector<NodeId> ids(r.outer.triangles.begin(), r.outer.triangles.end());
-    for (std::size_t i = 0; i < local.size(); ++i) local[i] = static_cast<int>(i);
-    CHECK(front_collisions({{&local, &ids}}, r.mesh.nodes, q).empty());
+    check_conforming_and_apart(r, q);
   }
 }
 
@@ -683,16 +693,7 @@ TEST_CASE("layers 3D: relaxed normals (smooth_normals) keep rim nodes on their s
     }
     CHECK(sym > 0);
     CHECK(off_plane == 0);
-    JacobianCertifier cert;
-    std::size_t invalid = 0;
-    for (const CellBlock& blk : r.mesh.cells) {
-      std::vector<double> coords(static_cast<std::size_t>(3 * blk.nodes_per_cell()));
-      for (std::size_t i = 0; i < blk.size(); ++i) {
-        gather_coords<3>(r.mesh, blk, i, coords.data());
-        if (!cert.certify(blk.type, 2, coords.data()).valid) ++invalid;
-      }
-    }
-    CHECK(invalid == 0);
+    CHECK(invalid_cells(r, 2) == 0);
   }
   // Two spheres 0.05 apart: the relaxation turns the columns (over two layers, before any stop,
   // the second layer's nodes move by a little against the unrelaxed ones), and over ten layers
@@ -718,22 +719,8 @@ TEST_CASE("layers 3D: relaxed normals (smooth_normals) keep rim nodes on their s
     const LayerResult<3> r = grow_layers(a, m, p);
     CHECK(r.layers.size() == 10);
     CHECK(r.coverage.complete > 0.9);
-    JacobianCertifier cert;
-    std::size_t invalid = 0;
-    for (const CellBlock& blk : r.mesh.cells) {
-      std::vector<double> coords(static_cast<std::size_t>(3 * blk.nodes_per_cell()));
-      for (std::size_t c = 0; c < blk.size(); ++c) {
-        gather_coords<3>(r.mesh, blk, c, coords.data());
-        if (!cert.certify(blk.type, q, coords.data()).valid) ++invalid;
-      }
-    }
-    CHECK(invalid == 0);
-    const ConformityReport cr = check_conformity<3>(assemble_hybrid_3d(r.mesh, r.outer));
-    CHECK_MESSAGE(cr.ok, cr.first_problem);
-    std::vector<int> local(r.outer.triangles.size());
-    std::vector<NodeId> ids(r.outer.triangles.begin(), r.outer.triangles.end());
-    for (std::size_t i = 0; i < local.size(); ++i) local[i] = static_cast<int>(i);
-    CHECK(front_collisions({{&local, &ids}}, r.mesh.nodes, q).empty());
+    CHECK(invalid_cells(r, q) == 0);
+    check_conforming_and_apart(r, q);
   }
 }
 
