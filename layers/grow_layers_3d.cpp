@@ -117,10 +117,13 @@ void finish_part(Part& p, int q) {
     const int* fl = p.face(f);
     for (int k = 0; k < p.face_size(f); ++k) {
       const Lattice& lat = te.lattice()[static_cast<std::size_t>(k)];
+      // From the lattice's integers: an edge node's weight on the opposite vertex is exactly 0
+      // (1 - 1/3 - 2/3 is 1.1e-16 in doubles, which tied a Q3 edge node to that vertex, so the
+      // edge between two stopped columns grew a top of its own).
       const double u = static_cast<double>(lat[0]) / q, v = static_cast<double>(lat[1]) / q;
       const std::size_t l = static_cast<std::size_t>(fl[k]);
       p.tv[l] = {fl[0], fl[1], fl[2], fl[0]};
-      p.tw[l] = {1 - u - v, u, v, 0};
+      p.tw[l] = {static_cast<double>(q - lat[0] - lat[1]) / q, u, v, 0};
       if (k < p.face_vertices(f)) p.is_vertex[l] = 1;
     }
   }
@@ -1015,16 +1018,23 @@ class PartLayerBuilder {
         if (part_.is_vertex[l] && fan_node_[l] && r.normal)
           h_[l] = std::min(h_[l], layer_height<3>(metric_, x_[l], r.d, p_.integrate_height));
       }
+    // The shrinks' scales (layer_core.h, step 3) apply to the vertices before a high-order node
+    // interpolates them: scaling the nodes one by one raised a bump on the faces just outside a
+    // shrunk ring (an edge node at the full height between a halved vertex and a whole one),
+    // which the cut cells of a layer with stops cannot follow (their heights are affine over a
+    // cell; on the published bullet, h0 1e-5 L at Q3, the bump stood 1.2 layer heights above
+    // them and the cut cells inverted there).
+    for (std::size_t l = 0; l < n; ++l)
+      if (part_.is_vertex[l]) h_[l] *= scale_[l];
     const bool own = p_.high_order_heights == HighOrderHeights::Own;
     for (std::size_t l = 0; l < n; ++l)
       if (!part_.is_vertex[l] && own && !(fanned_ && fan_node_[l])) {
-        h_[l] = layer_height<3>(metric_, x_[l], nn_[l].n, p_.integrate_height);
+        h_[l] = layer_height<3>(metric_, x_[l], nn_[l].n, p_.integrate_height) * scale_[l];
       } else if (!part_.is_vertex[l]) {
         double h = 0;
         for (int k = 0; k < 4; ++k) h += part_.tw[l][static_cast<std::size_t>(k)] * h_[static_cast<std::size_t>(part_.tv[l][static_cast<std::size_t>(k)])];
         h_[l] = h;
       }
-    for (std::size_t l = 0; l < n; ++l) h_[l] *= scale_[l];
     const std::size_t nd = dirs_.size();
     top_.resize(nd);
     dh_.resize(nd);
@@ -1146,16 +1156,15 @@ class PartLayerBuilder {
         // so is a layer with stopped columns: a prism over a face with a stopped vertex is a
         // pyramid (two stopped, a tetrahedron), which only tetrahedra meet conformingly, and a
         // quadrilateral shared with a whole prism must be cut alike. The cut's tetrahedron
-        // holding both ends of a collapsed column has no volume and is dropped.
+        // holding both ends of a collapsed column has no volume and is dropped; in a layer with
+        // stops every cut cell's nodes follow layer_node (heights affine over the cell).
         std::array<long, 6> rank{};
         for (int k = 0; k < 3; ++k) {
           rank[static_cast<std::size_t>(k)] = base_rank(dirs_[static_cast<std::size_t>(fl[k])].base);
           rank[static_cast<std::size_t>(k + 3)] = top_rank(fl[k]);
         }
         const std::size_t before = tets.size();
-        bool touches_stop = false;
-        for (int k = 0; k < 3; ++k) touches_stop = touches_stop || stopped_dir(static_cast<std::size_t>(fl[k]));
-        if (touches_stop)
+        if (any_stop_ && !fanned_)
           transition_tets(fl, column_order(rank), tets);
         else
           split_tets(fl, column_order(rank), tets);
@@ -1193,7 +1202,7 @@ class PartLayerBuilder {
             const auto [u, v] = quad_point(h, lat, q_);
             const int w[3] = {q_ - lat[0] - lat[1], lat[0], lat[1]};
             const int d = fl[en[static_cast<std::size_t>(q_ - u)]];
-            out_.sym_tris.push_back(any_stop_ ? layer_node(corner, w, 3, d, v) : node(u, v));
+            out_.sym_tris.push_back(any_stop_ ? layer_node(corner, w, 3, d) : node(u, v));
           }
           out_.sym_tri_tag.push_back(tag);
         }
@@ -1221,43 +1230,55 @@ class PartLayerBuilder {
   }
 
   // The node of a tetrahedral layer with stopped columns (layer_core.h, step 3) at the point of
-  // lattice weights w (summing to Q) over the n corners of a cell or facet, the point being at
-  // level `level` of the column of direction d (the prism's lattice). On the old front (every
+  // lattice weights w (summing to Q) over the n corners of a cell or facet, the point being over
+  // the base node of direction d (in the prism's lattice). On the old front (every
   // corner with weight a base, or a stopped column's top, which is its base): that column's base;
-  // on the new front (every such corner a top, or a stopped column's base): the new front's node d; touching a stopped
-  // column elsewhere: a node on the straight simplex of those corners, one per corner set and
-  // weights (so the two cells beside a stopped column's side share it); else the column's node.
-  // The rule reads only the corners and weights, so every cell and facet sharing a point agrees;
-  // and a cell beside a stopped column is straight there, where the prism's map collapses (its
-  // lattice would give the cell a zero Jacobian at the stopped base).
-  NodeId layer_node(const Corner* corners, const int* w, int n, int d, int level) {
-    bool bottom = true, top = true, stop = false;
+  // on the new front (every such corner a top, or a stopped column's base): the new front's node
+  // d; elsewhere the base's node under the point raised by the corners' weighted column heights,
+  // x_base(d) + sum_k (w_k / Q) (corner_k - its base), one node per corner set and weights, so
+  // every cell and facet sharing a point agrees. Inside the layer a cell is then the base's
+  // curved triangle carried up by heights affine over the cell: x = B(xi) + G(lambda), G affine
+  // and 0 on the base, so det J is about det[B_xi1, B_xi2, G_zeta] wherever the heights are small
+  // against the cell's width, positive over a regular base with outward heights, a stopped
+  // column's zero height included (its corner keeps the other two directions). The prism's own
+  // lattice fails both ways: it collapses at a stopped column (a zero Jacobian at its base), and
+  // a tetrahedron cut from it carries the column heights' variation over the face (shrinks,
+  // attenuation) at one degree above Q, which the order-Q cell cannot hold: at Q3, cut cells of
+  // valid prisms had det J = 0 on their thin edge (two spheres 0.05 apart), and on the published
+  // bullet (h0 1e-5 L) one stop at layer 7 turned into invalid cells over the whole layer, 0.8 %
+  // coverage. (An earlier rule put the points touching a stop on the corners' straight simplex,
+  // which lays a Q3 facet's centre on the chord of a base that bows by more than the layer.)
+  NodeId layer_node(const Corner* corners, const int* w, int n, int d) {
+    bool bottom = true, top = true;
     for (int k = 0; k < n; ++k) {
       if (w[k] == 0) continue;
       const bool st = stopped_dir(static_cast<std::size_t>(corners[k].d));
       bottom = bottom && (corners[k].level == 0 || st);
       top = top && (corners[k].level == 1 || st);
-      stop = stop || st;
     }
     if (bottom) return at(d, 0);
     if (top) return at(d, q_);
-    if (!stop) return at(d, level);
-    std::vector<std::pair<NodeId, int>> key;
-    for (int k = 0; k < n; ++k)
-      if (w[k] > 0) key.emplace_back(corner_node(corners[k]), w[k]);
+    LiftedKey key;
+    key.fill(-1);
+    for (int k = 0, m = 0; k < n; ++k)
+      if (w[k] > 0) key[static_cast<std::size_t>(m++)] = static_cast<std::int64_t>(corner_node(corners[k])) * 64 + w[k];
     std::sort(key.begin(), key.end());
-    const auto it = straight_.find(key);
-    if (it != straight_.end()) return it->second;
-    Vec x = Vec::Zero();
-    for (const auto& [id, wk] : key) x += (static_cast<double>(wk) / q_) * mesh_.nodes[static_cast<std::size_t>(id)];
+    const auto it = lifted_.find(key);
+    if (it != lifted_.end()) return it->second;
+    Vec x = x_[static_cast<std::size_t>(dirs_[static_cast<std::size_t>(d)].base)];
+    for (int k = 0; k < n; ++k) {
+      const std::size_t dk = static_cast<std::size_t>(corners[k].d);
+      x += (static_cast<double>(w[k]) / q_) *
+           (mesh_.nodes[static_cast<std::size_t>(corner_node(corners[k]))] - x_[static_cast<std::size_t>(dirs_[dk].base)]);
+    }
     mesh_.nodes.push_back(x);
     const NodeId id = static_cast<NodeId>(mesh_.nodes.size() - 1);
-    straight_.emplace(std::move(key), id);
+    lifted_.emplace(std::move(key), id);
     return id;
   }
 
-  // The tetrahedra of the prism over triangle fl with column order r (prism_tets' cut) where a
-  // vertex of fl stopped: the cut's tetrahedra holding both ends of a collapsed column have no
+  // The tetrahedra of the prism over triangle fl with column order r (prism_tets' cut) in a layer
+  // with stopped columns: the cut's tetrahedra holding both ends of a collapsed column have no
   // volume and are left out, and the others' nodes follow layer_node.
   void transition_tets(const int* fl, const std::array<int, 3>& r, std::vector<NodeId>& tets) {
     const LagrangeElement& tet = lagrange_element(CellType::Tetrahedron, q_);
@@ -1271,7 +1292,7 @@ class PartLayerBuilder {
         Eigen::Vector3i pt = Eigen::Vector3i::Zero();
         for (int k = 0; k < 4; ++k) pt += w[k] * lat_of(c[static_cast<std::size_t>(k)]);
         pt /= q_;
-        tets.push_back(layer_node(corner, w, 4, fl[te.find({pt[0], pt[1], 0})], pt[2]));
+        tets.push_back(layer_node(corner, w, 4, fl[te.find({pt[0], pt[1], 0})]));
       }
     }
   }
@@ -1438,7 +1459,18 @@ class PartLayerBuilder {
   std::vector<std::pair<int, int>> corner_tets_;  // (corner node, new front triangle)
   std::size_t corner_fans_ = 0;
   std::map<std::vector<std::pair<int, int>>, NodeId> fan_points_;
-  std::map<std::vector<std::pair<NodeId, int>>, NodeId> straight_;  // layer_node's straight nodes
+  // layer_node's nodes inside the layer, by their corners' node ids and weights (id * 64 + w, w <=
+  // Q < 64, sorted, -1 for no corner): every node of every cell of a layer with stops asks.
+  using LiftedKey = std::array<std::int64_t, 4>;
+  static_assert(max_order < 64, "LiftedKey packs a weight in 6 bits");
+  struct LiftedHash {
+    std::size_t operator()(const LiftedKey& k) const {
+      std::size_t h = 0;
+      for (std::int64_t v : k) h = h * 1000003u ^ std::hash<std::int64_t>()(v);
+      return h;
+    }
+  };
+  std::unordered_map<LiftedKey, NodeId, LiftedHash> lifted_;
   std::vector<NodeId> col_;
   PartLayer out_;
 };
