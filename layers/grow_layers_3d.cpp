@@ -1056,6 +1056,7 @@ class PartLayerBuilder {
         for (int k = nw.face_vertices(f); k < nw.face_size(f); ++k) straight[static_cast<std::size_t>(fl[k])] = 1;
     }
     double clipped_max = 0;
+    off_lift_.assign(nd, Vec::Zero());
     for (std::size_t d = 0; d < nd; ++d) {
       if (nw.is_vertex[d] || dirs_[d].fan || stopped_dir(d)) continue;
       const std::size_t l = static_cast<std::size_t>(dirs_[d].base);
@@ -1083,6 +1084,7 @@ class PartLayerBuilder {
         continue;
       }
       clipped_max = std::max(clipped_max, attenuate<3>(&top_[d], &target, &dh_[d], 1, f_atten_));
+      off_lift_[d] = top_[d] - (target + (x_[l] - linear));
     }
     if (q_ == 1 && std::isfinite(f_atten_)) clipped_max = std::max(clipped_max, chord_sag_need(nw));
     out_.built.max_clipped_rel = clipped_max;
@@ -1235,12 +1237,17 @@ class PartLayerBuilder {
   // corner with weight a base, or a stopped column's top, which is its base): that column's base;
   // on the new front (every such corner a top, or a stopped column's base): the new front's node
   // d; elsewhere the base's node under the point raised by the corners' weighted column heights,
-  // x_base(d) + sum_k (w_k / Q) (corner_k - its base), one node per corner set and weights, so
-  // every cell and facet sharing a point agrees. Inside the layer a cell is then the base's
-  // curved triangle carried up by heights affine over the cell: x = B(xi) + G(lambda), G affine
-  // and 0 on the base, so det J is about det[B_xi1, B_xi2, G_zeta] wherever the heights are small
-  // against the cell's width, positive over a regular base with outward heights, a stopped
-  // column's zero height included (its corner keeps the other two directions). The prism's own
+  // x_base(d) + sum_k (w_k / Q) (corner_k - its base), plus the point's level in the layer (the
+  // weights of its top corners over Q) times the top's offset from that lift at d (off_lift_:
+  // the attenuation's pull), one node per corner set and weights, so every cell and facet
+  // sharing a point agrees. Inside the layer a cell is then the base's curved triangle carried
+  // up by heights affine over the cell, x = B(xi) + G(lambda) (G affine and 0 on the base), bent
+  // by the attenuation in proportion to the level: det J is about det[B_xi1, B_xi2, G_zeta]
+  // wherever the heights are small against the cell's width, positive over a regular base with
+  // outward heights, a stopped column's zero height included (its corner keeps the other two
+  // directions). Without the attenuation's share the cells' nodes missed their tops by up to
+  // f_atten of the height, and thin cut cells inverted until f_atten was halved (on the
+  // published spot, h0 1e-5 L, Q2: 137 rebuilds at a halved f_atten, 121 with it). The prism's own
   // lattice fails both ways: it collapses at a stopped column (a zero Jacobian at its base), and
   // a tetrahedron cut from it carries the column heights' variation over the face (shrinks,
   // attenuation) at one degree above Q, which the order-Q cell cannot hold: at Q3, cut cells of
@@ -1266,11 +1273,14 @@ class PartLayerBuilder {
     const auto it = lifted_.find(key);
     if (it != lifted_.end()) return it->second;
     Vec x = x_[static_cast<std::size_t>(dirs_[static_cast<std::size_t>(d)].base)];
+    double up = 0;  // the point's level in the layer, 0 to 1
     for (int k = 0; k < n; ++k) {
       const std::size_t dk = static_cast<std::size_t>(corners[k].d);
       x += (static_cast<double>(w[k]) / q_) *
            (mesh_.nodes[static_cast<std::size_t>(corner_node(corners[k]))] - x_[static_cast<std::size_t>(dirs_[dk].base)]);
+      if (corners[k].level == 1 && !stopped_dir(dk)) up += static_cast<double>(w[k]) / q_;
     }
+    x += up * off_lift_[static_cast<std::size_t>(d)];
     mesh_.nodes.push_back(x);
     const NodeId id = static_cast<NodeId>(mesh_.nodes.size() - 1);
     lifted_.emplace(std::move(key), id);
@@ -1471,6 +1481,10 @@ class PartLayerBuilder {
     }
   };
   std::unordered_map<LiftedKey, NodeId, LiftedHash> lifted_;
+  // Per direction: its top's offset from the lift of its face's vertex tops (the attenuation's
+  // pull toward the chord; 0 at vertices and straight tops), which layer_node carries up the
+  // layer in proportion to the point's level, so a cell's nodes meet its attenuated top.
+  std::vector<Vec> off_lift_;
   std::vector<NodeId> col_;
   PartLayer out_;
 };

@@ -27,7 +27,9 @@
 //  5. collisions: the new front's linear sub-triangles (of triangles and quadrilaterals) may
 //     cross neither another part's front nor themselves (exact triangle-triangle tests on
 //     AABB-tree candidates, sub-triangles sharing a node skipped); heights are halved on the
-//     nodes of the failing faces' old faces and their neighbours;
+//     nodes of the failing faces' old faces and their neighbours (a height's scale applies to
+//     the vertices, which the high-order nodes then interpolate: a ring of shrunk faces raises no
+//     bump on the faces around it);
 //  6. fans (first layer; Aubry & Loehner's ridge and corner fans, Sec. II.E leaving them open): a
 //     wall edge whose faces meet convexly at more than corner_angle_deg is a fan edge; fan edges
 //     chain between corners (3+ fan edges at a node), symmetry planes and closed loops (a chain
@@ -64,15 +66,16 @@
 //     high-order nodes between stopped vertices); the part's layers from then on are tetrahedra
 //     (each prism cut by the rule of step 6, the cut's tetrahedron holding both ends of a stopped
 //     column left out), because a prism over a face with a stopped vertex is a pyramid and a
-//     prism's quadrilateral can meet only a prism's or be cut alike on both sides. Next to a
-//     stopped column a cell's nodes off the two fronts and the whole columns lie on the straight
-//     simplex of its corners (the prism's map collapses there), shared by every cell and symmetry
-//     facet with the same corners; the faces touching a stop grow straight tops. Elsewhere the
-//     part's other columns grow on to the stop rule. A cusp (no direction sees every face around
-//     a node) grows along the most normal direction (normals_3d.h) and, where its cells cannot be
-//     valid, stops there too: no run ends on a cusp. Tetrahedra cut from a curved prism are valid
-//     while the wall triangles are small against their radius of curvature (the cut's error
-//     relative to the layer height is about (size / radius)^Q, independent of the height).
+//     prism's quadrilateral can meet only a prism's or be cut alike on both sides. A cell's
+//     nodes off the two fronts lift the base's curved triangle by the column heights of the
+//     cell's corners, affine over the cell (a stopped column's height is 0), shared by every
+//     cell and symmetry facet with the same corners and weights: the cell is the base's triangle
+//     sheared up the layer, valid over a regular base at any order and at a stopped column,
+//     where the prism's own map collapses (and its lattice, cut into tetrahedra, inverted at Q3
+//     wherever the heights varied over a face). The faces touching a stop grow straight tops.
+//     Elsewhere the part's other columns grow on to the stop rule. A cusp (no direction sees
+//     every face around a node) grows along the most normal direction (normals_3d.h) and, where
+//     its cells cannot be valid, stops there too: no run ends on a cusp.
 // Not yet: isotropic_stop: node (the plugin refuses it in 3D; the stopped columns above would
 // serve it).
 #pragma once

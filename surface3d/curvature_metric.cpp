@@ -21,8 +21,8 @@ void tangent_frame(const Eigen::Vector3d& n, Eigen::Vector3d& t1, Eigen::Vector3
 }  // namespace
 
 CurvatureMetricField::CurvatureMetricField(const MetricField<3>& base, const ReferenceGeometry<3>& reference,
-                                           double factor, double h_min)
-    : base_(base), ref_(reference), factor_(factor), h_min_(h_min) {
+                                           double factor, double h_min, ChordCap chord)
+    : base_(base), ref_(reference), factor_(factor), h_min_(h_min), chord_(chord) {
   if (!(factor > 0)) throw ConfigError("curvature metric: the factor must be positive");
   if (!(h_min > 0)) throw ConfigError("curvature metric: the smallest size must be positive");
 }
@@ -83,7 +83,18 @@ Metric<3> CurvatureMetricField::evaluate(const Point& x) const {
   const double big = base.max_size();
   // (h_min may exceed the base's size somewhere: the base's largest size wins there.)
   const double cap = std::max(big, h_min_);
-  auto size = [&](double k) { return std::min(std::max(factor_ / std::max(std::abs(k), 1e-300), h_min_), cap); };
+  // The chord cap: h = 2R ((Q+1)! tol / R)^(1/(Q+1)) where tol < R (a looser one leaves the
+  // circle's size to the factor).
+  auto chord = [&](double r) {
+    if (chord_.order <= 0 || !(chord_.tolerance > 0) || chord_.tolerance >= r) return cap;
+    double fact = 1;
+    for (int i = 2; i <= chord_.order + 1; ++i) fact *= i;
+    return 2 * r * std::pow(fact * chord_.tolerance / r, 1.0 / (chord_.order + 1));
+  };
+  auto size = [&](double k) {
+    const double ak = std::max(std::abs(k), 1e-300);
+    return std::min(std::max(std::min(factor_ / ak, chord(1 / ak)), h_min_), cap);
+  };
   Eigen::Matrix3d dirs;
   dirs.col(0) = c.d1;
   dirs.col(1) = c.d2;

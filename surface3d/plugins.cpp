@@ -297,8 +297,18 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
                       " must be smaller than the metric's smallest size " + std::to_string(base_min));
   if (sp.curvature_factor > 0) {
     const double h_min = sp.curvature_h_min > 0 ? sp.curvature_h_min : base_min / 20;
+    // Half the fidelity tolerance for the chord error (the rest for the remesher's sizes, which
+    // are met within a band, not exactly), over the diagonal the fidelity check divides by.
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max()), hi = -lo;
+    for (const auto v : surface.mesh.vertices()) {
+      const auto p = surface.mesh.point(v);
+      const Eigen::Vector3d x(p[0], p[1], p[2]);
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+    const ChordCap chord{c.order, 0.5 * sp.fidelity_tol * (hi - lo).norm()};
     s.surface_metric =
-        std::make_unique<CurvatureMetricField>(s.surface_base(), *s.reference, sp.curvature_factor, h_min);
+        std::make_unique<CurvatureMetricField>(s.surface_base(), *s.reference, sp.curvature_factor, h_min, chord);
   }
   const MetricField<3>& field = *s.measure();  // (with curvature sizes: the raw field, graded below)
   {

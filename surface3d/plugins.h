@@ -33,7 +33,9 @@
 //     curve_turn_deg: <0..180>    turn of a feature curve making a corner   default: 45
 //     remesh: <bool>        remesh to the metric                  default: true
 //     iterations: <1..100>  remeshing rounds                      default: 8
-//     curvature_factor: <0..100>  sizes at most this x radius of curvature (0: off)   default: 0
+//     curvature_factor: <0..100>  sizes at most this x radius of curvature (0: off), and at most
+//                           the size whose order-Q chord error is half of fidelity_tol
+//                           (curvature_metric.h, ChordCap)   default: 0
 //     curvature_h_min: <>0, < the metric's size>  the smallest size curvature asks for   default: the metric's size / 20
 //     gradation: <0 or >1> how fast curvature sizes may grow between neighbours (graded_metric.h:
 //                           beta; sizes change by at most 1 + ln beta per unit edge); 0: off   default: 1.5

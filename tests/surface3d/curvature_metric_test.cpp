@@ -73,6 +73,27 @@ TEST_CASE("curvature metric: a sphere's sizes are factor x radius in every tange
   }
 }
 
+TEST_CASE("curvature metric: the chord cap keeps an order-Q triangle within its tolerance of a sphere") {
+  // Radius 2, factor 0.3 (sizes 0.6), chord tolerance 0.01: at Q1 a chord of 0.6 sags
+  // 0.6^2 / 16 = 0.0225, so the cap sets h = sqrt(8 R tol) = 0.4 (sag 0.01); at Q2 the cap,
+  // 2R (6 tol / R)^(1/3) = 1.24, is looser than the factor's 0.6, which stays.
+  const UniformMetricField<3> base(Metric<3>::isotropic(1.0));
+  const Sphere sphere(2.0);
+  const Eigen::Vector3d x(0.3, -1.2, 1.5);
+  const CurvatureMetricField::Curvature c = CurvatureMetricField(base, sphere, 0.3, 1e-4).curvature(x, 0.25);
+  const CurvatureMetricField q1(base, sphere, 0.3, 1e-4, ChordCap{1, 0.01});
+  const double h1 = q1.evaluate(x).size_along(c.d1);
+  CHECK(h1 == doctest::Approx(0.4).epsilon(0.03));
+  CHECK(h1 * h1 / (8 * 2.0) == doctest::Approx(0.01).epsilon(0.06));  // the chord's sag is the tolerance
+  const CurvatureMetricField q2(base, sphere, 0.3, 1e-4, ChordCap{2, 0.01});
+  CHECK(q2.evaluate(x).size_along(c.d1) == doctest::Approx(0.6).epsilon(0.03));
+  // A tolerance looser than the radius leaves the factor's size; order 0 is off.
+  CHECK(CurvatureMetricField(base, sphere, 0.3, 1e-4, ChordCap{1, 5.0}).evaluate(x).size_along(c.d1) ==
+        doctest::Approx(0.6).epsilon(0.03));
+  CHECK(CurvatureMetricField(base, sphere, 0.3, 1e-4, ChordCap{0, 0.01}).evaluate(x).size_along(c.d1) ==
+        doctest::Approx(0.6).epsilon(0.03));
+}
+
 TEST_CASE("curvature metric: a cylinder is refined around, not along, and h_min caps a tight radius") {
   const UniformMetricField<3> base(Metric<3>::isotropic(0.5));
   const Cylinder cyl(0.05);
