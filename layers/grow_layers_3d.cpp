@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <queue>
 #include <set>
 #include <unordered_map>
 
@@ -18,6 +19,7 @@
 #include "layers/normals_3d.h"
 #include "modules/base/error.h"
 #include "modules/elements/lagrange.h"
+#include "modules/geometry/aabb_tree.h"
 
 namespace plaf::layers {
 
@@ -1497,6 +1499,22 @@ class SurfaceFronts final : public FrontGrower<3> {
       : mesh_(mesh), front0_(front0), metric_(metric), p_(p), q_(front0.order), counts_(counts) {
     parts_ = PartBuilder(front0).parts(planes_);
     grown_.assign(parts_.size(), 0);
+    // The wall's linear triangles, for the proximity rule's rays.
+    std::vector<std::array<int, 3>> tris;
+    Eigen::AlignedBox3d box;
+    for (std::size_t t = 0; t < front0.num_triangles(); ++t) {
+      if (front0.tags[static_cast<std::size_t>(front0.triangle_tag[t])].kind != BoundaryKind::Wall) continue;
+      const NodeId* n = front0.triangle(t);
+      tris.push_back({static_cast<int>(n[0]), static_cast<int>(n[1]), static_cast<int>(n[2])});
+      const Vec& a = front0.nodes[static_cast<std::size_t>(n[0])];
+      const Vec& b = front0.nodes[static_cast<std::size_t>(n[1])];
+      const Vec& c = front0.nodes[static_cast<std::size_t>(n[2])];
+      wall_normal_.push_back((b - a).cross(c - a).normalized());
+      box.extend(a);
+    }
+    wall_ = TriangleTree(front0.nodes, tris);
+    wall_tris_ = std::move(tris);
+    wall_diagonal_ = box.isEmpty() ? 0.0 : box.diagonal().norm();
   }
 
   std::array<CellType, 2> cell_types() const override { return {CellType::Prism, CellType::Tetrahedron}; }
@@ -1568,6 +1586,90 @@ class SurfaceFronts final : public FrontGrower<3> {
     }
     return m;
   }
+  // The proximity rule (layer_core.h, step 1). From each stop point x along its front's normal d
+  // (the faces' area-weighted normal), a ray finds the first wall it meets that faces it, at
+  // distance t and with cos(theta) = -n_wall . d, and a ray back finds the column's own wall, s
+  // below x. A facing wall's stack (grown along its own normal) crosses the ray 1/cos(theta) times
+  // as tall, so two equal stacks meet at G cos/(1 + cos) along the ray from this wall (G = s + t:
+  // half the gap when they face squarely); the stack may fill `share` of that. A wall met from
+  // behind, or none, sets no limit (concave bends and creases are the merges' and the local
+  // stops' job: a ray along the bisector of a concave crease meets neither side). The allowed
+  // stacks are then graded over the front, A_i <= A_j + kProximityGrade |x_i - x_j| (a shortest
+  // path over the front's edges), so a proximity stop ramps down over the surface instead of
+  // ending in a cliff beside columns that grow on. The room is A - s.
+  std::vector<double> stop_point_room(std::size_t part, double share) const override {
+    constexpr double kProximityGrade = 0.5;
+    const Part& p = parts_[part];
+    const std::size_t nv = p.vertices.size();
+    const double inf = std::numeric_limits<double>::infinity();
+    std::vector<int> index(p.size(), -1);
+    for (std::size_t k = 0; k < nv; ++k) index[static_cast<std::size_t>(p.vertices[k])] = static_cast<int>(k);
+    auto at = [&](int l) -> const Vec& { return mesh_.nodes[static_cast<std::size_t>(p.ids[static_cast<std::size_t>(l)])]; };
+    std::vector<Vec> normal(nv, Vec::Zero());
+    std::vector<std::vector<std::pair<std::size_t, double>>> edges(nv);
+    for (std::size_t f = 0; f < p.num_faces(); ++f) {
+      const int* fl = p.face(f);
+      const Vec nn = (at(fl[1]) - at(fl[0])).cross(at(fl[2]) - at(fl[0]));
+      for (int v = 0; v < 3; ++v) {
+        const std::size_t i = static_cast<std::size_t>(index[static_cast<std::size_t>(fl[v])]);
+        const std::size_t j = static_cast<std::size_t>(index[static_cast<std::size_t>(fl[(v + 1) % 3])]);
+        normal[i] += nn;
+        const double len = (at(fl[v]) - at(fl[(v + 1) % 3])).norm();
+        edges[i].emplace_back(j, len);
+        edges[j].emplace_back(i, len);
+      }
+    }
+    const double eps = 1e-9 * wall_diagonal_;
+    std::vector<double> allowed(nv, inf), below(nv, 0.0);
+    for (std::size_t k = 0; k < nv; ++k) {
+      if (!(normal[k].norm() > 0)) continue;
+      const Vec d = normal[k].normalized(), x = at(p.vertices[k]);
+      // From a wall vertex the ray back meets its own faces at t = 0 (s = 0); from a front above
+      // the wall, the wall below it, from its front side.
+      const TriangleTree::Hit back = wall_.first_hit(x, -d, -eps, inf);
+      const bool under = back.triangle >= 0 && wall_normal_[static_cast<std::size_t>(back.triangle)].dot(d) > 0;
+      if (under) below[k] = std::max(0.0, back.t);
+      // A wall face sharing a node with the face below is the column's own neighbourhood (a ray
+      // along a vertex normal can graze its ring where the faces around bend), not a facing wall.
+      // (On the wall the column's node is a wall node: its own faces are skipped by id.)
+      const int self = static_cast<int>(p.ids[static_cast<std::size_t>(p.vertices[k])]);
+      auto beside = [&](int t) {
+        const auto& b = wall_tris_[static_cast<std::size_t>(t)];
+        if (b[0] == self || b[1] == self || b[2] == self) return true;
+        if (!under) return false;
+        const auto& a = wall_tris_[static_cast<std::size_t>(back.triangle)];
+        for (int u : b)
+          if (u == a[0] || u == a[1] || u == a[2]) return true;
+        return false;
+      };
+      const TriangleTree::Hit ahead = wall_.first_hit(x, d, eps, inf, beside);
+      if (ahead.triangle < 0) continue;
+      const double cosine = -wall_normal_[static_cast<std::size_t>(ahead.triangle)].dot(d);
+      if (!(cosine > 0)) continue;
+      allowed[k] = share * (below[k] + ahead.t) * cosine / (1 + cosine);
+    }
+    // The grading: Dijkstra from every finite allowance.
+    using Item = std::pair<double, std::size_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+    for (std::size_t k = 0; k < nv; ++k)
+      if (allowed[k] < inf) queue.emplace(allowed[k], k);
+    while (!queue.empty()) {
+      const auto [a, k] = queue.top();
+      queue.pop();
+      if (a > allowed[k]) continue;
+      for (const auto& [j, len] : edges[k]) {
+        const double b = a + kProximityGrade * len;
+        if (b < allowed[j]) {
+          allowed[j] = b;
+          queue.emplace(b, j);
+        }
+      }
+    }
+    std::vector<double> room(nv, inf);
+    for (std::size_t k = 0; k < nv; ++k)
+      if (allowed[k] < inf) room[k] = allowed[k] - below[k];
+    return room;
+  }
   // Heights are scaled on the nodes of the old faces behind the failures and of every face around
   // them.
   void rescale(std::size_t part, const std::vector<LayerFailure>& failures, double factor,
@@ -1625,6 +1727,10 @@ class SurfaceFronts final : public FrontGrower<3> {
   std::vector<Plane> planes_;
   std::vector<Part> parts_;
   std::vector<std::uint8_t> grown_;  // per part: a layer was accepted
+  TriangleTree wall_;                // the wall's linear triangles (every part's)
+  std::vector<Vec> wall_normal_;     // their unit normals, toward the layers
+  std::vector<std::array<int, 3>> wall_tris_;  // their node ids
+  double wall_diagonal_ = 0;
   std::size_t pending_part_ = 0;
   PartLayer pending_;
   std::vector<std::pair<std::string, std::size_t>> pending_counts_;

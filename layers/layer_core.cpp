@@ -204,6 +204,7 @@ class Growth {
     for (std::size_t part = 0; part < parts_; ++part) {
       measure_.push_back(g_.stop_point_measure(part));
       held_.emplace_back(measure_.back().size(), 0);
+      near_.emplace_back(measure_.back().size(), 0);
       for (double m : measure_.back()) r_.coverage.wall += m;
     }
   }
@@ -228,6 +229,12 @@ class Growth {
         }
         std::vector<std::uint8_t> stopped;
         if (stops_isotropic(part, layer, stopped)) continue;
+        if (p_.proximity > 0 && layer > 1 && stops_proximity(part, layer)) {
+          growing_[part] = false;
+          r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
+                              ": stopped, every column has stopped locally");
+          continue;
+        }
         for (std::size_t k = 0; k < stopped.size(); ++k) stopped[k] = stopped[k] || held_[part][k];
         std::vector<double> scale(g_.num_sites(part), 1.0);
         BuiltLayer built;
@@ -358,19 +365,23 @@ class Growth {
     if (st.linear && r_.linear_after < 0) r_.linear_after = st.layer;
   }
 
-  // The coverage (LayerCoverage): the columns of a part that failed, and those stopped locally,
-  // did not reach the stop rule.
+  // The coverage (LayerCoverage): the columns of a part that failed, and those stopped locally on
+  // a failure, did not reach the stop rule (those the proximity rule stopped did).
   void coverage() {
     LayerCoverage& c = r_.coverage;
     double complete = 0;
     for (std::size_t part = 0; part < parts_; ++part)
       for (std::size_t k = 0; k < measure_[part].size(); ++k) {
         ++c.columns;
-        if (failed_[part] || held_[part][k]) continue;
+        if (failed_[part] || (held_[part][k] && !near_[part][k])) continue;
         ++c.columns_complete;
         complete += measure_[part][k];
+        if (!near_[part][k]) continue;
+        ++c.columns_proximity;
+        c.proximity += measure_[part][k];
       }
     c.complete = c.wall > 0 ? complete / c.wall : 1.0;
+    c.proximity = c.wall > 0 ? c.proximity / c.wall : 0.0;
     if (c.first_columns > 0) c.first_mean /= static_cast<double>(c.first_columns);
   }
 
@@ -458,6 +469,7 @@ class Growth {
     if (now > 0)
       for (double& m : measure_[part]) m *= wall / now;
     held_[part].assign(measure_[part].size(), 0);
+    near_[part].assign(measure_[part].size(), 0);
   }
 
   // The wall measure of the part's stop points that grew this layer, over nothing yet (the layer's
@@ -483,6 +495,34 @@ class Growth {
       ++c.first_columns;
       if (ratio > 4) ++c.first_over_4;
     }
+  }
+
+  // 1. Proximity: a column whose next layer (the metric's smallest size at its stop point) would
+  // take its stack beyond its share of the gap to a facing wall stops there, for good, and counts
+  // as having reached its stop rule. From the second layer on: the first layer is the wall
+  // spacing asked for, without which no boundary layer is there at all (a gap too thin for two
+  // first layers is the failures' case, step 3, and not the stack that fits). True when every
+  // column of the part has stopped.
+  bool stops_proximity(std::size_t part, int layer) {
+    const std::vector<double> room = g_.stop_point_room(part, p_.proximity);
+    if (room.empty()) return false;
+    const std::vector<typename FrontGrower<Dim>::Vec> points = g_.stop_points(part);
+    std::vector<std::size_t> now;
+    double area = 0;
+    for (std::size_t k = 0; k < room.size(); ++k) {
+      if (held_[part][k] || !(room[k] < std::numeric_limits<double>::infinity())) continue;
+      if (metric_.evaluate(points[k]).min_size() <= room[k]) continue;
+      held_[part][k] = near_[part][k] = 1;
+      area += measure_[part][k];
+      now.push_back(k);
+    }
+    if (!now.empty())
+      r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) + ": " +
+                          std::to_string(now.size()) +
+                          " columns stopped where their stacks fill their share of the gap to a facing wall "
+                          "(layers.proximity " + num(p_.proximity) + "; wall " + num(area) + ", first at " +
+                          point_text<Dim>(points[now.front()]) + ")");
+    return std::all_of(held_[part].begin(), held_[part].end(), [](std::uint8_t h) { return h; });
   }
 
   // 1. Isotropic stop: where the metric is isotropic at a front node, a layer would be as tall as
@@ -529,6 +569,7 @@ class Growth {
   std::vector<bool> first_taken_;  // per part: its first layer's columns are counted
   std::vector<std::vector<double>> measure_;       // per part and stop point: its wall measure
   std::vector<std::vector<std::uint8_t>> held_;    // per part and stop point: stopped locally
+  std::vector<std::vector<std::uint8_t>> near_;    // of them, those the proximity rule stopped
   LayerAttempts<Dim> attempts_;
 };
 

@@ -5,7 +5,9 @@
 //
 // Per layer, for every part of the front (a loop in 2D, a connected surface in 3D):
 //  1. stop rules: a part stops when it runs out of layers, when the metric is isotropic at its
-//     nodes (isotropic_stop), or when a layer cannot be made valid;
+//     nodes (isotropic_stop), or when a layer cannot be made valid; a column stops where its
+//     stack would fill more than its share of the gap to a facing wall (proximity, where the
+//     front supports it: FrontGrower::stop_point_room);
 //  2. the front's specifics (FrontGrower: normals, corner fans and concave merges in 2D, ridge and
 //     corner fans in 3D) build the new cells, with heights from the metric (layer_height) and the
 //     high-order nodes of the new front attenuated toward their linear positions (attenuate,
@@ -80,6 +82,13 @@ struct LayerParams {
   double min_coverage = 0.95;
   // Local stops (step 3) where the front supports them; false stops the whole part instead.
   bool local_stops = true;
+  // The proximity rule (step 1): the share of its half of the gap to a facing wall (along its
+  // column, from its wall) that a column's stack may fill; a column stops before the layer whose
+  // metric height would take it beyond (from the second layer on: every column that can grows its
+  // first layer). Two facing stacks of share 0.8 leave a fifth of the gap
+  // to the fill. 0 turns the rule off. A column so stopped reached its stop rule (the stack that
+  // fits there), and the coverage says how much of the wall stopped so (LayerCoverage::proximity).
+  double proximity = 0.8;
   // End with a linear front (for the fill): a part whose front is still curved when it stops
   // gets a closing layer with straight tops.
   bool close_linear = false;
@@ -170,6 +179,10 @@ class FrontGrower {
   }
   // The wall measure (2D length, 3D area) each stop point stands for, for the coverage.
   virtual std::vector<double> stop_point_measure(std::size_t part) const = 0;
+  // The proximity rule (step 1): per stop point, the height its column may still grow before its
+  // stack fills `share` of its half of the gap to a facing wall (infinite where no wall faces
+  // it); empty for a front without the rule.
+  virtual std::vector<double> stop_point_room(std::size_t /*part*/, double /*share*/) const { return {}; }
 };
 
 // Grows layers on every part of `grower` into r.mesh (whose nodes the grower appends to),

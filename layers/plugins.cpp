@@ -43,6 +43,7 @@ LayerParams parse_layer_params(const ConfigNode& l) {
                                      : IsotropicStop::Off;
   p.min_coverage = l.get_in_range("min_coverage", p.min_coverage, 0.0, 1.0);
   p.local_stops = l.get_bool("local_stops", p.local_stops);
+  p.proximity = l.get_in_range("proximity", p.proximity, 0.0, 1.0);
   const std::string hh = l.get_choice("high_order_heights", "default", {"default", "own", "interpolated"});
   p.high_order_heights = hh == "own"            ? HighOrderHeights::Own
                          : hh == "interpolated" ? HighOrderHeights::Interpolated
@@ -64,6 +65,8 @@ void report_coverage(const LayerResult<Dim>& r, const LayerParams& p, StageRepor
   rep.add("coverage.min_coverage", p.min_coverage);
   rep.add("coverage.columns", c.columns);
   rep.add("coverage.columns_complete", c.columns_complete);
+  rep.add("coverage.proximity", c.proximity);
+  rep.add("coverage.columns_proximity", c.columns_proximity);
   rep.add("coverage.wall", c.wall);
   rep.add("coverage.first_height_over_metric.min", c.first_columns ? c.first_min : std::nan(""));
   rep.add("coverage.first_height_over_metric.mean", c.first_columns ? c.first_mean : std::nan(""));
@@ -95,7 +98,10 @@ void report_coverage(const LayerResult<Dim>& r, const LayerParams& p, StageRepor
   rep.add("coverage.ok", ok);
   std::ostringstream line;
   line << std::fixed << std::setprecision(1) << "coverage: " << 100 * c.complete << " % of the wall ("
-       << c.columns_complete << " of " << c.columns << " columns) reached its stop rule; first layer "
+       << c.columns_complete << " of " << c.columns << " columns) reached its stop rule";
+  if (c.columns_proximity > 0)
+    line << " (" << 100 * c.proximity << " % where a facing wall leaves room for fewer layers: layers.proximity)";
+  line << "; first layer "
        << std::setprecision(2) << (c.first_columns ? c.first_min : 0.0) << " to " << (c.first_columns ? c.first_max : 0.0)
        << " x the metric's height (mean " << (c.first_columns ? c.first_mean : 0.0) << "), "
        << std::setprecision(1) << 100 * over4 << " % of the columns above 4 x";

@@ -19,6 +19,9 @@
 //     local_stops: <bool>   3D: where a cell cannot be valid even at 1/16 of the metric's height,
 //                           stop its columns there and grow the rest (false: stop the whole
 //                           surface, as 2D does)                      default: true
+//     proximity: <0..1>     3D: the share of its half of the gap to a facing wall (along its
+//                           column) a column's stack may fill; there the stack that fits is its
+//                           stop rule (reported as coverage.proximity; 0: off)   default: 0.8
 //     min_coverage: <0..1>  the fraction of the wall whose columns must reach their stop rule
 //                           (not end on a failure); below it, or with the first layer taller
 //                           than 4 times the metric's height on over 1 % of the wall's columns,

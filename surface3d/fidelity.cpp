@@ -99,8 +99,18 @@ double curved_distance(const LagrangeElement& e, const std::vector<Eigen::Vector
 
 }  // namespace
 
+double samples_diagonal(const std::vector<Eigen::Vector3d>& samples) {
+  if (samples.empty()) return 0;
+  Eigen::Vector3d lo = samples.front(), hi = samples.front();
+  for (const Eigen::Vector3d& p : samples) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  return (hi - lo).norm();
+}
+
 FidelityReport measure_fidelity(const TriSurface& surface, const ReferenceGeometry<3>& reference,
-                                const std::vector<Eigen::Vector3d>& samples) {
+                                const std::vector<Eigen::Vector3d>& samples, double far_over) {
   FidelityReport r;
   const int q = std::max(1, surface.order);
   const SubLattice fine(2 * q), coarse(q);
@@ -134,6 +144,7 @@ FidelityReport measure_fidelity(const TriSurface& surface, const ReferenceGeomet
       const Eigen::Vector3d x = at(w, nodes);
       const double d = (x - reference.project(x)).norm();
       ++r.mesh_samples;
+      if (d > far_over) r.far.emplace_back(x, d);
       if (d > r.to_reference || !(d == d)) {
         r.to_reference = d;
         r.worst_on_mesh = x;
@@ -149,12 +160,7 @@ FidelityReport measure_fidelity(const TriSurface& surface, const ReferenceGeomet
     ++nfaces;
   }
   r.reference_samples = samples.size();
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (const Eigen::Vector3d& p : samples) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  r.diagonal = samples.empty() ? 0 : (hi - lo).norm();
+  r.diagonal = samples_diagonal(samples);
   if (!samples.empty() && tris.empty()) {  // a body and no mesh: as far as it gets
     r.to_mesh = std::numeric_limits<double>::infinity();
     r.worst_on_reference = samples.front();
@@ -173,6 +179,7 @@ FidelityReport measure_fidelity(const TriSurface& surface, const ReferenceGeomet
       const auto first = face_nodes.begin() + static_cast<std::ptrdiff_t>(tri_face[t]) * e.size();
       std::copy(first, first + e.size(), nodes.begin());
       const double dist = std::min(std::sqrt(cl.distance2), curved_distance(e, nodes, p, xi, phi, dphi));
+      if (dist > far_over) r.far.emplace_back(p, dist);
       if (dist > r.to_mesh) {
         r.to_mesh = dist;
         r.worst_on_reference = p;
@@ -183,6 +190,54 @@ FidelityReport measure_fidelity(const TriSurface& surface, const ReferenceGeomet
   r.worst = r.to_mesh >= r.to_reference ? r.worst_on_reference : r.worst_on_mesh;
   r.relative = r.diagonal > 0 ? r.hausdorff / r.diagonal : (r.hausdorff > 0 ? std::numeric_limits<double>::infinity() : 0);
   return r;
+}
+
+FidelityRefinedField::FidelityRefinedField(std::unique_ptr<MetricField<3>>&& inner, std::vector<Spot> spots)
+    : FidelityRefinedField(*inner, std::move(spots)) {
+  owned_ = std::move(inner);
+}
+
+FidelityRefinedField::FidelityRefinedField(const MetricField<3>& inner, std::vector<Spot> spots)
+    : inner_(&inner), spots_(std::move(spots)) {
+  double largest = 0;
+  for (const Spot& sp : spots_) largest = std::max(largest, sp.radius);
+  cell_ = largest > 0 ? largest : 1;
+  for (std::size_t s = 0; s < spots_.size(); ++s) {
+    const Eigen::Vector3d lo = (spots_[s].point.array() - spots_[s].radius) / cell_;
+    const Eigen::Vector3d hi = (spots_[s].point.array() + spots_[s].radius) / cell_;
+    for (auto i = static_cast<std::int64_t>(std::floor(lo.x())); i <= static_cast<std::int64_t>(std::floor(hi.x())); ++i)
+      for (auto j = static_cast<std::int64_t>(std::floor(lo.y())); j <= static_cast<std::int64_t>(std::floor(hi.y())); ++j)
+        for (auto k = static_cast<std::int64_t>(std::floor(lo.z())); k <= static_cast<std::int64_t>(std::floor(hi.z())); ++k)
+          grid_[key(i, j, k)].push_back(s);
+  }
+}
+
+std::int64_t FidelityRefinedField::key(std::int64_t i, std::int64_t j, std::int64_t k) const {
+  // 21 bits per axis: the cells of a body's bounding box at its spots' radius are far fewer.
+  constexpr std::int64_t kMask = (std::int64_t{1} << 21) - 1;
+  return ((i & kMask) << 42) | ((j & kMask) << 21) | (k & kMask);
+}
+
+double FidelityRefinedField::factor(const Eigen::Vector3d& x) const {
+  const auto it = grid_.find(key(static_cast<std::int64_t>(std::floor(x.x() / cell_)),
+                                 static_cast<std::int64_t>(std::floor(x.y() / cell_)),
+                                 static_cast<std::int64_t>(std::floor(x.z() / cell_))));
+  double f = 1;
+  if (it == grid_.end()) return f;
+  for (std::size_t s : it->second) {
+    const Spot& sp = spots_[s];
+    const double d = (x - sp.point).norm();
+    if (d >= sp.radius) continue;
+    const double ramp = std::clamp((d - sp.radius / 3) / (2 * sp.radius / 3), 0.0, 1.0);
+    f = std::min(f, sp.factor + (1 - sp.factor) * ramp);
+  }
+  return f;
+}
+
+Metric<3> FidelityRefinedField::evaluate(const Point& x) const {
+  const Metric<3> m = inner_->evaluate(x);
+  const double f = factor(x);
+  return f < 1 ? Metric<3>::from_matrix(m.matrix() / (f * f)) : m;
 }
 
 }  // namespace plaf

@@ -44,6 +44,8 @@
 //     max_triangles: <n>    give up (an error) beyond this many triangles   default: 20000000
 //     fidelity_tol: <>0>    the run fails when the surface's two-sided distance to the body
 //                           (fidelity.h) exceeds this x the body's bounding-box diagonal   default: 1e-3
+//     fidelity_rounds: <0..10>  while over fidelity_tol, remesh at finer sizes around the samples
+//                           farther than half of it, at most this many times (plugins.cpp)   default: 3
 // An analytic body gives its exact reference at the geometry stage and its initial
 // triangulation at the surface stage, at 1.5 times the metric's largest size there. The surface
 // follows the metric's sizes; a wall_power_law metric's sizes along the wall, its size normal to
@@ -96,6 +98,7 @@ struct SurfaceParams {
   std::string curvature_h_min_where;  // "file:line:col: surface.curvature_h_min", for the check
   int max_triangles = 20000000;
   double fidelity_tol = 1e-3;
+  int fidelity_rounds = 3;
   double gradation = 1.5;  // beta of graded_metric.h; 0: off (applies to curvature sizes)
   double min_scaled_jacobian = 0.1;  // curved triangles below it are straightened toward flat
 };

@@ -5,6 +5,7 @@
 #include "modules/geometry/aabb_tree.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace plaf {
@@ -32,6 +33,35 @@ Vector3d closest_on_segment(const Vector3d& p, const Vector3d& a, const Vector3d
   s = std::clamp(s, 0.0, 1.0);
   *t = s;
   return a + s * d;
+}
+
+// The parameter interval [t0, t1] of the ray inside the box (slab test); false when it misses or
+// leaves the box before t0.
+bool ray_box(const AlignedBox3d& box, const Vector3d& o, const Vector3d& inv, double& t0, double& t1) {
+  for (int a = 0; a < 3; ++a) {
+    double lo = (box.min()[a] - o[a]) * inv[a], hi = (box.max()[a] - o[a]) * inv[a];
+    if (lo > hi) std::swap(lo, hi);
+    // 0 * inf (a ray in the box's plane) is NaN: such an axis does not narrow the interval.
+    if (!std::isnan(lo)) t0 = std::max(t0, lo);
+    if (!std::isnan(hi)) t1 = std::min(t1, hi);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+// Moeller-Trumbore: the ray's parameter at triangle (a, b, c), or -1 when it misses.
+double ray_triangle(const Vector3d& o, const Vector3d& d, const Vector3d& a, const Vector3d& b, const Vector3d& c) {
+  const Vector3d e1 = b - a, e2 = c - a, p = d.cross(e2);
+  const double det = e1.dot(p);
+  if (det == 0) return -1;
+  const double inv = 1 / det;
+  const Vector3d s = o - a;
+  const double u = s.dot(p) * inv;
+  if (u < 0 || u > 1) return -1;
+  const Vector3d qv = s.cross(e1);
+  const double v = d.dot(qv) * inv;
+  if (v < 0 || u + v > 1) return -1;
+  return e2.dot(qv) * inv;
 }
 
 }  // namespace
@@ -186,6 +216,37 @@ TriangleTree::Closest TriangleTree::closest(const Vector3d& p) const {
       if (dr <= best.distance2) stack.emplace_back(dr, node.right);
     }
   }
+  return best;
+}
+
+TriangleTree::Hit TriangleTree::first_hit(const Vector3d& origin, const Vector3d& dir, double t_min, double t_max,
+                                          const std::function<bool(int)>& skip) const {
+  Hit best;
+  best.t = t_max;
+  if (nodes_.empty()) return best;
+  const Vector3d inv = dir.cwiseInverse();
+  std::vector<int> stack = {0};
+  while (!stack.empty()) {
+    const Node& node = nodes_[static_cast<std::size_t>(stack.back())];
+    stack.pop_back();
+    double t0 = t_min, t1 = best.t;
+    if (!ray_box(node.box, origin, inv, t0, t1)) continue;
+    if (node.count > 0) {
+      for (int i = node.first; i < node.first + node.count; ++i) {
+        const int t = order_[static_cast<std::size_t>(i)];
+        const auto& tri = tris_[static_cast<std::size_t>(t)];
+        const double s = ray_triangle(origin, dir, tri[0], tri[1], tri[2]);
+        if (s > t_min && s <= best.t && !(skip && skip(t))) {
+          best.t = s;
+          best.triangle = t;
+        }
+      }
+      continue;
+    }
+    stack.push_back(node.left);
+    stack.push_back(node.right);
+  }
+  if (best.triangle < 0) best.t = t_max;
   return best;
 }
 

@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: MIT
 // A static bounding-box tree over triangles: candidate pairs for the self-intersection test,
 // closest points for projection onto a discrete surface, and box queries (later: layer
-// collisions). Built top down by median splits along the longest box axis, leaves of a few
+// collisions, and the first triangle a ray meets (the layers' proximity rule). Built top down by median splits along the longest box axis, leaves of a few
 // triangles; O(n log n) to build, queries O(log n + k).
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -34,6 +35,17 @@ class TriangleTree {
   };
   // The closest point on all triangles (exact per triangle, pruned by box distance).
   Closest closest(const Eigen::Vector3d& p) const;
+
+  struct Hit {
+    int triangle = -1;  // -1: the ray meets no triangle in (t_min, t_max]
+    double t = 0;       // origin + t * dir is the hit point
+  };
+  // The nearest triangle that the ray origin + t * dir, t in (t_min, t_max], meets (Moeller and
+  // Trumbore's test in doubles: a hit on an edge may be missed or found twice, which a distance
+  // query tolerates). dir need not be unit; t is in its units.
+  // Triangles that `skip` accepts (when given) are passed through.
+  Hit first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double t_min, double t_max,
+                const std::function<bool(int)>& skip = {}) const;
 
   // All pairs (i < j) of triangles whose boxes overlap (closed boxes), for exact tests after.
   std::vector<std::pair<int, int>> overlapping_pairs() const;

@@ -55,6 +55,11 @@ struct LayerCoverage {
   // metric isotropic), not by a failure: the requested stack is there.
   double complete = 0;
   std::size_t columns = 0, columns_complete = 0;  // the same by columns
+  // Of the complete ones, the columns (and their wall fraction) whose stacks ended by the proximity
+  // rule (LayerParams::proximity): where a facing wall leaves no room for the stack the metric
+  // asks for, the stack that fits is the stop rule.
+  double proximity = 0;
+  std::size_t columns_proximity = 0;
   // The first layer each column grew (a closing layer where layer 1 failed) against the metric's
   // height there along the column: height / metric height, over the columns grown along a normal.
   double first_min = 0, first_mean = 0, first_max = 0;

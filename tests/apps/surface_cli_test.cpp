@@ -286,11 +286,71 @@ TEST_CASE("surface cli: on the wall the sizes along it are h_wall_max: the E387 
   CHECK(read_text(e / "uniform" / "wing_symmetry_surface.msh") == read_text(e / "wall" / "wing_symmetry_surface.msh"));
 }
 
+// A body of revolution about z: a cylinder of radius 1 from z = 0 to 2, then a cone to radius 0.75
+// at z = 3 (a crease of 14 degrees at z = 2, under the 30-degree ridge angle), flat caps.
+TriangleSoup creased_body(int sectors) {
+  std::vector<std::array<double, 2>> profile = {{0, 0}, {1, 0}};
+  for (int k = 1; k <= 20; ++k) profile.push_back({1, 0.1 * k});
+  for (int k = 1; k <= 10; ++k) profile.push_back({1 - 0.025 * k, 2 + 0.1 * k});
+  profile.push_back({0, 3});
+  TriangleSoup s;
+  std::vector<std::vector<int>> ring;
+  for (const auto& [r, z] : profile) {
+    ring.emplace_back();
+    for (int j = 0; j < (r == 0 ? 1 : sectors); ++j) {
+      const double a = 2 * M_PI * j / sectors;
+      ring.back().push_back(static_cast<int>(s.points.size()));
+      s.points.emplace_back(r * std::cos(a), r * std::sin(a), z);
+    }
+  }
+  auto at = [&](std::size_t i, int j) { return ring[i][static_cast<std::size_t>(ring[i].size() == 1 ? 0 : j % sectors)]; };
+  for (std::size_t i = 0; i + 1 < ring.size(); ++i)
+    for (int j = 0; j < sectors; ++j) {
+      const int a = at(i, j), b = at(i, j + 1), c = at(i + 1, j + 1), d = at(i + 1, j);
+      if (ring[i].size() > 1) s.triangles.push_back({a, b, ring[i + 1].size() > 1 ? c : d});
+      if (ring[i + 1].size() > 1) s.triangles.push_back({ring[i].size() > 1 ? a : b, c, d});
+    }
+  return s;
+}
+
+TEST_CASE("surface cli: a crease under the ridge angle is refined until the surface meets fidelity_tol") {
+  // At order 1 and size 0.3 the flat triangles across the 14-degree crease leave the body by
+  // 2.6e-3 of the diagonal (measured), over the tolerance 1e-3 that the curvature sizes meet
+  // elsewhere: without the fidelity loop the run fails; with it one round brings it to 7.4e-4.
+  const std::string yaml = "name: case\norder: 1\ngeometry: {type: surface_file, file: case.stl}\n"
+                           "metric: {type: uniform, h: 0.3}\n";
+  auto relative = [](const std::string& report) {
+    const std::size_t at = report.find("\"relative\": ");
+    return at == std::string::npos ? -1.0 : std::strtod(report.c_str() + at + 12, nullptr);
+  };
+  {
+    const TempDir d("surface_cli_crease_off");
+    write_text(d / "case.stl", ascii_stl(creased_body(96)));
+    const PlafResult r = run_config(d, yaml + "surface: {iterations: 2, curvature_factor: 0.3, fidelity_rounds: 0}\n");
+    INFO(r.err);
+    CHECK(r.code == 2);
+    CHECK(r.err.find("the surface leaves the body") != std::string::npos);
+  }
+  const TempDir d("surface_cli_crease");
+  write_text(d / "case.stl", ascii_stl(creased_body(96)));
+  const PlafResult r = run_config(d, yaml + "surface: {iterations: 2, curvature_factor: 0.3}\n");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const std::string report = read_text(d / "out" / "case.report.json");
+  CHECK(report.find("\"fidelity_refinement\": [{\"spots\": ") != std::string::npos);
+  const double rel = relative(report.substr(report.find("\"fidelity\": {")));
+  MESSAGE("relative Hausdorff distance after the loop: " << rel);
+  CHECK(rel > 0);
+  CHECK(rel <= 1e-3);
+  CHECK(report.find("\"relative_before\": ") != std::string::npos);
+}
+
 TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.min_coverage the run fails into NAME.failed/") {
   // Two unit spheres 0.005 apart, 8 layers from 0.005 growing by 1.2: where the gap runs out the
   // heights shrink to the floor (1/16) and, where even that crosses, the columns stop
   // (layer_core.h, step 3; measured: 62 of 2884 columns, 97.7 % coverage); the others grow their
-  // 8 layers.
+  // 8 layers. That is with the proximity rule off; on (the default), the facing columns stop
+  // before they meet, after their first layer, and every column reached its stop rule.
   TriangleSoup two = plaf::test::icosphere_soup(6);
   const TriangleSoup b = plaf::test::icosphere_soup(6);
   const int off = static_cast<int>(two.points.size());
@@ -303,10 +363,28 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
     const std::size_t at = report.find("\"complete\": ");
     return at == std::string::npos ? -1.0 : std::strtod(report.c_str() + at + 12, nullptr);
   };
+  {  // the proximity rule: no failure, the stack that fits, and the report says where
+    const TempDir d("surface_cli_cover_near");
+    write_text(d / "case.stl", ascii_stl(two));
+    const PlafResult r = run_config(d, yaml + "layers: {max: 8}\n");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string report = read_text(d / "out" / "case.report.json");
+    CHECK(coverage(report) == 1);
+    const std::size_t near = report.find("\"proximity\": ");
+    REQUIRE(near != std::string::npos);
+    const double share = std::strtod(report.c_str() + near + 13, nullptr);
+    MESSAGE("wall share stopped by the proximity rule: " << share);
+    CHECK(share > 0);
+    CHECK(share < 0.05);
+    CHECK(report.find("columns stopped where their stacks fill their share of the gap") != std::string::npos);
+    CHECK(report.find("columns stopped where no valid cell could be grown") == std::string::npos);
+    CHECK(fs::exists(d / "out" / "case.msh"));
+  }
   {  // the default min_coverage (0.95): the run passes, saying how much of the wall has its stack
     const TempDir d("surface_cli_cover_ok");
     write_text(d / "case.stl", ascii_stl(two));
-    const PlafResult r = run_config(d, yaml + "layers: {max: 8}\n");
+    const PlafResult r = run_config(d, yaml + "layers: {max: 8, proximity: 0}\n");
     INFO(r.err);
     REQUIRE(r.code == 0);
     const std::string report = read_text(d / "out" / "case.report.json");
@@ -319,7 +397,7 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
     CAPTURE(keep);
     const TempDir d("surface_cli_cover_fail");
     write_text(d / "case.stl", ascii_stl(two));
-    const fs::path cfg = write_text(d / "case.yaml", yaml + "layers: {max: 8, min_coverage: 1}\n");
+    const fs::path cfg = write_text(d / "case.yaml", yaml + "layers: {max: 8, min_coverage: 1, proximity: 0}\n");
     const PlafResult r = plaf::test::run_plaf(
         "run " + cfg.string() + " --out " + (d / "out").string() + (keep ? " --keep-invalid" : ""), d);
     INFO(r.err);

@@ -603,6 +603,7 @@ TEST_CASE("layers 3D: two spheres too close for their layers stop without crossi
   const UniformMetricField<3> m(Metric<3>::isotropic(0.01));
   LayerParams p;
   p.max_layers = 10;
+  p.proximity = 0;  // the crossings themselves are under test
   const LayerResult<3> r = grow_layers(a, m, p);
   bool crossing_event = false;
   for (const std::string& e : r.events) crossing_event = crossing_event || e.find("front crossings") != std::string::npos;
@@ -640,6 +641,14 @@ TEST_CASE("normals 3D: at a cusp no direction sees every face, the most normal o
   CHECK(worst >= best - 1e-3);
 }
 
+// Ten layers of 0.01 on two unit spheres 0.05 apart (order q), with the proximity rule's share.
+LayerResult<3> ten_layers_on_two_spheres(int q, double proximity) {
+  LayerParams p;
+  p.max_layers = 10;
+  p.proximity = proximity;
+  return grow_layers(two_spheres(3, q, 0.05), UniformMetricField<3>(Metric<3>::isotropic(0.01)), p);
+}
+
 TEST_CASE("layers 3D: where two spheres' gap is used up their columns stop, the rest of both grows every layer") {
   // Spheres of radius 1, 0.05 apart, layers of 0.01: the facing columns meet after about 2.5
   // layers each; there even the floor height (1/16) crosses, those columns stop (layer_core.h,
@@ -648,11 +657,7 @@ TEST_CASE("layers 3D: where two spheres' gap is used up their columns stop, the 
   // between two stopped columns grew a top of its own (a facet with two sets of nodes).
   for (int q : {1, 2, 3}) {
     CAPTURE(q);
-    const CurvedFront<3> a = two_spheres(3, q, 0.05);
-    const UniformMetricField<3> m(Metric<3>::isotropic(0.01));
-    LayerParams p;
-    p.max_layers = 10;
-    const LayerResult<3> r = grow_layers(a, m, p);
+    const LayerResult<3> r = ten_layers_on_two_spheres(q, 0);  // the local stops on failures are under test
     REQUIRE_FALSE(r.coverage.stopped_early.empty());
     MESSAGE("coverage " << r.coverage.complete << " (" << r.coverage.columns_complete << " of " << r.coverage.columns
                         << " columns); first stop: " << r.coverage.stopped_early.front());
@@ -667,6 +672,43 @@ TEST_CASE("layers 3D: where two spheres' gap is used up their columns stop, the 
     CHECK(r.mesh.cells[1].size() > 0);
     check_conforming_and_apart(r, q);
   }
+}
+
+TEST_CASE("layers 3D: where two spheres face each other the proximity rule ends their stacks before they meet, graded") {
+  // Spheres of radius 1, 0.05 apart, layers of 0.01: each facing column may stack 0.8 of half
+  // the gap, 0.02, so the columns on the axis stop after one or two layers (at two the stack
+  // would reach its allowance exactly), without a failure; the allowance grows with the gap and
+  // by at most half the distance along the front, so the stacks ramp up to the full 10 layers,
+  // reached where the gap is about 0.25 (26 degrees off the axis: 5 % of the wall); every other
+  // column grows them. Every column reached its stop rule.
+  for (int q : {1, 2, 3}) {
+    CAPTURE(q);
+    const LayerResult<3> r = ten_layers_on_two_spheres(q, LayerParams().proximity);
+    MESSAGE("proximity: " << r.coverage.proximity << " of the wall, " << r.coverage.columns_proximity << " columns");
+    CHECK(r.layers.size() == 10);
+    CHECK(r.coverage.stopped_early.empty());  // no column ended on a failure
+    CHECK(r.coverage.complete == 1.0);
+    CHECK(r.coverage.columns_proximity > 0);
+    CHECK(r.coverage.proximity > 0);
+    CHECK(r.coverage.proximity < 0.08);
+    // The outer front keeps a gap: on the axis between the spheres it is at most 2 x 0.02 wide
+    // stacks apart, i.e. no outer node lies within 0.05 - 2 * 0.02 - 0.01 (a layer's tolerance)
+    // of the mid-plane x = 1.025 near the axis, and the stacks there are at least 0.01 tall.
+    double nearest = 1;
+    for (NodeId n : r.outer.triangles) {
+      const Vector3d& x = r.mesh.nodes[static_cast<std::size_t>(n)];
+      if (std::hypot(x.y(), x.z()) < 0.05) nearest = std::min(nearest, std::abs(x.x() - 1.025));
+    }
+    MESSAGE("outer front's nearest node to the mid-plane near the axis: " << nearest);
+    CHECK(nearest >= 0.005 - 1e-9);
+    CHECK(nearest <= 0.025 - 0.01 + 1e-9);
+    CHECK(invalid_cells(r, q) == 0);
+    check_conforming_and_apart(r, q);
+  }
+  // Turned off, the same columns run into each other and stop on the failures instead.
+  const LayerResult<3> r = ten_layers_on_two_spheres(1, 0);
+  CHECK(r.coverage.columns_proximity == 0);
+  CHECK_FALSE(r.coverage.stopped_early.empty());
 }
 
 TEST_CASE("layers 3D: relaxed normals (smooth_normals) keep rim nodes on their symmetry planes and two close spheres' cells valid") {
@@ -707,6 +749,7 @@ TEST_CASE("layers 3D: relaxed normals (smooth_normals) keep rim nodes on their s
     const UniformMetricField<3> m(Metric<3>::isotropic(0.01));
     LayerParams p;
     p.max_layers = 2;
+    p.proximity = 0;  // the relaxation beside the local stops is under test
     const LayerResult<3> plain = grow_layers(a, m, p);
     p.smooth_normals = true;
     const LayerResult<3> two = grow_layers(a, m, p);

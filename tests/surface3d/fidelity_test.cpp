@@ -8,6 +8,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -55,6 +56,39 @@ TEST_CASE("fidelity: a sphere's flat triangles sit their chord sag inside it, a 
   CHECK(notched.to_mesh > 0.2);  // the body above the notch (0.3 less its sloped neighbours' lean)
   CHECK((notched.worst_on_reference - x).norm() < 0.2);
   CHECK(notched.relative > 10 * clean.relative);
+}
+
+TEST_CASE("fidelity: the samples over a distance are listed, and the refined field shrinks sizes around them") {
+  AnalyticBody body = make_sphere(Eigen::Vector3d::Zero(), 2.0, 0.4);
+  TriSurface& s = body.initial;
+  const std::vector<Eigen::Vector3d> samples = reference_samples(s, *body.reference, false);
+  const auto v = *s.mesh.vertices().begin();
+  const Eigen::Vector3d x = s.mesh.point(v);
+  s.mesh.set_point(v, 0.85 * x);  // a notch 0.3 deep
+  const FidelityReport r = measure_fidelity(s, *body.reference, samples, 0.1);
+  REQUIRE_FALSE(r.far.empty());
+  for (const auto& [p, d] : r.far) {
+    CHECK(d > 0.1);
+    CHECK((p - x).norm() < 1.0);  // all of them at the notch
+  }
+  CHECK(std::any_of(r.far.begin(), r.far.end(), [](const auto& f) { return f.second == doctest::Approx(0.3); }));
+  CHECK(measure_fidelity(s, *body.reference, samples).far.empty());  // none asked for
+
+  // Two spots: factor 0.5 within a third of radius 0.3 of (0, 0, 2), 0.25 at (2, 0, 0): sizes
+  // times the factor, directions kept; ramped back to 1 at the radius; 1 far away.
+  const Metric<3> m = Metric<3>::from_directions(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.1, 0.2, 0.4));
+  const UniformMetricField<3> inner(m);
+  const FidelityRefinedField f(inner, {{Eigen::Vector3d(0, 0, 2), 0.5, 0.3}, {Eigen::Vector3d(2, 0, 0), 0.25, 0.3}});
+  CHECK(f.num_spots() == 2);
+  CHECK(f.factor(Eigen::Vector3d(0, 0, 2.05)) == doctest::Approx(0.5));
+  CHECK(f.factor(Eigen::Vector3d(0, 0, 2.2)) == doctest::Approx(0.75));  // halfway along the ramp
+  CHECK(f.factor(Eigen::Vector3d(0, 0, 2.31)) == 1.0);
+  CHECK(f.factor(Eigen::Vector3d(2, 0.05, 0)) == doctest::Approx(0.25));
+  CHECK(f.factor(Eigen::Vector3d(-5, 3, 1)) == 1.0);
+  const Metric<3> at = f.evaluate(Eigen::Vector3d(2, 0, 0));
+  CHECK(at.size_along(Eigen::Vector3d::UnitX()) == doctest::Approx(0.025));
+  CHECK(at.size_along(Eigen::Vector3d::UnitZ()) == doctest::Approx(0.1));
+  CHECK(f.evaluate(Eigen::Vector3d(9, 9, 9)).matrix() == m.matrix());
 }
 
 TEST_CASE("fidelity: the E387 half wing remeshed with the curvature metric keeps its noses") {

@@ -148,5 +148,52 @@ TEST_CASE("aabb_tree: touching boxes count as overlapping, empty and single tree
   CHECK(one.overlapping_pairs().empty());
 }
 
+TEST_CASE("aabb_tree: first_hit finds the nearest triangle a ray meets, as a scan of every triangle does") {
+  const RandomTriangles rt = random_triangles(600, 3.0, 11);
+  const TriangleTree tree(rt.points, rt.triangles);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.5, 3.5), d(-1, 1);
+  int hits = 0;
+  for (int k = 0; k < 400; ++k) {
+    const Vector3d o(u(rng), u(rng), u(rng));
+    Vector3d dir(d(rng), d(rng), d(rng));
+    if (k % 4 == 1) dir[k % 3] = 0;  // in a slab's plane: 0 * inf must not end the walk
+    if (k % 4 == 3) dir = Vector3d::Unit(k % 3) * (k % 8 == 3 ? 1 : -1);
+    const TriangleTree::Hit h = tree.first_hit(o, dir, 0, 10);
+    // The scan: every triangle's hit by the same test on a one-triangle tree.
+    double want = 10;
+    int want_t = -1;
+    for (std::size_t t = 0; t < rt.triangles.size(); ++t) {
+      const TriangleTree one(rt.points, {rt.triangles[t]});
+      const TriangleTree::Hit s = one.first_hit(o, dir, 0, 10);
+      if (s.triangle == 0 && s.t <= want) {
+        want = s.t;
+        want_t = static_cast<int>(t);
+      }
+    }
+    CHECK(h.triangle == want_t);
+    CHECK(h.t == want);
+    if (h.triangle >= 0) {
+      ++hits;
+      // The hit point lies on its triangle.
+      const auto& tri = tree.triangle(h.triangle);
+      const Vector3d x = o + h.t * dir;
+      CHECK((closest_point_on_triangle(x, tri[0], tri[1], tri[2]) - x).norm() <= 1e-9);
+    }
+  }
+  CHECK(hits > 50);
+
+  // A unit square's two triangles at z = 1: a ray up from below meets them at t = 1 (t_min and
+  // t_max bound the search), a ray beside the square meets nothing.
+  const std::vector<Vector3d> sq = {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  const TriangleTree square(sq, {{0, 1, 2}, {0, 2, 3}});
+  CHECK(square.first_hit({0.3, 0.6, 0}, {0, 0, 2}, 0, 10).t == doctest::Approx(0.5));
+  CHECK(square.first_hit({0.3, 0.6, 0}, {0, 0, 1}, 0, 0.9).triangle == -1);
+  CHECK(square.first_hit({0.3, 0.6, 0}, {0, 0, 1}, 0, 0.9).t == 0.9);
+  CHECK(square.first_hit({0.3, 0.6, 1}, {0, 0, 1}, 1e-12, 10).triangle == -1);  // starts on it
+  CHECK(square.first_hit({1.5, 0.5, 0}, {0, 0, 1}, 0, 10).triangle == -1);
+  CHECK(TriangleTree().first_hit({0, 0, 0}, {1, 0, 0}, 0, 1).triangle == -1);
+}
+
 }  // namespace
 }  // namespace plaf
