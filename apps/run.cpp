@@ -72,11 +72,20 @@ void assemble(RunState<2>& s, StageReport& rep) {
   s.mesh = std::move(a.mesh);
   if (o.split_quads) rep.add("split_quads", a.split_quads);
 }
-void assemble(RunState<3>& s, StageReport&) {
+void assemble(RunState<3>& s, StageReport& rep) {
   if (s.layers) {
     // The layer mesh moves into the run's mesh (the layer table needs only its stats after).
-    s.mesh = s.fill ? assemble_hybrid_3d(std::move(s.layers->mesh), s.layers->outer, *s.fill)
-                    : assemble_hybrid_3d(std::move(s.layers->mesh), s.layers->outer);
+    if (s.fill) {
+      s.mesh = assemble_hybrid_3d(std::move(s.layers->mesh), s.layers->outer, *s.fill);
+      return;
+    }
+    std::size_t bare = 0;
+    s.mesh = assemble_hybrid_3d(std::move(s.layers->mesh), s.layers->outer, &bare);
+    rep.add("bare_wall_facets", bare);
+    if (bare > 0)
+      rep.line("assembly: " + std::to_string(bare) +
+               " wall triangles with no layer (their columns stopped before their first; the layers' coverage counts "
+               "them), left out of the boundary with their outer triangles");
     return;
   }
   if (!s.mesh_done) throw MesherError("assembly: the surface stage gave no mesh");

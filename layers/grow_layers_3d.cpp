@@ -383,6 +383,8 @@ class PartLayerBuilder {
       stop_[l] = all ? 1 : 0;
     }
     any_stop_ = std::any_of(stop_.begin(), stop_.end(), [](std::uint8_t b) { return b != 0; });
+    // About Q^2 lifted nodes per face (its cut's edges and faces through the layer): no rehash.
+    if (any_stop_) lifted_.reserve(part_.nt() * static_cast<std::size_t>(q_ * q_));
   }
   bool stopped_dir(std::size_t d) const { return any_stop_ && !fanned_ && stop_[static_cast<std::size_t>(dirs_[d].base)]; }
 

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <map>
+#include <set>
+#include <vector>
 #include <utility>
 
 #include "modules/base/error.h"
@@ -13,12 +15,43 @@
 namespace plaf {
 inline namespace mesh {
 
-HybridMesh<3> assemble_hybrid_3d(HybridMesh<3> mesh, const CurvedFront<3>& outer) {
+HybridMesh<3> assemble_hybrid_3d(HybridMesh<3> mesh, const CurvedFront<3>& outer, std::size_t* bare_wall_facets) {
+  // A wall triangle whose three columns stopped before growing is also an outer triangle, with
+  // the same nodes: no cell lies between the two. Both are left out (bare_wall_facets).
+  std::set<std::array<NodeId, 3>> outer_keys;
+  for (std::size_t t = 0; t < outer.num_triangles(); ++t) {
+    std::array<NodeId, 3> k = {outer.triangle(t)[0], outer.triangle(t)[1], outer.triangle(t)[2]};
+    std::sort(k.begin(), k.end());
+    outer_keys.insert(k);
+  }
+  std::set<std::array<NodeId, 3>> bare;
+  for (CellBlock& b : mesh.boundary) {
+    if (b.type != CellType::Triangle || b.tag < 0 || mesh.tags[static_cast<std::size_t>(b.tag)].kind != BoundaryKind::Wall)
+      continue;
+    const std::size_t np = static_cast<std::size_t>(b.nodes_per_cell());
+    std::vector<NodeId> kept;
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      std::array<NodeId, 3> k = {b.cell(i)[0], b.cell(i)[1], b.cell(i)[2]};
+      std::sort(k.begin(), k.end());
+      if (outer_keys.count(k)) {
+        bare.insert(k);
+        continue;
+      }
+      kept.insert(kept.end(), b.cell(i), b.cell(i) + np);
+    }
+    b.connectivity = std::move(kept);
+  }
+  if (bare_wall_facets) *bare_wall_facets = bare.size();
   if (outer.num_triangles() + outer.num_quads() > 0) {
     const int tag = mesh.add_tag("layers_outer", BoundaryKind::Named);
     if (outer.num_triangles() > 0) {
       CellBlock& b = mesh.boundary_block(CellType::Triangle, outer.order, tag);
-      b.connectivity.insert(b.connectivity.end(), outer.triangles.begin(), outer.triangles.end());
+      const std::size_t np = static_cast<std::size_t>(num_nodes(CellType::Triangle, outer.order));
+      for (std::size_t t = 0; t < outer.num_triangles(); ++t) {
+        std::array<NodeId, 3> k = {outer.triangle(t)[0], outer.triangle(t)[1], outer.triangle(t)[2]};
+        std::sort(k.begin(), k.end());
+        if (!bare.count(k)) b.connectivity.insert(b.connectivity.end(), outer.triangle(t), outer.triangle(t) + np);
+      }
     }
     if (outer.num_quads() > 0) {
       CellBlock& b = mesh.boundary_block(CellType::Quadrilateral, outer.order, tag);

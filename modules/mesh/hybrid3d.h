@@ -16,8 +16,11 @@ inline namespace mesh {
 
 // The 3D mesh of a layer stage's result: its mesh (cells and boundary; moved in, it holds every
 // node of the run) plus the outer front's triangles (order Q) in a boundary block tagged
-// `layers_outer` (kind Named).
-HybridMesh<3> assemble_hybrid_3d(HybridMesh<3> layer_mesh, const CurvedFront<3>& outer);
+// `layers_outer` (kind Named). Where a wall triangle's columns all stopped before their first
+// layer (local stops, layer_core.h) the wall triangle is an outer triangle too, with no cell
+// between: both are left out and counted in *bare_wall_facets (a fill would meet the wall there).
+HybridMesh<3> assemble_hybrid_3d(HybridMesh<3> layer_mesh, const CurvedFront<3>& outer,
+                                 std::size_t* bare_wall_facets = nullptr);
 
 // The layer mesh and a fill of its outer front (FillResult's contract, linear_front.h: the layer
 // mesh's nodes first). Every node of an order-Q tetrahedron or boundary triangle is identified by

@@ -711,6 +711,26 @@ TEST_CASE("layers 3D: where two spheres face each other the proximity rule ends 
   CHECK_FALSE(r.coverage.stopped_early.empty());
 }
 
+TEST_CASE("layers 3D: wall triangles whose columns stop before their first layer are left out of the layers' mesh") {
+  // Two spheres 1e-4 apart, layers of 0.01 (floor 6.25e-4): the facing columns cannot grow even
+  // their first layer, so whole wall triangles keep their columns at the wall; with no cell over
+  // them, the layer mesh closed by its outer front leaves each out with its outer triangle.
+  LayerParams p;
+  p.max_layers = 3;
+  p.proximity = 0;
+  const LayerResult<3> r = grow_layers(two_spheres(3, 2, 1e-4), UniformMetricField<3>(Metric<3>::isotropic(0.01)), p);
+  REQUIRE_FALSE(r.coverage.stopped_early.empty());
+  CHECK(r.coverage.stopped_early.front().find("layer 1,") == 0);
+  std::size_t bare = 0;
+  const HybridMesh<3> m = assemble_hybrid_3d(r.mesh, r.outer, &bare);
+  MESSAGE("bare wall triangles: " << bare << "; coverage " << r.coverage.complete);
+  CHECK(bare > 0);
+  const ConformityReport cr = check_conformity<3>(m);
+  CHECK_MESSAGE(cr.ok, cr.first_problem);
+  CHECK(cr.stray_boundary == 0);
+  CHECK(invalid_cells(r, 2) == 0);
+}
+
 TEST_CASE("layers 3D: relaxed normals (smooth_normals) keep rim nodes on their symmetry planes and two close spheres' cells valid") {
   // A cylinder between two symmetry planes (z = 0.7 and 1.5): the relaxed normals of the rim
   // nodes stay in their planes, so every symmetry facet's node stays on its plane, and every cell
