@@ -76,6 +76,10 @@
 //     Elsewhere the part's other columns grow on to the stop rule. A cusp (no direction sees
 //     every face around a node) grows along the most normal direction (normals_3d.h) and, where
 //     its cells cannot be valid, stops there too: no run ends on a cusp.
+//  8. the proximity rule (layer_core.h, step 1; SurfaceFronts::stop_point_room): a ray along
+//     each vertex column's front normal to the first wall triangle facing it (its own face's
+//     neighbours skipped) and one back to its own wall give the gap; the allowance, share x the
+//     gap x cos/(1 + cos), is graded over the front's edges (at most half the distance more).
 // Not yet: isotropic_stop: node (the plugin refuses it in 3D; the stopped columns above would
 // serve it).
 #pragma once
