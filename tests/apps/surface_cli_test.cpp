@@ -381,6 +381,19 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
     CHECK(report.find("columns stopped where no valid cell could be grown") == std::string::npos);
     CHECK(fs::exists(d / "out" / "case.msh"));
   }
+  {  // with a fill: where the stopped columns leave a curved front no closing layer can straighten,
+     // the run fails loudly into NAME.failed/ (report and picture), not on an error with nothing
+    const TempDir d("surface_cli_cover_fill");
+    write_text(d / "case.stl", ascii_stl(two));
+    const PlafResult r = run_config(
+        d, yaml + "layers: {max: 8, proximity: 0, stop_when_linear: true}\n"
+                  "fill: {type: tetgen, farfield: {shape: box, size: [20, 20, 20], center: [1, 0, 0]}}\n");
+    INFO(r.err);
+    CHECK(r.code == 2);
+    CHECK(r.err.find("fill: the layers' outer front is still curved") != std::string::npos);
+    CHECK(fs::exists(d / "out" / "case.failed" / "case.report.json"));
+    CHECK(fs::exists(d / "out" / "case.failed" / "case.png"));
+  }
   {  // the default min_coverage (0.95): the run passes, saying how much of the wall has its stack
     const TempDir d("surface_cli_cover_ok");
     write_text(d / "case.stl", ascii_stl(two));
