@@ -148,18 +148,19 @@ double signed_area(const std::vector<Eigen::Vector2d>& pts) {
 
 }  // namespace
 
+std::optional<Eigen::Vector3d> curved_outer_point(const LayerResult<3>& lr) {
+  const CellBlock outer{CellType::Triangle, lr.outer.order, -1, lr.outer.triangles};
+  for (std::size_t t = 0; t < outer.size(); ++t)
+    if (is_curved(lr.mesh, outer, t)) return lr.mesh.nodes[static_cast<std::size_t>(outer.cell(t)[0])];
+  return std::nullopt;
+}
+
 HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& metric, const HybridFillParams& params) {
   if (lr.layers.empty()) throw MesherError("fill: tetgen fills around prism layers; the layer stage grew none");
   // The outer front itself must be straight (linear_after speaks for the parts that grew last).
-  {
-    CellBlock outer_block{CellType::Triangle, lr.outer.order, -1, lr.outer.triangles};
-    for (std::size_t t = 0; t < outer_block.size(); ++t)
-      if (is_curved(lr.mesh, outer_block, t)) {
-        const Vec& x = lr.mesh.nodes[static_cast<std::size_t>(outer_block.cell(t)[0])];
-        throw MesherError("fill: the layers' outer front is still curved at (" + num(x.x()) + ", " + num(x.y()) + ", " +
-                          num(x.z()) + ") (see layers.events); TetGen fills from a linear front");
-      }
-  }
+  if (const std::optional<Vec> x = curved_outer_point(lr))
+    throw MesherError("fill: the layers' outer front is still curved at (" + num(x->x()) + ", " + num(x->y()) + ", " +
+                      num(x->z()) + ") (see layers.events); TetGen fills from a linear front");
   if (lr.outer.num_quads() > 0)
     throw MesherError("fill: the layers' outer front has " + std::to_string(lr.outer.num_quads()) +
                       " quadrilaterals; the TetGen fill meets triangles only");

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 
 #include <string>
 #include <vector>
@@ -52,6 +53,10 @@ struct HybridFill {
 // Throws MesherError when the outer front is curved or holds quadrilaterals, a symmetry plane is
 // not axis-aligned, a rim edge lies on no plane, or a fill fails; ConfigError (naming the key)
 // for a farfield that cannot enclose the layers.
+// A vertex of the first outer-front triangle still curved (the fill needs a linear front: a part
+// whose closing layer failed, layers.events), or none.
+std::optional<Eigen::Vector3d> curved_outer_point(const LayerResult<3>& layers);
+
 HybridFill fill_around_layers(const LayerResult<3>& layers, const MetricField<3>& metric, const HybridFillParams& params);
 
 }  // namespace plaf::volume

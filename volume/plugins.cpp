@@ -91,19 +91,13 @@ void register_plugins() {
         // A front still curved where no closing layer was valid (layers.events): the run fails
         // loudly into NAME.failed/ with its report and picture (the layers as they grew), instead of
         // ending on an error with nothing to look at.
-        {
-          const LayerResult<3>& lr = *s.layers;
-          const CellBlock outer{CellType::Triangle, lr.outer.order, -1, lr.outer.triangles};
-          for (std::size_t t = 0; t < outer.size(); ++t)
-            if (is_curved(lr.mesh, outer, t)) {
-              const Eigen::Vector3d& x = lr.mesh.nodes[static_cast<std::size_t>(outer.cell(t)[0])];
-              std::ostringstream why;
-              why << "fill: the layers' outer front is still curved at (" << x.x() << ", " << x.y() << ", " << x.z()
-                  << "): no valid closing layer there (see layers.events); TetGen fills from a linear front, so the "
-                     "fill was not made";
-              rep.fail(why.str());
-              return;
-            }
+        if (const std::optional<Eigen::Vector3d> x = curved_outer_point(*s.layers)) {
+          std::ostringstream why;
+          why << "fill: the layers' outer front is still curved at (" << x->x() << ", " << x->y() << ", " << x->z()
+              << "): no valid closing layer there (see layers.events); TetGen fills from a linear front, so the "
+                 "fill was not made";
+          rep.fail(why.str());
+          return;
         }
         HybridFillParams params = parsed;
         params.size_check = [&s](double tets) {  // the size budget (modules/pipeline/budget.h)

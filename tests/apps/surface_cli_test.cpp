@@ -363,13 +363,18 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
     const std::size_t at = report.find("\"complete\": ");
     return at == std::string::npos ? -1.0 : std::strtod(report.c_str() + at + 12, nullptr);
   };
-  {  // the proximity rule: no failure, the stack that fits, and the report says where
-    const TempDir d("surface_cli_cover_near");
+  // A run that must pass: its report.
+  auto passing_report = [&](const char* dir, const std::string& layers) {
+    const TempDir d(dir);
     write_text(d / "case.stl", ascii_stl(two));
-    const PlafResult r = run_config(d, yaml + "layers: {max: 8}\n");
+    const PlafResult r = run_config(d, yaml + layers);
     INFO(r.err);
     REQUIRE(r.code == 0);
-    const std::string report = read_text(d / "out" / "case.report.json");
+    CHECK(fs::exists(d / "out" / "case.msh"));
+    return read_text(d / "out" / "case.report.json");
+  };
+  {  // the proximity rule: no failure, the stack that fits, and the report says where
+    const std::string report = passing_report("surface_cli_cover_near", "layers: {max: 8}\n");
     CHECK(coverage(report) == 1);
     const std::size_t near = report.find("\"proximity\": ");
     REQUIRE(near != std::string::npos);
@@ -379,7 +384,6 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
     CHECK(share < 0.05);
     CHECK(report.find("columns stopped where their stacks fill their share of the gap") != std::string::npos);
     CHECK(report.find("columns stopped where no valid cell could be grown") == std::string::npos);
-    CHECK(fs::exists(d / "out" / "case.msh"));
   }
   {  // with a fill: where the stopped columns leave a curved front no closing layer can straighten,
      // the run fails loudly into NAME.failed/ (report and picture), not on an error with nothing
@@ -395,16 +399,10 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
     CHECK(fs::exists(d / "out" / "case.failed" / "case.png"));
   }
   {  // the default min_coverage (0.95): the run passes, saying how much of the wall has its stack
-    const TempDir d("surface_cli_cover_ok");
-    write_text(d / "case.stl", ascii_stl(two));
-    const PlafResult r = run_config(d, yaml + "layers: {max: 8, proximity: 0}\n");
-    INFO(r.err);
-    REQUIRE(r.code == 0);
-    const std::string report = read_text(d / "out" / "case.report.json");
+    const std::string report = passing_report("surface_cli_cover_ok", "layers: {max: 8, proximity: 0}\n");
     CHECK(coverage(report) < 1);
     CHECK(coverage(report) >= 0.95);
     CHECK(report.find("columns stopped where no valid cell could be grown") != std::string::npos);
-    CHECK(fs::exists(d / "out" / "case.msh"));
   }
   for (const bool keep : {false, true}) {  // all of it asked for: the run fails
     CAPTURE(keep);
