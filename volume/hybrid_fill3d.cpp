@@ -148,23 +148,21 @@ double signed_area(const std::vector<Eigen::Vector2d>& pts) {
 
 }  // namespace
 
-std::optional<Eigen::Vector3d> curved_outer_point(const LayerResult<3>& lr) {
+std::vector<std::size_t> curved_outer_triangles(const LayerResult<3>& lr) {
   const CellBlock outer{CellType::Triangle, lr.outer.order, -1, lr.outer.triangles};
+  std::vector<std::size_t> curved;
   for (std::size_t t = 0; t < outer.size(); ++t)
-    if (is_curved(lr.mesh, outer, t)) return lr.mesh.nodes[static_cast<std::size_t>(outer.cell(t)[0])];
-  return std::nullopt;
+    if (is_curved(lr.mesh, outer, t)) curved.push_back(t);
+  return curved;
 }
 
 HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& metric, const HybridFillParams& params) {
   if (lr.layers.empty()) throw MesherError("fill: tetgen fills around prism layers; the layer stage grew none");
-  // The outer front itself must be straight (linear_after speaks for the parts that grew last).
-  if (const std::optional<Vec> x = curved_outer_point(lr))
-    throw MesherError("fill: the layers' outer front is still curved at (" + num(x->x()) + ", " + num(x->y()) + ", " +
-                      num(x->z()) + ") (see layers.events); TetGen fills from a linear front");
   if (lr.outer.num_quads() > 0)
     throw MesherError("fill: the layers' outer front has " + std::to_string(lr.outer.num_quads()) +
                       " quadrilaterals; the TetGen fill meets triangles only");
   HybridFill r;
+  r.curved_front_triangles = curved_outer_triangles(lr).size();  // step 1
   LinearFront<3> front = lr.fill_front;
   int outer_tag = -1;
   for (std::size_t k = 0; k < front.tags.size(); ++k)

@@ -4,8 +4,13 @@
 // between the farfield's cut and the layers' rim, filled with TetGen's tetrahedra
 // (tetgen_fill.h). What the `tetgen` fill plugin runs (plugins.h).
 //
-//  1. The layers' outer front must be linear (their closing layer makes it so when it can) and
-//     all triangles (grow_layers_3d.h).
+//  1. The layers' outer front must be all triangles (grow_layers_3d.h). TetGen meets its chords
+//     (the vertices); where it is still curved (a part whose closing layer failed: columns that
+//     stopped curved, layers.events) the tetrahedra on it take its curved triangles in the
+//     assembly (assemble_hybrid_3d keeps the outer front's nodes), so the mesh stays conforming,
+//     and the quality stage certifies them as every cell. The paper fills from a linear front
+//     (Sec. II.C); a curved face under an isotropic tetrahedron as tall as its edges is the robust
+//     choice where no straight closing cell is valid, and a tetrahedron it inverts fails the run.
 //  2. Symmetry planes: the layer mesh's boundary tags of kind symmetry, each on an axis-aligned
 //     plane (their facets' nodes fitted); the outer front's open edges (its rim) must lie on
 //     them. The farfield is then a box cut to the bodies' side of every plane.
@@ -48,14 +53,15 @@ struct HybridFill {
   TetFillStats stats;
   FarfieldParams3 farfield;  // as resolved (h, cuts)
   std::size_t farfield_triangles = 0, plane_triangles = 0, holes = 0;
+  std::size_t curved_front_triangles = 0;  // step 1: the outer front's triangles still curved
 };
 
-// Throws MesherError when the outer front is curved or holds quadrilaterals, a symmetry plane is
+// Throws MesherError when the outer front holds quadrilaterals, a symmetry plane is
 // not axis-aligned, a rim edge lies on no plane, or a fill fails; ConfigError (naming the key)
 // for a farfield that cannot enclose the layers.
-// A vertex of the first outer-front triangle still curved (the fill needs a linear front: a part
-// whose closing layer failed, layers.events), or none.
-std::optional<Eigen::Vector3d> curved_outer_point(const LayerResult<3>& layers);
+// The outer front's triangles still curved (a part whose closing layer failed, layers.events):
+// the tetrahedra on them are curved (step 1).
+std::vector<std::size_t> curved_outer_triangles(const LayerResult<3>& layers);
 
 HybridFill fill_around_layers(const LayerResult<3>& layers, const MetricField<3>& metric, const HybridFillParams& params);
 

@@ -6,10 +6,12 @@
 //     max_triangles: <n>    give up (an error) beyond this many triangles   default: 20000000
 //     optimize_passes: <0..50>  rounds of metric edge splits, swaps and node smoothing after the front,
 //                           the fronts kept (optimize_2d.h; 0: none)        default: 10
-//     type: tetgen          3D: TetGen's tetrahedra between the layers' linear outer front and a
+//     type: tetgen          3D: TetGen's tetrahedra between the layers' outer front and a
 //                           farfield, with the symmetry planes' regions meshed (hybrid_fill3d.h),
 //                           the default 3D type; needs a layers section (whose front it closes
-//                           linear); the layers' insides are holes
+//                           linear where a closing layer is valid; the tetrahedra on a triangle
+//                           still curved are curved, fill.curved_front_triangles); the layers'
+//                           insides are holes
 //     max_radius_edge: <0 or >= 1.1>  TetGen's quality bound q (0: off)           default: 1.5
 //     max_volume: <>= 0>    TetGen's volume bound a (0: none)                        default: 0
 //     farfield:
