@@ -81,7 +81,9 @@ Geometry3Params parse_geometry3_params(const ConfigNode& g, const std::string& t
       plane.offset = p.get_double("offset", plane.offset) / len;
       s.symmetry_planes.push_back(plane);
     }
-    s.check_self_intersections = g.get_choice("self_intersections", "check", {"check", "skip"}) == "check";
+    const std::string si = g.get_choice("self_intersections", "repair", {"repair", "check", "skip"});
+    s.check_self_intersections = si != "skip";
+    s.repair_folded_caps = si == "repair";
     s.drop_inner_components = g.get_choice("inner_components", "drop", {"error", "drop"}) == "drop";
     s.smooth_reference = g.get_choice("reference", "facets", {"smooth", "facets"}) == "smooth";
   }
@@ -179,6 +181,7 @@ void surface_file(const Geometry3Params& g, RunState<3>& s, StageReport& rep) {
   SurfaceCheckOptions so;
   for (const SymmetryPlaneParams& p : g.symmetry_planes) so.symmetry_planes.push_back({vec(p.normal), p.offset});
   so.check_self_intersections = g.check_self_intersections;
+  so.repair_folded_caps = g.repair_folded_caps;
   so.drop_inner_components = g.drop_inner_components;
   SurfaceCheckReport k;
   s.surface = validate_surface(soup, so, &k);

@@ -23,7 +23,9 @@
 //       weld_rel: <0..0.1>  merge points closer than this x bbox diagonal   default: 1e-9
 //       symmetry_planes:    open boundaries allowed on these planes, tagged symmetry:
 //         - normal: [nx, ny, nz]   (required)   offset: <d>   (the plane normal . x = d, default 0)
-//       self_intersections: check|skip                            default: check
+//       self_intersections: repair|check|skip  repair: folded sliver caps behind intersecting
+//                         pairs get their long edge flipped (a repair line), then check;
+//                         check: any pair is an error; skip: not tested    default: repair
 //       inner_components: drop|error  bodies nested inside another (the flow never meets them):
 //                         dropped with a repair line, or an error     default: drop
 //   surface:                the `remesh` surface stage: features, remeshing (features.h, remesh.h),
@@ -83,6 +85,7 @@ struct Geometry3Params {
   double weld_rel = 1e-9;
   std::vector<SymmetryPlaneParams> symmetry_planes;
   bool check_self_intersections = true;
+  bool repair_folded_caps = true;
   bool drop_inner_components = true;
   bool smooth_reference = false;  // surface_file: smooth patches, else the flat facets
 };

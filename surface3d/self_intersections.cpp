@@ -3,6 +3,9 @@
 // bounding-box tree's overlapping boxes tested exactly (predicates.h); pairs sharing a vertex or
 // an edge count only where they overlap beyond what they share.
 #include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
 #include <utility>
 
 #include "modules/base/error.h"
@@ -123,6 +126,7 @@ bool pair_intersects(const std::vector<Vector3d>& pts, const Tri& x, const Tri& 
 struct IntersectionCount {
   std::size_t count = 0;
   std::size_t tested = 0;
+  std::vector<std::pair<int, int>> pairs;  // the intersecting pairs (positions in the list)
   int first_a = -1, first_b = -1;  // positions in the triangle list, first_a < first_b
   Vector3d point = Vector3d::Zero();
 };
@@ -140,6 +144,7 @@ IntersectionCount self_intersections(const std::vector<Vector3d>& pts, const std
     ++r.tested;
     if (!pair_intersects(pts, tris[idx(a)], tris[idx(b)])) continue;
     ++r.count;
+    r.pairs.emplace_back(a, b);
     std::pair<int, int> k(key[idx(a)], key[idx(b)]);
     if (k.first > k.second) std::swap(k.first, k.second);
     if (best_key.first < 0 || k < best_key) {
@@ -152,12 +157,109 @@ IntersectionCount self_intersections(const std::vector<Vector3d>& pts, const std
   return r;
 }
 
+// The repair of step 7 (validate.h): a folded cap is a sliver whose largest angle is over 170
+// degrees, its tip just across its long edge instead of on it, so that it and the fan around its
+// tip fold over the triangle across that edge (its normal more than 90 degrees from both
+// neighbours across its short edges). CAD tessellations make them: the published Orion capsule
+// has 5, behind all of its 20 intersecting pairs. Flipping the long edge (the cap and the
+// triangle across it become two triangles on the tip's other diagonal) unfolds it, moving the
+// surface by at most the tip's distance from that edge. Only caps among the intersecting
+// triangles and their neighbours are flipped (a mesh has caps on sharp creases that are not
+// folds), and none touching an open edge or making an edge that exists. Returns the flips.
+std::size_t flip_folded_caps(validate_detail::Work& w, const std::vector<char>& alive,
+                             const std::vector<std::pair<int, int>>& pairs, double& moved) {
+  const std::vector<Vector3d>& pts = w.points();
+  std::map<std::pair<int, int>, int> edge_tri;  // directed edge -> its triangle
+  for (std::size_t t = 0; t < w.tris.size(); ++t) {
+    if (!alive.empty() && !alive[t]) continue;
+    for (int k = 0; k < 3; ++k) edge_tri[{w.tris[t][idx(k)], w.tris[t][idx((k + 1) % 3)]}] = static_cast<int>(t);
+  }
+  auto across = [&](int a, int b) {  // the triangle on the other side of directed edge a -> b
+    const auto it = edge_tri.find({b, a});
+    return it == edge_tri.end() ? -1 : it->second;
+  };
+  auto unit_normal = [&](int t) {
+    const Tri& x = w.tris[idx(t)];
+    return Vector3d((pts[idx(x[1])] - pts[idx(x[0])]).cross(pts[idx(x[2])] - pts[idx(x[0])]).normalized());
+  };
+  std::set<int> candidates;
+  for (const auto& [a, b] : pairs)
+    for (int t : {a, b}) {
+      candidates.insert(t);
+      for (int k = 0; k < 3; ++k) {
+        const int u = across(w.tris[idx(t)][idx(k)], w.tris[idx(t)][idx((k + 1) % 3)]);
+        if (u >= 0) candidates.insert(u);
+      }
+    }
+  std::set<int> touched;
+  std::size_t flips = 0;
+  for (int t : candidates) {
+    if (touched.count(t)) continue;
+    const Tri x = w.tris[idx(t)];
+    // The long edge: opposite the largest angle, at corner c.
+    int c = 0;
+    double widest = -1;
+    for (int k = 0; k < 3; ++k) {
+      const Vector3d u = pts[idx(x[idx((k + 1) % 3)])] - pts[idx(x[idx(k)])];
+      const Vector3d v = pts[idx(x[idx((k + 2) % 3)])] - pts[idx(x[idx(k)])];
+      const double angle = std::atan2(u.cross(v).norm(), u.dot(v));
+      if (angle > widest) widest = angle, c = k;
+    }
+    if (widest < 170 * M_PI / 180) continue;
+    const int tip = x[idx(c)], a = x[idx((c + 1) % 3)], b = x[idx((c + 2) % 3)];  // long edge a -> b
+    const int u = across(a, b), n1 = across(b, tip), n2 = across(tip, a);
+    if (u < 0 || n1 < 0 || n2 < 0 || touched.count(u)) continue;
+    const Vector3d n = unit_normal(t);
+    if (!(n.dot(unit_normal(n1)) < 0 && n.dot(unit_normal(n2)) < 0)) continue;  // not folded
+    const Tri y = w.tris[idx(u)];
+    int d = -1;
+    for (int k = 0; k < 3; ++k)
+      if (y[idx(k)] != a && y[idx(k)] != b) d = y[idx(k)];
+    if (d < 0 || d == tip || edge_tri.count({tip, d}) || edge_tri.count({d, tip})) continue;
+    bool open = false;  // a boundary edge's slot must not move (step 5's loops keep slots)
+    for (const Tri& z : {x, y})
+      for (int k = 0; k < 3; ++k) open = open || across(z[idx(k)], z[idx((k + 1) % 3)]) < 0;
+    if (open) continue;
+    // t = (a, b, tip) and u = (b, a, d) become (a, d, tip) and (d, b, tip), the same orientation.
+    for (const auto& e : {std::pair<int, int>{a, b}, {b, tip}, {tip, a}, {b, a}, {a, d}, {d, b}}) edge_tri.erase(e);
+    w.tris[idx(t)] = {a, d, tip};
+    w.tris[idx(u)] = {d, b, tip};
+    for (int z : {t, u})
+      for (int k = 0; k < 3; ++k) edge_tri[{w.tris[idx(z)][idx(k)], w.tris[idx(z)][idx((k + 1) % 3)]}] = z;
+    const Vector3d& pa = pts[idx(a)];
+    const Vector3d ab = pts[idx(b)] - pa;
+    moved = std::max(moved, (pts[idx(tip)] - pa - ab * (ab.dot(pts[idx(tip)] - pa) / ab.squaredNorm())).norm());
+    touched.insert(t);
+    touched.insert(u);
+    ++flips;
+  }
+  return flips;
+}
+
 }  // namespace
 
-void validate_detail::check_self_intersections(const Work& w, const TriangleTree& tree, const std::vector<char>& alive,
-                                               SurfaceCheckReport& rep) {
-  const IntersectionCount si = self_intersections(w.points(), w.tris, tree, alive, w.input_index);
+void validate_detail::check_self_intersections(Work& w, const TriangleTree& tree, const std::vector<char>& alive,
+                                               bool repair, SurfaceCheckReport& rep) {
+  IntersectionCount si = self_intersections(w.points(), w.tris, tree, alive, w.input_index);
   rep.self_intersection_pairs_tested = si.tested;
+  if (si.count > 0 && repair) {
+    // Up to three rounds: a flip can leave another cap folded beside it (one of the Orion's).
+    const std::size_t before = si.count;
+    const Vector3d where = si.point;
+    std::size_t flips = 0;
+    double moved = 0;
+    for (int round = 0; round < 3 && si.count > 0; ++round) {
+      const std::size_t now = flip_folded_caps(w, alive, si.pairs, moved);
+      if (now == 0) break;
+      flips += now;
+      si = self_intersections(w.points(), w.tris, TriangleTree(w.points(), w.tris), alive, w.input_index);
+    }
+    if (flips > 0)
+      rep.repairs.push_back(plural(flips, "folded sliver triangle") + " (a cap over its long edge) flipped, " +
+                            plural(before - std::min(before, si.count), "self-intersecting pair") +
+                            " removed (first near " + fmt_point(where) + "; the surface moved by at most " +
+                            fmt_number(moved) + ")");
+  }
   if (si.count > 0)
     throw InputError(w.source() + ": " + plural(si.count, "self-intersecting triangle pair") + "; first: triangles " +
                      std::to_string(w.input_index[idx(si.first_a)]) + " and " +

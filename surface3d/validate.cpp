@@ -426,7 +426,7 @@ TriSurface validate_surface(const TriangleSoup& soup, const SurfaceCheckOptions&
   for (std::size_t c = 0; c < comps.size(); ++c)
     if (alive[idx(comps.tris[c].front())]) rep.volume += volume[c];
   // 7. Self-intersections.
-  if (options.check_self_intersections) check_self_intersections(w, tree, alive, rep);
+  if (options.check_self_intersections) check_self_intersections(w, tree, alive, options.repair_folded_caps, rep);
 
   return assemble_surface(w, alive, comps, loops, options.wall_tag, rep);
 }

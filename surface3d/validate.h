@@ -22,8 +22,11 @@
 //     scans carry such pieces, e.g. the published Orion capsule's two), or an error when
 //     drop_inner_components is false (geometry.inner_components: error);
 //  7. self-intersections: triangle pairs from the AABB tree's overlapping boxes tested exactly
-//     (predicates.h); pairs sharing a vertex or an edge count only if they overlap beyond it
-//     -> error naming the count and the first pair with a point.
+//     (predicates.h); pairs sharing a vertex or an edge count only if they overlap beyond it.
+//     Folded caps among them (slivers with an angle over 170 degrees whose tip lies across their
+//     long edge, folding them over their neighbours: CAD tessellations make them) get their long
+//     edge flipped (repair_folded_caps, a repair line with how far the surface moved); the pairs
+//     left -> error naming the count and the first pair with a point.
 #pragma once
 
 #include <Eigen/Core>
@@ -43,6 +46,7 @@ struct SurfaceCheckOptions {
   std::vector<SymmetryPlane> symmetry_planes;
   double plane_tol_rel = 1e-6;
   bool check_self_intersections = true;
+  bool repair_folded_caps = true;  // step 7's repair
   bool drop_inner_components = true;
   std::string wall_tag = "wall";
 };

@@ -89,8 +89,9 @@ std::vector<char> drop_nested_components(const Work& w, const Components& comps,
                                          const std::vector<SymmetryPlane>& planes, const Eigen::AlignedBox3d& bbox,
                                          const TriangleTree& tree, bool drop_inner_components, SurfaceCheckReport& rep);
 
-// Step 7. The intersecting pairs among the kept triangles are an error naming the first.
-void check_self_intersections(const Work& w, const TriangleTree& tree, const std::vector<char>& alive,
+// Step 7. The intersecting pairs among the kept triangles are an error naming the first; with
+// repair, folded caps among them are flipped first (a repair line).
+void check_self_intersections(Work& w, const TriangleTree& tree, const std::vector<char>& alive, bool repair,
                               SurfaceCheckReport& rep);
 
 }  // namespace plaf::validate_detail

@@ -271,6 +271,35 @@ TEST_CASE("validate: disjoint bodies pass, nested ones are an error or dropped")
   CHECK_THROWS_WITH_AS(validate_surface(inside, half), doctest::Contains("inside another"), InputError);
 }
 
+TEST_CASE("validate: a folded sliver cap is flipped over its long edge, the rest of a fold stays an error") {
+  // The cube's top face (4, 5, 7), (4, 7, 6) with a point m inserted on the diagonal 4-7 but just
+  // across it, toward 6: the cap (7, 4, m) folds over (4, 7, 6) and the fan around m with it (a
+  // CAD tessellation's defect, the published Orion capsule's five).
+  TriangleSoup fold = without(cube(), {10, 11});
+  fold.points.push_back({0.495, 0.505, 1});  // point 8, 0.007 across the diagonal
+  for (const std::array<int, 3>& t : std::vector<std::array<int, 3>>{{7, 4, 8}, {4, 5, 8}, {5, 7, 8}, {4, 7, 6}})
+    fold.triangles.push_back(t);
+  SurfaceCheckOptions check;
+  check.repair_folded_caps = false;
+  CHECK_THROWS_WITH_AS(validate_surface(fold, check), doctest::Contains("self-intersecting triangle pair"), InputError);
+  SurfaceCheckReport rep;
+  const TriSurface s = validate_surface(fold, {}, &rep);
+  REQUIRE(rep.repairs.size() == 1);
+  MESSAGE(rep.repairs[0]);
+  CHECK(rep.repairs[0].find("1 folded sliver triangle") == 0);
+  CHECK(rep.repairs[0].find("moved by at most 0.00707107") != std::string::npos);
+  CHECK(count_self_intersections(s) == 0);
+  CHECK(s.mesh.n_faces() == fold.triangles.size());
+  CHECK(s.euler_characteristic() == 2);
+  CHECK(rep.volume == doctest::Approx(1.0));
+  // A fold that is no cap (the fan's centre pushed well past the edge) is not touched.
+  TriangleSoup far = without(cube(), {10, 11});
+  far.points.push_back({0.5, -0.5, 1});
+  for (const std::array<int, 3>& t : std::vector<std::array<int, 3>>{{4, 5, 8}, {5, 7, 8}, {7, 6, 8}, {6, 4, 8}})
+    far.triangles.push_back(t);
+  CHECK_THROWS_WITH_AS(validate_surface(far, {}), doctest::Contains("self-intersecting triangle pair"), InputError);
+}
+
 TEST_CASE("validate: interpenetrating bodies and a folded surface are self-intersections") {
   const TriangleSoup two = merged(tetrahedron(), tetrahedron(Vector3d(0.2, 0.2, 0.2)));
   CHECK_THROWS_WITH_AS(validate_surface(two, {}), doctest::Contains("self-intersecting triangle pair"), InputError);
