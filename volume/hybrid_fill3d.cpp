@@ -148,13 +148,19 @@ double signed_area(const std::vector<Eigen::Vector2d>& pts) {
 
 }  // namespace
 
-std::vector<std::size_t> curved_outer_triangles(const LayerResult<3>& lr) {
+namespace {
+
+// How many of the outer front's triangles are still curved (where columns stopped on faces no
+// closing layer straightened, layers.events): the tetrahedra on them are curved (step 1).
+std::size_t count_curved_outer_triangles(const LayerResult<3>& lr) {
   const CellBlock outer{CellType::Triangle, lr.outer.order, -1, lr.outer.triangles};
-  std::vector<std::size_t> curved;
+  std::size_t curved = 0;
   for (std::size_t t = 0; t < outer.size(); ++t)
-    if (is_curved(lr.mesh, outer, t)) curved.push_back(t);
+    if (is_curved(lr.mesh, outer, t)) ++curved;
   return curved;
 }
+
+}  // namespace
 
 HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& metric, const HybridFillParams& params) {
   if (lr.layers.empty()) throw MesherError("fill: tetgen fills around prism layers; the layer stage grew none");
@@ -162,7 +168,7 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
     throw MesherError("fill: the layers' outer front has " + std::to_string(lr.outer.num_quads()) +
                       " quadrilaterals; the TetGen fill meets triangles only");
   HybridFill r;
-  r.curved_front_triangles = curved_outer_triangles(lr).size();  // step 1
+  r.curved_front_triangles = count_curved_outer_triangles(lr);  // step 1
   LinearFront<3> front = lr.fill_front;
   int outer_tag = -1;
   for (std::size_t k = 0; k < front.tags.size(); ++k)

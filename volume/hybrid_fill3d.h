@@ -24,8 +24,6 @@
 #pragma once
 
 #include <functional>
-#include <optional>
-
 #include <string>
 #include <vector>
 
@@ -59,10 +57,6 @@ struct HybridFill {
 // Throws MesherError when the outer front holds quadrilaterals, a symmetry plane is
 // not axis-aligned, a rim edge lies on no plane, or a fill fails; ConfigError (naming the key)
 // for a farfield that cannot enclose the layers.
-// The outer front's triangles still curved (a part whose closing layer failed, layers.events):
-// the tetrahedra on them are curved (step 1).
-std::vector<std::size_t> curved_outer_triangles(const LayerResult<3>& layers);
-
 HybridFill fill_around_layers(const LayerResult<3>& layers, const MetricField<3>& metric, const HybridFillParams& params);
 
 }  // namespace plaf::volume

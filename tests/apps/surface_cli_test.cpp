@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "tests/gmsh_support.h"
 #include "tests/surface3d/test_surfaces.h"
 #include "tests/test_support.h"
 #include "tests/published_data.h"
@@ -387,16 +388,32 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
   }
   {  // with a fill: the columns stopped in the gap keep the curved front they stopped on (their
      // faces grow no layer to straighten), and the tetrahedra on it are curved
-     // (volume/hybrid_fill3d.h, step 1), every cell valid
-    const std::string report = passing_report(
-        "surface_cli_cover_fill", "layers: {max: 8, proximity: 0, stop_when_linear: true}\n"
-                                  "fill: {type: tetgen, farfield: {shape: box, size: [20, 20, 20], center: [1, 0, 0]}}\n");
+     // (volume/hybrid_fill3d.h, step 1), every cell valid by plaf's certificate and Gmsh's
+    const TempDir d("surface_cli_cover_fill");
+    write_text(d / "case.stl", ascii_stl(two));
+    const PlafResult r = run_config(
+        d, yaml + "layers: {max: 8, proximity: 0, stop_when_linear: true}\n"
+                  "fill: {type: tetgen, farfield: {shape: box, size: [20, 20, 20], center: [1, 0, 0]}}\n");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string report = read_text(d / "out" / "case.report.json");
     const std::size_t at = report.find("\"curved_front_triangles\": ");
     REQUIRE(at != std::string::npos);
     const long curved = std::strtol(report.c_str() + at + 26, nullptr, 10);
     MESSAGE("outer front triangles still curved under the fill: " << curved);
     CHECK(curved > 0);
-    CHECK(report.find("\"invalid\": 0") != std::string::npos);
+    if (plaf::test::gmsh_on_path()) {
+      CHECK(plaf::test::gmsh_complaints(plaf::test::run_gmsh("out/case.msh -check", d).out).empty());
+      const plaf::test::GmshJacobians gj = plaf::test::gmsh_jacobians("out/case.msh", d);
+      MESSAGE("Gmsh: min J " << gj.min_j << ", worst minJ/maxJ " << gj.worst_ratio);
+      CHECK(gj.min_j > 0);
+      const std::size_t sj = report.find("\"scaled_jacobian\"");
+      REQUIRE(sj != std::string::npos);
+      const double plaf_min = std::strtod(report.c_str() + report.find("\"min\": ", sj) + 7, nullptr);
+      CHECK(gj.worst_ratio == doctest::Approx(plaf_min).epsilon(0.01));
+    } else {
+      plaf::test::request_skip("gmsh is not on PATH: Gmsh's check of the curved tetrahedra not run");
+    }
   }
   {  // the default min_coverage (0.95): the run passes, saying how much of the wall has its stack
     const std::string report = passing_report("surface_cli_cover_ok", "layers: {max: 8, proximity: 0}\n");
