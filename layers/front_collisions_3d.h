@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The collision test of a new 3D layer front (grow_layers_3d.h, step 5): the front's curved
-// triangles as the linear sub-triangles of their node lattice, tested exactly (predicates.h) on
-// the candidate pairs of an AABB tree (aabb_tree.h).
+// triangles as the linear sub-triangles of their node lattice, and their chords, tested exactly
+// (predicates.h) on the candidate pairs of an AABB tree (aabb_tree.h).
 #pragma once
 
 #include <array>
@@ -25,7 +25,9 @@ struct FrontSurface {
 };
 
 // The faces of fronts[0] (by index) with a sub-triangle that crosses a sub-triangle of any of the
-// fronts (fronts[0] itself included) with which it shares no mesh node. Sorted, unique.
+// fronts (fronts[0] itself included) with which it shares no mesh node, or (order > 1) whose
+// chord (its vertices' triangle, what the fill meets) so crosses another face's chord. Sorted,
+// unique.
 std::vector<std::size_t> front_collisions(const std::vector<FrontSurface>& fronts,
                                           const std::vector<Eigen::Vector3d>& nodes, int order);
 

@@ -616,6 +616,35 @@ TEST_CASE("layers 3D: two spheres too close for their layers stop without crossi
   CHECK(front_collisions({{&local, &ids}}, r.mesh.nodes, 2).empty());
 }
 
+TEST_CASE("layers 3D: the collision test meets the chords the fill meets, not only the curved faces") {
+  // Face A: the unit right triangle at z = 0 at order 2, its edge nodes raised to z = 0.3 (its
+  // sub-triangles at z >= 0.24 over x = 0.3, y in [0.1, 0.4]). Face B: a flat triangle in the
+  // plane x = 0.3 from z = -0.2 to 0.1, under A's curved face but through A's chord (z = 0),
+  // which is what TetGen meets (volume/hybrid_fill3d.h).
+  std::vector<Vector3d> nodes = {{0, 0, 0},     {1, 0, 0},       {0, 1, 0},         {0.5, 0, 0.3},       {0.5, 0.5, 0.3},
+                                 {0, 0.5, 0.3}, {0.3, 0.1, -0.2}, {0.3, 0.4, -0.2}, {0.3, 0.25, 0.1}, {0.3, 0.25, -0.2},
+                                 {0.3, 0.325, -0.05}, {0.3, 0.175, -0.05}};
+  const std::vector<int> a = {0, 1, 2, 3, 4, 5}, b = {0, 1, 2, 3, 4, 5};
+  const std::vector<NodeId> ids_a = {0, 1, 2, 3, 4, 5}, ids_b = {6, 7, 8, 9, 10, 11};
+  // The sub-triangles alone (order 1 reads each face's first three nodes as a triangle: both
+  // faces' sub-triangles, listed as order-1 faces) do not cross.
+  std::vector<int> subs_a;
+  std::vector<NodeId> sub_ids;
+  for (const auto& t : sub_triangles(2))
+    for (int k : t) subs_a.push_back(static_cast<int>(sub_ids.size())), sub_ids.push_back(ids_a[static_cast<std::size_t>(k)]);
+  std::vector<int> subs_b;
+  std::vector<NodeId> sub_ids_b;
+  for (const auto& t : sub_triangles(2))
+    for (int k : t) subs_b.push_back(static_cast<int>(sub_ids_b.size())), sub_ids_b.push_back(ids_b[static_cast<std::size_t>(k)]);
+  CHECK(front_collisions({{&subs_a, &sub_ids}, {&subs_b, &sub_ids_b}}, nodes, 1).empty());
+  // At order 2 the chords cross: face 0 of fronts[0] collides.
+  CHECK(front_collisions({{&a, &ids_a}, {&b, &ids_b}}, nodes, 2) == std::vector<std::size_t>{0});
+  // With A's chord lowered below B (its vertices at z = -0.3, its edge nodes where they were),
+  // nothing crosses.
+  for (std::size_t k = 0; k < 3; ++k) nodes[k].z() = -0.3;
+  CHECK(front_collisions({{&a, &ids_a}, {&b, &ids_b}}, nodes, 2).empty());
+}
+
 TEST_CASE("normals 3D: at a cusp no direction sees every face, the most normal one is still given") {
   // Five faces whose normals span more than a hemisphere: the best direction has a negative
   // smallest cosine, the visibility normal none.
