@@ -31,6 +31,9 @@
 // start at the metric's and double around every cell still invalid (a straight top too low over
 // its curved base's sag) and halve around crossings, up to closing_attempts builds, then the
 // whole part's heights are raised to 1.5, 3 and 6 times its attenuation need (layer_core.cpp).
+// Where none of those is valid and the front stops locally, the part closes around its stopped
+// columns (and, round by round, those behind closing cells that still fail): their faces keep
+// their curve, which the fill meets with curved tetrahedra (volume/hybrid_fill3d.h).
 #pragma once
 
 #include <array>

@@ -703,6 +703,30 @@ TEST_CASE("layers 3D: where two spheres' gap is used up their columns stop, the 
   }
 }
 
+TEST_CASE("layers 3D: where no closing layer is valid over a whole part, it closes around the stopped columns") {
+  // Two spheres 0.05 apart at order 1, 10 layers of 0.01 without the proximity rule: the facing
+  // columns stop on failures (step 3) and no closing layer is valid over either sphere as a
+  // whole (the gap leaves no room for it); so the columns that stopped stay stopped and the
+  // rest closes (layer_core.cpp, close_locally): one more layer, valid, conforming, the fronts
+  // apart.
+  LayerParams p;
+  p.max_layers = 10;
+  p.proximity = 0;
+  p.close_linear = true;
+  const LayerResult<3> r = grow_layers(two_spheres(3, 1, 0.05), UniformMetricField<3>(Metric<3>::isotropic(0.01)), p);
+  int local = 0;
+  for (const std::string& e : r.events) {
+    CHECK(e.find("no valid closing layer") == std::string::npos);
+    if (e.find("a closing layer with straight tops except around") != std::string::npos) ++local;
+  }
+  CHECK(local == 2);  // one per sphere
+  REQUIRE(r.layers.size() == 11);
+  CHECK(r.layers.back().coverage < 1);
+  CHECK(r.layers.back().coverage > 0.9);
+  CHECK(invalid_cells(r, 1) == 0);
+  check_conforming_and_apart(r, 1);
+}
+
 TEST_CASE("layers 3D: where two spheres face each other the proximity rule ends their stacks before they meet, graded") {
   // Spheres of radius 1, 0.05 apart, layers of 0.01: each facing column may stack 0.8 of half
   // the gap, 0.02, so the columns on the axis stop after one or two layers (at two the stack
