@@ -62,6 +62,41 @@ double dihedral_departure(const TriMesh& m, EdgeHandle e) {
   return angle_between((b - a).cross(c - a), (a - b).cross(d - b));
 }
 
+// Per face: inverted, a fold of the triangulation rather than of the body. Its normal is more than
+// 90 degrees from those of the faces across two or three of its edges, and those agree with each
+// other (within 90 degrees): it lies back to back with the sheet on both sides. A body cannot do
+// that (a knife edge's face is back to back with one neighbour, across the edge, not two), but a
+// CAD tessellation can: the published Orion capsule has a fan of 6-long needles in a plane whose
+// far ends double back, one needle 0.003 wide inverted between its neighbours; its two long
+// edges were taken for a convex and a concave ridge 3 degrees apart, two feature curves the
+// remesher sampled each at the size and whose chords then crossed (50 crossing pairs at a size
+// of 0.25). Its edges are no ridges (classify_edges): its normal says nothing of the body's.
+std::vector<char> inverted_faces(const TriMesh& m) {
+  std::vector<char> out(m.n_faces(), 0);
+  auto normal = [&](FaceHandle f) {
+    const HalfedgeHandle h = m.halfedge_handle(f);
+    const Eigen::Vector3d& a = m.point(m.from_vertex_handle(h));
+    const Eigen::Vector3d& b = m.point(m.to_vertex_handle(h));
+    const Eigen::Vector3d& c = m.point(m.to_vertex_handle(m.next_halfedge_handle(h)));
+    return Eigen::Vector3d((b - a).cross(c - a));
+  };
+  for (const FaceHandle f : m.faces()) {
+    const Eigen::Vector3d n = normal(f);
+    std::vector<Eigen::Vector3d> opposite;
+    for (const HalfedgeHandle h : m.fh_range(f)) {
+      const HalfedgeHandle o = m.opposite_halfedge_handle(h);
+      if (m.is_boundary(o)) continue;
+      const Eigen::Vector3d g = normal(m.face_handle(o));
+      if (n.dot(g) < 0) opposite.push_back(g);
+    }
+    bool agree = opposite.size() >= 2;
+    for (std::size_t i = 0; agree && i < opposite.size(); ++i)
+      for (std::size_t j = i + 1; j < opposite.size(); ++j) agree = agree && opposite[i].dot(opposite[j]) > 0;
+    out[idx(f.idx())] = agree ? 1 : 0;
+  }
+  return out;
+}
+
 // Convex or concave, exactly, for interior edge e.
 EdgeFeature ridge_kind(const TriMesh& m, EdgeHandle e) {
   const HalfedgeHandle h = m.halfedge_handle(e, 0);
@@ -319,6 +354,14 @@ int classify_edges(TriSurface& s, const FeatureOptions& options, const std::vect
   const double ridge_rad = radians(options.ridge_angle_deg);
   std::vector<char> crest;
   if (options.crest_scale > 0 && !options.reference) crest = Crests(m, options.crest_scale, ridge_rad).crest_edges();
+  const std::vector<char> inverted = inverted_faces(m);
+  auto of_inverted = [&](EdgeHandle e) {
+    for (unsigned i = 0; i < 2; ++i) {
+      const HalfedgeHandle h = m.halfedge_handle(e, i);
+      if (!m.is_boundary(h) && inverted[idx(m.face_handle(h).idx())]) return true;
+    }
+    return false;
+  };
   int next_curve = 0;
   for (const EdgeHandle e : m.edges()) {
     EdgeFeature& f = m.property(s.edge_feature, e);
@@ -338,6 +381,8 @@ int classify_edges(TriSurface& s, const FeatureOptions& options, const std::vect
       f = body_curve[static_cast<std::size_t>(e.idx())] < 0 ? EdgeFeature::Smooth
           : dihedral_departure(m, e) > ridge_rad           ? ridge_kind(m, e)
                                                            : body_ridge_kind(m, e, *options.reference);
+    else if (of_inverted(e))
+      f = EdgeFeature::Smooth;
     else if (dihedral_departure(m, e) > ridge_rad || (!crest.empty() && crest[static_cast<std::size_t>(e.idx())]))
       f = ridge_kind(m, e);
     else

@@ -224,6 +224,8 @@ void report_surface(const TriSurface& surface, int order, const FeatureReport& k
   rep.add("remesh.flips", rr.flips);
   rep.add("remesh.unit_fraction", rr.unit_fraction);
   rep.add("remesh.folded_faces", rr.folded_faces);
+  rep.add("remesh.crossing_pairs_found", rr.crossing_pairs_found);
+  rep.add("remesh.untangle_collapses", rr.untangle_collapses);
   rep.add("remesh.refused_splits", rr.refused_splits);
   rep.add("remesh.slivers_removed", rr.slivers_removed);
   rep.add("curving.straightened", cr.straightened);
@@ -376,7 +378,7 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   FidelityReport fr = measure_fidelity(surface, *s.reference, body, target);
   std::vector<std::string> rounds;
   for (int round = 1; sp.remesh && round <= sp.fidelity_rounds && !(fr.relative <= sp.fidelity_tol) &&
-                      rr.folded_faces == 0 && cr.invalid == 0 && !fr.far.empty();
+                      rr.folded_faces == 0 && rr.crossing_pairs == 0 && cr.invalid == 0 && !fr.far.empty();
        ++round) {
     const MetricField<3>& now = *s.measure();
     std::sort(fr.far.begin(), fr.far.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
@@ -410,6 +412,18 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
              " triangles, unit fraction " + std::to_string(rr.unit_fraction) + ", " +
              std::to_string(rr.folded_faces) + " folded" +
              (rr.folded_faces ? " (first at " + rr.first_folded + ")" : ""));
+  if (sp.remesh && rr.crossing_pairs_found > 0)
+    rep.line("remesh: " + std::to_string(rr.crossing_pairs_found) + " pairs of faces crossing each other, " +
+             std::to_string(rr.untangle_collapses) + " edges collapsed to untangle them, " +
+             std::to_string(rr.crossing_pairs) + " left");
+  // A surface that crosses itself is no wall to grow layers from: refused here, where it is made,
+  // not as a first layer that cannot be grown.
+  if (sp.remesh && rr.crossing_pairs > 0)
+    throw MesherError("surface: the remeshed surface crosses itself: " + std::to_string(rr.crossing_pairs) +
+                      " pairs of faces (first near " + rr.first_crossing +
+                      ") that remeshing could not untangle; two feature curves or sheets there are closer "
+                      "than the size: give finer sizes there (metric, surface.curvature_factor) or check "
+                      "the input's triangles there");
   const FeatureReport kept = count_features(surface);
   TriSurface probe = surface;
   // The final mesh's features judged on the body (features.h: edges along the reference's feature

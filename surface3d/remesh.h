@@ -6,8 +6,10 @@
 //   triangles gets better in the metric (a Delaunay-like criterion that holds for anisotropic
 //   metrics), tangential relaxation (metric-density-weighted centroid in the tangent plane),
 //   projection onto the reference geometry; after the rounds, needles, caps and folded faces are
-//   collapsed or flipped. No operation turns a face more than 60 degrees from the reference's
-//   normal (unless it was already) or creates a needle.
+//   collapsed or flipped; last, faces that cross other faces (a fold no local check sees) are
+//   collapsed away, feature rules relaxed (remesh.cpp, untangle), and those left are counted.
+//   No operation turns a face more than 60 degrees from the reference's normal (unless it was
+//   already) or creates a needle.
 // Features are preserved: feature edges are never flipped; a split of a feature edge puts the
 // new vertex on its curve; a vertex on a curve collapses only along it and relaxes along it
 // (projected onto the curve); corners never move or disappear. Edge lengths are metric lengths
@@ -37,6 +39,10 @@ struct RemeshReport {
   double unit_fraction = 0;  // of edges with metric length in [1/sqrt 2, sqrt 2] after
   std::size_t folded_faces = 0;  // normal more than 60 degrees from the reference's (should be 0)
   std::string first_folded;      // the first one's vertices, "(x, y, z) (x, y, z) (x, y, z)"
+  std::size_t crossing_pairs_found = 0;  // face pairs crossing each other after the sliver passes
+  std::size_t untangle_collapses = 0;    // edges collapsed to untangle them
+  std::size_t crossing_pairs = 0;        // still crossing after that (the surface stage refuses them)
+  std::string first_crossing;            // a face of the first such pair, its centroid "(x, y, z)"
   double seconds = 0;
 };
 

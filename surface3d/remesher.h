@@ -32,6 +32,10 @@ inline constexpr double kMinNormalCos = 0.1;
 // A face whose normal is within 60 degrees of the reference's normal (at its centroid's
 // projection) lies on the surface's side it should; operations never make a face worse than that.
 inline constexpr double kGoodAlignment = 0.5;
+// Rounds of untangle() at most.
+inline constexpr int kUntangleRounds = 6;
+// The longest edge an untangling collapse may make (in the metric).
+inline constexpr double kUntangleLength = 2.5;
 
 class Remesher {
  public:
@@ -164,6 +168,7 @@ class Remesher {
   bool try_flip(EH e, double min_gain);
   bool try_split(EH e);
   void remove_slivers();
+  void untangle();
 
   // An edge merged by a collapse (one of the two other edges of a face of the collapsed edge):
   // the far vertex of that face, and the feature data the merged edge keeps.
@@ -193,6 +198,7 @@ class Remesher {
   RemeshReport rep_;
   std::vector<Eigen::Matrix3d> vm_;  // cached metric per vertex index
   std::vector<char> have_;
+  bool untangling_ = false;  // untangle(): collapses may merge feature curves
   bool precise_ = false;  // alignment always at the centroid's projection (the final passes)
   std::vector<Vec> vn_;   // cached reference normal per (smooth) vertex index
   std::vector<char> have_n_;

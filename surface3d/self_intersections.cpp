@@ -266,18 +266,28 @@ void validate_detail::check_self_intersections(Work& w, const TriangleTree& tree
                      std::to_string(w.input_index[idx(si.first_b)]) + " near " + fmt_point(si.point));
 }
 
-std::size_t count_self_intersections(const TriSurface& s, std::string* first) {
+namespace {
+
+// Step 7's test on a surface's faces (their key: the face index).
+IntersectionCount surface_intersections(const TriSurface& s, std::vector<int>& face_id) {
   std::vector<Vector3d> pts(s.mesh.n_vertices());
   for (const auto v : s.mesh.vertices()) pts[idx(v.idx())] = s.mesh.point(v);
   std::vector<Tri> tris;
-  std::vector<int> face_id;
+  face_id.clear();
   for (const auto f : s.mesh.faces()) {
     const auto fv = s.face_vertices(f);
     tris.push_back({fv[0].idx(), fv[1].idx(), fv[2].idx()});
     face_id.push_back(f.idx());
   }
   const TriangleTree tree(pts, tris);
-  const IntersectionCount si = self_intersections(pts, tris, tree, {}, face_id);
+  return self_intersections(pts, tris, tree, {}, face_id);
+}
+
+}  // namespace
+
+std::size_t count_self_intersections(const TriSurface& s, std::string* first) {
+  std::vector<int> face_id;
+  const IntersectionCount si = surface_intersections(s, face_id);
   if (first) {
     first->clear();
     if (si.count > 0)
@@ -285,6 +295,14 @@ std::size_t count_self_intersections(const TriSurface& s, std::string* first) {
                std::to_string(face_id[idx(si.first_b)]) + " near " + fmt_point(si.point);
   }
   return si.count;
+}
+
+std::vector<std::pair<int, int>> self_intersecting_pairs(const TriSurface& s) {
+  std::vector<int> face_id;
+  const IntersectionCount si = surface_intersections(s, face_id);
+  std::vector<std::pair<int, int>> out;
+  for (const auto& [a, b] : si.pairs) out.emplace_back(face_id[idx(a)], face_id[idx(b)]);
+  return out;
 }
 
 }  // namespace plaf

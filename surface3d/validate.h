@@ -31,6 +31,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "modules/geometry/tri_surface.h"
@@ -73,5 +74,7 @@ TriSurface validate_surface(const TriangleSoup& soup, const SurfaceCheckOptions&
 // The self-intersection test alone (step 7), on any surface; returns the number of intersecting
 // pairs and describes the first in *first (if given).
 std::size_t count_self_intersections(const TriSurface& s, std::string* first = nullptr);
+// The intersecting pairs themselves (face indices, deleted faces skipped).
+std::vector<std::pair<int, int>> self_intersecting_pairs(const TriSurface& s);
 
 }  // namespace plaf

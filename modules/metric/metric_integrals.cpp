@@ -152,11 +152,15 @@ double triangle_integral(const MetricField<3>& metric, const Eigen::Vector3d& a,
 }  // namespace
 
 double metric_surface_area(const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& triangles,
-                           const MetricField<3>& metric) {
+                           const MetricField<3>& metric, long max_evaluations) {
+  // Worst-case evaluations per triangle at depth d: E(0) = 1, E(d) = 4 + 4 E(d - 1).
+  const double n = static_cast<double>(triangles.size());
+  int depth = 0;
+  for (double e = 8; depth < 3 && n * e <= static_cast<double>(max_evaluations); e = 4 + 4 * e) ++depth;
   double total = 0;
   for (const std::array<int, 3>& t : triangles)
     total += triangle_integral(metric, points[static_cast<std::size_t>(t[0])], points[static_cast<std::size_t>(t[1])],
-                               points[static_cast<std::size_t>(t[2])], 3);
+                               points[static_cast<std::size_t>(t[2])], depth);
   return total;
 }
 

@@ -48,9 +48,14 @@ double metric_measure(const Eigen::Matrix<double, Dim, 1>& lo, const Eigen::Matr
                       const std::function<bool(const Eigen::Matrix<double, Dim, 1>&)>& inside,
                       const MetricField<Dim>& metric, long max_evaluations = 200000);
 
-// The integral of sqrt(det M_t) over a triangulated surface.
+// The integral of sqrt(det M_t) over a triangulated surface: per triangle the density at its
+// centre, its halves refined (up to 3 times) where the corners' densities differ by over 2x. The
+// refinement's depth is the deepest whose worst case stays within max_evaluations of the metric
+// (at least the centres): a budget's estimate, not a quadrature, on a fine input need not pay
+// for a coarse one's depth (the published Orion capsule's 51,736 triangles at depth 3 took 110 s
+// of curvature-metric evaluations; at depth 1, seconds).
 double metric_surface_area(const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& triangles,
-                           const MetricField<3>& metric);
+                           const MetricField<3>& metric, long max_evaluations = 1000000);
 
 }  // namespace metric
 }  // namespace plaf

@@ -480,5 +480,24 @@ TEST_CASE("features: judged on the body, a coarse sphere has none and a box its 
   check_consistent(box.initial, on_box);
 }
 
+// A flat fan from apex A whose far ends double back once: the needle (A, X2, Q) is inverted
+// between its two neighbours (the published Orion capsule has one, 6 long and 0.003 wide). Its
+// edges A-X2 and A-Q turn by 180 degrees but are no ridges: its normal is the triangulation's
+// fold, not the body's (features.cpp, inverted_faces).
+TEST_CASE("features: the edges of a needle inverted between its neighbours are no ridges") {
+  TriangleSoup soup;
+  soup.points = {{0, 0, 0}, {-1, 1, 0}, {-0.5, 1, 0}, {0, 1, 0}, {-0.25, 1, 0}, {0.5, 1, 0}, {1, 1, 0}};
+  soup.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}, {0, 5, 6}};
+  TriSurface s = surface_from_soup(soup);
+  const FeatureReport r = detect_features(s, FeatureOptions{});
+  CHECK(r.ridges_convex + r.ridges_concave == 0);
+  // Without the inverted needle the fan is flat, and the same detection finds no ridge either;
+  // with it made a real crease (its far vertex lifted, not doubled back), its edges are ridges.
+  soup.points[4] = {0.25, 1, 0.8};
+  TriSurface lifted = surface_from_soup(soup);
+  const FeatureReport rl = detect_features(lifted, FeatureOptions{});
+  CHECK(rl.ridges_convex + rl.ridges_concave > 0);
+}
+
 }  // namespace
 }  // namespace plaf

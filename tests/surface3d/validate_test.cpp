@@ -347,6 +347,19 @@ std::size_t vertex_pair_count(const Vector3d& a1, const Vector3d& b1, const Vect
   return count_self_intersections(surface_from_soup(s));
 }
 
+// self_intersecting_pairs names the faces: three triangles, the third through the first only.
+TEST_CASE("validate: self_intersecting_pairs lists the crossing faces by index") {
+  TriangleSoup s;
+  s.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {5, 5, 0}, {6, 5, 0}, {5, 6, 0}, {0.2, 0.2, -1}, {0.3, 0.2, 1}, {0.2, 0.3, 1}};
+  s.triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}};
+  const TriSurface surface = surface_from_soup(s);
+  const std::vector<std::pair<int, int>> pairs = self_intersecting_pairs(surface);
+  REQUIRE(pairs.size() == 1);
+  CHECK(std::min(pairs[0].first, pairs[0].second) == 0);
+  CHECK(std::max(pairs[0].first, pairs[0].second) == 2);
+  CHECK(count_self_intersections(surface) == 1);
+}
+
 TEST_CASE("validate: neighbours intersect only beyond what they share") {
   // Sharing an edge: a fold (coplanar, same side) intersects; flat, bent or opposite do not.
   CHECK(pair_count({0.5, 1, 0}, {0.3, 0.5, 0}) == 1);

@@ -27,6 +27,42 @@ class LinearWall final : public MetricField<2> {
   }
 };
 
+
+// A metric that counts its evaluations: size 0.01 + 0.1 x (a density varying 121-fold over the square).
+class CountingField final : public MetricField<3> {
+ public:
+  mutable long calls = 0;
+  Metric<3> evaluate(const Eigen::Vector3d& x) const override {
+    ++calls;
+    return Metric<3>::isotropic(0.01 + 0.1 * x.x());
+  }
+};
+
+TEST_CASE("metric integrals: a surface's metric area refines where the density varies, within its evaluation budget") {
+  // The unit square in z = 0 as 2 n^2 triangles.
+  const int n = 10;
+  std::vector<Eigen::Vector3d> p;
+  std::vector<std::array<int, 3>> t;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) p.emplace_back(double(i) / n, double(j) / n, 0.0);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i;
+      t.push_back({a, a + 1, a + n + 2});
+      t.push_back({a, a + n + 2, a + n + 1});
+    }
+  // The exact integral of 1 / (0.01 + 0.1 x)^2 over [0, 1]: 10 (1/0.01 - 1/0.11).
+  const double exact = 10 * (1 / 0.01 - 1 / 0.11);
+  CountingField coarse, fine;
+  const double at_centres = metric_surface_area(p, t, coarse, static_cast<long>(t.size()));
+  const double refined = metric_surface_area(p, t, fine);
+  CHECK(coarse.calls == static_cast<long>(t.size()));  // the centres only
+  CHECK(fine.calls > coarse.calls);
+  CHECK(fine.calls <= 148 * static_cast<long>(t.size()));  // depth 3's worst case
+  CHECK(std::abs(refined - exact) < std::abs(at_centres - exact));
+  CHECK(refined == doctest::Approx(exact).epsilon(0.1));
+}
+
 }  // namespace
 
 TEST_CASE("metric integrals: a circle's metric length is its perimeter over the size, in any metric direction") {
