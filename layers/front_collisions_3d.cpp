@@ -24,7 +24,8 @@ std::vector<std::array<int, 3>> sub_triangles(int q) {
 }
 
 std::vector<std::size_t> front_collisions(const std::vector<FrontSurface>& fronts,
-                                          const std::vector<Eigen::Vector3d>& nodes, int q) {
+                                          const std::vector<Eigen::Vector3d>& nodes, int q,
+                                          const std::vector<std::uint8_t>* unmoved) {
   const std::size_t np = static_cast<std::size_t>(num_nodes(CellType::Triangle, q));
   const std::vector<std::array<int, 3>> subs = sub_triangles(q);
   std::vector<std::array<int, 3>> tris;     // mesh node ids
@@ -59,6 +60,8 @@ std::vector<std::size_t> front_collisions(const std::vector<FrontSurface>& front
   for (const auto& [a, b] : tree.overlapping_pairs()) {
     const long oa = owner[static_cast<std::size_t>(a)], ob = owner[static_cast<std::size_t>(b)];
     if ((oa < 0 && ob < 0) || chord[static_cast<std::size_t>(a)] != chord[static_cast<std::size_t>(b)]) continue;
+    const auto still = [&](long o) { return o < 0 || (unmoved && (*unmoved)[static_cast<std::size_t>(o)]); };
+    if (still(oa) && still(ob)) continue;
     const auto& ta = tris[static_cast<std::size_t>(a)];
     const auto& tb = tris[static_cast<std::size_t>(b)];
     bool shared = false;

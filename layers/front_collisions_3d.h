@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -27,8 +28,12 @@ struct FrontSurface {
 // The faces of fronts[0] (by index) with a sub-triangle that crosses a sub-triangle of any of the
 // fronts (fronts[0] itself included) with which it shares no mesh node, or (order > 1) whose
 // chord (its vertices' triangle, what the fill meets) so crosses another face's chord. Sorted,
-// unique.
+// unique. With `unmoved` (per face of fronts[0]: 1 when the layer left it where it was, every
+// column under it stopped), a pair of which neither side moved is not a collision of this layer
+// (the other fronts do not move either): it was there before, on the wall (the surface stage's
+// to refuse) or not at all (an accepted front has none).
 std::vector<std::size_t> front_collisions(const std::vector<FrontSurface>& fronts,
-                                          const std::vector<Eigen::Vector3d>& nodes, int order);
+                                          const std::vector<Eigen::Vector3d>& nodes, int order,
+                                          const std::vector<std::uint8_t>* unmoved = nullptr);
 
 }  // namespace plaf::layers

@@ -1549,7 +1549,22 @@ class SurfaceFronts final : public FrontGrower<3> {
     fronts.push_back({&nw.tri, &pending_.top});
     for (std::size_t other = 0; other < parts_.size(); ++other)
       if (other != part) fronts.push_back({&parts_[other].tri, &parts_[other].ids});
-    return front_collisions(fronts, mesh_.nodes, q_);
+    // The faces the layer left in place (every column under them stopped: their nodes are the
+    // old front's): a crossing between two of them is the wall's own (a fold of the curved
+    // surface the surface stage reports) or none, and no stop can mend it. Counted as this
+    // layer's, it failed the published Orion capsule's whole part at Q2 (h0 1e-5 L), layer 1,
+    // at a bead the remesher left folded (3 faces), where Q1 grew 40 layers.
+    std::vector<std::uint8_t> old(mesh_.nodes.size(), 0);
+    for (const NodeId id : parts_[part].ids)
+      if (id >= 0) old[static_cast<std::size_t>(id)] = 1;
+    const std::size_t np = static_cast<std::size_t>(num_nodes(CellType::Triangle, q_));
+    std::vector<std::uint8_t> unmoved(nw.tri.size() / np, 1);
+    for (std::size_t t = 0; t < unmoved.size(); ++t)
+      for (std::size_t k = 0; k < np && unmoved[t]; ++k) {
+        const NodeId id = pending_.top[static_cast<std::size_t>(nw.tri[t * np + k])];
+        unmoved[t] = id >= 0 && static_cast<std::size_t>(id) < old.size() && old[static_cast<std::size_t>(id)];
+      }
+    return front_collisions(fronts, mesh_.nodes, q_, &unmoved);
   }
   Vec front_point(std::size_t e) const override {
     return mesh_.nodes[static_cast<std::size_t>(pending_.top[static_cast<std::size_t>(pending_front().face(e)[0])])];

@@ -26,7 +26,8 @@
 //     linear along its height;
 //  5. collisions: the new front's linear sub-triangles (of triangles and quadrilaterals) may
 //     cross neither another part's front nor themselves (exact triangle-triangle tests on
-//     AABB-tree candidates, sub-triangles sharing a node skipped); heights are halved on the
+//     AABB-tree candidates, sub-triangles sharing a node skipped, and pairs of faces the layer
+//     left in place, every column under them stopped: no stop mends those); heights are halved on the
 //     nodes of the failing faces' old faces and their neighbours (a height's scale applies to
 //     the vertices, which the high-order nodes then interpolate: a ring of shrunk faces raises no
 //     bump on the faces around it);

@@ -328,7 +328,7 @@ void Remesher::remove_slivers() {
 // every face aligned goes unseen: two feature curves closer than the size, each sampled at the
 // size, cross where the band between them is thinner than their chords' sag (measured on the
 // published Orion capsule before features.cpp's inverted faces: two curves 3 degrees apart from
-// one corner, 50 crossing pairs at a size of 0.25, every face aligned within 3 degrees). Rounds
+// one corner, 50 crossing pairs at a uniform size of 0.3, every face aligned within 3 degrees). Rounds
 // of: the crossing pairs found (validate.h's test), then the edges of their faces collapsed,
 // shortest first, with the feature rules relaxed (a band narrower than the size closes, two
 // feature curves along it merge into one) and the orientation checks kept; at most

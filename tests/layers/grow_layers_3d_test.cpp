@@ -645,6 +645,19 @@ TEST_CASE("layers 3D: the collision test meets the chords the fill meets, not on
   CHECK(front_collisions({{&a, &ids_a}, {&b, &ids_b}}, nodes, 2).empty());
 }
 
+// Two faces of one front crossing each other: a collision of the layer while either moved, none
+// when the layer left both where they were (every column under them stopped: the crossing was
+// on the wall before, the surface stage's to refuse, and no stop can mend it).
+TEST_CASE("layers 3D: a crossing between two faces the layer did not move is not the layer's collision") {
+  const std::vector<Vector3d> nodes = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.2, 0.2, -0.5}, {0.3, 0.2, 0.5}, {0.2, 0.3, 0.5}};
+  const std::vector<int> tri = {0, 1, 2, 3, 4, 5};
+  const std::vector<NodeId> ids = {0, 1, 2, 3, 4, 5};
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1) == std::vector<std::size_t>{0, 1});
+  const std::vector<std::uint8_t> both = {1, 1}, one = {1, 0};
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1, &both).empty());
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1, &one) == std::vector<std::size_t>{0, 1});
+}
+
 TEST_CASE("normals 3D: at a cusp no direction sees every face, the most normal one is still given") {
   // Five faces whose normals span more than a hemisphere: the best direction has a negative
   // smallest cosine, the visibility normal none.
