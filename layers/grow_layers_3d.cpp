@@ -1532,6 +1532,7 @@ class SurfaceFronts final : public FrontGrower<3> {
   BuiltLayer build(std::size_t part, int /*layer*/, const std::vector<double>& scale,
                    const std::vector<std::uint8_t>& stopped, double f_atten) override {
     pending_part_ = part;
+    pending_nodes_before_ = mesh_.nodes.size();
     // A part's first layer is its first accepted one (layer 1, or a closing layer after a failed
     // layer 1); a closing layer (straight tops, f_atten infinite) grows no fans: they are curved.
     const bool first = !grown_[part];
@@ -1550,19 +1551,17 @@ class SurfaceFronts final : public FrontGrower<3> {
     for (std::size_t other = 0; other < parts_.size(); ++other)
       if (other != part) fronts.push_back({&parts_[other].tri, &parts_[other].ids});
     // The faces the layer left in place (every column under them stopped: their nodes are the
-    // old front's): a crossing between two of them is the wall's own (a fold of the curved
-    // surface the surface stage reports) or none, and no stop can mend it. Counted as this
-    // layer's, it failed the published Orion capsule's whole part at Q2 (h0 1e-5 L), layer 1,
-    // at a bead the remesher left folded (3 faces), where Q1 grew 40 layers.
-    std::vector<std::uint8_t> old(mesh_.nodes.size(), 0);
-    for (const NodeId id : parts_[part].ids)
-      if (id >= 0) old[static_cast<std::size_t>(id)] = 1;
+    // old front's, made before this build, where every moved node is new): a crossing between
+    // two of them is the wall's own (a fold of the curved surface the surface stage reports) or
+    // none, and no stop can mend it. Counted as this layer's, it failed the published Orion
+    // capsule's whole part at Q2 (h0 1e-5 L), layer 1, at a bead the remesher left folded (3
+    // faces), where Q1 grew 40 layers.
     const std::size_t np = static_cast<std::size_t>(num_nodes(CellType::Triangle, q_));
     std::vector<std::uint8_t> unmoved(nw.tri.size() / np, 1);
     for (std::size_t t = 0; t < unmoved.size(); ++t)
       for (std::size_t k = 0; k < np && unmoved[t]; ++k) {
         const NodeId id = pending_.top[static_cast<std::size_t>(nw.tri[t * np + k])];
-        unmoved[t] = id >= 0 && static_cast<std::size_t>(id) < old.size() && old[static_cast<std::size_t>(id)];
+        unmoved[t] = id >= 0 && static_cast<std::size_t>(id) < pending_nodes_before_;
       }
     return front_collisions(fronts, mesh_.nodes, q_, &unmoved);
   }
@@ -1749,6 +1748,7 @@ class SurfaceFronts final : public FrontGrower<3> {
   std::vector<std::array<int, 3>> wall_tris_;  // their node ids
   double wall_diagonal_ = 0;
   std::size_t pending_part_ = 0;
+  std::size_t pending_nodes_before_ = 0;  // the mesh's nodes before the pending build (older ones did not move)
   PartLayer pending_;
   std::vector<std::pair<std::string, std::size_t>> pending_counts_;
   std::vector<NodeId> sym_quads_, sym_tris_;

@@ -479,12 +479,7 @@ RemeshReport Remesher::run() {
   remove_slivers();
   relax();
   remove_slivers();
-  untangle();
-  m_.garbage_collection();
-  vm_.clear();  // the collection renumbered the vertices
-  have_.clear();
-  vn_.clear();
-  have_n_.clear();
+  untangle();  // (ends on a collected mesh, its caches renumbered)
   rep_.faces_after = m_.n_faces();
   measure_result();
   rep_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
