@@ -341,7 +341,7 @@ struct Pair {
   // around it in 3D: the two dimensions shrink different neighbourhoods, so from there on the
   // pair measures two different layer stacks).
   std::size_t compared_layers = 0;
-  int first_shrink = -1;          // the first layer either run kept shrunk heights in or rebuilt with another f_atten (-1: none)
+  int first_shrink = -1;          // the first layer either run kept shrunk heights in, rebuilt with another f_atten or stopped columns in (-1: none)
   double height_rel_diff = nan;   // largest relative difference of the layer heights (min, mean, max)
   double front_match_rel = nan;   // extrusion, no shrink: outer front at mid-span vs the 2D one, over the wall distance
   double section_match = nan;     // extrusion: mid-span wall nodes vs the section's, over the chord scale
@@ -396,14 +396,23 @@ Pair make_pair_result(const StudyRun& r2, const StudyRun& r3) {
     for (const Eigen::Vector3d& x : r3.out.wall_nodes) dev = std::max(dev, std::abs((x - c).norm() - r3.sc->circle_radius));
     if (!(dev <= 1e-9 * r3.sc->circle_radius)) fail_pairing(p, "the sphere's wall is off the circle's radius by " + num(dev));
   }
-  // Layer heights, layer by layer, over the layers both grew before either kept shrunk heights
-  // or used another f_atten (a rebuilt layer, layer_core.cpp): from there on the pair measures
-  // two different layer stacks.
+  // Layer heights, layer by layer, over the layers both grew before either kept shrunk heights,
+  // used another f_atten (a rebuilt layer, layer_core.cpp) or stopped columns (the proximity
+  // rule; a stopped column's neighbours join it with transition triangles in 2D and tetrahedra
+  // in 3D): from there on the pair measures two different layer stacks. The stop rules are the
+  // same in both, so the first stops must come in the same layer (checked).
   std::size_t n = std::min(r2.layers(), r3.layers());
+  auto stops = [](const StudyRun& r, std::size_t k) {
+    return k > 0 && k < r.layers() && r.out.layers[k].stats.coverage < r.out.layers[k - 1].stats.coverage * (1 - 1e-12);
+  };
   for (std::size_t k = 0; k < std::max(r2.layers(), r3.layers()); ++k) {
     const bool a = k < r2.layers() && r2.out.layers[k].stats.shrunk, b = k < r3.layers() && r3.out.layers[k].stats.shrunk;
     const bool f = k < n && r2.out.layers[k].stats.f_atten != r3.out.layers[k].stats.f_atten;
-    if (a || b || f) {
+    const bool s2 = stops(r2, k), s3 = stops(r3, k);
+    if (!a && !b && !f && k < n && s2 != s3)
+      fail_pairing(p, "layer " + std::to_string(k + 1) + ": columns stopped in the " + (s2 ? "2D" : "3D") +
+                          " run only (the same stop rules should stop the same columns)");
+    if (a || b || f || s2 || s3) {
       p.first_shrink = static_cast<int>(k) + 1;
       n = std::min(n, k);
       break;
@@ -583,8 +592,9 @@ std::string markdown(const Study& st, const std::vector<StudyRun>& runs, const s
     << runs.size() << " runs (order " << st.order << "), " << bad << " not valid; " << pairs.size()
     << " pairs; " << fmt(seconds, 3) << " s. " << (ok ? "Every run exits 0 with 0 invalid cells and every pairing holds."
                                                       : "**Not every run is valid or paired: see below.**")
-    << "\n\nHeights are compared over the layers both runs grew before either shrank one (shrinks halve "
-       "heights over dimension-specific neighbourhoods); the front match (extrusions) is the mid-span outer front's "
+    << "\n\nHeights are compared over the layers both runs grew before either shrank one or stopped columns "
+       "(shrinks halve heights, and stopped columns join their neighbours, over dimension-specific "
+       "neighbourhoods; the first stops must come in the same layer); the front match (extrusions) is the mid-span outer front's "
        "largest distance to the 2D one over the distance to the wall, when neither shrank."
     << "\n\nModel: k = ln(1 + s/h0) / ln g (s: the wall's largest high-order node offset from its chord); "
        "k_f = ln(1 + s (g - 1) / (f h0)) / ln g adds f_atten and the growth.\n\n";

@@ -7,7 +7,9 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "layers/front_crossings_2d.h"
@@ -519,6 +521,30 @@ class LoopFronts final : public FrontGrower<2> {
       m[(e + 1) % v.size()] += half;
     }
     return m;
+  }
+  // The proximity rule (layer_core.h, step 1), its focal half: where the front is concave its
+  // columns converge, and a column's layer may take at most kFocalShare of the distance to where
+  // it meets a neighbour (graded_room, shared with the 3D front so that an extruded section grows
+  // the section's layers; the E387's cove under the attenuation study's tallest stacks). Each
+  // stop point's direction is the mean of its two chords' unit normals (the 3D front's
+  // angle-weighted one on an extrusion). Gaps between facing walls are left to the front
+  // crossings (collisions) in 2D: `share` is unused.
+  std::vector<double> stop_point_room(std::size_t part, double /*share*/) const override {
+    const std::vector<Vec> x = stop_points(part);
+    const std::size_t n = x.size();
+    std::vector<Vec> unit(n, Vec::Zero());
+    std::vector<std::vector<std::pair<std::size_t, double>>> edges(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t prev = (k + n - 1) % n, next = (k + 1) % n;
+      const Vec a = x[k] - x[prev], b = x[next] - x[k];
+      if (a.norm() > 0 && b.norm() > 0) {
+        const Vec m = left_normal(a.normalized()) + left_normal(b.normalized());
+        if (m.norm() > 0) unit[k] = m.normalized();
+      }
+      edges[k] = {{prev, a.norm()}, {next, b.norm()}};
+    }
+    const double inf = std::numeric_limits<double>::infinity();
+    return graded_room<2>(x, unit, edges, std::vector<double>(n, 0.0), std::vector<double>(n, inf));
   }
   BuiltLayer build(std::size_t part, int layer, const std::vector<double>& scale,
                    const std::vector<std::uint8_t>& stopped, double f_atten) override {

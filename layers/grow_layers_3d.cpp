@@ -1608,28 +1608,30 @@ class SurfaceFronts final : public FrontGrower<3> {
   // below x. A facing wall's stack (grown along its own normal) crosses the ray 1/cos(theta) times
   // as tall, so two equal stacks meet at G cos/(1 + cos) along the ray from this wall (G = s + t:
   // half the gap when they face squarely); the stack may fill `share` of that. A wall met from
-  // behind, or none, sets no limit (concave bends and creases are the merges' and the local
-  // stops' job: a ray along the bisector of a concave crease meets neither side). The allowed
-  // stacks are then graded over the front, A_i <= A_j + kProximityGrade |x_i - x_j| (a shortest
-  // path over the front's edges), so a proximity stop ramps down over the surface instead of
-  // ending in a cliff beside columns that grow on. The room is A - s.
+  // behind, or none, sets no limit here (a ray along the bisector of a concave crease meets
+  // neither side): where the front is concave, the focal limit of graded_room (layer_core.h)
+  // holds the columns short of where they meet, and the allowed stacks are graded over the
+  // front's edges, so a proximity stop ramps down over the surface instead of ending in a cliff
+  // beside columns that grow on. The room is A - s.
   std::vector<double> stop_point_room(std::size_t part, double share) const override {
-    constexpr double kProximityGrade = 0.5;
     const Part& p = parts_[part];
     const std::size_t nv = p.vertices.size();
     const double inf = std::numeric_limits<double>::infinity();
     std::vector<int> index(p.size(), -1);
     for (std::size_t k = 0; k < nv; ++k) index[static_cast<std::size_t>(p.vertices[k])] = static_cast<int>(k);
     auto at = [&](int l) -> const Vec& { return mesh_.nodes[static_cast<std::size_t>(p.ids[static_cast<std::size_t>(l)])]; };
-    std::vector<Vec> normal(nv, Vec::Zero());
+    std::vector<Vec> normal(nv, Vec::Zero()), angled(nv, Vec::Zero());
     std::vector<std::vector<std::pair<std::size_t, double>>> edges(nv);
     for (std::size_t f = 0; f < p.num_faces(); ++f) {
       const int* fl = p.face(f);
       const Vec nn = (at(fl[1]) - at(fl[0])).cross(at(fl[2]) - at(fl[0]));
+      const Vec un = nn.norm() > 0 ? Vec(nn.normalized()) : Vec::Zero();
       for (int v = 0; v < 3; ++v) {
         const std::size_t i = static_cast<std::size_t>(index[static_cast<std::size_t>(fl[v])]);
         const std::size_t j = static_cast<std::size_t>(index[static_cast<std::size_t>(fl[(v + 1) % 3])]);
         normal[i] += nn;
+        const Vec e1 = at(fl[(v + 1) % 3]) - at(fl[v]), e2 = at(fl[(v + 2) % 3]) - at(fl[v]);
+        angled[i] += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * un;
         const double len = (at(fl[v]) - at(fl[(v + 1) % 3])).norm();
         edges[i].emplace_back(j, len);
         edges[j].emplace_back(i, len);
@@ -1664,27 +1666,24 @@ class SurfaceFronts final : public FrontGrower<3> {
       if (!(cosine > 0)) continue;
       allowed[k] = share * (below[k] + ahead.t) * cosine / (1 + cosine);
     }
-    // The grading: Dijkstra from every finite allowance.
-    using Item = std::pair<double, std::size_t>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
-    for (std::size_t k = 0; k < nv; ++k)
-      if (allowed[k] < inf) queue.emplace(allowed[k], k);
-    while (!queue.empty()) {
-      const auto [a, k] = queue.top();
-      queue.pop();
-      if (a > allowed[k]) continue;
-      for (const auto& [j, len] : edges[k]) {
-        const double b = a + kProximityGrade * len;
-        if (b < allowed[j]) {
-          allowed[j] = b;
-          queue.emplace(b, j);
-        }
-      }
+    // The focal limit and the grading (layer_core.h, graded_room). The columns' directions are
+    // those the next layer grows along where known (a corner fan's columns keep theirs,
+    // Part::keep: their front's area-weighted normals mix a kite with the large faces beside it
+    // and saw foci over a cube's convex ridges), else the front's angle-weighted normals: the
+    // area-weighted ones zigzag wherever the triangles are split quadrilaterals (a rim vertex
+    // has one triangle of a quadrilateral on one side and two on the other), and the differences
+    // of neighbouring normals are what the foci are made of (spurious foci on an extruded
+    // airfoil's symmetry planes, 2D having none).
+    std::vector<Vec> x(nv), unit(nv, Vec::Zero());
+    for (std::size_t k = 0; k < nv; ++k) {
+      x[k] = at(p.vertices[k]);
+      const std::size_t l = static_cast<std::size_t>(p.vertices[k]);
+      if (l < p.keep.size() && p.keep[l].norm() > 0)
+        unit[k] = p.keep[l].normalized();
+      else if (angled[k].norm() > 0)
+        unit[k] = angled[k].normalized();
     }
-    std::vector<double> room(nv, inf);
-    for (std::size_t k = 0; k < nv; ++k)
-      if (allowed[k] < inf) room[k] = allowed[k] - below[k];
-    return room;
+    return graded_room<3>(x, unit, edges, below, std::move(allowed));
   }
   // Heights are scaled on the nodes of the old faces behind the failures and of every face around
   // them.

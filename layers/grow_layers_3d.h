@@ -80,7 +80,10 @@
 //  8. the proximity rule (layer_core.h, step 1; SurfaceFronts::stop_point_room): a ray along
 //     each vertex column's front normal to the first wall triangle facing it (its own face's
 //     neighbours skipped) and one back to its own wall give the gap; the allowance, share x the
-//     gap x cos/(1 + cos), is graded over the front's edges (at most half the distance more).
+//     gap x cos/(1 + cos), is graded over the front's edges (at most half the distance more);
+//     where the front is concave, a layer may take at most half the distance to its nearest
+//     focus (where two neighbouring columns, along the front's angle-weighted normals, meet),
+//     graded in the same way (layer_core.h, graded_room, shared with the 2D loops).
 // Not yet: isotropic_stop: node (the plugin refuses it in 3D; the stopped columns above would
 // serve it).
 #pragma once

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <queue>
 #include <stdexcept>
 
 #include "modules/base/format.h"
@@ -51,6 +52,55 @@ template <int Dim>
 bool is_isotropic(const Metric<Dim>& m) {
   const auto d = m.decompose();  // sizes ascending
   return d.sizes[0] >= 0.999 * d.sizes[Dim - 1];
+}
+
+namespace {
+
+// values[k] <= values[j] + kProximityGrade |x_k - x_j| over the edges: Dijkstra from every finite
+// value.
+void grade(const std::vector<std::vector<std::pair<std::size_t, double>>>& edges, std::vector<double>& values) {
+  using Item = std::pair<double, std::size_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+  for (std::size_t k = 0; k < values.size(); ++k)
+    if (values[k] < std::numeric_limits<double>::infinity()) queue.emplace(values[k], k);
+  while (!queue.empty()) {
+    const auto [a, k] = queue.top();
+    queue.pop();
+    if (a > values[k]) continue;
+    for (const auto& [j, len] : edges[k]) {
+      const double b = a + kProximityGrade * len;
+      if (b < values[j]) {
+        values[j] = b;
+        queue.emplace(b, j);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+template <int Dim>
+std::vector<double> graded_room(const std::vector<Eigen::Matrix<double, Dim, 1>>& x,
+                                const std::vector<Eigen::Matrix<double, Dim, 1>>& unit,
+                                const std::vector<std::vector<std::pair<std::size_t, double>>>& edges,
+                                const std::vector<double>& below, std::vector<double> allowed) {
+  const std::size_t n = x.size();
+  const double inf = std::numeric_limits<double>::infinity();
+  grade(edges, allowed);
+  std::vector<double> room(n, inf), focal(n, inf);
+  for (std::size_t k = 0; k < n; ++k) {
+    if (allowed[k] < inf) room[k] = allowed[k] - below[k];
+    if (!(unit[k].squaredNorm() > 0)) continue;
+    for (const auto& [j, len] : edges[k]) {
+      if (!(unit[j].squaredNorm() > 0)) continue;
+      const auto e = (x[j] - x[k]).eval();
+      const double closing = (unit[j] - unit[k]).dot(e);
+      if (closing < 0) focal[k] = std::min(focal[k], kFocalShare * -e.squaredNorm() / closing);
+    }
+  }
+  grade(edges, focal);
+  for (std::size_t k = 0; k < n; ++k) room[k] = std::min(room[k], focal[k]);
+  return room;
 }
 
 namespace {
@@ -561,8 +611,8 @@ class Growth {
     if (!now.empty())
       r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) + ": " +
                           std::to_string(now.size()) +
-                          " columns stopped where their stacks fill their share of the gap to a facing wall "
-                          "(layers.proximity " + num(p_.proximity) + "; wall " + num(area) + ", first at " +
+                          " columns stopped where their stacks fill their share of the gap to a facing wall or "
+                          "of the distance to a concave front's focus (layers.proximity " + num(p_.proximity) + "; wall " + num(area) + ", first at " +
                           point_text<Dim>(points[now.front()]) + ")");
     return std::all_of(held_[part].begin(), held_[part].end(), [](std::uint8_t h) { return h; });
   }
@@ -632,6 +682,12 @@ template double layer_height<3>(const MetricField<3>&, const Eigen::Vector3d&, c
 template double attenuate<2>(Eigen::Vector2d*, const Eigen::Vector2d*, const double*, std::size_t, double);
 template double attenuate<3>(Eigen::Vector3d*, const Eigen::Vector3d*, const double*, std::size_t, double);
 template bool is_isotropic<2>(const Metric<2>&);
+template std::vector<double> graded_room<2>(const std::vector<Eigen::Vector2d>&, const std::vector<Eigen::Vector2d>&,
+                                            const std::vector<std::vector<std::pair<std::size_t, double>>>&,
+                                            const std::vector<double>&, std::vector<double>);
+template std::vector<double> graded_room<3>(const std::vector<Eigen::Vector3d>&, const std::vector<Eigen::Vector3d>&,
+                                            const std::vector<std::vector<std::pair<std::size_t, double>>>&,
+                                            const std::vector<double>&, std::vector<double>);
 template bool is_isotropic<3>(const Metric<3>&);
 template void grow_fronts<2>(FrontGrower<2>&, const MetricField<2>&, const LayerParams&, int, LayerResult<2>&);
 template void grow_fronts<3>(FrontGrower<3>&, const MetricField<3>&, const LayerParams&, int, LayerResult<3>&);

@@ -6,8 +6,9 @@
 // Per layer, for every part of the front (a loop in 2D, a connected surface in 3D):
 //  1. stop rules: a part stops when it runs out of layers, when the metric is isotropic at its
 //     nodes (isotropic_stop), or when a layer cannot be made valid; a column stops where its
-//     stack would fill more than its share of the gap to a facing wall (proximity, where the
-//     front supports it: FrontGrower::stop_point_room);
+//     stack would fill more than its share of the gap to a facing wall, or where a concave front's
+//     columns would run into their focus (proximity, where the front supports it:
+//     FrontGrower::stop_point_room, graded_room);
 //  2. the front's specifics (FrontGrower: normals, corner fans and concave merges in 2D, ridge and
 //     corner fans in 3D) build the new cells, with heights from the metric (layer_height) and the
 //     high-order nodes of the new front attenuated toward their linear positions (attenuate,
@@ -40,6 +41,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "modules/elements/lagrange.h"
@@ -91,6 +93,8 @@ struct LayerParams {
   // first layer). Two facing stacks of share 0.8 leave a fifth of the gap
   // to the fill. 0 turns the rule off. A column so stopped reached its stop rule (the stack that
   // fits there), and the coverage says how much of the wall stopped so (LayerCoverage::proximity).
+  // Where the front is concave a layer also takes at most half the distance to where its
+  // column meets a neighbour (graded_room; 2D and 3D), whatever `proximity` is above 0.
   double proximity = 0.8;
   // End with a linear front (for the fill): a part whose front is still curved when it stops
   // gets a closing layer with straight tops.
@@ -117,6 +121,30 @@ double attenuate(Eigen::Matrix<double, Dim, 1>* tops, const Eigen::Matrix<double
 // True when the metric is isotropic to 0.1 % (its largest size within 0.999 of its smallest).
 template <int Dim>
 bool is_isotropic(const Metric<Dim>& m);
+
+// The proximity rule's dimension-generic half (step 1), for FrontGrower::stop_point_room. Per
+// stop point k of a part: its place x[k], the unit direction its column grows along (unit[k];
+// zero where unknown), its edges to the neighbouring stop points (index, length), the height of
+// its stack above its wall (below[k]) and the stack height a facing wall allows it (allowed[k],
+// infinite where none faces it). The allowances are graded over the front, A_k <= A_j +
+// kProximityGrade |x_k - x_j| (a shortest path over the edges), so a stop ramps down over the
+// front instead of ending in a cliff beside columns that grow on; their room is A - below.
+// A concave front focuses: two neighbouring columns k, j meet where their edge e = x[j] - x[k]
+// shrinks to nothing along itself, at |e|^2 / -((unit[j] - unit[k]) . e) ahead (the radius of a
+// concave arc through them), and its cells invert there whether or not a wall faces them (a
+// cow's neck, a leg's root, an airfoil's cove under a tall stack: rays meet no wall there and
+// the layers failed at the focus). A column's room is also at most kFocalShare of the distance
+// to its nearest focus, graded in the same way (a distance from the front: no wall depth in it).
+// Returns the room (infinite where nothing limits the column). Not in the paper (its bodies'
+// stacks stay far from their foci); the robust choice, shared by 2D and 3D so that an extruded
+// section grows the section's layers.
+inline constexpr double kFocalShare = 0.5;
+inline constexpr double kProximityGrade = 0.5;
+template <int Dim>
+std::vector<double> graded_room(const std::vector<Eigen::Matrix<double, Dim, 1>>& x,
+                                const std::vector<Eigen::Matrix<double, Dim, 1>>& unit,
+                                const std::vector<std::vector<std::pair<std::size_t, double>>>& edges,
+                                const std::vector<double>& below, std::vector<double> allowed);
 
 // What a front's specifics built for one layer of one part: the new cells of the two cell types
 // (cell_types()), each in Gmsh order over LayerResult::mesh.nodes.

@@ -327,6 +327,59 @@ TEST_CASE("layers: isotropic_stop node stops the nodes where the metric is isotr
   CHECK(flank > 2 * tip);
 }
 
+TEST_CASE("layers: where the front is concave its columns stop short of their focus, the rest growing the whole stack") {
+  // A kidney r(theta) = 1 + 0.35 cos(2 theta): at its waists (theta = +-pi/2, r = 0.65) the wall
+  // is concave with radius 0.65^3 / 0.4875 = 0.563, and its columns converge there toward a
+  // focus outside the body. 13 layers of h0 = 0.02, g = 1.2 stack 0.59 high: beyond the focus. A column's layer may take at most half the distance to its focus (layer_core.h,
+  // graded_room), so the waists' columns stop (the stack that fits: the proximity rule's
+  // coverage) and the rest grows all 13 layers; turned off, the waists' cells run into the focus
+  // and the loop stops growing early, on the failures.
+  std::vector<Vector2d> pts;
+  const int n = 160;
+  for (int i = 0; i < n; ++i) {
+    const double t = -2 * M_PI * i / n, r = 1 + 0.35 * std::cos(2 * t);
+    pts.emplace_back(r * std::cos(t), r * std::sin(t));
+  }
+  const Geometry2D geo = body(pts, {});
+  WallLawParams w;
+  w.h0 = 0.02;
+  w.growth = 1.2;
+  w.h_max = 100;
+  w.h_wall_max = 0.05;
+  const WallPowerLawField metric({geo.loops[0].loop}, w);
+  for (int q : {1, 3}) {
+    CAPTURE(q);
+    const CurvedFront<2> front = mesh_curves(geo, metric, q);
+    layers::LayerParams p;
+    p.max_layers = 13;
+    const LayerResult<2> r = layers::grow_layers(front, metric, p);
+    CHECK(r.layers.size() == 13);
+    CHECK(r.coverage.complete == 1.0);
+    CHECK(r.coverage.proximity > 0);
+    CHECK(r.coverage.proximity < 0.7);
+    const QualityReport qr = check(r);
+    CHECK(qr.cells_invalid == 0);
+    CHECK(qr.conformity.ok);
+    // The waists' stacks end short of their foci (0.65 + 0.563 from the centre along the y axis),
+    // the flanks' (theta = 0, pi) reach the whole stack's 0.59.
+    double waist = 0, flank = 0;
+    for (const FrontLoop& l : r.outer.loops)
+      for (NodeId id : l.elements) {
+        const Vector2d x = r.mesh.nodes[id];
+        if (std::abs(x.x()) < 0.05) waist = std::max(waist, std::abs(x.y()));
+        if (std::abs(x.y()) < 0.05) flank = std::max(flank, std::abs(x.x()));
+      }
+    MESSAGE("outer front at the waists " << waist << ", at the flanks " << flank << "; limited: " << r.coverage.proximity);
+    CHECK(waist < 0.65 + 0.563);
+    CHECK(flank > 1.35 + 0.58);
+    if (q == 3) {
+      p.proximity = 0;
+      const LayerResult<2> off = layers::grow_layers(front, metric, p);
+      CHECK(off.layers.size() < 13);
+    }
+  }
+}
+
 TEST_CASE("layers: close_linear ends a front that is still curved with one valid straight-topped layer") {
   // A coarse circle: 12 order-3 elements, far from linear after 2 layers of h0 = 1e-3.
   std::vector<Vector2d> c;

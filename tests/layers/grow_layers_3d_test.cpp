@@ -777,6 +777,80 @@ TEST_CASE("layers 3D: where two spheres face each other the proximity rule ends 
   CHECK_FALSE(r.coverage.stopped_early.empty());
 }
 
+// A waisted cylinder about the z axis between the symmetry planes z = 0 and z = 1: radius
+// r(z) = 0.75 + 0.25 cos(2 pi z), 1 at the planes and 0.5 at the waist, where its meridian is
+// concave with radius 1 / r'' = 1 / pi^2 (0.101) and no wall faces its columns (every normal
+// leaves the body outward). n_theta x n_z quadrilaterals split in two, order q.
+CurvedFront<3> waisted_cylinder(int n_theta, int n_z, int q) {
+  FrontBuilder b(q, 1.0);
+  b.f.tags = {{"wall", BoundaryKind::Wall}, {"z0", BoundaryKind::Symmetry}, {"z1", BoundaryKind::Symmetry}};
+  auto radius = [](double z) { return 0.75 + 0.25 * std::cos(2 * M_PI * z); };
+  auto place = [&](const Vector3d& x, Vector3d& nrm) {
+    const double a = std::atan2(x.y(), x.x()), slope = -0.5 * M_PI * std::sin(2 * M_PI * x.z());
+    nrm = Vector3d(std::cos(a), std::sin(a), -slope).normalized();
+    return Vector3d(radius(x.z()) * std::cos(a), radius(x.z()) * std::sin(a), x.z());
+  };
+  auto at = [&](int i, int j) {
+    const double a = 2 * M_PI * i / n_theta, z = static_cast<double>(j) / n_z;
+    return Vector3d(radius(z) * std::cos(a), radius(z) * std::sin(a), z);
+  };
+  for (int j = 0; j < n_z; ++j)
+    for (int i = 0; i < n_theta; ++i) {
+      b.triangle(at(i, j), at(i + 1, j), at(i + 1, j + 1), 0, place);
+      b.triangle(at(i, j), at(i + 1, j + 1), at(i, j + 1), 0, place);
+    }
+  Vector3d unused;
+  for (int end = 0; end < 2; ++end)
+    for (int i = 0; i < n_theta; ++i) {
+      const Vector3d a = at(i, end * n_z), c = at(i + 1, end * n_z);
+      b.f.rim_edges.push_back(b.node(a, unused));
+      b.f.rim_edges.push_back(b.node(c, unused));
+      for (int k = 1; k < q; ++k) b.f.rim_edges.push_back(b.node(place(a + (static_cast<double>(k) / q) * (c - a), unused), unused));
+      b.f.rim_tag.push_back(1 + end);
+    }
+  return b.f;
+}
+
+TEST_CASE("layers 3D: where the front is concave its columns stop before they meet, where no wall faces them") {
+  // Layers of 0.02 on the waist of radius 0.101: 20 of them (0.4) would run the columns through
+  // their focus; each layer may take half the distance left to it (grow_layers_3d.h, step 8), so
+  // the waist's stacks end without a failure, the rest growing all 20; turned off, the same
+  // columns cross there and stop on the failures.
+  const UniformMetricField<3> m(Metric<3>::isotropic(0.02));
+  for (int q : {1, 2}) {
+    CAPTURE(q);
+    LayerParams p;
+    p.max_layers = 20;
+    const LayerResult<3> r = grow_layers(waisted_cylinder(48, 24, q), m, p);
+    MESSAGE("limited: " << r.coverage.proximity << " of the wall, " << r.coverage.columns_proximity << " columns");
+    CHECK(r.layers.size() == 20);
+    CHECK(r.coverage.stopped_early.empty());
+    CHECK(r.coverage.complete == 1.0);
+    CHECK(r.coverage.proximity > 0);
+    CHECK(r.coverage.proximity < 0.9);
+    // At the waist the stacks end short of the focal circle (radius 0.5 + 0.101 at z = 0.5),
+    // after more than one layer.
+    double lo = 1, hi = 0;
+    for (NodeId n : r.outer.triangles) {
+      const Vector3d& x = r.mesh.nodes[static_cast<std::size_t>(n)];
+      if (std::abs(x.z() - 0.5) > 0.01) continue;
+      lo = std::min(lo, std::hypot(x.x(), x.y()) - 0.5);
+      hi = std::max(hi, std::hypot(x.x(), x.y()) - 0.5);
+    }
+    MESSAGE("stack at the waist: " << lo << " to " << hi);
+    CHECK(lo > 0.02);
+    CHECK(hi < 1 / (M_PI * M_PI));
+    CHECK(invalid_cells(r, q) == 0);
+    check_conforming_and_apart(r, q);
+    if (q == 2) {
+      p.proximity = 0;
+      const LayerResult<3> off = grow_layers(waisted_cylinder(48, 24, q), m, p);
+      CHECK_FALSE(off.coverage.stopped_early.empty());
+      CHECK(off.coverage.complete < 1);
+    }
+  }
+}
+
 TEST_CASE("layers 3D: wall triangles whose columns stop before their first layer are left out of the layers' mesh") {
   // Two spheres 1e-4 apart, layers of 0.01 (floor 6.25e-4): the facing columns cannot grow even
   // their first layer, so whole wall triangles keep their columns at the wall; with no cell over
