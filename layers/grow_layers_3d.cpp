@@ -1641,7 +1641,20 @@ class SurfaceFronts final : public FrontGrower<3> {
     std::vector<double> allowed(nv, inf), below(nv, 0.0);
     for (std::size_t k = 0; k < nv; ++k) {
       if (!(normal[k].norm() > 0)) continue;
-      const Vec d = normal[k].normalized(), x = at(p.vertices[k]);
+      const Vec d = normal[k].normalized();
+      Vec x = at(p.vertices[k]);
+      // A rim vertex's rays run in its symmetry plane, along the edges of the wall's rim
+      // triangles, where the triangle test misses or hits at random (the extruded E387 wing's rim
+      // columns met no wall below them, so their stacks counted from the front, not the wall):
+      // the rays start a hair off the plane, on the side of the column's faces.
+      const std::size_t l = static_cast<std::size_t>(p.vertices[k]);
+      for (int pl : p.plane[l]) {
+        if (pl < 0) continue;
+        const Vec& n = planes_[static_cast<std::size_t>(pl)].normal;
+        double side = 0;
+        for (const auto& [j, len] : edges[k]) side += (at(p.vertices[j]) - x).dot(n);
+        if (side != 0) x += (side > 0 ? 1e-7 : -1e-7) * wall_diagonal_ * n;
+      }
       // From a wall vertex the ray back meets its own faces at t = 0 (s = 0); from a front above
       // the wall, the wall below it, from its front side.
       const TriangleTree::Hit back = wall_.first_hit(x, -d, -eps, inf);
