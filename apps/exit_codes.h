@@ -10,7 +10,9 @@ namespace plaf::exit_code {
 
 inline constexpr int ok = 0;           // success: every output written, every cell valid
 inline constexpr int bad_input = 1;    // bad input or usage (or out of memory): one line naming it, nothing written
-inline constexpr int invalid_mesh = 2; // failed: invalid / not conforming / boundary layer missing (said loudly; OUTDIR/NAME.failed/)
+inline constexpr int invalid_mesh = 2; // failed: invalid / not conforming / boundary layer missing, or a stage that could
+                                       // not finish (said loudly; OUTDIR/NAME.failed/: the report, and the picture
+                                       // when there is a mesh)
 inline constexpr int bug = 3;          // an exception plaf does not expect: a bug, nothing written
 
 // Prints the two lines of an unexpected exception (what it said, and a request to report it)

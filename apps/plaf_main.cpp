@@ -37,8 +37,9 @@ constexpr const char* usage =
     "the environment's PLAF_DATA, then ../shared/data beside the source tree (docs/data.md).\n"
     "Outputs of run: <name>.msh (Gmsh 4.1), <name>.vtu (VTK Lagrange cells), <name>.report.json, <name>.png.\n"
     "Exit codes: 0 success, 1 bad input or usage (nothing written), 2 the run failed: invalid or not\n"
-    "conforming cells, or the boundary layer asked for is not there (layers.min_coverage); its report\n"
-    "and picture are in DIR/NAME.failed/; 3 a bug in plaf (nothing written; please report it).\n";
+    "conforming cells, the boundary layer asked for is not there (layers.min_coverage), or a stage\n"
+    "could not finish; its report (and picture, given a mesh) are in DIR/NAME.failed/; 3 a bug in\n"
+    "plaf (nothing written; please report it).\n";
 
 int fail_usage(const std::string& why) {
   std::cerr << "plaf: error: " << why << "\n" << usage;

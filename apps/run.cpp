@@ -2,6 +2,7 @@
 // The driver: one pipeline for 2D and 3D (DESIGN.md), numbered steps, each a registered stage
 // plugin (modules/pipeline/stages.h) on the run state's core types, timed and reported.
 #include "apps/run.h"
+#include "apps/exit_codes.h"
 #include "apps/stage_clock.h"
 
 #include <algorithm>
@@ -421,8 +422,21 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
   try {
     return run_config(c).code;
   } catch (const MesherError& e) {
-    // A mesher failure on valid keys: name the config and the key most likely to help.
-    throw MesherError(config_path.string() + ": " + e.what() + mesher_hint(e.what(), c.dim));
+    // A mesher failure on valid keys (a stage that could not finish: no mesh to write): the run
+    // failed, exit 2 as for an invalid mesh, its report (the error and the key most likely to
+    // help) in OUTDIR/NAME.failed/ so that a sweep or a script finds why where it looks.
+    const std::string hint = mesher_hint(e.what(), c.dim);
+    OutputSet outputs(c.output.dir / (c.name + ".failed"), c.name);
+    AtomicFile f(outputs.staged_base().string() + ".report.json");
+    f.write("{\n  \"name\": " + json_string(c.name) + ",\n  \"ok\": false,\n  \"failure\": {\"error\": " +
+            json_string(e.what()) + ", \"hint\": " + json_string(hint.empty() ? "" : hint.substr(2)) +
+            ", \"mesh\": false}\n}\n");
+    f.commit();
+    outputs.commit();
+    std::cerr << "plaf: error: " << config_path.string() << ": " << e.what() << hint << '\n'
+              << "plaf: error: " << config_path.string() << ": the run FAILED before it had a mesh; its report is in "
+              << outputs.final_base().parent_path().string() << "/\n";
+    return exit_code::invalid_mesh;
   } catch (const ConfigError& e) {
     // A key found wrong only once the mesh exists (a farfield that does not enclose the layers):
     // the message names the key; name the config too, unless it already does (ConfigNode::where).

@@ -184,7 +184,7 @@ TEST_CASE("cli: check --metric refuses a 3D configuration, and --out '' is an ou
   CHECK(empty.err.find("output.dir '': cannot create the folder") != std::string::npos);
 }
 
-TEST_CASE("cli: a mesher failure on valid keys names the config and the keys most likely to help, and writes nothing") {
+TEST_CASE("cli: a mesher failure on valid keys fails the run (exit 2), naming the config and the keys most likely to help, with its report") {
   PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
   // The E387's sharp trailing edge without a fan (corner angle 179) and a first layer of 5e-7 c:
   // no first layer can be grown there.
@@ -197,14 +197,22 @@ TEST_CASE("cli: a mesher failure on valid keys names the config and the keys mos
                                   "layers: {max: 1, corner_angle_deg: 179}\n");
   const PlafResult r = run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
   INFO(r.err);
-  CHECK(r.code == 1);
+  // The run failed (exit 2), as for an invalid mesh: the error with its hint, then where its
+  // report is; no mesh, and nothing beside a valid run's outputs.
+  CHECK(r.code == 2);
   CHECK(r.err.find("plaf: error: " + cfg.string() + ": layers: not even the first layer could be grown") != std::string::npos);
   CHECK(r.err.find("metric.h0") != std::string::npos);
   CHECK(r.err.find("layers.corner_angle_deg") != std::string::npos);
-  std::size_t errors = 0;  // one error line (the progress lines are "[plaf] ...")
+  CHECK(r.err.find("the run FAILED before it had a mesh; its report is in " + (d / "out" / "nofan.failed").string()) !=
+        std::string::npos);
+  std::size_t errors = 0;  // two error lines (the progress lines are "[plaf] ...")
   for (std::size_t at = r.err.find("plaf: error"); at != std::string::npos; at = r.err.find("plaf: error", at + 1)) ++errors;
-  CHECK(errors == 1);
-  CHECK(count_files(d / "out") == 0);
+  CHECK(errors == 2);
+  CHECK(count_files(d / "out") == 1);
+  const std::string report = read_text(d / "out" / "nofan.failed" / "nofan.report.json");
+  CHECK(report.find("\"ok\": false") != std::string::npos);
+  CHECK(report.find("\"error\": \"layers: not even the first layer could be grown") != std::string::npos);
+  CHECK(report.find("\"hint\": \"try a thinner first layer") != std::string::npos);
 }
 
 TEST_CASE("cli: a key found wrong once the mesh exists (a farfield inside the layers) names the config and the key") {
