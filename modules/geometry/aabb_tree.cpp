@@ -108,12 +108,6 @@ TriangleTree::TriangleTree(const std::vector<Vector3d>& points, const std::vecto
   for (const auto& t : triangles)
     tris_.push_back({points[static_cast<std::size_t>(t[0])], points[static_cast<std::size_t>(t[1])],
                      points[static_cast<std::size_t>(t[2])]});
-  normals_.reserve(tris_.size());
-  for (const auto& t : tris_) {
-    const Vector3d nn = (t[1] - t[0]).cross(t[2] - t[0]);
-    const double len = nn.norm();
-    normals_.push_back(len > 0 && std::isfinite(len) ? Vector3d(nn / len) : Vector3d::Zero());
-  }
   const int n = static_cast<int>(tris_.size());
   if (n == 0) return;
   order_.resize(tris_.size());
@@ -188,11 +182,8 @@ TriangleTree::Closest TriangleTree::closest(const Vector3d& p) const {
   best.point = Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   best.barycentric = Vector3d::Zero();
   if (nodes_.empty()) return best;
-  // Depth first, nearer child first, so a good candidate prunes most boxes early. The stack is
-  // the thread's, kept between queries (a remesh makes millions of them: no allocation each).
-  thread_local std::vector<std::pair<double, int>> stack;
-  stack.clear();
-  stack.emplace_back(nodes_[0].box.squaredExteriorDistance(p), 0);
+  // Depth first, nearer child first, so a good candidate prunes most boxes early.
+  std::vector<std::pair<double, int>> stack = {{nodes_[0].box.squaredExteriorDistance(p), 0}};
   while (!stack.empty()) {
     const auto [d2, id] = stack.back();
     stack.pop_back();
@@ -202,11 +193,6 @@ TriangleTree::Closest TriangleTree::closest(const Vector3d& p) const {
       for (int i = node.first; i < node.first + node.count; ++i) {
         const int t = order_[static_cast<std::size_t>(i)];
         const auto& tri = tris_[static_cast<std::size_t>(t)];
-        // The distance to the triangle's plane bounds the distance to the triangle from below:
-        // most of a leaf's triangles are passed over at the cost of one dot product (a zero
-        // normal, a degenerate triangle, bounds nothing).
-        const double h = normals_[static_cast<std::size_t>(t)].dot(p - tri[0]);
-        if (h * h >= best.distance2) continue;
         Vector3d bary;
         const Vector3d q = closest_point_on_triangle(p, tri[0], tri[1], tri[2], &bary);
         const double e2 = (q - p).squaredNorm();

@@ -57,7 +57,6 @@ class TriangleTree {
     int left = -1, right = -1;
   };
   std::vector<std::array<Eigen::Vector3d, 3>> tris_;
-  std::vector<Eigen::Vector3d> normals_;  // per triangle: its unit normal (zero when degenerate)
   std::vector<int> order_;
   std::vector<Node> nodes_;
   int build(int first, int count, std::vector<Eigen::AlignedBox3d>& boxes, std::vector<Eigen::Vector3d>& centers);
