@@ -298,10 +298,13 @@ class Growth {
         // fronts, which a smaller attenuation does not mend), the part's layer is rebuilt with
         // f_atten halved (at most kAttenuationRetries times), recorded as an event and in the
         // layer's f_atten column.
-        // A retry that leaves no fewer failures ends them, with the attenuation before it: there
-        // the cells fail on something the attenuation does not mend (the published spot's layer
-        // 34: 123, 133, 141, 154 and 159 invalid cells at f_atten 0.2 down to 0.0125, 20 builds
-        // of its 7.7 k faces before the local stops).
+        // A retry that leaves more failures ends them, with the attenuation before it: there the
+        // cells fail on something the attenuation does not mend, and a smaller one folds more
+        // (the published spot's layer 34, Q2: 123, 133, 141, 154 and 159 invalid cells at f_atten
+        // 0.2 down to 0.0125, 20 builds of its 7.7 k faces, and the local stops then ran at
+        // 0.0125). As many failures go on (spot at Q3, layer 6: one cell at 0.2 and at 0.1; ending
+        // there stopped its columns, and every cell of a layer with a stop is cut into
+        // tetrahedra, which at Q3 failed over 30 % of the wall).
         std::size_t failing = attempts_.last_failures().size();
         for (int k = 0; !ok && k < kAttenuationRetries && built.max_clipped_rel > 0 && attempts_.last_failed_on_cells();
              ++k) {
@@ -312,7 +315,7 @@ class Growth {
           ok = attempts_.run(part, layer, scale, stopped, f, st, built);
           if (ok) break;
           const std::size_t now = attempts_.last_failures().size();
-          if (now >= failing) {
+          if (now > failing) {
             f *= 2;
             r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) + ": " +
                                 std::to_string(now) + " failures at f_atten " + num(0.5 * f) + ", " +
