@@ -56,8 +56,8 @@ struct LayerCoverage {
   double complete = 0;
   std::size_t columns = 0, columns_complete = 0;  // the same by columns
   // Of the complete ones, the columns (and their wall fraction) whose stacks ended by the proximity
-  // rule (LayerParams::proximity): where a facing wall leaves no room for the stack the metric
-  // asks for, the stack that fits is the stop rule.
+  // rule (LayerParams::proximity): where a facing wall, or a concave front's focus, leaves no
+  // room for the stack the metric asks for, the stack that fits is the stop rule.
   double proximity = 0;
   std::size_t columns_proximity = 0;
   // The first layer each column grew (a closing layer where layer 1 failed) against the metric's
