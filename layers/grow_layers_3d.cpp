@@ -9,7 +9,6 @@
 #include <limits>
 #include <map>
 #include <memory>
-#include <queue>
 #include <set>
 #include <unordered_map>
 
