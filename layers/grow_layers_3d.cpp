@@ -1047,10 +1047,22 @@ class PartLayerBuilder {
       dh_[d] = stopped_dir(d) ? 0.0 : h_[l] * r.stretch;
       top_[d] = stopped_dir(d) ? x_[l] : onto_planes(x_[l] + dh_[d] * r.d, part_.plane[l], planes_);
     }
-    // Straight tops: on a straight base (the node at its linear position) and on every face
-    // touching a concave node.
-    std::vector<std::uint8_t> straight(nd, 0);
-    for (std::size_t f = 0; f < nw.num_faces(); ++f) {
+    // Straight tops: on a straight base (the node at its linear position), on every face
+    // touching a concave node, and on every face of a layer with stopped columns. That layer is
+    // cut into tetrahedra (columns_and_cells), and the attenuation's pull cannot follow into them:
+    // a pull that grows with the level in the layer is of degree Q + 1 in a tetrahedron cut from
+    // the prism, and its order-Q interpolant tilts the cell's rise by several times the pull
+    // (on the published spot, h0 1e-5 L, Q3, an edge attenuated by -0.2 and +0.2 of the height at
+    // its two inner nodes made the cut tetrahedron's rise at its base vertex -0.2 of the height:
+    // 262 invalid cells in the layer after the first stop, 1,289 after four shrinks). With the
+    // base's own offset carried up (layer_node) every cut cell is its base carried up by heights
+    // affine over the cell (4 invalid cells there). The front keeps its curvature through such
+    // layers; the attenuation resumes with the prisms, and a front still curved at the end is the
+    // fill's (a closing layer, or its curved front triangles).
+    // A closing layer (f_atten infinite) still straightens the faces away from the stops.
+    const bool keep_curvature = any_stop_ && std::isfinite(f_atten_);
+    std::vector<std::uint8_t> straight(nd, keep_curvature ? 1 : 0);
+    for (std::size_t f = 0; f < nw.num_faces() && !keep_curvature; ++f) {
       const int* fl = nw.face(f);
       bool c = false;
       for (int v = 0; v < nw.face_vertices(f); ++v)
@@ -1084,6 +1096,9 @@ class PartLayerBuilder {
         // nodes: 589 of 21050 first-layer prisms inverted at h0 and 627 at h0/16 with straight
         // tops, none with the base's offset); on a straight base the two are one.
         top_[d] = target + (x_[l] - linear);
+        // A layer with stops keeps the whole front's curvature: not linear, and what the
+        // attenuation would need is reported as if clipped.
+        if (keep_curvature && dh_[d] > 0) clipped_max = std::max(clipped_max, (x_[l] - linear).norm() / dh_[d]);
         continue;
       }
       clipped_max = std::max(clipped_max, attenuate<3>(&top_[d], &target, &dh_[d], 1, f_atten_));
@@ -1091,6 +1106,7 @@ class PartLayerBuilder {
     }
     if (q_ == 1 && std::isfinite(f_atten_)) clipped_max = std::max(clipped_max, chord_sag_need(nw));
     out_.built.max_clipped_rel = clipped_max;
+    out_.built.straight_tops = keep_curvature;
     out_.built.linear = clipped_max == 0;
     // The layer's heights along the vertex columns grown along a normal (a fan's wedge and kite
     // normals, not its arc directions), as 2D records them.
@@ -1240,17 +1256,15 @@ class PartLayerBuilder {
   // corner with weight a base, or a stopped column's top, which is its base): that column's base;
   // on the new front (every such corner a top, or a stopped column's base): the new front's node
   // d; elsewhere the base's node under the point raised by the corners' weighted column heights,
-  // x_base(d) + sum_k (w_k / Q) (corner_k - its base), plus the point's level in the layer (the
-  // weights of its top corners over Q) times the top's offset from that lift at d (off_lift_:
-  // the attenuation's pull), one node per corner set and weights, so every cell and facet
-  // sharing a point agrees. Inside the layer a cell is then the base's curved triangle carried
-  // up by heights affine over the cell, x = B(xi) + G(lambda) (G affine and 0 on the base), bent
-  // by the attenuation in proportion to the level: det J is about det[B_xi1, B_xi2, G_zeta]
-  // wherever the heights are small against the cell's width, positive over a regular base with
-  // outward heights, a stopped column's zero height included (its corner keeps the other two
-  // directions). Without the attenuation's share the cells' nodes missed their tops by up to
-  // f_atten of the height, and thin cut cells inverted until f_atten was halved (on the
-  // published spot, h0 1e-5 L, Q2: 137 rebuilds at a halved f_atten, 121 with it). The prism's own
+  // x_base(d) + sum_k (w_k / Q) (corner_k - its base), one node per corner set and weights, so
+  // every cell and facet sharing a point agrees (a closing layer's adds the point's level times
+  // the straightening's pull at d, off_lift_). The tops of such a layer are straight (tops():
+  // the vertex tops' lift plus the base's own offset, no attenuation), so the new front's node d
+  // is that same point, and a cell is the base's curved triangle carried up by heights affine
+  // over the cell, x = B(xi) + G(lambda) (G affine and 0 on the base), exactly of order Q:
+  // det J is about det[B_xi1, B_xi2, G_zeta], G_zeta one corner's column, wherever the heights
+  // are small against the cell's width, positive over a regular base with outward heights, a
+  // stopped column's zero height included (its corner keeps the other two directions). The prism's own
   // lattice fails both ways: it collapses at a stopped column (a zero Jacobian at its base), and
   // a tetrahedron cut from it carries the column heights' variation over the face (shrinks,
   // attenuation) at one degree above Q, which the order-Q cell cannot hold: at Q3, cut cells of
@@ -1283,7 +1297,7 @@ class PartLayerBuilder {
            (mesh_.nodes[static_cast<std::size_t>(corner_node(corners[k]))] - x_[static_cast<std::size_t>(dirs_[dk].base)]);
       if (corners[k].level == 1 && !stopped_dir(dk)) up += static_cast<double>(w[k]) / q_;
     }
-    x += up * off_lift_[static_cast<std::size_t>(d)];
+    x += up * off_lift_[static_cast<std::size_t>(d)];  // 0 but in a closing layer
     mesh_.nodes.push_back(x);
     const NodeId id = static_cast<NodeId>(mesh_.nodes.size() - 1);
     lifted_.emplace(std::move(key), id);
@@ -1484,9 +1498,9 @@ class PartLayerBuilder {
     }
   };
   std::unordered_map<LiftedKey, NodeId, LiftedHash> lifted_;
-  // Per direction: its top's offset from the lift of its face's vertex tops (the attenuation's
-  // pull toward the chord; 0 at vertices and straight tops), which layer_node carries up the
-  // layer in proportion to the point's level, so a cell's nodes meet its attenuated top.
+  // Per direction: its top's offset from the lift of its face's vertex tops (the straightening's
+  // pull toward the chord), which layer_node carries up a closing layer in proportion to the
+  // point's level; 0 in every other layer with stops (straight tops).
   std::vector<Vec> off_lift_;
   std::vector<NodeId> col_;
   PartLayer out_;

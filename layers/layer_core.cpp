@@ -306,7 +306,8 @@ class Growth {
         // there stopped its columns, and every cell of a layer with a stop is cut into
         // tetrahedra, which at Q3 failed over 30 % of the wall).
         std::size_t failing = attempts_.last_failures().size();
-        for (int k = 0; !ok && k < kAttenuationRetries && built.max_clipped_rel > 0 && attempts_.last_failed_on_cells();
+        for (int k = 0; !ok && k < kAttenuationRetries && built.max_clipped_rel > 0 && !built.straight_tops &&
+                        attempts_.last_failed_on_cells();
              ++k) {
           f *= 0.5;
           scale.assign(scale.size(), 1.0);

@@ -153,6 +153,9 @@ struct BuiltLayer {
   std::array<std::vector<NodeId>, 2> cells;
   double max_clipped_rel = 0;
   bool linear = true;
+  // Every top straight (as straight as its base: a 3D layer with stopped columns): f_atten has
+  // no effect on the build, and no smaller one is tried.
+  bool straight_tops = false;
   // The layer's height along every vertex column grown along a normal (2D: regular, concave and
   // fan normals; 3D: the same, a fan's arc directions left out): its base (z = 0 in 2D),
   // |top - base| and the height scale it was built with (1: the metric's height; below after

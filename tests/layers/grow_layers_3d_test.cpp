@@ -708,6 +708,19 @@ TEST_CASE("layers 3D: where two spheres' gap is used up their columns stop, the 
     CHECK(r.coverage.complete > 0.95);
     CHECK(r.layers.back().coverage < 1);
     CHECK(r.coverage.first_max == doctest::Approx(1.0));
+    // A layer with stops keeps its tops as curved as its base (grow_layers_3d.cpp, tops()): no
+    // attenuation to halve, and at Q > 1 the front it leaves still counts as curved.
+    for (const std::string& e : r.events) CHECK(e.find("rebuilt with f_atten") == std::string::npos);
+    for (std::size_t k = 0; k < r.layers.size(); ++k) {
+      const LayerStats& st = r.layers[k];
+      if (st.transition_cells == 0) continue;
+      CAPTURE(st.layer);
+      CHECK(st.f_atten == LayerParams().f_atten);
+      if (k > 0 && !r.layers[k - 1].linear) {
+        CHECK_FALSE(st.linear);
+        CHECK(st.max_clipped_rel > 0);
+      }
+    }
     // Certified, conforming, and the outer fronts do not cross.
     CHECK(invalid_cells(r, q) == 0);
     REQUIRE(r.mesh.cells.size() == 2);
@@ -1134,5 +1147,36 @@ TEST_CASE("layers 3D: fans whose ridges end on a symmetry plane close on it") {
     CHECK(cr.overshared_facets == 0);
     CHECK(cr.orientation_mismatches == 0);
     CHECK(cr.open_facets == r.outer.num_triangles() + r.outer.num_quads());
+  }
+}
+TEST_CASE("layers 3D: a layer with stopped columns carries its base's curvature up, valid at Q2 and Q3") {
+  // Two coarse spheres 0.05 apart, layers of 0.01 without the proximity rule: the facing columns
+  // stop in layer 4 and every later layer is cut into tetrahedra. Their tops are as curved as
+  // their base (grow_layers_3d.cpp, tops()): the sag each layer would need attenuated stays what
+  // it was (the heights are uniform), no f_atten is halved, the front never counts as linear,
+  // and every cut cell is certified (an attenuated top's pull, of degree Q + 1 in a cut cell,
+  // inverted them on the published spot at Q3).
+  for (int q : {2, 3}) {
+    CAPTURE(q);
+    LayerParams p;
+    p.max_layers = 10;
+    p.proximity = 0;
+    const LayerResult<3> r = grow_layers(two_spheres(2, q, 0.05), UniformMetricField<3>(Metric<3>::isotropic(0.01)), p);
+    REQUIRE(r.layers.size() == 10);
+    std::size_t cut = 0;
+    for (std::size_t k = 0; k < r.layers.size(); ++k) {
+      const LayerStats& st = r.layers[k];
+      CAPTURE(st.layer);
+      CHECK_FALSE(st.linear);
+      if (st.transition_cells == 0) continue;
+      ++cut;
+      CHECK(st.f_atten == p.f_atten);
+      CHECK(st.max_clipped_rel > 0);
+      if (r.layers[k - 1].transition_cells > 0) CHECK(st.max_clipped_rel == doctest::Approx(r.layers[k - 1].max_clipped_rel).epsilon(1e-6));
+    }
+    CHECK(cut >= 5);
+    for (const std::string& e : r.events) CHECK(e.find("rebuilt with f_atten") == std::string::npos);
+    CHECK(invalid_cells(r, q) == 0);
+    check_conforming_and_apart(r, q);
   }
 }
