@@ -73,7 +73,10 @@
 //     cell and symmetry facet with the same corners and weights: the cell is the base's triangle
 //     sheared up the layer, valid over a regular base at any order and at a stopped column,
 //     where the prism's own map collapses (and its lattice, cut into tetrahedra, inverted at Q3
-//     wherever the heights varied over a face). The faces touching a stop grow straight tops.
+//     wherever the heights varied over a face). Every face of such a layer grows a top as
+//     straight as its base (the vertex tops' lift plus the base's offset from its chord: no
+//     attenuation, whose pull grows with the level and is of degree Q + 1 in a cut cell); the
+//     front keeps its curve through those layers (a closing layer still straightens it).
 //     Elsewhere the part's other columns grow on to the stop rule. A cusp (no direction sees
 //     every face around a node) grows along the most normal direction (normals_3d.h) and, where
 //     its cells cannot be valid, stops there too: no run ends on a cusp.

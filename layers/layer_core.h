@@ -23,7 +23,8 @@
 //     still fails stops growing (an event);
 //     (3D, FrontGrower::stops_locally) where the failures remain with their heights at the floor,
 //     the stop points behind them stop there (their columns end; the part's layer becomes
-//     tetrahedra around them, grow_layers_3d.h) and the layer is rebuilt, the rest of the part
+//     tetrahedra around them, grow_layers_3d.h, with tops as curved as their base: no attenuation,
+//     whose pull those tetrahedra cannot follow) and the layer is rebuilt, the rest of the part
 //     growing on to its stop rule: a failure ends the stack locally, not on the whole part;
 //  4. the per-layer table (LayerStats), the coverage (LayerCoverage: how much of the wall each
 //     layer covers, whether each column reached its stop rule, the first layer's height against
