@@ -1784,8 +1784,6 @@ class SurfaceFronts final : public FrontGrower<3> {
 
 LayerResult<3> grow_layers(const CurvedFront<3>& front, const MetricField<3>& metric, const LayerParams& p) {
   check_order(front.order);
-  if (p.isotropic_stop == IsotropicStop::Node)
-    throw ConfigError("layers.isotropic_stop: node is not available in 3D (use any, all or off)");
   const int q = front.order;
   const std::size_t np = static_cast<std::size_t>(num_nodes(CellType::Triangle, q));
   const std::size_t nqn = static_cast<std::size_t>(num_nodes(CellType::Quadrilateral, q));

@@ -87,8 +87,9 @@
 //     where the front is concave, a layer may take at most half the distance to its nearest
 //     focus (where two neighbouring columns, along the front's angle-weighted normals, meet),
 //     graded in the same way (layer_core.h, graded_room, shared with the 2D loops).
-// Not yet: isotropic_stop: node (the plugin refuses it in 3D; the stopped columns above would
-// serve it).
+//  9. isotropic_stop: node: a column whose front point has an isotropic metric stops there, as
+//     a local stop does (its layers from then on are tetrahedra around it), having reached its
+//     stop rule: the wall law's anisotropy has ended, its boundary layer is complete.
 #pragma once
 
 #include "layers/layer_core.h"

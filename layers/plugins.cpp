@@ -166,8 +166,6 @@ void register_plugins() {
     });
     stage_registry<3>(StageKind::Layers).add("extrude", [](const ConfigNode& section) -> Stage<3> {
       LayerParams p = parse_layer_params(section);
-      if (p.isotropic_stop == IsotropicStop::Node)
-        throw ConfigError(section.where("isotropic_stop") + ": node is not available in 3D (use any, all or off)");
       return [p](RunState<3>& s, StageReport& rep) mutable {
         if (!s.front) throw MesherError("layers: the surface stage gave no front to grow from");
         if (p.max_layers == 0) return;  // the surface mesh alone

@@ -1149,6 +1149,55 @@ TEST_CASE("layers 3D: fans whose ridges end on a symmetry plane close on it") {
     CHECK(cr.open_facets == r.outer.num_triangles() + r.outer.num_quads());
   }
 }
+// The wall law h_n(d) = h0 + (g - 1) d around a unit sphere at the origin, tangential size ht
+// above the equator and 1 below, the metric isotropic where h_n reaches the tangential size (as
+// the wall_power_law metric's is).
+class IsotropicAboveMetric final : public MetricField<3> {
+ public:
+  Metric<3> evaluate(const Vector3d& x) const override {
+    const Vector3d n = x.normalized();
+    const double hn = 0.005 + 0.2 * std::max(0.0, x.norm() - 1);
+    const double ht = std::max(hn, x.z() > 0 ? 0.05 : 1.0);
+    const Eigen::Matrix3d m = n * n.transpose() / (hn * hn) + (Eigen::Matrix3d::Identity() - n * n.transpose()) / (ht * ht);
+    return Metric<3>::from_matrix(m);
+  }
+};
+
+TEST_CASE("layers 3D: isotropic_stop node ends each column where its metric turns isotropic, the rest growing on") {
+  // Above the equator the layers' height reaches the tangential size 0.05 a quarter out (about
+  // layer 13): those columns stop there, having reached their stop rule, and the layers go on
+  // below as tetrahedra around them; coverage stays complete. Off, every column grows all 20.
+  for (int q : {1, 2, 3}) {
+    CAPTURE(q);
+    LayerParams p;
+    p.max_layers = 20;
+    p.isotropic_stop = IsotropicStop::Node;
+    const LayerResult<3> r = grow_layers(sphere(1, Vector3d::Zero(), 2, q), IsotropicAboveMetric(), p);
+    REQUIRE(r.layers.size() == 20);
+    CHECK(r.coverage.complete == 1.0);
+    CHECK(r.coverage.stopped_early.empty());
+    CHECK(r.layers.front().coverage == 1.0);
+    CHECK(r.layers.back().coverage > 0.3);
+    CHECK(r.layers.back().coverage < 0.7);
+    CHECK(r.layers.back().transition_cells > 0);
+    // The stopped columns' outer front is where the metric turned isotropic: every outer vertex
+    // above the equator (away from it) lies between h_n = 0.05 and one layer further.
+    double lo = 1e9, hi = 0;
+    const std::size_t npt = static_cast<std::size_t>(num_nodes(CellType::Triangle, q));
+    for (std::size_t k = 0; k < r.outer.triangles.size(); ++k) {
+      if (k % npt >= 3) continue;
+      const Vector3d& x = r.mesh.nodes[static_cast<std::size_t>(r.outer.triangles[k])];
+      if (x.z() < 0.3) continue;
+      lo = std::min(lo, x.norm() - 1);
+      hi = std::max(hi, x.norm() - 1);
+    }
+    CHECK(lo >= (0.05 - 0.005) / 0.2 - 1e-9);
+    CHECK(hi <= (0.05 - 0.005) / 0.2 + 0.06);
+    CHECK(invalid_cells(r, q) == 0);
+    check_conforming_and_apart(r, q);
+  }
+}
+
 TEST_CASE("layers 3D: a layer with stopped columns carries its base's curvature up, valid at Q2 and Q3") {
   // Two coarse spheres 0.05 apart, layers of 0.01 without the proximity rule: the facing columns
   // stop in layer 4 and every later layer is cut into tetrahedra. Their tops are as curved as

@@ -391,8 +391,8 @@ TEST_CASE("run config: 3D keys are checked like the 2D ones") {
   CHECK(err("geometry: {type: sphere}\nsurface: {ridge_angle: 3}\n") == doctest::Contains("ridge_angle"));
   CHECK(err(one_body + "surface: {iterations: 3}\n") == doctest::Contains("for 3D geometries"));
   CHECK(err("geometry: {type: sphere}\nlayers: {smooth_normals: true}\n") == "no error");
-  CHECK(err("geometry: {type: sphere}\nlayers: {isotropic_stop: node}\n") ==
-        doctest::Contains("layers.isotropic_stop: node is not available in 3D"));
+  CHECK(err("geometry: {type: sphere}\nlayers: {isotropic_stop: node}\n") == "no error");
+  CHECK(err("geometry: {type: sphere}\nlayers: {isotropic_stop: nodes}\n") == doctest::Contains("layers.isotropic_stop"));
   CHECK(err("geometry: {type: sphere}\nfill: {}\n") == doctest::Contains("starts from the layers' outer front"));
   CHECK(err("geometry: {type: sphere}\nfill: {type: advancing_front}\n") == doctest::Contains("a 3D fill is type tetgen"));
   CHECK(err("geometry: {type: surface_file, file: a.stl, symmetry_planes: [{offset: 1}]}\n") ==
