@@ -1056,9 +1056,9 @@ class PartLayerBuilder {
     // its two inner nodes made the cut tetrahedron's rise at its base vertex -0.2 of the height:
     // 262 invalid cells in the layer after the first stop, 1,289 after four shrinks). With the
     // base's own offset carried up (layer_node) every cut cell is its base carried up by heights
-    // affine over the cell (4 invalid cells there). The front keeps its curvature through such
-    // layers; the attenuation resumes with the prisms, and a front still curved at the end is the
-    // fill's (a closing layer, or its curved front triangles).
+    // affine over the cell (4 invalid cells there). A stop is for good, so the part's front keeps
+    // its curvature from then on; only a closing layer straightens it (close_linear, set whenever
+    // a fill follows), or the fill meets its curved front triangles.
     // A closing layer (f_atten infinite) still straightens the faces away from the stops.
     const bool keep_curvature = any_stop_ && std::isfinite(f_atten_);
     std::vector<std::uint8_t> straight(nd, keep_curvature ? 1 : 0);
@@ -1089,7 +1089,8 @@ class PartLayerBuilder {
         continue;
       }
       if (straight[d]) {
-        // A face touching a concave node or a stopped column grows a top as straight as its base:
+        // A face touching a concave node, and every face of a layer with stops, grows a top as
+        // straight as its base:
         // the vertex tops' chord plus the base's own offset from its chord. A straight top over a
         // curved base lies under the base's bump wherever the bump is taller than the layer
         // (measured on the published spot, whose coarse facets make 275 spurious concave ridge

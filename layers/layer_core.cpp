@@ -326,7 +326,7 @@ class Growth {
           failing = now;
         }
         if (!ok && p_.local_stops && g_.stops_locally()) ok = stop_locally(part, layer, scale, stopped, f, st, built);
-        if (ok) st.f_atten = std::min(st.f_atten, f);
+        if (ok && !built.straight_tops) st.f_atten = std::min(st.f_atten, f);
         if (ok && std::any_of(scale.begin(), scale.end(), [](double x) { return x < 1; })) st.shrunk = true;
         if (!ok) {
           growing_[part] = false;

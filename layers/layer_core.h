@@ -19,7 +19,8 @@
 //     rebuilt, shrink_attempts times; when
 //     that fails on an attenuated build, the part's layer is rebuilt with f_atten halved (up to 4
 //     times: the attenuation folds cells that no height shrink mends, e.g. f_atten = 1 on a thin
-//     layer; a retry with more failures ends them, at the f_atten before it); a part that
+//     layer; a retry with more failures ends them, at the f_atten before it; none in a layer
+//     whose tops are all straight, BuiltLayer::straight_tops); a part that
 //     still fails stops growing (an event);
 //     (3D, FrontGrower::stops_locally) where the failures remain with their heights at the floor,
 //     the stop points behind them stop there (their columns end; the part's layer becomes

@@ -25,7 +25,9 @@ struct LayerStats {
   // nodes (isotropic_stop: node); 3D the tetrahedra (a first layer with fans, corner fans).
   std::size_t transition_cells = 0;
   std::size_t first_transition_cell = 0;  // this layer's cells in the transition block
-  double max_clipped_rel = 0;        // largest attenuation move still needed / height (0 if linear)
+  // Largest attenuation move still needed / height (0 if linear); in a 3D layer with stops (no
+  // attenuation) the base's largest offset from its chord / height.
+  double max_clipped_rel = 0;
   // The attenuation fraction the layer used: LayerParams::f_atten, less where a part's layer was
   // rebuilt with it halved (layer_core.cpp), infinite for a closing layer (straight tops).
   double f_atten = 0;

@@ -1203,8 +1203,9 @@ TEST_CASE("layers 3D: a layer with stopped columns carries its base's curvature 
   // stop in layer 4 and every later layer is cut into tetrahedra. Their tops are as curved as
   // their base (grow_layers_3d.cpp, tops()): the sag each layer would need attenuated stays what
   // it was (the heights are uniform), no f_atten is halved, the front never counts as linear,
-  // and every cut cell is certified (an attenuated top's pull, of degree Q + 1 in a cut cell,
-  // inverted them on the published spot at Q3).
+  // and every cut cell is certified. This pins the policy; the inversions it mends (an attenuated
+  // top's pull, of degree Q + 1 in a cut cell) were measured on the published spot at Q3 and do
+  // not occur on these spheres, on which the old pull left no invalid cell either.
   for (int q : {2, 3}) {
     CAPTURE(q);
     LayerParams p;
