@@ -1196,6 +1196,12 @@ TEST_CASE("layers 3D: isotropic_stop node ends each column where its metric turn
     CHECK(invalid_cells(r, q) == 0);
     check_conforming_and_apart(r, q);
   }
+  LayerParams off;
+  off.max_layers = 20;
+  const LayerResult<3> r = grow_layers(sphere(1, Vector3d::Zero(), 2, 1), IsotropicAboveMetric(), off);
+  REQUIRE(r.layers.size() == 20);
+  CHECK(r.layers.back().coverage == 1.0);
+  CHECK(r.layers.back().transition_cells == 0);
 }
 
 TEST_CASE("layers 3D: a layer with stopped columns carries its base's curvature up, valid at Q2 and Q3") {
@@ -1222,7 +1228,7 @@ TEST_CASE("layers 3D: a layer with stopped columns carries its base's curvature 
       ++cut;
       CHECK(st.f_atten == p.f_atten);
       CHECK(st.max_clipped_rel > 0);
-      if (r.layers[k - 1].transition_cells > 0) CHECK(st.max_clipped_rel == doctest::Approx(r.layers[k - 1].max_clipped_rel).epsilon(1e-6));
+      if (k > 0 && r.layers[k - 1].transition_cells > 0) CHECK(st.max_clipped_rel == doctest::Approx(r.layers[k - 1].max_clipped_rel).epsilon(1e-6));
     }
     CHECK(cut >= 5);
     for (const std::string& e : r.events) CHECK(e.find("rebuilt with f_atten") == std::string::npos);
