@@ -247,6 +247,12 @@ StudyRun make_run(const Study& st, const StudyCase& sc, const std::string& partn
   // pair would no longer compare layer by layer), and its coverage is reported, not enforced.
   if (!layers["local_stops"].IsDefined()) layers["local_stops"] = false;
   if (!layers["min_coverage"].IsDefined()) layers["min_coverage"] = 0.0;
+  // The same isotropic stop in both (the 3D default is node, layers/plugins.cpp): 2D's default.
+  if (!layers["isotropic_stop"].IsDefined()) {
+    bool linear = false;  // (a bad value is the run's own error, named by its config check)
+    if (layers["stop_when_linear"].IsDefined()) YAML::convert<bool>::decode(layers["stop_when_linear"], linear);
+    layers["isotropic_stop"] = linear ? "all" : "off";
+  }
   r.metric_text = emit(metric);
   r.layers_text = emit(layers);
   YAML::Node n(YAML::NodeType::Map);

@@ -87,9 +87,10 @@
 //     where the front is concave, a layer may take at most half the distance to its nearest
 //     focus (where two neighbouring columns, along the front's angle-weighted normals, meet),
 //     graded in the same way (layer_core.h, graded_room, shared with the 2D loops).
-//  9. isotropic_stop: node: a column whose front point has an isotropic metric stops there, as
-//     a local stop does (its layers from then on are tetrahedra around it), having reached its
-//     stop rule: the wall law's anisotropy has ended, its boundary layer is complete.
+//  9. isotropic_stop: node (the 3D default, layers/plugins.cpp): a column whose front point has
+//     an isotropic metric stops there, as a local stop does (its layers from then on are
+//     tetrahedra around it), having reached its stop rule: the wall law's anisotropy has ended,
+//     its boundary layer is complete.
 #pragma once
 
 #include "layers/layer_core.h"

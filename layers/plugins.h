@@ -15,7 +15,7 @@
 //                           default: interpolated (2D and 3D)
 //     isotropic_stop: off|node|any|all  stop a node where the metric is isotropic there, or the
 //                           loop when it is so at any/all nodes
-//                           default: all with stop_when_linear, else off
+//                           default: 3D node; 2D all with stop_when_linear, else off
 //     local_stops: <bool>   3D: where a cell cannot be valid even at 1/16 of the metric's height,
 //                           stop its columns there and grow the rest (false: stop the whole
 //                           surface, as 2D does)                      default: true
@@ -35,8 +35,9 @@
 
 namespace plaf::layers {
 
-// The layer options of a `layers:` section (ConfigError naming the key for a bad value).
-LayerParams parse_layer_params(const ConfigNode& section);
+// The layer options of a `layers:` section of a run in `dim` dimensions (ConfigError naming the
+// key for a bad value).
+LayerParams parse_layer_params(const ConfigNode& section, int dim);
 
 void register_plugins();
 

@@ -228,6 +228,7 @@ void report_surface(const TriSurface& surface, int order, const FeatureReport& k
   rep.add("remesh.untangle_collapses", rr.untangle_collapses);
   rep.add("remesh.refused_splits", rr.refused_splits);
   rep.add("remesh.slivers_removed", rr.slivers_removed);
+  rep.add("remesh.caps", rr.caps);
   rep.add("curving.straightened", cr.straightened);
   rep.add("curving.invalid", cr.invalid);
   rep.add("curving.min_scaled_jacobian", cr.min_scaled_jacobian);

@@ -290,7 +290,12 @@ void Remesher::flip_edges() {
 void Remesher::remove_slivers() {
   for (int pass = 0; pass < 4; ++pass) {
     std::size_t fixed = 0;
-    for (const FH f : m_.faces()) {
+    // By index over the faces at the pass's start: a fold's split adds faces as the pass goes,
+    // and OpenMesh's face range then reads past the face properties (a segfault on the published
+    // BWB surface when caps were split here, in an experiment).
+    const int faces = static_cast<int>(m_.n_faces());
+    for (int fi = 0; fi < faces; ++fi) {
+      const FH f(fi);
       if (m_.status(f).deleted()) continue;
       std::array<HH, 3> hs;
       int k = 0;
@@ -438,6 +443,12 @@ void Remesher::measure_result() {
     if (l >= 1 / std::sqrt(2.0) && l <= std::sqrt(2.0)) ++unit;
   }
   rep_.unit_fraction = total ? static_cast<double>(unit) / static_cast<double>(total) : 0;
+  for (const FH f : m_.faces())
+    for (const HH h : m_.fh_range(f))
+      if (is_cap(h)) {
+        ++rep_.caps;
+        break;
+      }
   // Faces turned away from the reference surface (their normal against the reference normal at
   // their centroid's projection by more than 60 degrees): folds the remeshing could not avoid.
   for (const FH f : m_.faces()) {

@@ -139,6 +139,18 @@ double Remesher::quality(VH a, VH b, VH c) {
   return sum > 0 ? 4 * std::sqrt(3.0) * area / sum : 0;
 }
 
+bool Remesher::is_cap(HH h) {
+  const VH a = m_.from_vertex_handle(h), b = m_.to_vertex_handle(h);
+  const VH c = m_.to_vertex_handle(m_.next_halfedge_handle(h));
+  const Eigen::Matrix3d mm = (vertex_metric(a) + vertex_metric(b) + vertex_metric(c)) / 3;
+  const Eigen::LLT<Eigen::Matrix3d> llt(mm);
+  if (llt.info() != Eigen::Success) return false;
+  const Eigen::Matrix3d lt = llt.matrixU();
+  const Vec u = lt * (m_.point(a) - m_.point(c)), w = lt * (m_.point(b) - m_.point(c));
+  const double nu = u.norm(), nw = w.norm();
+  return nu > 0 && nw > 0 && u.dot(w) < std::cos(160.0 * M_PI / 180.0) * nu * nw;
+}
+
 bool Remesher::split_keeps_faces(HH h, const Vec& p) {
   // The new vertex is smooth unless the edge is a feature.
   const bool smooth = !is_feature(m_.edge_handle(h));

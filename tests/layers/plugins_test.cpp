@@ -1,0 +1,30 @@
+// SPDX-License-Identifier: MIT
+// The layers section's defaults (layers/plugins.h) that differ between 2D and 3D.
+#include "layers/plugins.h"
+
+#include <doctest/doctest.h>
+
+#include "modules/pipeline/config.h"
+
+using namespace plaf;
+using layers::IsotropicStop;
+
+namespace {
+IsotropicStop stop_of(const std::string& yaml, int dim) {
+  return layers::parse_layer_params(ConfigNode::load_string(yaml), dim).isotropic_stop;
+}
+}  // namespace
+
+TEST_CASE("layers section: isotropic_stop defaults to node in 3D, to off (all with stop_when_linear) in 2D") {
+  CHECK(stop_of("max: 40", 3) == IsotropicStop::Node);
+  CHECK(stop_of("{max: 40, stop_when_linear: true}", 3) == IsotropicStop::Node);
+  CHECK(stop_of("max: 40", 2) == IsotropicStop::Off);
+  CHECK(stop_of("{max: 40, stop_when_linear: true}", 2) == IsotropicStop::All);
+  // Given, it is kept in either dimension.
+  for (const int dim : {2, 3}) {
+    CHECK(stop_of("isotropic_stop: off", dim) == IsotropicStop::Off);
+    CHECK(stop_of("isotropic_stop: all", dim) == IsotropicStop::All);
+    CHECK(stop_of("isotropic_stop: any", dim) == IsotropicStop::Any);
+    CHECK(stop_of("isotropic_stop: node", dim) == IsotropicStop::Node);
+  }
+}
