@@ -1056,11 +1056,17 @@ class PartLayerBuilder {
     // its two inner nodes made the cut tetrahedron's rise at its base vertex -0.2 of the height:
     // 262 invalid cells in the layer after the first stop, 1,289 after four shrinks). With the
     // base's own offset carried up (layer_node) every cut cell is its base carried up by heights
-    // affine over the cell (4 invalid cells there). A stop is for good, so the part's front keeps
-    // its curvature from then on; only a closing layer straightens it (close_linear, set whenever
-    // a fill follows), or the fill meets its curved front triangles.
+    // affine over the cell (4 invalid cells there). A stop is for good, so the part's front
+    // would keep its curvature to the last layer, where the offsets of a concave front's
+    // shrinking cells invert them (the spot at Q3: 3 columns stopped in layer 6 and all 52,015
+    // cells of layers 6 to 40 stayed curved, needing up to 1,468 heights of attenuation; the
+    // columns lost came from layers 25 to 40). So such a layer attenuates gently: each top moves
+    // toward its chord by at most kStopAtten of its height (a quarter of the paper's f_atten), a
+    // pull whose degree-(Q + 1) share in a cut cell stays a small part of the cell's rise, and
+    // the front becomes linear once the heights outgrow the sag.
     // A closing layer (f_atten infinite) still straightens the faces away from the stops.
     const bool keep_curvature = any_stop_ && std::isfinite(f_atten_);
+    constexpr double kStopAtten = 0.05;
     std::vector<std::uint8_t> straight(nd, keep_curvature ? 1 : 0);
     for (std::size_t f = 0; f < nw.num_faces() && !keep_curvature; ++f) {
       const int* fl = nw.face(f);
@@ -1097,9 +1103,14 @@ class PartLayerBuilder {
         // nodes: 589 of 21050 first-layer prisms inverted at h0 and 627 at h0/16 with straight
         // tops, none with the base's offset); on a straight base the two are one.
         top_[d] = target + (x_[l] - linear);
-        // A layer with stops keeps the whole front's curvature: not linear, and what the
-        // attenuation would need is reported as if clipped.
-        if (keep_curvature && dh_[d] > 0) clipped_max = std::max(clipped_max, (x_[l] - linear).norm() / dh_[d]);
+        // A layer with stops attenuates gently: a pull of at most kStopAtten of the height, whose
+        // degree-(Q + 1) share inside a cut tetrahedron stays a small part of the cell's rise
+        // (layer_node adds the point's level times it).
+        if (keep_curvature) {
+          const Vec kept = top_[d];
+          clipped_max = std::max(clipped_max, attenuate<3>(&top_[d], &target, &dh_[d], 1, kStopAtten));
+          off_lift_[d] = top_[d] - kept;
+        }
         continue;
       }
       clipped_max = std::max(clipped_max, attenuate<3>(&top_[d], &target, &dh_[d], 1, f_atten_));
@@ -1258,10 +1269,11 @@ class PartLayerBuilder {
   // on the new front (every such corner a top, or a stopped column's base): the new front's node
   // d; elsewhere the base's node under the point raised by the corners' weighted column heights,
   // x_base(d) + sum_k (w_k / Q) (corner_k - its base), one node per corner set and weights, so
-  // every cell and facet sharing a point agrees (a closing layer's adds the point's level times
-  // the straightening's pull at d, off_lift_). The tops of such a layer are straight (tops():
-  // the vertex tops' lift plus the base's own offset, no attenuation), so the new front's node d
-  // is that same point, and a cell is the base's curved triangle carried up by heights affine
+  // every cell and facet sharing a point agrees, plus the point's level times the pull at d
+  // (off_lift_: a closing layer's straightening, or the gentle attenuation of a layer with
+  // stops, at most kStopAtten of the height). Without the pull the tops of such a layer are
+  // the vertex tops' lift plus the base's own offset, so the new front's node d is that same
+  // point, and a cell is the base's curved triangle carried up by heights affine
   // over the cell, x = B(xi) + G(lambda) (G affine and 0 on the base), exactly of order Q:
   // det J is about det[B_xi1, B_xi2, G_zeta], G_zeta one corner's column, wherever the heights
   // are small against the cell's width, positive over a regular base with outward heights, a
@@ -1298,7 +1310,7 @@ class PartLayerBuilder {
            (mesh_.nodes[static_cast<std::size_t>(corner_node(corners[k]))] - x_[static_cast<std::size_t>(dirs_[dk].base)]);
       if (corners[k].level == 1 && !stopped_dir(dk)) up += static_cast<double>(w[k]) / q_;
     }
-    x += up * off_lift_[static_cast<std::size_t>(d)];  // 0 but in a closing layer
+    x += up * off_lift_[static_cast<std::size_t>(d)];  // the pull: a closing layer's, or a layer with stops' gentle one
     mesh_.nodes.push_back(x);
     const NodeId id = static_cast<NodeId>(mesh_.nodes.size() - 1);
     lifted_.emplace(std::move(key), id);

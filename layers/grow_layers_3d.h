@@ -73,10 +73,11 @@
 //     cell and symmetry facet with the same corners and weights: the cell is the base's triangle
 //     sheared up the layer, valid over a regular base at any order and at a stopped column,
 //     where the prism's own map collapses (and its lattice, cut into tetrahedra, inverted at Q3
-//     wherever the heights varied over a face). Every face of such a layer grows a top as
-//     straight as its base (the vertex tops' lift plus the base's offset from its chord: no
-//     attenuation, whose pull grows with the level and is of degree Q + 1 in a cut cell); the
-//     front keeps its curve through those layers (a closing layer still straightens it).
+//     wherever the heights varied over a face). Every face of such a layer grows a top from
+//     the vertex tops' lift plus the base's offset from its chord, attenuated by at most 0.05 of
+//     the height (the paper's 0.2 inverted cut cells at Q3: the pull grows with the level and is
+//     of degree Q + 1 in a cut cell); the front straightens slowly until the heights outgrow its
+//     sag (a closing layer straightens the rest).
 //     Elsewhere the part's other columns grow on to the stop rule. A cusp (no direction sees
 //     every face around a node) grows along the most normal direction (normals_3d.h) and, where
 //     its cells cannot be valid, stops there too: no run ends on a cusp.

@@ -24,8 +24,8 @@
 //     still fails stops growing (an event);
 //     (3D, FrontGrower::stops_locally) where the failures remain with their heights at the floor,
 //     the stop points behind them stop there (their columns end; the part's layer becomes
-//     tetrahedra around them, grow_layers_3d.h, with tops as curved as their base: no attenuation,
-//     whose pull those tetrahedra cannot follow) and the layer is rebuilt, the rest of the part
+//     tetrahedra around them, grow_layers_3d.h, whose tops attenuate by at most 0.05 of the
+//     height, a pull those tetrahedra can follow) and the layer is rebuilt, the rest of the part
 //     growing on to its stop rule: a failure ends the stack locally, not on the whole part;
 //  4. the per-layer table (LayerStats), the coverage (LayerCoverage: how much of the wall each
 //     layer covers, whether each column reached its stop rule, the first layer's height against
@@ -155,8 +155,8 @@ struct BuiltLayer {
   std::array<std::vector<NodeId>, 2> cells;
   double max_clipped_rel = 0;
   bool linear = true;
-  // Every top straight (as straight as its base: a 3D layer with stopped columns): f_atten has
-  // no effect on the build, and no smaller one is tried.
+  // A 3D layer with stopped columns: its tops attenuate by a fixed small pull, not by f_atten,
+  // and no smaller f_atten is tried.
   bool straight_tops = false;
   // The layer's height along every vertex column grown along a normal (2D: regular, concave and
   // fan normals; 3D: the same, a fan's arc directions left out): its base (z = 0 in 2D),
