@@ -1064,7 +1064,7 @@ class PartLayerBuilder {
     // toward its chord by at most kStopAtten of its height (a quarter of the paper's f_atten), a
     // pull whose degree-(Q + 1) share in a cut cell stays a small part of the cell's rise, and
     // the front becomes linear once the heights outgrow the sag.
-    // A closing layer (f_atten infinite) still straightens the faces away from the stops.
+    // A closing layer (f_atten infinite) straightens the faces away from the stops.
     const bool keep_curvature = any_stop_ && std::isfinite(f_atten_);
     constexpr double kStopAtten = 0.05;
     std::vector<std::uint8_t> straight(nd, keep_curvature ? 1 : 0);
@@ -1095,8 +1095,8 @@ class PartLayerBuilder {
         continue;
       }
       if (straight[d]) {
-        // A face touching a concave node, and every face of a layer with stops, grows a top as
-        // straight as its base:
+        // A face touching a concave node, and every face of a layer with stops (then attenuated
+        // below), grows a top as straight as its base:
         // the vertex tops' chord plus the base's own offset from its chord. A straight top over a
         // curved base lies under the base's bump wherever the bump is taller than the layer
         // (measured on the published spot, whose coarse facets make 275 spurious concave ridge
@@ -1118,7 +1118,7 @@ class PartLayerBuilder {
     }
     if (q_ == 1 && std::isfinite(f_atten_)) clipped_max = std::max(clipped_max, chord_sag_need(nw));
     out_.built.max_clipped_rel = clipped_max;
-    out_.built.straight_tops = keep_curvature;
+    out_.built.fixed_f_atten = keep_curvature ? kStopAtten : 0.0;
     out_.built.linear = clipped_max == 0;
     // The layer's heights along the vertex columns grown along a normal (a fan's wedge and kite
     // normals, not its arc directions), as 2D records them.

@@ -306,7 +306,7 @@ class Growth {
         // there stopped its columns, and every cell of a layer with a stop is cut into
         // tetrahedra, which at Q3 failed over 30 % of the wall).
         std::size_t failing = attempts_.last_failures().size();
-        for (int k = 0; !ok && k < kAttenuationRetries && built.max_clipped_rel > 0 && !built.straight_tops &&
+        for (int k = 0; !ok && k < kAttenuationRetries && built.max_clipped_rel > 0 && built.fixed_f_atten == 0 &&
                         attempts_.last_failed_on_cells();
              ++k) {
           f *= 0.5;
@@ -326,7 +326,7 @@ class Growth {
           failing = now;
         }
         if (!ok && p_.local_stops && g_.stops_locally()) ok = stop_locally(part, layer, scale, stopped, f, st, built);
-        if (ok && !built.straight_tops) st.f_atten = std::min(st.f_atten, f);
+        if (ok) st.f_atten = std::min(st.f_atten, built.fixed_f_atten > 0 ? built.fixed_f_atten : f);
         if (ok && std::any_of(scale.begin(), scale.end(), [](double x) { return x < 1; })) st.shrunk = true;
         if (!ok) {
           growing_[part] = false;

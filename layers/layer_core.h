@@ -20,7 +20,7 @@
 //     that fails on an attenuated build, the part's layer is rebuilt with f_atten halved (up to 4
 //     times: the attenuation folds cells that no height shrink mends, e.g. f_atten = 1 on a thin
 //     layer; a retry with more failures ends them, at the f_atten before it; none in a layer
-//     whose tops are all straight, BuiltLayer::straight_tops); a part that
+//     whose attenuation is fixed, BuiltLayer::fixed_f_atten); a part that
 //     still fails stops growing (an event);
 //     (3D, FrontGrower::stops_locally) where the failures remain with their heights at the floor,
 //     the stop points behind them stop there (their columns end; the part's layer becomes
@@ -155,9 +155,10 @@ struct BuiltLayer {
   std::array<std::vector<NodeId>, 2> cells;
   double max_clipped_rel = 0;
   bool linear = true;
-  // A 3D layer with stopped columns: its tops attenuate by a fixed small pull, not by f_atten,
-  // and no smaller f_atten is tried.
-  bool straight_tops = false;
+  // Above 0: the fraction of the height the tops' attenuation used instead of f_atten (a 3D
+  // layer with stopped columns, grow_layers_3d.h step 7); no smaller f_atten is tried, and the
+  // table's f_atten is this one.
+  double fixed_f_atten = 0;
   // The layer's height along every vertex column grown along a normal (2D: regular, concave and
   // fan normals; 3D: the same, a fan's arc directions left out): its base (z = 0 in 2D),
   // |top - base| and the height scale it was built with (1: the metric's height; below after

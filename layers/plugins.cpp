@@ -37,10 +37,10 @@ LayerParams parse_layer_params(const ConfigNode& l, int dim) {
   // E387, h0 1e-6 c, g 1.5, Q4 grew 38 layers to 6 chords out, one element's sag growing with
   // its height, until no layer or closing layer was valid).
   // 3D: node, with or without a fill. The metric asks for no anisotropic layer where it is
-  // isotropic, and a 3D part whose columns stop anywhere (a local stop, proximity) never becomes
-  // linear again (its tops keep their base's curvature, layer_core.h), so under `all` or `off`
-  // its isotropic columns grew on to layers.max in cells of h_wall_max, until the fronts of a
-  // slender body crossed: the published bullet at h0 1e-4 L, bbox-sized (40 layers, a stack of
+  // isotropic, and a 3D part whose columns stop anywhere (a local stop, proximity) attenuates
+  // only slowly from then on (grow_layers_3d.h, step 7; when this default was set, not at all),
+  // so under `all` or `off` its isotropic columns grew on to layers.max in cells of
+  // h_wall_max, until the fronts of a slender body crossed: the published bullet at h0 1e-4 L, bbox-sized (40 layers, a stack of
   // 22 on a body 30 long), exit 2 with 92.7 % coverage at Q1 with or without the fill, 89.6 % at
   // Q2; with node 99.9 % (Q1, with the fill too) and 99.99 % (Q2), exit 0. 2D keeps its default
   // (a loop that stops curved is closed for the fill there).

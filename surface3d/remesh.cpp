@@ -444,11 +444,7 @@ void Remesher::measure_result() {
   }
   rep_.unit_fraction = total ? static_cast<double>(unit) / static_cast<double>(total) : 0;
   for (const FH f : m_.faces())
-    for (const HH h : m_.fh_range(f))
-      if (is_cap(h)) {
-        ++rep_.caps;
-        break;
-      }
+    if (is_cap(f)) ++rep_.caps;
   // Faces turned away from the reference surface (their normal against the reference normal at
   // their centroid's projection by more than 60 degrees): folds the remeshing could not avoid.
   for (const FH f : m_.faces()) {

@@ -155,9 +155,12 @@ class Remesher {
   // Shape quality of triangle (a, b, c) in the mean of its vertices' metrics:
   // 4 sqrt(3) A / sum l^2 (1 equilateral in the metric, 0 degenerate).
   double quality(VH a, VH b, VH c);
-  // Whether h's face is a cap on h's edge: its angle opposite h over 160 degrees, in the mean of
-  // its vertices' metrics (a triangle stretched as the metric asks is no cap).
-  bool is_cap(HH h);
+  // The upper Cholesky factor U of the mean of a, b and c's metrics (M = U^T U, |U v| the metric
+  // length of v); false where that mean is not positive definite.
+  bool mean_metric_factor(VH a, VH b, VH c, Eigen::Matrix3d& u);
+  // Whether face f is a cap: an angle over 160 degrees in the mean of its vertices' metrics (a
+  // triangle stretched as the metric asks is no cap).
+  bool is_cap(FH f);
   // Splitting h's edge at p keeps each of its faces' two halves turned by less than 84 degrees
   // from the face (a projected midpoint on a tight leading edge can land behind a neighbour).
   bool split_keeps_faces(HH h, const Vec& p);

@@ -127,11 +127,16 @@ bool Remesher::move_keeps_faces(VH v, const Vec& p, FH skip0, FH skip1, const Ve
   return true;
 }
 
+bool Remesher::mean_metric_factor(VH a, VH b, VH c, Eigen::Matrix3d& u) {
+  const Eigen::LLT<Eigen::Matrix3d> llt((vertex_metric(a) + vertex_metric(b) + vertex_metric(c)) / 3);
+  if (llt.info() != Eigen::Success) return false;
+  u = llt.matrixU();  // M = U^T U: |U v| is the metric length of v
+  return true;
+}
+
 double Remesher::quality(VH a, VH b, VH c) {
-  const Eigen::Matrix3d mm = (vertex_metric(a) + vertex_metric(b) + vertex_metric(c)) / 3;
-  const Eigen::LLT<Eigen::Matrix3d> llt(mm);
-  if (llt.info() != Eigen::Success) return 0;
-  const Eigen::Matrix3d lt = llt.matrixU();  // M = U^T U: |U v| is the metric length of v
+  Eigen::Matrix3d lt;
+  if (!mean_metric_factor(a, b, c, lt)) return 0;
   const Vec pa = m_.point(a), pb = m_.point(b), pc = m_.point(c);
   const Vec u = lt * (pb - pa), w = lt * (pc - pa), z = lt * (pc - pb);
   const double area = 0.5 * u.cross(w).norm();
@@ -139,16 +144,19 @@ double Remesher::quality(VH a, VH b, VH c) {
   return sum > 0 ? 4 * std::sqrt(3.0) * area / sum : 0;
 }
 
-bool Remesher::is_cap(HH h) {
-  const VH a = m_.from_vertex_handle(h), b = m_.to_vertex_handle(h);
-  const VH c = m_.to_vertex_handle(m_.next_halfedge_handle(h));
-  const Eigen::Matrix3d mm = (vertex_metric(a) + vertex_metric(b) + vertex_metric(c)) / 3;
-  const Eigen::LLT<Eigen::Matrix3d> llt(mm);
-  if (llt.info() != Eigen::Success) return false;
-  const Eigen::Matrix3d lt = llt.matrixU();
-  const Vec u = lt * (m_.point(a) - m_.point(c)), w = lt * (m_.point(b) - m_.point(c));
-  const double nu = u.norm(), nw = w.norm();
-  return nu > 0 && nw > 0 && u.dot(w) < std::cos(160.0 * M_PI / 180.0) * nu * nw;
+bool Remesher::is_cap(FH f) {
+  std::array<VH, 3> v;
+  int k = 0;
+  for (const VH w : m_.fv_range(f)) v[static_cast<std::size_t>(k++)] = w;
+  Eigen::Matrix3d lt;
+  if (!mean_metric_factor(v[0], v[1], v[2], lt)) return false;
+  const double cos_cap = std::cos(160.0 * M_PI / 180.0);
+  for (std::size_t i = 0; i < 3; ++i) {  // the angle at v[i]
+    const Vec u = lt * (m_.point(v[(i + 1) % 3]) - m_.point(v[i])), w = lt * (m_.point(v[(i + 2) % 3]) - m_.point(v[i]));
+    const double nu = u.norm(), nw = w.norm();
+    if (nu > 0 && nw > 0 && u.dot(w) < cos_cap * nu * nw) return true;
+  }
+  return false;
 }
 
 bool Remesher::split_keeps_faces(HH h, const Vec& p) {

@@ -63,6 +63,7 @@ TEST_CASE("remesh: a sphere to a uniform metric, at least 90 percent unit edges,
     CHECK(s.euler_characteristic() == 2);
     CHECK(r.unit_fraction >= 0.9);
     CHECK(unit_fraction(s, metric) == doctest::Approx(r.unit_fraction));
+    CHECK(r.caps == 0);  // no triangle with an angle over 160 degrees is left on a sphere
     // Faces: the sphere's area over an equilateral unit triangle's, within a factor.
     const double expected = 4 * M_PI / (std::sqrt(3.0) / 4 * h * h);
     CHECK(static_cast<double>(s.mesh.n_faces()) > 0.6 * expected);
