@@ -18,6 +18,7 @@
 #include "layers/normals_3d.h"
 #include "modules/base/error.h"
 #include "modules/elements/lagrange.h"
+#include "modules/elements/validity.h"
 #include "modules/geometry/aabb_tree.h"
 
 namespace plaf::layers {
@@ -26,6 +27,8 @@ namespace {
 
 using Vec = Eigen::Vector3d;
 
+// A symmetry plane the wall's rim lies on; its normal points into the meshed half-space (the
+// side of the part whose rim fitted it: PartBuilder::rim).
 struct Plane {
   Vec point = Vec::Zero(), normal = Vec::UnitZ();
   int tag = -1;
@@ -276,8 +279,10 @@ class PartBuilder {
       pl.point = c;
       pl.normal = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0).normalized();
       pl.tag = rim_edges[static_cast<std::size_t>(r)].tag;
-      double off = 0;
+      double off = 0, side = 0;
       for (int l : nodes) off = std::max(off, std::abs((at(l) - c).dot(pl.normal)));
+      for (std::size_t l = 0; l < p.size(); ++l) side += (at(static_cast<int>(l)) - c).dot(pl.normal);
+      if (side < 0) pl.normal = -pl.normal;  // into the part's half-space
       if (off > 1e-6 * diameter)
         throw MesherError("layers: the open rim of surface " + p.name + " tagged " +
                           f_.tags[static_cast<std::size_t>(pl.tag)].name + " is not planar (a node lies " +
@@ -1589,7 +1594,21 @@ class SurfaceFronts final : public FrontGrower<3> {
         const NodeId id = pending_.top[static_cast<std::size_t>(nw.tri[t * np + k])];
         unmoved[t] = id >= 0 && static_cast<std::size_t>(id) < pending_nodes_before_;
       }
-    return front_collisions(fronts, mesh_.nodes, q_, &unmoved);
+    std::vector<std::size_t> hit = front_collisions(fronts, mesh_.nodes, q_, &unmoved);
+    // A face with a node behind a symmetry plane crosses the mirrored half's front (the proximity
+    // rule holds most columns short of the plane; this catches the rest).
+    const double tol = 1e-9 * wall_diagonal_;
+    for (std::size_t t = 0; t < unmoved.size() && !planes_.empty(); ++t) {
+      bool behind = false;
+      for (std::size_t k = 0; k < np && !behind; ++k) {
+        const Vec& y = mesh_.nodes[static_cast<std::size_t>(pending_.top[static_cast<std::size_t>(nw.tri[t * np + k])])];
+        for (const Plane& sp : planes_) behind = behind || (y - sp.point).dot(sp.normal) < -tol;
+      }
+      if (behind) hit.push_back(t);
+    }
+    std::sort(hit.begin(), hit.end());
+    hit.erase(std::unique(hit.begin(), hit.end()), hit.end());
+    return hit;
   }
   Vec front_point(std::size_t e) const override {
     return mesh_.nodes[static_cast<std::size_t>(pending_.top[static_cast<std::size_t>(pending_front().face(e)[0])])];
@@ -1700,10 +1719,21 @@ class SurfaceFronts final : public FrontGrower<3> {
         return false;
       };
       const TriangleTree::Hit ahead = wall_.first_hit(x, d, eps, inf, beside);
-      if (ahead.triangle < 0) continue;
-      const double cosine = -wall_normal_[static_cast<std::size_t>(ahead.triangle)].dot(d);
-      if (!(cosine > 0)) continue;
-      allowed[k] = share * (below[k] + ahead.t) * cosine / (1 + cosine);
+      const double cosine = ahead.triangle < 0 ? 0.0 : -wall_normal_[static_cast<std::size_t>(ahead.triangle)].dot(d);
+      if (cosine > 0) allowed[k] = share * (below[k] + ahead.t) * cosine / (1 + cosine);
+      // A symmetry plane is the mirror of the body: a column heading for it meets its own mirror
+      // image there (the mirrored half's stack grows toward it at the same angle), so the stack
+      // may fill `share` of its column's length to the plane. (The ONERA M6 at h0 1e-5 c and
+      // h_wall_max 0.03 c: the swept trailing edge's normals point toward the root plane, and
+      // its 47-layer stacks crossed the plane by up to 0.09 c, where TetGen found the layers'
+      // outer front crossing the plane's triangles, 24 pairs, and crashed.) The columns on the
+      // plane grow in it (in_planes) and are not limited by it.
+      for (std::size_t pl = 0; pl < planes_.size(); ++pl) {
+        if (p.plane[l][0] == static_cast<int>(pl) || p.plane[l][1] == static_cast<int>(pl)) continue;
+        const Plane& sp = planes_[pl];
+        const double toward = -d.dot(sp.normal), dist = (x - sp.point).dot(sp.normal);
+        if (toward > 1e-12 && dist > 0) allowed[k] = std::min(allowed[k], share * (below[k] + dist / toward));
+      }
     }
     // The focal limit and the grading (layer_core.h, graded_room). The columns' directions are
     // those the next layer grows along where known (a corner fan's columns keep theirs,
@@ -1795,6 +1825,116 @@ class SurfaceFronts final : public FrontGrower<3> {
 
 }  // namespace
 
+// The outer front's triangles still curved (where columns stopped curved and no closing layer
+// was valid: layer_core.h) made straight in place where the cells under them stay valid: each
+// such triangle's high-order nodes move to their linear positions (an edge's nodes onto its
+// chord, so a neighbour sharing the edge agrees), the cells holding a moved node are certified
+// (det J > 0, validity.h), and the triangles behind a cell that fails go back to their curve,
+// round by round until every touched cell is valid. A zero-height closing layer: the paper's
+// fill starts from a linear front (Sec. II.C), and a curved front triangle under the fill's
+// tetrahedron, which TetGen placed against the chord, inverts it wherever the apex sits closer
+// than the sag (the ONERA M6 hybrid grown to its metric's 47 layers: 9 such triangles at the tip's
+// trailing edge, 3 of the fill's curved tetrahedra inverted; straightened in place, 5 of the 9
+// went straight, and the 4 left sit on cells too thin for any share of their sag). Nodes of the
+// input surface (a column stopped at the wall) never move.
+struct OuterStraightening {
+  std::size_t straight = 0, flatter = 0, curved = 0;  // made straight; moved part of the way; left as they were
+};
+OuterStraightening straighten_outer_front(LayerResult<3>& r, std::size_t wall_nodes) {
+  const int q = r.outer.order;
+  if (q < 2) return {};
+  const LagrangeElement& te = lagrange_element(CellType::Triangle, q);
+  const std::size_t np = static_cast<std::size_t>(te.size());
+  std::vector<Vec>& x = r.mesh.nodes;
+  // The curved triangles and the linear position of each of their movable nodes.
+  std::vector<std::size_t> curved;
+  std::unordered_map<NodeId, Vec> target;
+  for (std::size_t t = 0; t < r.outer.num_triangles(); ++t) {
+    const NodeId* n = r.outer.triangle(t);
+    const Vec &a = x[static_cast<std::size_t>(n[0])], &b = x[static_cast<std::size_t>(n[1])], &c = x[static_cast<std::size_t>(n[2])];
+    const double size = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const double mag = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff()});
+    bool bent = false;
+    for (std::size_t k = 3; k < np; ++k) {
+      const Lattice& l = te.lattice()[k];
+      const Vec lin = a + (static_cast<double>(l[0]) / q) * (b - a) + (static_cast<double>(l[1]) / q) * (c - a);
+      bent = bent || (x[static_cast<std::size_t>(n[k])] - lin).norm() > straight_tolerance(size, mag);
+    }
+    if (bent) curved.push_back(t);
+  }
+  if (curved.empty()) return {};
+  auto lin_of = [&](std::size_t t, std::size_t k) {
+    const NodeId* n = r.outer.triangle(t);
+    const Lattice& l = te.lattice()[k];
+    const Vec &a = x[static_cast<std::size_t>(n[0])], &b = x[static_cast<std::size_t>(n[1])], &c = x[static_cast<std::size_t>(n[2])];
+    return Vec(a + (static_cast<double>(l[0]) / q) * (b - a) + (static_cast<double>(l[1]) / q) * (c - a));
+  };
+  // The cells holding each node a curved triangle would move.
+  std::unordered_map<NodeId, std::vector<std::pair<std::size_t, std::size_t>>> cells_of;  // node -> (block, cell)
+  for (std::size_t t : curved)
+    for (std::size_t k = 3; k < np; ++k) cells_of[r.outer.triangle(t)[k]];
+  for (std::size_t b = 0; b < r.mesh.cells.size(); ++b) {
+    const CellBlock& blk = r.mesh.cells[b];
+    const std::size_t nn = static_cast<std::size_t>(blk.nodes_per_cell());
+    for (std::size_t c = 0; c < blk.size(); ++c)
+      for (std::size_t k = 0; k < nn; ++k) {
+        const auto it = cells_of.find(blk.cell(c)[k]);
+        if (it != cells_of.end()) it->second.push_back({b, c});
+      }
+  }
+  // Each triangle moves its nodes a share of the way to their linear positions: all of it, then,
+  // while a cell around it fails, half as far, down to 1/8, then none. A node two triangles
+  // share moves the smaller share of the two.
+  constexpr int kLevels = 4;  // shares 1, 1/2, 1/4, 1/8; level kLevels: none
+  std::vector<int> level(curved.size(), 0);
+  std::unordered_map<NodeId, std::pair<Vec, Vec>> path;  // node -> (original, linear)
+  for (std::size_t i = 0; i < curved.size(); ++i)
+    for (std::size_t k = 3; k < np; ++k) {
+      const NodeId id = r.outer.triangle(curved[i])[k];
+      if (static_cast<std::size_t>(id) < wall_nodes) continue;
+      path.emplace(id, std::make_pair(x[static_cast<std::size_t>(id)], lin_of(curved[i], k)));
+    }
+  JacobianCertifier certifier(ValidityOptions{std::numeric_limits<double>::infinity(), ValidityOptions{}.max_depth});
+  std::vector<double> coords;
+  for (;;) {
+    std::unordered_map<NodeId, double> share;
+    for (std::size_t i = 0; i < curved.size(); ++i)
+      for (std::size_t k = 3; k < np; ++k) {
+        const NodeId id = r.outer.triangle(curved[i])[k];
+        const double a = level[i] >= kLevels ? 0.0 : std::ldexp(1.0, -level[i]);
+        const auto [it, added] = share.emplace(id, a);
+        if (!added) it->second = std::min(it->second, a);
+      }
+    for (const auto& [id, ends] : path) x[static_cast<std::size_t>(id)] = ends.first + share[id] * (ends.second - ends.first);
+    // Certify the cells around moved nodes; the triangles with a node in a failing cell step down.
+    std::set<std::pair<std::size_t, std::size_t>> failing, seen;
+    for (std::size_t i = 0; i < curved.size(); ++i) {
+      if (level[i] >= kLevels) continue;
+      for (std::size_t k = 3; k < np; ++k)
+        for (const auto& bc : cells_of[r.outer.triangle(curved[i])[k]]) {
+          if (!seen.insert(bc).second) continue;
+          const CellBlock& blk = r.mesh.cells[bc.first];
+          const std::size_t nn = static_cast<std::size_t>(blk.nodes_per_cell());
+          coords.resize(3 * nn);
+          for (std::size_t j = 0; j < nn; ++j)
+            for (int d = 0; d < 3; ++d) coords[3 * j + static_cast<std::size_t>(d)] = x[static_cast<std::size_t>(blk.cell(bc.second)[j])][d];
+          if (!certifier.certify(blk.type, blk.order, coords.data()).valid) failing.insert(bc);
+        }
+    }
+    if (failing.empty()) break;
+    for (std::size_t i = 0; i < curved.size(); ++i) {
+      if (level[i] >= kLevels) continue;
+      bool fails = false;
+      for (std::size_t k = 3; k < np && !fails; ++k)
+        for (const auto& bc : cells_of[r.outer.triangle(curved[i])[k]]) fails = fails || failing.count(bc) > 0;
+      if (fails) ++level[i];
+    }
+  }
+  OuterStraightening out;
+  for (int l : level) ++(l == 0 ? out.straight : l < kLevels ? out.flatter : out.curved);
+  return out;
+}
+
 LayerResult<3> grow_layers(const CurvedFront<3>& front, const MetricField<3>& metric, const LayerParams& p) {
   check_order(front.order);
   const int q = front.order;
@@ -1824,8 +1964,22 @@ LayerResult<3> grow_layers(const CurvedFront<3>& front, const MetricField<3>& me
   }
   // The outer front (the wall's tags) and the fill's boundary.
   r.outer.order = q;
-  r.outer.nodes = r.mesh.nodes;
   r.outer.tags = front.tags;
+  for (const Part& part : fronts.parts())
+    for (std::size_t t = 0; t < part.nt(); ++t) {
+      for (std::size_t k = 0; k < np; ++k) r.outer.triangles.push_back(part.ids[static_cast<std::size_t>(part.face(t)[k])]);
+      r.outer.triangle_tag.push_back(part.tri_tag[t]);
+    }
+  // With a fill to come (close_linear), the curved triangles left are made straight in place
+  // where they can be.
+  const OuterStraightening st = p.close_linear ? straighten_outer_front(r, front.nodes.size()) : OuterStraightening{};
+  if (st.straight + st.flatter + st.curved > 0)
+    r.events.push_back("the layers' outer front: " + std::to_string(st.straight) + " of " +
+                       std::to_string(st.straight + st.flatter + st.curved) +
+                       " curved triangles made straight in place (the cells under them stay valid)" +
+                       (st.flatter > 0 ? ", " + std::to_string(st.flatter) + " flattened part of the way" : std::string()) +
+                       (st.curved > 0 ? ", " + std::to_string(st.curved) + " left as they were" : std::string()));
+  r.outer.nodes = r.mesh.nodes;
   r.fill_front.nodes = r.mesh.nodes;
   const int outer_tag = static_cast<int>(r.fill_front.tags.size());
   r.fill_front.tags.push_back({"layers_outer", BoundaryKind::Named});
@@ -1833,8 +1987,6 @@ LayerResult<3> grow_layers(const CurvedFront<3>& front, const MetricField<3>& me
     auto id = [&](int l) { return part.ids[static_cast<std::size_t>(l)]; };
     for (std::size_t t = 0; t < part.nt(); ++t) {
       const int* tl = part.face(t);
-      for (std::size_t k = 0; k < np; ++k) r.outer.triangles.push_back(id(tl[k]));
-      r.outer.triangle_tag.push_back(part.tri_tag[t]);
       r.fill_front.triangles.push_back({id(tl[0]), id(tl[1]), id(tl[2])});
       r.fill_front.triangle_tag.push_back(outer_tag);
     }

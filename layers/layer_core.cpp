@@ -630,8 +630,8 @@ class Growth {
     if (!now.empty())
       r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) + ": " +
                           std::to_string(now.size()) +
-                          " columns stopped where their stacks fill their share of the gap to a facing wall or "
-                          "of the distance to a concave front's focus (layers.proximity " + num(p_.proximity) +
+                          " columns stopped where their stacks fill their share of the gap to a facing wall "
+                          "(or symmetry plane) or of the distance to a concave front's focus (layers.proximity " + num(p_.proximity) +
                           "; wall " + num(area) + ", first at " +
                           point_text<Dim>(points[now.front()]) + ")");
     return std::all_of(held_[part].begin(), held_[part].end(), [](std::uint8_t h) { return h; });

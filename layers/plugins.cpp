@@ -110,7 +110,7 @@ void report_coverage(const LayerResult<Dim>& r, const LayerParams& p, StageRepor
        << c.columns_complete << " of " << c.columns << " columns) reached its stop rule";
   if (c.columns_proximity > 0)
     line << " (" << 100 * c.proximity
-         << " % where a facing wall or a concave front's focus leaves room for fewer layers: layers.proximity)";
+         << " % where a facing wall or plane or a concave front's focus leaves room for fewer layers: layers.proximity)";
   line << "; first layer "
        << std::setprecision(2) << (c.first_columns ? c.first_min : 0.0) << " to " << (c.first_columns ? c.first_max : 0.0)
        << " x the metric's height (mean " << (c.first_columns ? c.first_mean : 0.0) << "), "

@@ -387,10 +387,11 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
     CHECK(report.find("columns stopped where no valid cell could be grown") == std::string::npos);
   }
   {  // with a fill: the columns stopped in the gap keep the curved front they stopped on (their
-     // faces grow no layer to straighten), and the tetrahedra on it are curved
-     // (volume/hybrid_fill3d.h, step 1), every cell valid by plaf's certificate and Gmsh's. Two
-     // layers: over more, the gentle attenuation of a layer with stops (grow_layers_3d.h, step
-     // 7) straightens the faces beside the stopped columns too, and no curved face is left.
+     // faces grow no layer to straighten, two layers being too few for the gentle attenuation of
+     // a layer with stops, grow_layers_3d.h, step 7), and the layers make those faces straight in
+     // place where the cells under them stay valid (grow_layers_3d.cpp,
+     // straighten_outer_front): here all of them, so the fill meets a linear front. Every cell
+     // valid by plaf's certificate and Gmsh's.
     const TempDir d("surface_cli_cover_fill");
     write_text(d / "case.stl", ascii_stl(two));
     const PlafResult r = run_config(
@@ -403,7 +404,15 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
     REQUIRE(at != std::string::npos);
     const long curved = std::strtol(report.c_str() + at + 26, nullptr, 10);
     MESSAGE("outer front triangles still curved under the fill: " << curved);
-    CHECK(curved > 0);
+    CHECK(curved == 0);
+    const std::size_t made = report.find("curved triangles made straight in place");
+    REQUIRE(made != std::string::npos);
+    const std::size_t of = report.rfind("the layers' outer front: ", made);
+    REQUIRE(of != std::string::npos);
+    const long straight = std::strtol(report.c_str() + of + 25, nullptr, 10);
+    MESSAGE(report.substr(of, made - of + 40));
+    CHECK(straight > 0);
+    CHECK(report.substr(of, made - of).find(" of " + std::to_string(straight) + " ") != std::string::npos);  // all of them
     if (plaf::test::gmsh_on_path()) {
       CHECK(plaf::test::gmsh_complaints(plaf::test::run_gmsh("out/case.msh -check", d).out).empty());
       const plaf::test::GmshJacobians gj = plaf::test::gmsh_jacobians("out/case.msh", d);

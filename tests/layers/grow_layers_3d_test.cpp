@@ -825,17 +825,16 @@ TEST_CASE("layers 3D: on a symmetry plane, facing walls limit the rim's columns 
   }
 }
 
-// A waisted cylinder about the z axis between the symmetry planes z = 0 and z = 1: radius
-// r(z) = 0.75 + 0.25 cos(2 pi z), 1 at the planes and 0.5 at the waist, where its meridian is
-// concave with radius 1 / r'' = 1 / pi^2 (0.101) and no wall faces its columns (every normal
-// leaves the body outward). n_theta x n_z quadrilaterals split in two, order q.
-CurvedFront<3> waisted_cylinder(int n_theta, int n_z, int q) {
+// A surface of revolution about the z axis between the symmetry planes z = 0 and z = 1, radius
+// r(z) with slope r'(z) (its outward normal along (cos a, sin a, -r')): n_theta x n_z
+// quadrilaterals split in two, order q.
+template <class Radius, class Slope>
+CurvedFront<3> revolved(int n_theta, int n_z, int q, Radius radius, Slope slope) {
   FrontBuilder b(q, 1.0);
   b.f.tags = {{"wall", BoundaryKind::Wall}, {"z0", BoundaryKind::Symmetry}, {"z1", BoundaryKind::Symmetry}};
-  auto radius = [](double z) { return 0.75 + 0.25 * std::cos(2 * M_PI * z); };
   auto place = [&](const Vector3d& x, Vector3d& nrm) {
-    const double a = std::atan2(x.y(), x.x()), slope = -0.5 * M_PI * std::sin(2 * M_PI * x.z());
-    nrm = Vector3d(std::cos(a), std::sin(a), -slope).normalized();
+    const double a = std::atan2(x.y(), x.x());
+    nrm = Vector3d(std::cos(a), std::sin(a), -slope(x.z())).normalized();
     return Vector3d(radius(x.z()) * std::cos(a), radius(x.z()) * std::sin(a), x.z());
   };
   auto at = [&](int i, int j) {
@@ -857,6 +856,43 @@ CurvedFront<3> waisted_cylinder(int n_theta, int n_z, int q) {
       b.f.rim_tag.push_back(1 + end);
     }
   return b.f;
+}
+
+// A waisted cylinder: r(z) = 0.75 + 0.25 cos(2 pi z), 1 at the planes and 0.5 at the waist,
+// where its meridian is concave with radius 1 / r'' = 1 / pi^2 (0.101) and no wall faces its
+// columns (every normal leaves the body outward).
+CurvedFront<3> waisted_cylinder(int n_theta, int n_z, int q) {
+  return revolved(
+      n_theta, n_z, q, [](double z) { return 0.75 + 0.25 * std::cos(2 * M_PI * z); },
+      [](double z) { return -0.5 * M_PI * std::sin(2 * M_PI * z); });
+}
+
+TEST_CASE("layers 3D: columns leaning toward a symmetry plane stop short of it, never crossing it") {
+  // A cone r(z) = 1 - z / 2 between the planes z = 0 and z = 1: its normals lean toward z = 1 at
+  // 26.6 degrees, so 20 layers of 0.02 (0.4) would carry the columns of the last rows of faces
+  // (0.05 from the plane) through it, into the mirrored half's layers. A column heading for a
+  // plane meets its mirror image there: the proximity rule holds it to its share of the way
+  // (grow_layers_3d.cpp, stop_point_room), and a front node behind a plane is a collision.
+  const UniformMetricField<3> m(Metric<3>::isotropic(0.02));
+  for (int q : {1, 2}) {
+    CAPTURE(q);
+    LayerParams p;
+    p.max_layers = 20;
+    const LayerResult<3> r = grow_layers(revolved(48, 20, q, [](double z) { return 1 - 0.5 * z; }, [](double) { return -0.5; }), m, p);
+    for (const std::string& s : r.coverage.stopped_early) MESSAGE(s);
+    CHECK(r.layers.size() == 20);
+    CHECK(r.coverage.proximity > 0);
+    CHECK(r.coverage.complete >= 0.99);
+    double z_lo = 0, z_hi = 0;
+    for (const Vector3d& x : r.mesh.nodes) {
+      z_lo = std::min(z_lo, x.z());
+      z_hi = std::max(z_hi, x.z());
+    }
+    CHECK(z_lo >= -1e-12);
+    CHECK(z_hi <= 1 + 1e-12);
+    CHECK(invalid_cells(r, q) == 0);
+    check_conforming_and_apart(r, q);
+  }
 }
 
 TEST_CASE("layers 3D: where the front is concave its columns stop before they meet, where no wall faces them") {
