@@ -348,6 +348,7 @@ void Remesher::untangle() {
     have_.clear();
     vn_.clear();
     have_n_.clear();
+    edge_lengths_.clear();
     grow_caches();
     const std::vector<std::pair<int, int>> pairs = self_intersecting_pairs(s_);
     if (round == 0) rep_.crossing_pairs_found = pairs.size();

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "surface3d/remesh.h"
@@ -208,6 +209,18 @@ class Remesher {
   bool precise_ = false;  // alignment always at the centroid's projection (the final passes)
   std::vector<Vec> vn_;   // cached reference normal per (smooth) vertex index
   std::vector<char> have_n_;
+  // The last length(EH) per edge index, with what it was computed from (both ends' positions,
+  // the curve, whether each end has a normal): every pass of split_long_edges and
+  // collapse_short_edges measures every edge, and an edge at a feature vertex or wrapping a turn
+  // projects its midpoint onto the reference each time (on the published Orion capsule, 51,736
+  // CAD triangles with 552 feature curves, those projections were 80 % of the surface stage).
+  struct EdgeLength {
+    Vec a = Vec::Constant(std::numeric_limits<double>::quiet_NaN()), b = a;
+    int curve = -2;
+    bool normal_a = false, normal_b = false;
+    double length = 0;
+  };
+  std::vector<EdgeLength> edge_lengths_;
 };
 
 }  // namespace plaf::remesh_detail

@@ -41,13 +41,23 @@ bool Remesher::wraps(const Vec& pa, const Vec* na, VH b) {
 double Remesher::length(EH e) {
   const HH h = m_.halfedge_handle(e, 0);
   const VH a = m_.from_vertex_handle(h), b = m_.to_vertex_handle(h);
-  const double chord = length(a, b);
   const int c = curve(e);
-  if (c < 0) {
-    if (!wraps(m_.point(a), vertex_normal(a), b)) return chord;
-    return std::max(chord, wrapped_length(m_.point(a), vertex_metric(a), m_.point(b), vertex_metric(b)));
-  }
-  return std::max(chord, curve_length(m_.point(a), vertex_metric(a), m_.point(b), vertex_metric(b), c));
+  const Vec *na = vertex_normal(a), *nb = vertex_normal(b);
+  // The length is a function of what the cache entry records (the metric and the reference are
+  // fixed for the remesher's life): an unchanged entry is the same length.
+  const std::size_t i = static_cast<std::size_t>(e.idx());
+  if (i >= edge_lengths_.size()) edge_lengths_.resize(std::max<std::size_t>(i + 1, m_.n_edges()));
+  EdgeLength& k = edge_lengths_[i];
+  if (k.curve == c && k.normal_a == (na != nullptr) && k.normal_b == (nb != nullptr) && k.a == m_.point(a) && k.b == m_.point(b))
+    return k.length;
+  const double chord = length(a, b);
+  double l = chord;
+  if (c >= 0)
+    l = std::max(chord, curve_length(m_.point(a), vertex_metric(a), m_.point(b), vertex_metric(b), c));
+  else if (wraps(m_.point(a), na, b))
+    l = std::max(chord, wrapped_length(m_.point(a), vertex_metric(a), m_.point(b), vertex_metric(b)));
+  k = {m_.point(a), m_.point(b), c, na != nullptr, nb != nullptr, l};
+  return l;
 }
 
 int Remesher::vertex_curve(VH v) const {

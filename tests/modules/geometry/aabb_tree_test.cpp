@@ -125,6 +125,73 @@ TEST_CASE("aabb_tree: box queries, closest points and overlapping pairs match br
   }
 }
 
+TEST_CASE("aabb_tree: long slivers are held as pieces, and every query still answers with whole triangles") {
+  // 600 small triangles and 12 slivers across the whole box (a CAD tessellation's long
+  // triangles): closest points and ray hits as a scan of every triangle finds them, the
+  // barycentric coordinates of the whole triangle; box queries and pairs list each triangle once,
+  // every triangle a box meets included (a point of it inside), none whose box misses.
+  RandomTriangles r = random_triangles(600, 1.0, 13);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int k = 0; k < 12; ++k) {
+    const int b = static_cast<int>(r.points.size());
+    const Vector3d a(u(rng), u(rng), u(rng)), e(u(rng), u(rng), u(rng));
+    r.points.push_back(a);
+    r.points.push_back(e);
+    r.points.push_back(0.5 * (a + e) + 0.01 * Vector3d(u(rng), u(rng), u(rng)));
+    r.triangles.push_back({b, b + 1, b + 2});
+  }
+  const TriangleTree tree(r.points, r.triangles);
+  const int n = static_cast<int>(tree.size());
+  REQUIRE(n == 612);
+  std::uniform_real_distribution<double> w(-0.2, 1.2), h(0.0, 0.2), d(-1, 1);
+  for (int trial = 0; trial < 300; ++trial) {
+    const Vector3d p(w(rng), w(rng), w(rng));
+    const TriangleTree::Closest c = tree.closest(p);
+    double best = std::numeric_limits<double>::infinity();
+    for (int t = 0; t < n; ++t) {
+      const auto& tri = tree.triangle(t);
+      best = std::min(best, (closest_point_on_triangle(p, tri[0], tri[1], tri[2]) - p).squaredNorm());
+    }
+    REQUIRE(c.triangle >= 0);
+    CHECK(c.distance2 == doctest::Approx(best).epsilon(1e-12));
+    const auto& tri = tree.triangle(c.triangle);
+    CHECK((c.barycentric[0] * tri[0] + c.barycentric[1] * tri[1] + c.barycentric[2] * tri[2] - c.point).norm() <= 1e-12);
+    CHECK(c.barycentric.sum() == doctest::Approx(1));
+    const Vector3d dir(d(rng), d(rng), d(rng));
+    const TriangleTree::Hit hit = tree.first_hit(p, dir, 0, 10);
+    double want = 10;
+    for (int t = 0; t < n; ++t) {
+      const TriangleTree one(r.points, {r.triangles[static_cast<std::size_t>(t)]});
+      want = std::min(want, one.first_hit(p, dir, 0, 10).t);
+    }
+    CHECK(hit.t == doctest::Approx(want).epsilon(1e-9));
+  }
+  for (int trial = 0; trial < 60; ++trial) {
+    const Vector3d lo(w(rng), w(rng), w(rng));
+    const Eigen::AlignedBox3d q(lo, lo + Vector3d(h(rng), h(rng), h(rng)));
+    std::vector<int> got;
+    tree.query(q, got);
+    CHECK(std::adjacent_find(got.begin(), got.end()) == got.end());  // sorted (as pieces exist) and unique
+    for (int t : got) CHECK(box_of(tree.triangle(t)).intersects(q));
+    for (int t = 0; t < n; ++t) {  // a triangle with a sampled point in the box is listed
+      const auto& tri = tree.triangle(t);
+      bool inside = false;
+      for (int i = 0; i <= 20 && !inside; ++i)
+        for (int j = 0; i + j <= 20 && !inside; ++j)
+          inside = q.contains(tri[0] + (i / 20.0) * (tri[1] - tri[0]) + (j / 20.0) * (tri[2] - tri[0]));
+      if (inside) CHECK(std::find(got.begin(), got.end(), t) != got.end());
+    }
+  }
+  std::vector<std::pair<int, int>> pairs = tree.overlapping_pairs();
+  CHECK(std::adjacent_find(pairs.begin(), pairs.end()) == pairs.end());
+  for (const auto& [a, b] : pairs) {
+    CHECK(a < b);
+    CHECK(box_of(tree.triangle(a)).intersects(box_of(tree.triangle(b))));
+  }
+  CHECK(pairs.size() > 100);
+}
+
 TEST_CASE("aabb_tree: touching boxes count as overlapping, empty and single trees answer") {
   // Two triangles whose boxes share only the plane x = 1.
   const std::vector<Vector3d> pts = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 0, 0.5}, {2, 0, 0}, {2, 1, 0}};
