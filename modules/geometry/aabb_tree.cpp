@@ -17,10 +17,6 @@ using Eigen::Vector3d;
 namespace {
 
 constexpr int kLeafSize = 4;
-// A triangle whose longest edge exceeds kLongEdge times the median one is held as pieces
-// (aabb_tree.h), at most kMaxPieces of them.
-constexpr double kLongEdge = 4;
-constexpr std::size_t kMaxPieces = 4096;
 
 AlignedBox3d triangle_box(const std::array<Vector3d, 3>& t) {
   AlignedBox3d b(t[0]);
@@ -112,55 +108,18 @@ TriangleTree::TriangleTree(const std::vector<Vector3d>& points, const std::vecto
   for (const auto& t : triangles)
     tris_.push_back({points[static_cast<std::size_t>(t[0])], points[static_cast<std::size_t>(t[1])],
                      points[static_cast<std::size_t>(t[2])]});
-  if (tris_.empty()) return;
-  auto longest = [](const std::array<Vector3d, 3>& t, int* at) {
-    double best = -1;
-    for (int k = 0; k < 3; ++k) {
-      const double l = (t[static_cast<std::size_t>((k + 1) % 3)] - t[static_cast<std::size_t>(k)]).squaredNorm();
-      if (l > best) best = l, *at = k;
-    }
-    return std::sqrt(best);
-  };
-  std::vector<double> edge(tris_.size());
-  int unused = 0;
-  for (std::size_t t = 0; t < tris_.size(); ++t) edge[t] = longest(tris_[t], &unused);
-  std::vector<double> sorted = edge;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-  const double limit = kLongEdge * sorted[sorted.size() / 2];
-  pieces_.reserve(tris_.size());
-  const std::array<Vector3d, 3> unit = {Vector3d::UnitX(), Vector3d::UnitY(), Vector3d::UnitZ()};
-  for (std::size_t t = 0; t < tris_.size(); ++t) {
-    if (!(edge[t] > limit)) {
-      pieces_.push_back({tris_[t], static_cast<int>(t), unit});
-      continue;
-    }
-    // Halve across the longest edge, breadth first, until every piece is short enough.
-    std::vector<Piece> work = {{tris_[t], static_cast<int>(t), unit}};
-    for (std::size_t i = 0; i < work.size() && work.size() < kMaxPieces;) {
-      int k = 0;
-      if (!(longest(work[i].x, &k) > limit)) {
-        ++i;
-        continue;
-      }
-      const std::size_t a = static_cast<std::size_t>(k), b = static_cast<std::size_t>((k + 1) % 3), c = static_cast<std::size_t>((k + 2) % 3);
-      const Piece pc = work[i];
-      const Vector3d m = 0.5 * (pc.x[a] + pc.x[b]), mb = 0.5 * (pc.bary[a] + pc.bary[b]);
-      work[i] = {{pc.x[a], m, pc.x[c]}, pc.parent, {pc.bary[a], mb, pc.bary[c]}};
-      work.push_back({{m, pc.x[b], pc.x[c]}, pc.parent, {mb, pc.bary[b], pc.bary[c]}});
-    }
-    pieces_.insert(pieces_.end(), work.begin(), work.end());
-  }
-  const int n = static_cast<int>(pieces_.size());
-  order_.resize(pieces_.size());
-  std::vector<AlignedBox3d> boxes(pieces_.size());
-  std::vector<Vector3d> centers(pieces_.size());
+  const int n = static_cast<int>(tris_.size());
+  if (n == 0) return;
+  order_.resize(tris_.size());
+  std::vector<AlignedBox3d> boxes(tris_.size());
+  std::vector<Vector3d> centers(tris_.size());
   for (int i = 0; i < n; ++i) {
     const auto k = static_cast<std::size_t>(i);
     order_[k] = i;
-    boxes[k] = triangle_box(pieces_[k].x);
+    boxes[k] = triangle_box(tris_[k]);
     centers[k] = boxes[k].center();
   }
-  nodes_.reserve(2 * pieces_.size() / kLeafSize + 2);
+  nodes_.reserve(2 * tris_.size() / kLeafSize + 2);
   build(0, n, boxes, centers);
 }
 
@@ -200,7 +159,6 @@ int TriangleTree::build(int first, int count, std::vector<AlignedBox3d>& boxes, 
 
 void TriangleTree::query(const AlignedBox3d& box, std::vector<int>& out) const {
   if (nodes_.empty()) return;
-  const std::size_t before = out.size();
   std::vector<int> stack = {0};
   while (!stack.empty()) {
     const Node& node = nodes_[static_cast<std::size_t>(stack.back())];
@@ -208,17 +166,13 @@ void TriangleTree::query(const AlignedBox3d& box, std::vector<int>& out) const {
     if (!node.box.intersects(box)) continue;
     if (node.count > 0) {
       for (int i = node.first; i < node.first + node.count; ++i) {
-        const Piece& pc = pieces_[static_cast<std::size_t>(order_[static_cast<std::size_t>(i)])];
-        if (triangle_box(pc.x).intersects(box)) out.push_back(pc.parent);
+        const int t = order_[static_cast<std::size_t>(i)];
+        if (triangle_box(tris_[static_cast<std::size_t>(t)]).intersects(box)) out.push_back(t);
       }
     } else {
       stack.push_back(node.left);
       stack.push_back(node.right);
     }
-  }
-  if (pieces_.size() > tris_.size()) {  // a triangle held as pieces is listed once
-    std::sort(out.begin() + static_cast<std::ptrdiff_t>(before), out.end());
-    out.erase(std::unique(out.begin() + static_cast<std::ptrdiff_t>(before), out.end()), out.end());
   }
 }
 
@@ -237,15 +191,16 @@ TriangleTree::Closest TriangleTree::closest(const Vector3d& p) const {
     const Node& node = nodes_[static_cast<std::size_t>(id)];
     if (node.count > 0) {
       for (int i = node.first; i < node.first + node.count; ++i) {
-        const Piece& pc = pieces_[static_cast<std::size_t>(order_[static_cast<std::size_t>(i)])];
+        const int t = order_[static_cast<std::size_t>(i)];
+        const auto& tri = tris_[static_cast<std::size_t>(t)];
         Vector3d bary;
-        const Vector3d q = closest_point_on_triangle(p, pc.x[0], pc.x[1], pc.x[2], &bary);
+        const Vector3d q = closest_point_on_triangle(p, tri[0], tri[1], tri[2], &bary);
         const double e2 = (q - p).squaredNorm();
         if (e2 < best.distance2) {
           best.distance2 = e2;
           best.point = q;
-          best.triangle = pc.parent;
-          best.barycentric = bary[0] * pc.bary[0] + bary[1] * pc.bary[1] + bary[2] * pc.bary[2];
+          best.triangle = t;
+          best.barycentric = bary;
         }
       }
       continue;
@@ -278,11 +233,12 @@ TriangleTree::Hit TriangleTree::first_hit(const Vector3d& origin, const Vector3d
     if (!ray_box(node.box, origin, inv, t0, t1)) continue;
     if (node.count > 0) {
       for (int i = node.first; i < node.first + node.count; ++i) {
-        const Piece& pc = pieces_[static_cast<std::size_t>(order_[static_cast<std::size_t>(i)])];
-        const double s = ray_triangle(origin, dir, pc.x[0], pc.x[1], pc.x[2]);
-        if (s > t_min && s <= best.t && !(skip && skip(pc.parent))) {
+        const int t = order_[static_cast<std::size_t>(i)];
+        const auto& tri = tris_[static_cast<std::size_t>(t)];
+        const double s = ray_triangle(origin, dir, tri[0], tri[1], tri[2]);
+        if (s > t_min && s <= best.t && !(skip && skip(t))) {
           best.t = s;
-          best.triangle = pc.parent;
+          best.triangle = t;
         }
       }
       continue;
@@ -310,12 +266,12 @@ std::vector<std::pair<int, int>> TriangleTree::overlapping_pairs() const {
     if (ia == ib) {
       if (a.count > 0) {
         for (int i = a.first; i < a.first + a.count; ++i) {
-          const Piece& pi = pieces_[static_cast<std::size_t>(order_[static_cast<std::size_t>(i)])];
-          const AlignedBox3d bi = triangle_box(pi.x);
+          const int ti = order_[static_cast<std::size_t>(i)];
+          const AlignedBox3d bi = triangle_box(tris_[static_cast<std::size_t>(ti)]);
           for (int j = i + 1; j < a.first + a.count; ++j) {
-            const Piece& pj = pieces_[static_cast<std::size_t>(order_[static_cast<std::size_t>(j)])];
-            if (pi.parent != pj.parent && bi.intersects(triangle_box(pj.x)))
-              out.emplace_back(std::min(pi.parent, pj.parent), std::max(pi.parent, pj.parent));
+            const int tj = order_[static_cast<std::size_t>(j)];
+            if (bi.intersects(triangle_box(tris_[static_cast<std::size_t>(tj)])))
+              out.emplace_back(std::min(ti, tj), std::max(ti, tj));
           }
         }
       } else {
@@ -329,15 +285,15 @@ std::vector<std::pair<int, int>> TriangleTree::overlapping_pairs() const {
     if (a.count > 0 && b.count > 0) {
       leaf_boxes.clear();
       for (int j = b.first; j < b.first + b.count; ++j)
-        leaf_boxes.push_back(triangle_box(pieces_[static_cast<std::size_t>(order_[static_cast<std::size_t>(j)])].x));
+        leaf_boxes.push_back(triangle_box(tris_[static_cast<std::size_t>(order_[static_cast<std::size_t>(j)])]));
       for (int i = a.first; i < a.first + a.count; ++i) {
-        const Piece& pi = pieces_[static_cast<std::size_t>(order_[static_cast<std::size_t>(i)])];
-        const AlignedBox3d bi = triangle_box(pi.x);
+        const int ti = order_[static_cast<std::size_t>(i)];
+        const AlignedBox3d bi = triangle_box(tris_[static_cast<std::size_t>(ti)]);
         if (!bi.intersects(b.box)) continue;
         for (int j = b.first; j < b.first + b.count; ++j) {
-          const int tj = pieces_[static_cast<std::size_t>(order_[static_cast<std::size_t>(j)])].parent;
-          if (tj != pi.parent && bi.intersects(leaf_boxes[static_cast<std::size_t>(j - b.first)]))
-            out.emplace_back(std::min(pi.parent, tj), std::max(pi.parent, tj));
+          const int tj = order_[static_cast<std::size_t>(j)];
+          if (bi.intersects(leaf_boxes[static_cast<std::size_t>(j - b.first)]))
+            out.emplace_back(std::min(ti, tj), std::max(ti, tj));
         }
       }
       continue;
@@ -352,10 +308,6 @@ std::vector<std::pair<int, int>> TriangleTree::overlapping_pairs() const {
       stack.emplace_back(ia, b.left);
       stack.emplace_back(ia, b.right);
     }
-  }
-  if (pieces_.size() > tris_.size()) {  // pairs of pieces of the same two triangles, listed once
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
   }
   return out;
 }

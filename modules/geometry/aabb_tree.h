@@ -3,12 +3,6 @@
 // closest points for projection onto a discrete surface, and box queries (later: layer
 // collisions, and the first triangle a ray meets (the layers' proximity rule). Built top down by median splits along the longest box axis, leaves of a few
 // triangles; O(n log n) to build, queries O(log n + k).
-// A triangle much longer than the typical one (its longest edge over kLongEdge times the median
-// of the triangles' longest edges: the long slivers of a CAD tessellation) is held in the tree
-// as pieces, halved across their longest edge until each is short enough; every query answers
-// with the triangle (and its barycentric coordinates), never a piece. Long triangles' boxes
-// overlap most of the tree: on the published Orion capsule (51,736 triangles, 1 % of them with
-// an edge over a third of the body) closest-point queries took 82 % of the surface stage.
 #pragma once
 
 #include <Eigen/Core>
@@ -30,8 +24,7 @@ class TriangleTree {
   std::size_t size() const { return tris_.size(); }
   const std::array<Eigen::Vector3d, 3>& triangle(int t) const { return tris_[static_cast<std::size_t>(t)]; }
 
-  // Triangles whose bounding boxes overlap the box (closed), appended to out, each once (a
-  // triangle held as pieces: when a piece's box does, so every triangle meeting the box).
+  // Triangles whose bounding boxes overlap the box (closed), appended to out.
   void query(const Eigen::AlignedBox3d& box, std::vector<int>& out) const;
 
   struct Closest {
@@ -54,8 +47,7 @@ class TriangleTree {
   Hit first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double t_min, double t_max,
                 const std::function<bool(int)>& skip = {}) const;
 
-  // All pairs (i < j) of triangles whose boxes overlap (closed boxes; for triangles held as
-  // pieces, two pieces' boxes), for exact tests after.
+  // All pairs (i < j) of triangles whose boxes overlap (closed boxes), for exact tests after.
   std::vector<std::pair<int, int>> overlapping_pairs() const;
 
  private:
@@ -64,15 +56,8 @@ class TriangleTree {
     int first = 0, count = 0;  // leaf: range in order_; inner: count = 0
     int left = -1, right = -1;
   };
-  // A piece of triangle `parent`: its corners, and theirs in the parent's barycentric coordinates.
-  struct Piece {
-    std::array<Eigen::Vector3d, 3> x;
-    int parent = -1;
-    std::array<Eigen::Vector3d, 3> bary;
-  };
   std::vector<std::array<Eigen::Vector3d, 3>> tris_;
-  std::vector<Piece> pieces_;
-  std::vector<int> order_;  // piece ids
+  std::vector<int> order_;
   std::vector<Node> nodes_;
   int build(int first, int count, std::vector<Eigen::AlignedBox3d>& boxes, std::vector<Eigen::Vector3d>& centers);
 };
