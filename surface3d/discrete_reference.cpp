@@ -117,6 +117,9 @@ class DiscreteReference final : public ReferenceGeometry<3> {
   Vector3d project_to_curve(const Vector3d& p, int curve) const override;
   int num_curves() const override { return static_cast<int>(curves_.size()); }
   double scale() const override { return scale_; }
+  bool is_cone_point(const Vector3d& x, double tol) const override {
+    return std::any_of(cone_points_.begin(), cone_points_.end(), [&](const Vector3d& c) { return (c - x).norm() <= tol; });
+  }
 
  private:
   // tris_, their unit normals, and the angle-weighted unit vertex normals.
@@ -128,6 +131,7 @@ class DiscreteReference final : public ReferenceGeometry<3> {
   std::vector<Vector3d> face_normal_;    // unit (zero for a degenerate face)
   std::vector<Vector3d> vertex_normal_;  // unit, angle weighted
   std::vector<char> on_feature_;         // the vertex touches a feature edge
+  std::vector<Vector3d> cone_points_;    // corners on no feature edge (is_cone_point)
   TriangleTree tree_;
   // Per curve: the segments of its ordered polylines (one for a simple curve) as degenerate
   // triangles (a, b, b) in a tree, for O(log n) closest points.
@@ -156,6 +160,8 @@ DiscreteReference::DiscreteReference(const TriSurface& s) {
     if (c >= 0) curve_edges[idx(c)].emplace_back(a, b);
   }
   for (int c = 0; c < n_curves; ++c) curves_.push_back(segment_tree(chain_polylines(curve_edges[idx(c)], points_)));
+  for (const auto v : m.vertices())
+    if (is_corner(m.property(s.vertex_feature, v)) && !on_feature_[idx(v.idx())]) cone_points_.push_back(points_[idx(v.idx())]);
 }
 
 void DiscreteReference::add_normals(const TriSurface& s) {

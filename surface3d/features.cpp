@@ -449,7 +449,8 @@ std::vector<char> classify_vertices(TriSurface& s, const FeatureOptions& options
       // Judged on the body: a vertex on two feature edges is a corner where the body's curves
       // change (or a ridge meets the boundary), not where the mesh turns or its angles add up
       // to a defect.
-      is_a_corner = ve.count == 1 || ve.count >= 3;
+      is_a_corner = ve.count == 1 || ve.count >= 3 ||
+                    (ve.count == 0 && options.reference->is_cone_point(m.point(v), 1e-6 * options.reference->scale()));
       if (ve.count == 2)
         is_a_corner = ve.boundary == 1 || body_curve[static_cast<std::size_t>(m.edge_handle(ve.out[0]).idx())] !=
                                               body_curve[static_cast<std::size_t>(m.edge_handle(ve.out[1]).idx())];

@@ -46,8 +46,9 @@ struct FeatureOptions {
   // curved feature), whatever its dihedral; convex or concave as the mesh bends across it, or as
   // the body does where the mesh is nearly flat there. The crest rule is not used. So a ridge is
   // found only where the body has one, not where small triangles bend at a rounded edge; a
-  // corner only where two feature curves meet (or a ridge meets the boundary), not where the
-  // mesh's angles add up to a defect.
+  // corner only where two feature curves meet (or a ridge meets the boundary) or at one of the
+  // body's cone points (ReferenceGeometry::is_cone_point: a nose), not where the mesh's angles
+  // add up to a defect.
   const ReferenceGeometry<3>* reference = nullptr;  // (not with keep_existing: a ConfigError)
   // Ridge curves shorter than this are dropped (their edges smooth, the corners found again
   // without them): a cluster of tiny curves where a rounded trailing edge meets a rounded tip is

@@ -42,6 +42,10 @@ class ReferenceGeometry {
   virtual int num_curves() const = 0;
   // A length for tolerances (the bounding-box diagonal).
   virtual double scale() const = 0;
+  // Whether x lies within tol of one of the reference's corners that no feature curve reaches (a
+  // cone point: a projectile's nose), which a mesh judged against the reference keeps as a
+  // corner; false where the reference knows none.
+  virtual bool is_cone_point(const Vec& /*x*/, double /*tol*/) const { return false; }
 };
 
 }  // namespace geometry
