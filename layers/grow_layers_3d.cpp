@@ -1846,22 +1846,11 @@ OuterStraightening straighten_outer_front(LayerResult<3>& r, std::size_t wall_no
   const LagrangeElement& te = lagrange_element(CellType::Triangle, q);
   const std::size_t np = static_cast<std::size_t>(te.size());
   std::vector<Vec>& x = r.mesh.nodes;
-  // The curved triangles and the linear position of each of their movable nodes.
+  // The curved triangles, by the rule the fill counts them with (hybrid_mesh.h, is_curved).
+  const CellBlock outer{CellType::Triangle, q, -1, r.outer.triangles};
   std::vector<std::size_t> curved;
-  std::unordered_map<NodeId, Vec> target;
-  for (std::size_t t = 0; t < r.outer.num_triangles(); ++t) {
-    const NodeId* n = r.outer.triangle(t);
-    const Vec &a = x[static_cast<std::size_t>(n[0])], &b = x[static_cast<std::size_t>(n[1])], &c = x[static_cast<std::size_t>(n[2])];
-    const double size = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-    const double mag = std::max({a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff()});
-    bool bent = false;
-    for (std::size_t k = 3; k < np; ++k) {
-      const Lattice& l = te.lattice()[k];
-      const Vec lin = a + (static_cast<double>(l[0]) / q) * (b - a) + (static_cast<double>(l[1]) / q) * (c - a);
-      bent = bent || (x[static_cast<std::size_t>(n[k])] - lin).norm() > straight_tolerance(size, mag);
-    }
-    if (bent) curved.push_back(t);
-  }
+  for (std::size_t t = 0; t < outer.size(); ++t)
+    if (is_curved(r.mesh, outer, t)) curved.push_back(t);
   if (curved.empty()) return {};
   auto lin_of = [&](std::size_t t, std::size_t k) {
     const NodeId* n = r.outer.triangle(t);
