@@ -19,7 +19,10 @@
 //     connected rim, to 1e-6 of its size); the normals of rim nodes are projected into the plane
 //     and their new nodes put on it, so the prisms' side faces there lie on the plane; they are
 //     tagged with the rim's tag (kind Symmetry) as quadrilateral boundary facets of order Q;
-//  4. the high-order nodes of a new top triangle are attenuated toward the linear interpolation of
+//  4. the high-order nodes of a new top triangle grow along their normals, leaning at most 0.1 rad
+//     from the blend of the triangle's vertex directions (all the way to it next to a convex
+//     ridge or corner with a merged normal), so the pull below outruns the bend; they are
+//     attenuated toward the linear interpolation of
 //     its vertex tops (Fig. 5) by at most f_atten times their height; a straight base edge or
 //     triangle grows a straight top, and so does every triangle touching a concave node (as next
 //     to a 2D concave corner); the column nodes are uniform along base -> top, so every prism is
