@@ -1857,7 +1857,8 @@ class SurfaceFronts final : public FrontGrower<3> {
 // than the sag (the ONERA M6 hybrid grown to its metric's 47 layers: 9 such triangles at the tip's
 // trailing edge, 3 of the fill's curved tetrahedra inverted; straightened in place, 5 of the 9
 // went straight, and the 4 left sit on cells too thin for any share of their sag). Nodes of the
-// input surface (a column stopped at the wall) never move.
+// input surface (a column stopped at the wall) never move: a triangle holding one is left as it
+// was.
 struct OuterStraightening {
   std::size_t straight = 0, flatter = 0, curved = 0;  // made straight; moved part of the way; left as they were
 };
@@ -1896,7 +1897,12 @@ OuterStraightening straighten_outer_front(LayerResult<3>& r, std::size_t wall_no
   // while a cell around it fails, half as far, down to 1/8, then none. A node two triangles
   // share moves the smaller share of the two.
   constexpr int kLevels = 4;  // shares 1, 1/2, 1/4, 1/8; level kLevels: none
+  // A triangle with a node of the input surface (a column stopped before the first layer) stays
+  // as it is, and so do the nodes it shares.
   std::vector<int> level(curved.size(), 0);
+  for (std::size_t i = 0; i < curved.size(); ++i)
+    for (std::size_t k = 3; k < np; ++k)
+      if (static_cast<std::size_t>(r.outer.triangle(curved[i])[k]) < wall_nodes) level[i] = kLevels;
   std::unordered_map<NodeId, std::pair<Vec, Vec>> path;  // node -> (original, linear)
   for (std::size_t i = 0; i < curved.size(); ++i)
     for (std::size_t k = 3; k < np; ++k) {
@@ -1940,8 +1946,17 @@ OuterStraightening straighten_outer_front(LayerResult<3>& r, std::size_t wall_no
       if (fails) ++level[i];
     }
   }
+  // Counted by where they ended: a triangle whose own level allowed all of the way can still keep
+  // part of its curve through a node shared with a triangle that stepped down.
   OuterStraightening out;
-  for (int l : level) ++(l == 0 ? out.straight : l < kLevels ? out.flatter : out.curved);
+  for (std::size_t i = 0; i < curved.size(); ++i) {
+    bool moved = false;
+    for (std::size_t k = 3; k < np; ++k) {
+      const auto it = path.find(r.outer.triangle(curved[i])[k]);
+      moved = moved || (it != path.end() && x[static_cast<std::size_t>(it->first)] != it->second.first);
+    }
+    ++(!is_curved(r.mesh, outer, curved[i]) ? out.straight : moved ? out.flatter : out.curved);
+  }
   return out;
 }
 

@@ -753,6 +753,40 @@ TEST_CASE("layers 3D: where no closing layer is valid over a whole part, it clos
   check_conforming_and_apart(r, 1);
 }
 
+TEST_CASE("layers 3D: the curved triangles a local closing leaves are made straight in place where the cells under them stay valid") {
+  // Two spheres 0.005 apart at order 2, two layers of 0.005 (the surface cli's fill case): the
+  // columns in the gap stop on the curved faces they reached, two layers being too few for the
+  // gentle attenuation of a layer with stops, and with a fill to come (close_linear) those faces'
+  // high-order nodes move to their chords where every cell holding one stays certified
+  // (grow_layers_3d.cpp, straighten_outer_front). The event counts them; the outer front's
+  // triangles still curved are exactly those it did not make straight.
+  LayerParams p;
+  p.max_layers = 2;
+  p.proximity = 0;
+  p.stop_when_linear = true;
+  p.close_linear = true;
+  const int q = 2;
+  const LayerResult<3> r = grow_layers(two_spheres(4, q, 0.005), UniformMetricField<3>(Metric<3>::isotropic(0.005)), p);
+  std::string event;
+  for (const std::string& e : r.events)
+    if (e.find("the layers' outer front:") != std::string::npos) event = e;
+  REQUIRE_MESSAGE(!event.empty(), "no straightening event");
+  MESSAGE(event);
+  // "N of M curved triangles made straight in place ..."
+  const std::size_t of = event.find(" of ");
+  const long straight = std::stol(event.substr(event.find(':') + 2, of - event.find(':') - 2));
+  const long total = std::stol(event.substr(of + 4));
+  CHECK(straight > 0);
+  CHECK(straight <= total);
+  const CellBlock outer{CellType::Triangle, q, -1, r.outer.triangles};
+  long curved = 0;
+  for (std::size_t t = 0; t < outer.size(); ++t)
+    if (is_curved(r.mesh, outer, t)) ++curved;
+  CHECK(curved == total - straight);
+  CHECK(invalid_cells(r, q) == 0);
+  check_conforming_and_apart(r, q);
+}
+
 TEST_CASE("layers 3D: where two spheres face each other the proximity rule ends their stacks before they meet, graded") {
   // Spheres of radius 1, 0.05 apart, layers of 0.01: each facing column may stack 0.8 of half
   // the gap, 0.02, so the columns on the axis stop after one or two layers (at two the stack
