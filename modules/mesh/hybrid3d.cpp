@@ -58,6 +58,9 @@ HybridMesh<3> assemble_hybrid_3d(HybridMesh<3> mesh, const CurvedFront<3>& outer
       b.connectivity.insert(b.connectivity.end(), outer.quads.begin(), outer.quads.end());
     }
   }
+  // The nodes of left-out triangles that no other element uses go too (Gmsh's check counts them
+  // as nodes connected to no 3D element: the published 717 wing, h0 1e-5 L, 86 of them).
+  if (!bare.empty()) compact_nodes(mesh);
   return mesh;
 }
 

@@ -18,7 +18,8 @@ inline namespace mesh {
 // node of the run) plus the outer front's triangles (order Q) in a boundary block tagged
 // `layers_outer` (kind Named). Where a wall triangle's columns all stopped before their first
 // layer (local stops, layer_core.h) the wall triangle is an outer triangle too, with no cell
-// between: both are left out and counted in *bare_wall_facets (a fill would meet the wall there).
+// between: both are left out and counted in *bare_wall_facets (a fill would meet the wall there),
+// and then the nodes no element uses are dropped (compact_nodes: the others renumbered in order).
 HybridMesh<3> assemble_hybrid_3d(HybridMesh<3> layer_mesh, const CurvedFront<3>& outer,
                                  std::size_t* bare_wall_facets = nullptr);
 

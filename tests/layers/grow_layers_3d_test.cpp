@@ -969,7 +969,7 @@ TEST_CASE("layers 3D: where the front is concave its columns stop before they me
   }
 }
 
-TEST_CASE("layers 3D: wall triangles whose columns stop before their first layer are left out of the layers' mesh") {
+TEST_CASE("layers 3D: wall triangles whose columns stop before their first layer are left out of the layers' mesh, and their unused nodes") {
   // Two spheres 1e-4 apart, layers of 0.01 (floor 6.25e-4): the facing columns cannot grow even
   // their first layer, so whole wall triangles keep their columns at the wall; with no cell over
   // them, the layer mesh closed by its outer front leaves each out with its outer triangle.
@@ -983,6 +983,11 @@ TEST_CASE("layers 3D: wall triangles whose columns stop before their first layer
   const HybridMesh<3> m = assemble_hybrid_3d(r.mesh, r.outer, &bare);
   MESSAGE("bare wall triangles: " << bare << "; coverage " << r.coverage.complete);
   CHECK(bare > 0);
+  // The left-out triangles' nodes that no other element uses are dropped: every node is used.
+  CHECK(m.nodes.size() < r.mesh.nodes.size());
+  HybridMesh<3> compacted = m;
+  compact_nodes(compacted);
+  CHECK(compacted.nodes.size() == m.nodes.size());
   const ConformityReport cr = check_conformity<3>(m);
   CHECK_MESSAGE(cr.ok, cr.first_problem);
   CHECK(cr.stray_boundary == 0);
