@@ -967,10 +967,17 @@ class PartLayerBuilder {
       // normal and its other end's; the edge's sag went from 0.2 % of its length at the wall to
       // 21 % at layer 35, 195 cells stayed curved to the last layer and, grown to its metric's
       // 46 layers, three of the fill's tetrahedra on that front inverted. Half the paper's
-      // f_atten keeps the net pull at least f_atten h / 2 (the front linear after layer 41).
+      // f_atten (0.2) keeps the net pull at least 0.1 h (the front linear after layer 41); a
+      // layer rebuilt with f_atten halved (layer_core.h) or a user's smaller f_atten pulls less
+      // than this lean, and its sag fades only where the node's own normal leans less.
       constexpr double kMaxBend = 0.1;
       const double bend = std::atan2(m.cross(r.d).norm(), m.dot(r.d));
-      if (bend > kMaxBend) r.d = slerp(m, r.d, kMaxBend / bend);
+      if (bend > kMaxBend) {
+        // Turned from m toward the node's own normal by kMaxBend (straight to m where the two are
+        // opposite, as on the line two symmetry planes share).
+        const Vec u = r.d - r.d.dot(m) * m;
+        r.d = u.norm() > 1e-9 ? Vec(std::cos(kMaxBend) * m + std::sin(kMaxBend) * u.normalized()) : m;
+      }
     }
   }
 
@@ -1857,8 +1864,8 @@ class SurfaceFronts final : public FrontGrower<3> {
 // than the sag (the ONERA M6 hybrid grown to its metric's 47 layers: 9 such triangles at the tip's
 // trailing edge, 3 of the fill's curved tetrahedra inverted; straightened in place, 5 of the 9
 // went straight, and the 4 left sit on cells too thin for any share of their sag). Nodes of the
-// input surface (a column stopped at the wall) never move: a triangle holding one is left as it
-// was.
+// input surface (a column stopped at the wall) never move: a triangle with a high-order node
+// there is left as it was.
 struct OuterStraightening {
   std::size_t straight = 0, flatter = 0, curved = 0;  // made straight; moved part of the way; left as they were
 };
@@ -1897,8 +1904,8 @@ OuterStraightening straighten_outer_front(LayerResult<3>& r, std::size_t wall_no
   // while a cell around it fails, half as far, down to 1/8, then none. A node two triangles
   // share moves the smaller share of the two.
   constexpr int kLevels = 4;  // shares 1, 1/2, 1/4, 1/8; level kLevels: none
-  // A triangle with a node of the input surface (a column stopped before the first layer) stays
-  // as it is, and so do the nodes it shares.
+  // A triangle with a high-order node of the input surface (a column stopped before the first
+  // layer) stays as it is, and so do the nodes it shares.
   std::vector<int> level(curved.size(), 0);
   for (std::size_t i = 0; i < curved.size(); ++i)
     for (std::size_t k = 3; k < np; ++k)

@@ -21,7 +21,8 @@
 //     tagged with the rim's tag (kind Symmetry) as quadrilateral boundary facets of order Q;
 //  4. the high-order nodes of a new top triangle grow along their normals, leaning at most 0.1 rad
 //     from the blend of the triangle's vertex directions (all the way to it next to a convex
-//     ridge or corner with a merged normal), so the pull below outruns the bend; they are
+//     ridge or corner with a merged normal; a fan's directions and a concave merge's keep
+//     theirs), so the pull below (at the paper's f_atten, 0.2) outruns the bend; they are
 //     attenuated toward the linear interpolation of
 //     its vertex tops (Fig. 5) by at most f_atten times their height; a straight base edge or
 //     triangle grows a straight top, and so does every triangle touching a concave node (as next

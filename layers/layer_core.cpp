@@ -286,6 +286,14 @@ class Growth {
           continue;
         }
         for (std::size_t k = 0; k < stopped.size(); ++k) stopped[k] = stopped[k] || held_[part][k];
+        // Every column ended, some where the metric turned isotropic and the rest locally: the
+        // part grows no more (else it built empty layers to max_layers, each counted "linear").
+        if (!stopped.empty() && std::all_of(stopped.begin(), stopped.end(), [](std::uint8_t h) { return h; })) {
+          growing_[part] = false;
+          r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
+                              ": stopped, every column has ended (the metric isotropic, or stopped locally)");
+          continue;
+        }
         std::vector<double> scale(g_.num_sites(part), 1.0);
         BuiltLayer built;
         double f = p_.f_atten;
