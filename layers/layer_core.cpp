@@ -296,6 +296,7 @@ class Growth {
         }
         std::vector<double> scale(g_.num_sites(part), 1.0);
         BuiltLayer built;
+        const std::size_t nodes_at_start = r_.mesh.nodes.size();
         double f = p_.f_atten;
         bool ok = attempts_.run(part, layer, scale, stopped, f, st, built);
         // The attenuation itself can fold cells: a top moved by up to f_atten times the layer
@@ -334,6 +335,15 @@ class Growth {
           failing = now;
         }
         if (!ok && p_.local_stops && g_.stops_locally()) ok = stop_locally(part, layer, scale, stopped, f, st, built);
+        if (ok && built.cells[0].empty() && built.cells[1].empty()) {
+          // The local stops ended the last growing columns in this layer: no cell, so no layer
+          // (an empty build is not a linear front) and the part grows no more.
+          r_.mesh.nodes.resize(nodes_at_start);
+          growing_[part] = false;
+          r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
+                              ": stopped, every column has ended (the metric isotropic, or stopped locally)");
+          continue;
+        }
         if (ok) st.f_atten = std::min(st.f_atten, built.fixed_f_atten > 0 ? built.fixed_f_atten : f);
         if (ok && std::any_of(scale.begin(), scale.end(), [](double x) { return x < 1; })) st.shrunk = true;
         if (!ok) {

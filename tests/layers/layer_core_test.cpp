@@ -102,3 +102,73 @@ TEST_CASE("layer core: a layer is linear only when every part's front is, a part
     for (std::size_t k = 1; k < r.layers.size(); ++k) CHECK(r.layers[k].coverage == doctest::Approx(0.5));
   }
 }
+
+namespace {
+
+// One column of order-1 quadrilaterals along y whose build from layer `empty_from` on holds no
+// cell (its last columns ended in it).
+class EndingFronts final : public layers::FrontGrower<2> {
+ public:
+  EndingFronts(HybridMesh<2>& mesh, int empty_from) : mesh_(mesh), empty_from_(empty_from) {
+    base_ = {add({0, 0}), add({1, 0})};
+  }
+  std::array<CellType, 2> cell_types() const override { return {CellType::Quadrilateral, CellType::Triangle}; }
+  std::size_t num_parts() const override { return 1; }
+  std::string part_name(std::size_t) const override { return "part 0"; }
+  std::size_t num_sites(std::size_t) const override { return 2; }
+  std::vector<Vec> stop_points(std::size_t) const override { return {mesh_.nodes[base_[0]], mesh_.nodes[base_[1]]}; }
+  std::size_t num_stop_points(std::size_t) const override { return 2; }
+  std::vector<double> stop_point_measure(std::size_t) const override { return {0.5, 0.5}; }
+  layers::BuiltLayer build(std::size_t, int layer, const std::vector<double>&, const std::vector<std::uint8_t>&,
+                           double) override {
+    layers::BuiltLayer b;
+    b.linear = true;
+    if (layer >= empty_from_) {
+      add({0.5, -1});  // a node the empty build made: rolled back
+      return b;
+    }
+    const NodeId a = add({0, y_ + 1}), c = add({1, y_ + 1});
+    b.cells[0] = {base_[0], base_[1], c, a};
+    b.linear = false;
+    b.max_clipped_rel = 0.5;
+    pending_ = {a, c};
+    return b;
+  }
+  std::vector<std::size_t> collisions(std::size_t) const override { return {}; }
+  Vec front_point(std::size_t) const override { return Vec::Zero(); }
+  void rescale(std::size_t, const std::vector<layers::LayerFailure>&, double factor, std::vector<double>& scale) const override {
+    for (double& s : scale) s *= factor;
+  }
+  void accept(std::size_t) override {
+    base_ = pending_;
+    y_ += 1;
+  }
+
+ private:
+  NodeId add(const Vector2d& x) {
+    mesh_.nodes.push_back(x);
+    return static_cast<NodeId>(mesh_.nodes.size() - 1);
+  }
+  HybridMesh<2>& mesh_;
+  int empty_from_;
+  std::array<NodeId, 2> base_{};
+  std::array<NodeId, 2> pending_{};
+  double y_ = 0;
+};
+
+}  // namespace
+
+TEST_CASE("layer core: a build with no cell (its last columns ended) is no layer and ends the part, still curved") {
+  LayerResult<2> r;
+  EndingFronts fronts(r.mesh, 3);
+  const UniformMetricField<2> metric(Metric<2>::isotropic(1));
+  layers::LayerParams p;
+  p.max_layers = 6;
+  layers::grow_fronts<2>(fronts, metric, p, 1, r);
+  CHECK(r.layers.size() == 2);  // layers 1 and 2; not 3 to 6 as empty rows
+  CHECK(r.linear_after == -1);  // the front it ended on is curved, and an empty build does not change that
+  CHECK(r.mesh.nodes.size() == 2 + 2 * 2);  // the empty build's node rolled back
+  int ended = 0;
+  for (const std::string& e : r.events) ended += e.find("layer 3, part 0: stopped, every column has ended") != std::string::npos ? 1 : 0;
+  CHECK(ended == 1);
+}
