@@ -5,7 +5,9 @@
 //
 // Per layer, for every part of the front (a loop in 2D, a connected surface in 3D):
 //  1. stop rules: a part stops when it runs out of layers, when the metric is isotropic at its
-//     nodes (isotropic_stop), or when a layer cannot be made valid; a column stops where its
+//     nodes (isotropic_stop), when a layer cannot be made valid, or when every column has ended
+//     (isotropic at some, stopped locally at the rest; a build left with no cell is no layer and
+//     does not make the front linear); a column stops where its
 //     stack would fill more than its share of the gap to a facing wall, or where a concave front's
 //     columns would run into their focus (proximity, where the front supports it:
 //     FrontGrower::stop_point_room, graded_room);
