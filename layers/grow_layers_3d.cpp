@@ -1861,9 +1861,10 @@ class SurfaceFronts final : public FrontGrower<3> {
 // round by round until every touched cell is valid. A zero-height closing layer: the paper's
 // fill starts from a linear front (Sec. II.C), and a curved front triangle under the fill's
 // tetrahedron, which TetGen placed against the chord, inverts it wherever the apex sits closer
-// than the sag (the ONERA M6 hybrid grown to its metric's 47 layers: 9 such triangles at the tip's
-// trailing edge, 3 of the fill's curved tetrahedra inverted; straightened in place, 5 of the 9
-// went straight, and the 4 left sit on cells too thin for any share of their sag). Nodes of the
+// than the sag (the ONERA M6 hybrid grown to its metric's 47 layers, before the high-order nodes'
+// lean was bounded (blend): 9 such triangles at the tip's trailing edge, 3 of the fill's curved
+// tetrahedra inverted; straightened in place, 5 of the 9 went straight, and the 4 left sat on
+// cells too thin for any share of their sag; with the bound none is left there). Nodes of the
 // input surface (a column stopped at the wall) never move: a triangle with a high-order node
 // there is left as it was.
 struct OuterStraightening {

@@ -246,6 +246,7 @@ class Growth {
   static constexpr int kAttenuationRetries = 4;
   static constexpr int kClosingAttempts = 8;
   static constexpr int kLocalStopRounds = 64;
+  static constexpr const char* kAllEnded = "every column has ended (the metric isotropic, or stopped locally)";
   Growth(FrontGrower<Dim>& g, const MetricField<Dim>& metric, const LayerParams& p, int q, LayerResult<Dim>& r)
       : g_(g), metric_(metric), p_(p), q_(q), r_(r), types_(g.cell_types()),
         blocks_{CellBlock{types_[0], q, -1, {}}, CellBlock{types_[1], q, -1, {}}}, parts_(g.num_parts()),
@@ -272,26 +273,20 @@ class Growth {
         if (!growing_[part]) continue;
         // Every column of the part stopped locally: it grows no more (its coverage says so).
         if (!held_[part].empty() && std::all_of(held_[part].begin(), held_[part].end(), [](std::uint8_t h) { return h; })) {
-          growing_[part] = false;
-          r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
-                              ": stopped, every column has stopped locally");
+          end_part(part, layer, "every column has stopped locally");
           continue;
         }
         std::vector<std::uint8_t> stopped;
         if (stops_isotropic(part, layer, stopped)) continue;
         if (p_.proximity > 0 && layer > 1 && stops_proximity(part, layer)) {
-          growing_[part] = false;
-          r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
-                              ": stopped, every column has stopped locally");
+          end_part(part, layer, "every column has stopped locally");
           continue;
         }
         for (std::size_t k = 0; k < stopped.size(); ++k) stopped[k] = stopped[k] || held_[part][k];
         // Every column ended, some where the metric turned isotropic and the rest locally: the
         // part grows no more (else it built empty layers to max_layers, each counted "linear").
         if (!stopped.empty() && std::all_of(stopped.begin(), stopped.end(), [](std::uint8_t h) { return h; })) {
-          growing_[part] = false;
-          r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
-                              ": stopped, every column has ended (the metric isotropic, or stopped locally)");
+          end_part(part, layer, kAllEnded);
           continue;
         }
         std::vector<double> scale(g_.num_sites(part), 1.0);
@@ -339,9 +334,7 @@ class Growth {
           // The local stops ended the last growing columns in this layer: no cell, so no layer
           // (an empty build is not a linear front) and the part grows no more.
           r_.mesh.nodes.resize(nodes_at_start);
-          growing_[part] = false;
-          r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
-                              ": stopped, every column has ended (the metric isotropic, or stopped locally)");
+          end_part(part, layer, kAllEnded);
           continue;
         }
         if (ok) st.f_atten = std::min(st.f_atten, built.fixed_f_atten > 0 ? built.fixed_f_atten : f);
@@ -679,9 +672,14 @@ class Growth {
              (p_.isotropic_stop == IsotropicStop::Any && iso > 0))
       why = "the metric is isotropic at " + std::to_string(iso) + " of " + std::to_string(total) + " nodes";
     if (why.empty()) return false;
+    end_part(part, layer, why);
+    return true;
+  }
+
+  // The part grows no more, and the events say why.
+  void end_part(std::size_t part, int layer, const std::string& why) {
     growing_[part] = false;
     r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) + ": stopped, " + why);
-    return true;
   }
 
   FrontGrower<Dim>& g_;
