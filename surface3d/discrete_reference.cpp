@@ -117,8 +117,15 @@ class DiscreteReference final : public ReferenceGeometry<3> {
   Vector3d project_to_curve(const Vector3d& p, int curve) const override;
   int num_curves() const override { return static_cast<int>(curves_.size()); }
   double scale() const override { return scale_; }
+  // The cone points are sorted by x: a query scans only those within tol in x (a body with many
+  // cone points, e.g. a scan's noisy vertices, made the judged detector's per-vertex queries
+  // quadratic).
   bool is_cone_point(const Vector3d& x, double tol) const override {
-    return std::any_of(cone_points_.begin(), cone_points_.end(), [&](const Vector3d& c) { return (c - x).norm() <= tol; });
+    auto it = std::lower_bound(cone_points_.begin(), cone_points_.end(), x.x() - tol,
+                               [](const Vector3d& c, double v) { return c.x() < v; });
+    for (; it != cone_points_.end() && it->x() <= x.x() + tol; ++it)
+      if ((*it - x).norm() <= tol) return true;
+    return false;
   }
 
  private:
@@ -131,7 +138,7 @@ class DiscreteReference final : public ReferenceGeometry<3> {
   std::vector<Vector3d> face_normal_;    // unit (zero for a degenerate face)
   std::vector<Vector3d> vertex_normal_;  // unit, angle weighted
   std::vector<char> on_feature_;         // the vertex touches a feature edge
-  std::vector<Vector3d> cone_points_;    // corners on no feature edge (is_cone_point)
+  std::vector<Vector3d> cone_points_;    // corners on no feature edge (is_cone_point), sorted by x
   TriangleTree tree_;
   // Per curve: the segments of its ordered polylines (one for a simple curve) as degenerate
   // triangles (a, b, b) in a tree, for O(log n) closest points.
@@ -162,6 +169,7 @@ DiscreteReference::DiscreteReference(const TriSurface& s) {
   for (int c = 0; c < n_curves; ++c) curves_.push_back(segment_tree(chain_polylines(curve_edges[idx(c)], points_)));
   for (const auto v : m.vertices())
     if (is_corner(m.property(s.vertex_feature, v)) && !on_feature_[idx(v.idx())]) cone_points_.push_back(points_[idx(v.idx())]);
+  std::sort(cone_points_.begin(), cone_points_.end(), [](const Vector3d& a, const Vector3d& b) { return a.x() < b.x(); });
 }
 
 void DiscreteReference::add_normals(const TriSurface& s) {

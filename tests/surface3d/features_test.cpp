@@ -11,6 +11,7 @@
 
 #include "modules/base/error.h"
 #include "surface3d/analytic.h"
+#include "surface3d/discrete_reference.h"
 #include "tests/surface3d/feature_checks.h"
 #include "tests/surface3d/test_surfaces.h"
 
@@ -267,6 +268,27 @@ TEST_CASE("features: a cone's apex is a corner by its angle defect and its base 
   const FeatureReport loose = detect_features(s, {.corner_defect_deg = 200});
   CHECK(loose.corners_convex == 0);
   CHECK(loose.curves == 1);
+}
+
+TEST_CASE("features: a bicone's apexes are its discrete reference's cone points, and nothing else is") {
+  // Both apexes on the z axis (the same x: the sorted lookup scans ties), the equator a ridge
+  // loop whose vertices are on a feature and so no cone points.
+  const double h = std::sqrt(3.0);
+  TriSurface s = surface_from_soup(revolution_soup({{0, -h}, {0.5, -0.5 * h}, {1, 0}, {0.5, 0.5 * h}, {0, h}}, 24));
+  const FeatureReport r = detect_features(s, {});
+  CHECK(r.corners_convex == 2);
+  CHECK(r.curves == 1);
+  const auto ref = make_discrete_reference(s);
+  const double tol = 1e-6 * ref->scale();
+  for (const double z : {-h, h}) {
+    CHECK(ref->is_cone_point(Eigen::Vector3d(0, 0, z), tol));
+    CHECK(ref->is_cone_point(Eigen::Vector3d(0.5 * tol, 0, z), tol));
+    CHECK_FALSE(ref->is_cone_point(Eigen::Vector3d(2 * tol, 0, z), tol));
+    CHECK_FALSE(ref->is_cone_point(Eigen::Vector3d(0, 0, z - 2 * tol * (z > 0 ? -1 : 1)), tol));
+  }
+  int cones = 0;
+  for (const auto v : s.mesh.vertices()) cones += ref->is_cone_point(s.mesh.point(v), tol) ? 1 : 0;
+  CHECK(cones == 2);
 }
 
 TEST_CASE("features: a cone dented into a cylinder's top is a concave corner, the rim a concave loop") {
