@@ -175,13 +175,14 @@ std::vector<Eigen::Vector3d> front_nodes(const CurvedFront<3>& f, const std::vec
 }
 
 // Where a failed run's picture looks (QualityReport::focus): the invalid cell of the smallest
-// scaled Jacobian, a few of its sizes around it; else the largest region of columns the layers
-// stopped early (stop_regions of LayerCoverage::sites; only when the layer stage failed), a box
-// about its size; in both at least 1 % of the wall's extent (its facets' nodes; the mesh's
-// without wall facets -- not the farfield's, which would zoom out of the layers).
+// scaled Jacobian, a few of its sizes around it; else the place a failing stage named
+// (StageReport::failure_place: the surface's first folded triangle); else the largest region of
+// columns the layers stopped early (stop_regions of LayerCoverage::sites; only when the layer
+// stage failed), a box about its size; in all at least 1 % of the wall's extent (its facets'
+// nodes; the mesh's without wall facets -- not the farfield's, which would zoom out of the layers).
 template <int Dim>
-void set_failure_focus(const HybridMesh<Dim>& mesh, const CellQuality& per_cell, const LayerCoverage* coverage,
-                       QualityReport& report) {
+void set_failure_focus(const HybridMesh<Dim>& mesh, const CellQuality& per_cell, const std::vector<StageReport>& reports,
+                       const LayerCoverage* coverage, QualityReport& report) {
   using Point = typename HybridMesh<Dim>::Point;
   const double floor = 0.01 * wall_diagonal(mesh);
   // The worst invalid cell.
@@ -211,6 +212,14 @@ void set_failure_focus(const HybridMesh<Dim>& mesh, const CellQuality& per_cell,
     report.focus.assign(mid.data(), mid.data() + Dim);
     report.focus_radius = std::max(4 * (chi - clo).norm(), floor);
     report.focus_label = "worst invalid cell (scaled Jacobian " + num(worst) + ")";
+    return;
+  }
+  for (const StageReport& r : reports) {
+    const StageReport::Place& at = r.failure_place();
+    if (r.failure().empty() || at.point.size() != static_cast<std::size_t>(Dim)) continue;
+    report.focus = at.point;
+    report.focus_radius = std::max(at.radius, floor);
+    report.focus_label = at.label;
     return;
   }
   if (!coverage || coverage->sites.empty()) return;
@@ -342,7 +351,7 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
     const bool layers_failed = std::any_of(reports.begin(), reports.end(), [](const StageReport& r) {
       return r.section() == stage_kind_name(StageKind::Layers) && !r.failure().empty();
     });
-    set_failure_focus<Dim>(mesh, per_cell, layers_failed && s.layers ? &s.layers->coverage : nullptr, report);
+    set_failure_focus<Dim>(mesh, per_cell, reports, layers_failed && s.layers ? &s.layers->coverage : nullptr, report);
     if (!report.focus.empty()) {
       std::ostringstream j;
       j << "{\"point\": [";

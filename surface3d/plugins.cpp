@@ -457,9 +457,12 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   const std::string far_why = why.str();
   // A face turned against the surface is the surface's inverted element: the layers would grow
   // from it into the body. The mesh is written for inspection; the run fails.
-  if (rr.folded_faces > 0)
+  if (rr.folded_faces > 0) {
+    const Eigen::Vector3d& fc = rr.first_folded_centroid;
     rep.fail("the surface folds: " + std::to_string(rr.folded_faces) +
-             " triangles face more than 60 degrees away from the reference surface (first: " + rr.first_folded + ")");
+                 " triangles face more than 60 degrees away from the reference surface (first: " + rr.first_folded + ")",
+             {{fc.x(), fc.y(), fc.z()}, 4 * rr.first_folded_size, "first folded triangle"});
+  }
   else if (cr.invalid > 0)
     rep.fail("the surface has " + std::to_string(cr.invalid) + " invalid curved triangles");
   else if (far)

@@ -461,6 +461,8 @@ void Remesher::measure_result() {
           o << (i ? " " : "") << "(" << x[static_cast<std::size_t>(i)].x() << ", " << x[static_cast<std::size_t>(i)].y()
             << ", " << x[static_cast<std::size_t>(i)].z() << ")";
         rep_.first_folded = o.str();
+        rep_.first_folded_centroid = (x[0] + x[1] + x[2]) / 3;
+        rep_.first_folded_size = std::max({(x[1] - x[0]).norm(), (x[2] - x[1]).norm(), (x[0] - x[2]).norm()});
       }
       ++rep_.folded_faces;
     }

@@ -40,6 +40,8 @@ struct RemeshReport {
   double unit_fraction = 0;  // of edges with metric length in [1/sqrt 2, sqrt 2] after
   std::size_t folded_faces = 0;  // normal more than 60 degrees from the reference's (should be 0)
   std::string first_folded;      // the first one's vertices, "(x, y, z) (x, y, z) (x, y, z)"
+  Eigen::Vector3d first_folded_centroid = Eigen::Vector3d::Zero();
+  double first_folded_size = 0;  // its longest edge
   std::size_t crossing_pairs_found = 0;  // face pairs crossing each other after the sliver passes
   std::size_t untangle_collapses = 0;    // edges collapsed to untangle them
   std::size_t crossing_pairs = 0;        // still crossing after that (the surface stage refuses them)

@@ -40,10 +40,22 @@ class StageReport {
   void line(std::string text) { lines_.push_back(std::move(text)); }
   // A failure the run must report with exit code 2 (the mesh is written for inspection).
   void fail(std::string why) { failure_ = std::move(why); }
+  // The same, with where it happened: the failed run's picture looks there (QualityReport::focus,
+  // apps/run.cpp) unless an invalid cell is worse.
+  struct Place {
+    std::vector<double> point;  // Dim coordinates
+    double radius = 0;          // of the region to show
+    std::string label;          // what is there ("first folded triangle")
+  };
+  void fail(std::string why, Place where) {
+    failure_ = std::move(why);
+    failure_place_ = std::move(where);
+  }
 
   const std::vector<std::pair<std::string, std::string>>& entries() const { return entries_; }
   const std::vector<std::string>& lines() const { return lines_; }
   const std::string& failure() const { return failure_; }
+  const Place& failure_place() const { return failure_place_; }  // point empty: none given
 
   // The section's keys into report.extra as "section.key".
   void append_to(QualityReport& report) const;
@@ -54,6 +66,7 @@ class StageReport {
   std::vector<std::pair<std::string, std::string>> entries_;
   std::vector<std::string> lines_;
   std::string failure_;
+  Place failure_place_;
 };
 
 // JSON array text of a list of JSON values.

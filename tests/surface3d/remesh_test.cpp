@@ -3,9 +3,11 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
+#include <vector>
 
 #include "modules/base/error.h"
 #include "modules/metric/metric.h"
@@ -74,6 +76,51 @@ TEST_CASE("remesh: a sphere to a uniform metric, at least 90 percent unit edges,
                    << r.splits << " splits, " << r.collapses << " collapses, " << r.flips << " flips, " << r.seconds
                    << " s");
   }
+}
+
+// The unit sphere whose normal points inward on the cap z > 0.8: every face there is turned
+// against it, a fold no operation can mend (what the report must then locate).
+class InwardCapSphere final : public ReferenceGeometry<3> {
+ public:
+  Eigen::Vector3d project(const Eigen::Vector3d& p) const override { return p.normalized(); }
+  Eigen::Vector3d normal(const Eigen::Vector3d& x) const override {
+    return x.normalized().z() > 0.8 ? Eigen::Vector3d(-x.normalized()) : Eigen::Vector3d(x.normalized());
+  }
+  Eigen::Vector3d project_to_curve(const Eigen::Vector3d& p, int) const override { return p.normalized(); }
+  int num_curves() const override { return 0; }
+  double scale() const override { return 2 * std::sqrt(3.0); }
+};
+
+TEST_CASE("remesh: folds it cannot mend are counted and the first located (its centroid and size)") {
+  TriSurface s = icosahedron();
+  const UniformMetricField<3> metric(Metric<3>::isotropic(0.3));
+  const RemeshReport r = remesh_surface(s, InwardCapSphere(), metric, RemeshOptions{});
+  REQUIRE(r.folded_faces > 0);
+  CHECK_FALSE(r.first_folded.empty());
+  // On the cap (its centroid's projection there), a face of the mesh: its centroid inside the
+  // sphere by at most an icosahedron face's (splits and flips there are refused, each would leave
+  // a face turned against the reference), its longest edge at most the icosahedron's (1.05).
+  CHECK(r.first_folded_centroid.normalized().z() > 0.8);
+  CHECK(r.first_folded_centroid.norm() > 0.79);
+  CHECK(r.first_folded_centroid.norm() < 1);
+  CHECK(r.first_folded_size > 0.1);
+  CHECK(r.first_folded_size < 1.06);
+  bool found = false;
+  for (const auto f : s.mesh.faces()) {
+    std::vector<Eigen::Vector3d> x;
+    for (const auto v : s.mesh.fv_range(f)) x.push_back(s.mesh.point(v));
+    const double longest = std::max({(x[1] - x[0]).norm(), (x[2] - x[1]).norm(), (x[0] - x[2]).norm()});
+    found = found || (((x[0] + x[1] + x[2]) / 3 - r.first_folded_centroid).norm() < 1e-12 &&
+                      std::abs(longest - r.first_folded_size) < 1e-12);
+  }
+  CHECK(found);
+  std::size_t on_cap = 0;
+  for (const auto f : s.mesh.faces()) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (const auto v : s.mesh.fv_range(f)) c += s.mesh.point(v) / 3;
+    if (c.normalized().z() > 0.8) ++on_cap;
+  }
+  CHECK(r.folded_faces == on_cap);
 }
 
 TEST_CASE("remesh: an anisotropic metric stretches the triangles") {
