@@ -15,20 +15,16 @@ using Eigen::Vector2d;
 
 namespace {
 
-// Two parts, each one column of order-1 quadrilaterals stacked along y (part 0 at x in [0, 1],
-// part 1 at x in [3, 4]). Part 0 always builds a valid, linear layer. Part 1 builds a valid layer
-// that reports itself curved (an attenuation need left) on its first layer, and from its second
-// layer on only an inverted cell, so it stops, still curved, and no closing layer mends it.
-class ScriptedFronts final : public layers::FrontGrower<2> {
+// Parts of one column of order-1 quadrilaterals each, stacked along y (part p at x in [3 p, 3 p
+// + 1]): the plumbing every scripted front shares. A test's front says what each build holds
+// (build_cells), and accepts it as the part's new base.
+class ColumnFronts : public layers::FrontGrower<2> {
  public:
-  explicit ScriptedFronts(HybridMesh<2>& mesh) : mesh_(mesh) {
-    for (int p = 0; p < 2; ++p) {
-      base_[p] = {add({3.0 * p, 0}), add({3.0 * p + 1, 0})};
-      y_[p] = 0;
-    }
+  ColumnFronts(HybridMesh<2>& mesh, std::size_t parts) : mesh_(mesh), base_(parts), pending_(parts), y_(parts, 0.0) {
+    for (std::size_t p = 0; p < parts; ++p) base_[p] = {add({3.0 * static_cast<double>(p), 0}), add({3.0 * static_cast<double>(p) + 1, 0})};
   }
   std::array<CellType, 2> cell_types() const override { return {CellType::Quadrilateral, CellType::Triangle}; }
-  std::size_t num_parts() const override { return 2; }
+  std::size_t num_parts() const override { return base_.size(); }
   std::string part_name(std::size_t part) const override { return "part " + std::to_string(part); }
   std::size_t num_sites(std::size_t) const override { return 2; }
   std::vector<Vec> stop_points(std::size_t part) const override {
@@ -36,19 +32,6 @@ class ScriptedFronts final : public layers::FrontGrower<2> {
   }
   std::size_t num_stop_points(std::size_t) const override { return 2; }
   std::vector<double> stop_point_measure(std::size_t) const override { return {0.5, 0.5}; }
-  layers::BuiltLayer build(std::size_t part, int layer, const std::vector<double>&, const std::vector<std::uint8_t>&,
-                           double f_atten) override {
-    layers::BuiltLayer b;
-    const double x0 = 3.0 * static_cast<double>(part), y = y_[part] + 1;
-    const bool inverted = part == 1 && layer >= 2;
-    // Gmsh order: (x0, y-1), (x0+1, y-1), (x0+1, y), (x0, y); an inverted cell swaps its top.
-    const NodeId a = add({x0 + (inverted ? 1 : 0), y}), c = add({x0 + (inverted ? 0 : 1), y});
-    b.cells[0] = {base_[part][0], base_[part][1], c, a};
-    pending_ = {a, c};
-    b.linear = !(part == 1 && layer == 1 && std::isfinite(f_atten));
-    b.max_clipped_rel = b.linear ? 0 : 0.5;
-    return b;
-  }
   std::vector<std::size_t> collisions(std::size_t) const override { return {}; }
   Vec front_point(std::size_t) const override { return Vec::Zero(); }
   void rescale(std::size_t, const std::vector<layers::LayerFailure>&, double factor,
@@ -56,19 +39,43 @@ class ScriptedFronts final : public layers::FrontGrower<2> {
     for (double& s : scale) s *= factor;
   }
   void accept(std::size_t part) override {
-    base_[part] = pending_;
+    base_[part] = pending_[part];
     y_[part] += 1;
   }
 
- private:
+ protected:
   NodeId add(const Vector2d& x) {
     mesh_.nodes.push_back(x);
     return static_cast<NodeId>(mesh_.nodes.size() - 1);
   }
+  // The part's next cell, one layer up (its top swapped: inverted), made the pending base.
+  std::vector<NodeId> next_cell(std::size_t part, bool inverted) {
+    const double x0 = 3.0 * static_cast<double>(part), y = y_[part] + 1;
+    // Gmsh order: (x0, y-1), (x0+1, y-1), (x0+1, y), (x0, y).
+    const NodeId a = add({x0 + (inverted ? 1 : 0), y}), c = add({x0 + (inverted ? 0 : 1), y});
+    pending_[part] = {a, c};
+    return {base_[part][0], base_[part][1], c, a};
+  }
   HybridMesh<2>& mesh_;
-  std::array<std::array<NodeId, 2>, 2> base_{};
-  std::array<double, 2> y_{};
-  std::array<NodeId, 2> pending_{};
+  std::vector<std::array<NodeId, 2>> base_;
+  std::vector<std::array<NodeId, 2>> pending_;
+  std::vector<double> y_;
+};
+
+// Two parts. Part 0 always builds a valid, linear layer. Part 1 builds a valid layer that
+// reports itself curved (an attenuation need left) on its first layer, and from its second
+// layer on only an inverted cell, so it stops, still curved, and no closing layer mends it.
+class ScriptedFronts final : public ColumnFronts {
+ public:
+  explicit ScriptedFronts(HybridMesh<2>& mesh) : ColumnFronts(mesh, 2) {}
+  layers::BuiltLayer build(std::size_t part, int layer, const std::vector<double>&, const std::vector<std::uint8_t>&,
+                           double f_atten) override {
+    layers::BuiltLayer b;
+    b.cells[0] = next_cell(part, part == 1 && layer >= 2);
+    b.linear = !(part == 1 && layer == 1 && std::isfinite(f_atten));
+    b.max_clipped_rel = b.linear ? 0 : 0.5;
+    return b;
+  }
 };
 
 }  // namespace
@@ -105,20 +112,10 @@ TEST_CASE("layer core: a layer is linear only when every part's front is, a part
 
 namespace {
 
-// One column of order-1 quadrilaterals along y whose build from layer `empty_from` on holds no
-// cell (its last columns ended in it).
-class EndingFronts final : public layers::FrontGrower<2> {
+// One column whose build from layer `empty_from` on holds no cell (its last columns ended in it).
+class EndingFronts final : public ColumnFronts {
  public:
-  EndingFronts(HybridMesh<2>& mesh, int empty_from) : mesh_(mesh), empty_from_(empty_from) {
-    base_ = {add({0, 0}), add({1, 0})};
-  }
-  std::array<CellType, 2> cell_types() const override { return {CellType::Quadrilateral, CellType::Triangle}; }
-  std::size_t num_parts() const override { return 1; }
-  std::string part_name(std::size_t) const override { return "part 0"; }
-  std::size_t num_sites(std::size_t) const override { return 2; }
-  std::vector<Vec> stop_points(std::size_t) const override { return {mesh_.nodes[base_[0]], mesh_.nodes[base_[1]]}; }
-  std::size_t num_stop_points(std::size_t) const override { return 2; }
-  std::vector<double> stop_point_measure(std::size_t) const override { return {0.5, 0.5}; }
+  EndingFronts(HybridMesh<2>& mesh, int empty_from) : ColumnFronts(mesh, 1), empty_from_(empty_from) {}
   layers::BuiltLayer build(std::size_t, int layer, const std::vector<double>&, const std::vector<std::uint8_t>&,
                            double) override {
     layers::BuiltLayer b;
@@ -127,33 +124,14 @@ class EndingFronts final : public layers::FrontGrower<2> {
       add({0.5, -1});  // a node the empty build made: rolled back
       return b;
     }
-    const NodeId a = add({0, y_ + 1}), c = add({1, y_ + 1});
-    b.cells[0] = {base_[0], base_[1], c, a};
+    b.cells[0] = next_cell(0, false);
     b.linear = false;
     b.max_clipped_rel = 0.5;
-    pending_ = {a, c};
     return b;
-  }
-  std::vector<std::size_t> collisions(std::size_t) const override { return {}; }
-  Vec front_point(std::size_t) const override { return Vec::Zero(); }
-  void rescale(std::size_t, const std::vector<layers::LayerFailure>&, double factor, std::vector<double>& scale) const override {
-    for (double& s : scale) s *= factor;
-  }
-  void accept(std::size_t) override {
-    base_ = pending_;
-    y_ += 1;
   }
 
  private:
-  NodeId add(const Vector2d& x) {
-    mesh_.nodes.push_back(x);
-    return static_cast<NodeId>(mesh_.nodes.size() - 1);
-  }
-  HybridMesh<2>& mesh_;
   int empty_from_;
-  std::array<NodeId, 2> base_{};
-  std::array<NodeId, 2> pending_{};
-  double y_ = 0;
 };
 
 }  // namespace
