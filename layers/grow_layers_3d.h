@@ -81,7 +81,11 @@
 //     the vertex tops' lift plus the base's offset from its chord, attenuated by at most 0.05 of
 //     the height (the paper's 0.2 inverted cut cells at Q3: the pull grows with the level and is
 //     of degree Q + 1 in a cut cell); the front straightens slowly until the heights outgrow its
-//     sag (a closing layer straightens the rest).
+//     sag (a closing layer straightens the rest). The vertices beside a column stopped in an
+//     earlier layer (any stop: a failure's, the proximity rule's, isotropic_stop's) grow half
+//     their height, so the front slopes into the stop rather than rising beside it as a wall
+//     whose cut cells fail (on the published 717 wing they did, and each failure stopped more
+//     columns).
 //     Elsewhere the part's other columns grow on to the stop rule. A cusp (no direction sees
 //     every face around a node) grows along the most normal direction (normals_3d.h) and, where
 //     its cells cannot be valid, stops there too: no run ends on a cusp.
