@@ -1074,7 +1074,7 @@ class PartLayerBuilder {
     // neighbours in turn, round after round: 92.0 % coverage instead of 97.0 %.) Sec. II.B grows
     // every column by the metric's height and does not meet stops; halving is the shrink
     // step's own factor (layer_core.h, step 3).
-    if (any_stop_ && !fanned_) {
+    if (any_stop_ && !fanned_ && !held_.empty()) {
       std::vector<std::uint8_t> before(n, 0), beside(n, 0);
       for (std::size_t k = 0; k < held_.size() && k < part_.vertices.size(); ++k)
         if (held_[k]) before[static_cast<std::size_t>(part_.vertices[k])] = 1;
