@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <queue>
 #include <set>
 #include <unordered_map>
 
@@ -100,6 +101,8 @@ struct Part {
   // Per node: the direction its column grew along when it descends from a fan direction (zero
   // for the others; step 6), kept while it sees every face around the node.
   std::vector<Vec> keep;
+  // Per node: the thickness of its column's layers so far (empty before the first layer).
+  std::vector<double> stack;
   std::size_t size() const { return ids.size(); }
   std::size_t nt() const { return tri_tag.size(); }
   std::size_t num_faces() const { return nt(); }
@@ -327,6 +330,7 @@ struct PartLayer {
   std::vector<int> face_origin;               // per face of the new front: the same
   std::vector<NodeId> top;                    // per node of the new front
   std::vector<Vec> keep;                      // per node of the new front: Part::keep
+  std::vector<double> stack;                  // per node of the new front: Part::stack
   std::shared_ptr<Part> next;                 // the new front's faces when fans changed them (else the old ones)
   std::vector<NodeId> sym_quads, sym_tris;    // symmetry facets, Gmsh order, facing the cells
   std::vector<int> sym_quad_tag, sym_tri_tag;
@@ -1032,6 +1036,83 @@ class PartLayerBuilder {
     return need;
   }
 
+  // The front around an earlier stop keeps a bounded slope: a vertex's stack may rise at most
+  // kStopSlope times its distance along the front (over the faces' edges) above the stack of a
+  // column stopped before this layer, and where it already stands that high it grows kStopCreep
+  // of its height. The half height beside a stop (above) slopes the first ring only; the stop
+  // itself is for good, so the rings beyond rose a full layer every time until the front stood as
+  // a wall around the stop again, whose cells failed in the last layers, where a layer is as tall
+  // as the faces are wide (the published spot, h0 1e-5 L, Q2: tetrahedra of layer 37 grown
+  // sideways from a front face turned on its side). Sec. II.B does not meet stops; the bound is
+  // the one a marching front's height smoothing keeps (Aubry and Loehner cap the heights' jump
+  // between neighbours).
+  // Neighbouring columns' heights differ by at most kHeightJump: a vertex grows at most that
+  // many times the height of any growing vertex it shares a face with. The shrinks halve the
+  // heights on rings around failures, the rules around stops cut them again, and the metric's own
+  // heights are smooth, so only those make jumps; unlimited, a ring shrunk to the floor (1/16)
+  // stood beside full columns, and the cells across its edge, a hundred times taller on one
+  // side, failed and stopped the ring's columns (the published spot, h0 1e-5 L, Q2: in layer 37
+  // every tetrahedron that failed at the floor had columns of 2.9e-4 and 2.5e-2 or such). The
+  // jump is the shrink's own factor. Aubry and Loehner smooth a marching front's heights alike.
+  void limit_height_jumps() {
+    constexpr double kHeightJump = 2;
+    const std::size_t n = part_.size();
+    using Item = std::pair<double, std::size_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    for (std::size_t l = 0; l < n; ++l)
+      if (part_.is_vertex[l] && !stop_[l] && std::isfinite(h_[l])) queue.emplace(h_[l], l);
+    while (!queue.empty()) {
+      const auto [h, l] = queue.top();
+      queue.pop();
+      if (h > h_[l]) continue;
+      for (int k = part_.node_face_start[l]; k < part_.node_face_start[l + 1]; ++k) {
+        const int* fl = part_.face(static_cast<std::size_t>(part_.node_face[static_cast<std::size_t>(k)]));
+        for (int v = 0; v < 3; ++v) {
+          const std::size_t m = static_cast<std::size_t>(fl[v]);
+          if (stop_[m] || !(h_[m] > kHeightJump * h)) continue;
+          h_[m] = kHeightJump * h;
+          queue.emplace(h_[m], m);
+        }
+      }
+    }
+  }
+
+  void slope_from_stops(const std::vector<std::uint8_t>& before) {
+    const std::size_t n = part_.size();
+    if (part_.stack.size() != n) return;
+    constexpr double kStopSlope = 0.5, kStopCreep = 0.25;
+    std::vector<double> cap(n, std::numeric_limits<double>::infinity());
+    using Item = std::pair<double, std::size_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    for (std::size_t l = 0; l < n; ++l)
+      if (before[l]) {
+        cap[l] = part_.stack[l];
+        queue.emplace(cap[l], l);
+      }
+    while (!queue.empty()) {
+      const auto [c, l] = queue.top();
+      queue.pop();
+      if (c > cap[l]) continue;
+      for (int k = part_.node_face_start[l]; k < part_.node_face_start[l + 1]; ++k) {
+        const int* fl = part_.face(static_cast<std::size_t>(part_.node_face[static_cast<std::size_t>(k)]));
+        for (int v = 0; v < 3; ++v) {
+          const std::size_t m = static_cast<std::size_t>(fl[v]);
+          const double via = c + kStopSlope * (x_[m] - x_[l]).norm();
+          if (via < cap[m]) {
+            cap[m] = via;
+            queue.emplace(via, m);
+          }
+        }
+      }
+    }
+    for (std::size_t l = 0; l < n; ++l) {
+      if (!part_.is_vertex[l] || stop_[l] || !std::isfinite(cap[l])) continue;
+      const double rise = h_[l] * nn_[l].stretch;
+      const double room = cap[l] - part_.stack[l];
+      if (rise > room) h_[l] *= std::max(room / rise, kStopCreep);
+    }
+  }
+
   void tops() {
     const std::size_t n = part_.size();
     const Part& nw = next();
@@ -1088,7 +1169,9 @@ class PartLayerBuilder {
       constexpr double kBesideStop = 0.5;
       for (std::size_t l = 0; l < n; ++l)
         if (part_.is_vertex[l] && beside[l] && !stop_[l]) h_[l] *= kBesideStop;
+      slope_from_stops(before);
     }
+    if (!fanned_) limit_height_jumps();
     const bool own = p_.high_order_heights == HighOrderHeights::Own;
     for (std::size_t l = 0; l < n; ++l)
       if (!part_.is_vertex[l] && own && !(fanned_ && fan_node_[l])) {
@@ -1231,6 +1314,12 @@ class PartLayerBuilder {
         out_.keep[d] = dirs_[d].d;
     out_.top.resize(nd);
     for (std::size_t d = 0; d < nd; ++d) out_.top[d] = at(static_cast<int>(d), q_);
+    out_.stack.resize(nd);
+    for (std::size_t d = 0; d < nd; ++d) {
+      const std::size_t b = static_cast<std::size_t>(dirs_[d].base);
+      out_.stack[d] = (part_.stack.size() == part_.size() ? part_.stack[b] : 0.0) +
+                      (mesh_.nodes[static_cast<std::size_t>(out_.top[d])] - x_[b]).norm();
+    }
     const Part& nw = next();
     const LagrangeElement& te = lagrange_element(CellType::Triangle, q_);
     const LagrangeElement& qe = lagrange_element(CellType::Quadrilateral, q_);
@@ -1840,6 +1929,7 @@ class SurfaceFronts final : public FrontGrower<3> {
     if (pending_.next) parts_[part] = std::move(*pending_.next);
     parts_[part].ids = std::move(pending_.top);
     parts_[part].keep = std::move(pending_.keep);
+    parts_[part].stack = std::move(pending_.stack);
     sym_quads_.insert(sym_quads_.end(), pending_.sym_quads.begin(), pending_.sym_quads.end());
     sym_quad_tag_.insert(sym_quad_tag_.end(), pending_.sym_quad_tag.begin(), pending_.sym_quad_tag.end());
     sym_tris_.insert(sym_tris_.end(), pending_.sym_tris.begin(), pending_.sym_tris.end());

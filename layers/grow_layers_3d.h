@@ -85,7 +85,11 @@
 //     earlier layer (any stop: a failure's, the proximity rule's, isotropic_stop's) grow half
 //     their height, so the front slopes into the stop rather than rising beside it as a wall
 //     whose cut cells fail (on the published 717 wing they did, and each failure stopped more
-//     columns).
+//     columns); beyond that ring a vertex's stack rises at most half its distance along the front
+//     above an earlier stop's (it grows a quarter height where it stands that high), so the slope
+//     holds when the layers grow as tall as the faces are wide. In every layer without fans a
+//     column grows at most twice the height of a growing neighbour (the shrinks' rings and the
+//     rules above are the only jumps): no cell spans a ring shrunk to the floor and a full one.
 //     Elsewhere the part's other columns grow on to the stop rule. A cusp (no direction sees
 //     every face around a node) grows along the most normal direction (normals_3d.h) and, where
 //     its cells cannot be valid, stops there too: no run ends on a cusp.

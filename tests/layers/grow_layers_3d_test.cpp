@@ -752,6 +752,44 @@ TEST_CASE("layers 3D: beside a stopped column a layer grows half the height, slo
   }
 }
 
+TEST_CASE("layers 3D: around stopped columns the front slopes gently: neighbours' heights within 2x, the stack within half the distance of a stop's") {
+  // Two spheres 0.05 apart, layers of 0.03 (as tall as a fifth of the faces are wide), no
+  // proximity rule: the facing columns fail and stop in the first layers and the rest grow on.
+  // Beside the stops the heights are cut (the half height, the slope from the stops, the
+  // shrinks), and no column grows more than twice a neighbour's height (grow_layers_3d.cpp,
+  // limit_height_jumps), so the outer front rises from the stop as a slope, not a wall: its
+  // steepest edge (the stacks' difference over the edge's length) stays near the bound of
+  // slope_from_stops (0.5; a quarter height may creep above it): measured 0.548 and 94.3 %
+  // coverage, where without the two rules it was 0.627 and 92.3 %.
+  for (int q : {1, 2}) {
+    CAPTURE(q);
+    LayerParams p;
+    p.max_layers = 10;
+    p.proximity = 0;
+    const LayerResult<3> r = grow_layers(two_spheres(3, q, 0.05), UniformMetricField<3>(Metric<3>::isotropic(0.03)), p);
+    REQUIRE_FALSE(r.coverage.stopped_early.empty());
+    CHECK(r.layers.size() == 10);
+    CHECK(r.coverage.complete > 0.93);
+    const std::size_t np = static_cast<std::size_t>(num_nodes(CellType::Triangle, q));
+    auto stack = [&](const Vector3d& x) {
+      return std::min((x - Vector3d::Zero()).norm(), (x - Vector3d(2.05, 0, 0)).norm()) - 1;
+    };
+    double steepest = 0, tallest = 0;
+    for (std::size_t t = 0; t < r.outer.triangles.size() / np; ++t)
+      for (int e = 0; e < 3; ++e) {
+        const Vector3d& a = r.mesh.nodes[static_cast<std::size_t>(r.outer.triangles[t * np + static_cast<std::size_t>(e)])];
+        const Vector3d& b = r.mesh.nodes[static_cast<std::size_t>(r.outer.triangles[t * np + static_cast<std::size_t>((e + 1) % 3)])];
+        steepest = std::max(steepest, std::abs(stack(a) - stack(b)) / (a - b).norm());
+        tallest = std::max(tallest, stack(a));
+      }
+    MESSAGE("steepest outer front edge: " << steepest << "; tallest stack " << tallest << "; coverage " << r.coverage.complete);
+    CHECK(tallest > 0.25);  // the columns away from the gap grew all 10 layers
+    CHECK(steepest < 0.58);
+    CHECK(invalid_cells(r, q) == 0);
+    check_conforming_and_apart(r, q);
+  }
+}
+
 TEST_CASE("layers 3D: where no closing layer is valid over a whole part, it closes around the stopped columns") {
   // Two spheres 0.05 apart at order 1, 10 layers of 0.01 without the proximity rule: the facing
   // columns stop on failures (step 3) and no closing layer is valid over either sphere as a
