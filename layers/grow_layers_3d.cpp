@@ -1046,6 +1046,22 @@ class PartLayerBuilder {
   // sideways from a front face turned on its side). Sec. II.B does not meet stops; the bound is
   // the one a marching front's height smoothing keeps (Aubry and Loehner cap the heights' jump
   // between neighbours).
+  void slope_from_stops(const std::vector<std::uint8_t>& before) {
+    const std::size_t n = part_.size();
+    if (part_.stack.size() != n) return;
+    constexpr double kStopSlope = 0.5, kStopCreep = 0.25;
+    std::vector<double> cap(n, std::numeric_limits<double>::infinity());
+    for (std::size_t l = 0; l < n; ++l)
+      if (before[l]) cap[l] = part_.stack[l];
+    spread_min(cap, before, [&](double c, std::size_t l, std::size_t m) { return c + kStopSlope * (x_[m] - x_[l]).norm(); });
+    for (std::size_t l = 0; l < n; ++l) {
+      if (!part_.is_vertex[l] || stop_[l] || !std::isfinite(cap[l])) continue;
+      const double rise = h_[l] * nn_[l].stretch;
+      const double room = cap[l] - part_.stack[l];
+      if (rise > room) h_[l] *= std::max(room / rise, kStopCreep);
+    }
+  }
+
   // Neighbouring columns' heights differ by at most kHeightJump: a vertex grows at most that
   // many times the height of any growing vertex it shares a face with. The shrinks halve the
   // heights on rings around failures, the rules around stops cut them again, and the metric's own
@@ -1056,60 +1072,37 @@ class PartLayerBuilder {
   // jump is the shrink's own factor. Aubry and Loehner smooth a marching front's heights alike.
   void limit_height_jumps() {
     constexpr double kHeightJump = 2;
-    const std::size_t n = part_.size();
-    using Item = std::pair<double, std::size_t>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-    for (std::size_t l = 0; l < n; ++l)
-      if (part_.is_vertex[l] && !stop_[l] && std::isfinite(h_[l])) queue.emplace(h_[l], l);
-    while (!queue.empty()) {
-      const auto [h, l] = queue.top();
-      queue.pop();
-      if (h > h_[l]) continue;
-      for (int k = part_.node_face_start[l]; k < part_.node_face_start[l + 1]; ++k) {
-        const int* fl = part_.face(static_cast<std::size_t>(part_.node_face[static_cast<std::size_t>(k)]));
-        for (int v = 0; v < 3; ++v) {
-          const std::size_t m = static_cast<std::size_t>(fl[v]);
-          if (stop_[m] || !(h_[m] > kHeightJump * h)) continue;
-          h_[m] = kHeightJump * h;
-          queue.emplace(h_[m], m);
-        }
-      }
-    }
+    std::vector<std::uint8_t> growing(part_.size(), 0);
+    for (std::size_t l = 0; l < part_.size(); ++l) growing[l] = part_.is_vertex[l] && !stop_[l] && std::isfinite(h_[l]);
+    spread_min(h_, growing, [&](double h, std::size_t, std::size_t m) {
+      return stop_[m] ? std::numeric_limits<double>::infinity() : kHeightJump * h;
+    });
   }
 
-  void slope_from_stops(const std::vector<std::uint8_t>& before) {
-    const std::size_t n = part_.size();
-    if (part_.stack.size() != n) return;
-    constexpr double kStopSlope = 0.5, kStopCreep = 0.25;
-    std::vector<double> cap(n, std::numeric_limits<double>::infinity());
+  // Spreads the smallest values over the front's vertices from the seeds, smallest first
+  // (Dijkstra's order): vertex m beside l (on a face with it) takes relax(value[l], l, m) where
+  // that is smaller than its own, relax being nondecreasing in the value.
+  template <class Relax>
+  void spread_min(std::vector<double>& value, const std::vector<std::uint8_t>& seed, const Relax& relax) const {
     using Item = std::pair<double, std::size_t>;
     std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-    for (std::size_t l = 0; l < n; ++l)
-      if (before[l]) {
-        cap[l] = part_.stack[l];
-        queue.emplace(cap[l], l);
-      }
+    for (std::size_t l = 0; l < seed.size(); ++l)
+      if (seed[l]) queue.emplace(value[l], l);
     while (!queue.empty()) {
-      const auto [c, l] = queue.top();
+      const auto [x, l] = queue.top();
       queue.pop();
-      if (c > cap[l]) continue;
+      if (x > value[l]) continue;
       for (int k = part_.node_face_start[l]; k < part_.node_face_start[l + 1]; ++k) {
         const int* fl = part_.face(static_cast<std::size_t>(part_.node_face[static_cast<std::size_t>(k)]));
         for (int v = 0; v < 3; ++v) {
           const std::size_t m = static_cast<std::size_t>(fl[v]);
-          const double via = c + kStopSlope * (x_[m] - x_[l]).norm();
-          if (via < cap[m]) {
-            cap[m] = via;
+          const double via = relax(x, l, m);
+          if (via < value[m]) {
+            value[m] = via;
             queue.emplace(via, m);
           }
         }
       }
-    }
-    for (std::size_t l = 0; l < n; ++l) {
-      if (!part_.is_vertex[l] || stop_[l] || !std::isfinite(cap[l])) continue;
-      const double rise = h_[l] * nn_[l].stretch;
-      const double room = cap[l] - part_.stack[l];
-      if (rise > room) h_[l] *= std::max(room / rise, kStopCreep);
     }
   }
 
