@@ -62,6 +62,8 @@ double dihedral_departure(const TriMesh& m, EdgeHandle e) {
   return angle_between((b - a).cross(c - a), (a - b).cross(d - b));
 }
 
+}  // namespace
+
 // Per face: inverted, a fold of the triangulation rather than of the body. Its normal is more than
 // 90 degrees from those of the faces across two or three of its edges, and those agree with each
 // other (within 90 degrees): it lies back to back with the sheet on both sides. A body cannot do
@@ -70,7 +72,8 @@ double dihedral_departure(const TriMesh& m, EdgeHandle e) {
 // far ends double back, one needle 0.003 wide inverted between its neighbours; its two long
 // edges were taken for a convex and a concave ridge 3 degrees apart, two feature curves the
 // remesher sampled each at the size and whose chords then crossed (50 crossing pairs at a size
-// of 0.25). Its edges are no ridges (classify_edges): its normal says nothing of the body's.
+// of 0.25). Its edges are no ridges (classify_edges), and it counts for nothing in the discrete
+// reference's vertex normals (discrete_reference.cpp): its normal says nothing of the body's.
 std::vector<char> inverted_faces(const TriMesh& m) {
   std::vector<char> out(m.n_faces(), 0);
   auto normal = [&](FaceHandle f) {
@@ -96,6 +99,8 @@ std::vector<char> inverted_faces(const TriMesh& m) {
   }
   return out;
 }
+
+namespace {
 
 // Convex or concave, exactly, for interior edge e.
 EdgeFeature ridge_kind(const TriMesh& m, EdgeHandle e) {

@@ -67,6 +67,12 @@ FeatureReport detect_features(TriSurface& s, const FeatureOptions& options);
 // Counts from the properties as they are (after remeshing, for the report).
 FeatureReport count_features(const TriSurface& s);
 
+// Per face (by index): inverted, a fold of the triangulation rather than of the body (features.cpp):
+// its normal more than 90 degrees from those of the faces across two or three of its edges, which
+// agree with each other. Its edges are no ridges, and the discrete reference leaves it out of its
+// vertices' normals.
+std::vector<char> inverted_faces(const TriMesh& m);
+
 // Each feature curve's vertices in order along the curve (closed curves repeat the first vertex
 // at the end), indexed by curve id.
 std::vector<std::vector<TriMesh::VertexHandle>> feature_curves(const TriSurface& s);

@@ -24,7 +24,8 @@
 //       symmetry_planes:    open boundaries allowed on these planes, tagged symmetry:
 //         - normal: [nx, ny, nz]   (required)   offset: <d>   (the plane normal . x = d, default 0)
 //       self_intersections: repair|check|skip  repair: folded sliver caps behind intersecting
-//                         pairs get their long edge flipped (a repair line), then check;
+//                         pairs, or back to back with the surface all around, get their long
+//                         edge flipped (repair lines), then check;
 //                         check: any pair is an error; skip: not tested    default: repair
 //       inner_components: drop|error  bodies nested inside another (the flow never meets them):
 //                         dropped with a repair line, or an error     default: drop

@@ -166,8 +166,10 @@ IntersectionCount self_intersections(const std::vector<Vector3d>& pts, const std
 // surface by at most the tip's distance from that edge. Only caps among the intersecting
 // triangles and their neighbours are flipped (a mesh has caps on sharp creases that are not
 // folds), and none touching an open edge or making an edge that exists. Returns the flips.
+// (extra: more candidates, without their neighbours.)
 std::size_t flip_folded_caps(validate_detail::Work& w, const std::vector<char>& alive,
-                             const std::vector<std::pair<int, int>>& pairs, double& moved) {
+                             const std::vector<std::pair<int, int>>& pairs, double& moved,
+                             const std::vector<int>& extra = {}) {
   const std::vector<Vector3d>& pts = w.points();
   std::map<std::pair<int, int>, int> edge_tri;  // directed edge -> its triangle
   for (std::size_t t = 0; t < w.tris.size(); ++t) {
@@ -182,7 +184,7 @@ std::size_t flip_folded_caps(validate_detail::Work& w, const std::vector<char>& 
     const Tri& x = w.tris[idx(t)];
     return Vector3d((pts[idx(x[1])] - pts[idx(x[0])]).cross(pts[idx(x[2])] - pts[idx(x[0])]).normalized());
   };
-  std::set<int> candidates;
+  std::set<int> candidates(extra.begin(), extra.end());
   for (const auto& [a, b] : pairs)
     for (int t : {a, b}) {
       candidates.insert(t);
@@ -236,11 +238,67 @@ std::size_t flip_folded_caps(validate_detail::Work& w, const std::vector<char>& 
   return flips;
 }
 
+// The triangles back to back with the surface all around: each turned more than 90 degrees from
+// the triangles across all three of its edges, which agree with each other (features.h's inverted
+// faces, with the surface on every side). No body's surface does that; a tessellation that doubles
+// back over a sliver does, without crossing itself when the sheet around is not flat (the
+// published Orion capsule: caps 0.29 long, largest angle 179.7 degrees, in a 20-degree wedge of
+// the sheet, and a 6-long needle cap in a fan that doubles back). Kept, such a cap is a fold the
+// remesher starts from and cannot always mend (its corners fixed, its flips needles), and its
+// tip's normal is no body's (discrete_reference.cpp).
+std::vector<int> back_to_back(const validate_detail::Work& w, const std::vector<char>& alive) {
+  const std::vector<Vector3d>& pts = w.points();
+  std::map<std::pair<int, int>, int> edge_tri;  // directed edge -> its triangle
+  for (std::size_t t = 0; t < w.tris.size(); ++t) {
+    if (!alive.empty() && !alive[t]) continue;
+    for (int k = 0; k < 3; ++k) edge_tri[{w.tris[t][idx(k)], w.tris[t][idx((k + 1) % 3)]}] = static_cast<int>(t);
+  }
+  auto normal = [&](std::size_t t) {
+    const Tri& x = w.tris[t];
+    return Vector3d((pts[idx(x[1])] - pts[idx(x[0])]).cross(pts[idx(x[2])] - pts[idx(x[0])]));
+  };
+  std::vector<int> out;
+  for (std::size_t t = 0; t < w.tris.size(); ++t) {
+    if (!alive.empty() && !alive[t]) continue;
+    const Vector3d n = normal(t);
+    std::vector<Vector3d> across;
+    for (int k = 0; k < 3; ++k) {
+      const auto it = edge_tri.find({w.tris[t][idx((k + 1) % 3)], w.tris[t][idx(k)]});
+      if (it == edge_tri.end()) break;
+      const Vector3d g = normal(idx(it->second));
+      if (!(n.dot(g) < 0)) break;
+      across.push_back(g);
+    }
+    bool agree = across.size() == 3;
+    for (std::size_t i = 0; agree && i < 3; ++i) agree = across[i].dot(across[(i + 1) % 3]) > 0;
+    if (agree) out.push_back(static_cast<int>(t));
+  }
+  return out;
+}
+
 }  // namespace
 
 void validate_detail::check_self_intersections(Work& w, const TriangleTree& tree, const std::vector<char>& alive,
                                                bool repair, SurfaceCheckReport& rep) {
   IntersectionCount si = self_intersections(w.points(), w.tris, tree, alive, w.input_index);
+  if (repair) {
+    // Folded caps back to back with the surface all around, crossing nothing: flipped too (up to
+    // three rounds, as below), before the crossing pairs are repaired.
+    double moved = 0;
+    std::size_t flips = 0;
+    for (int round = 0; round < 3; ++round) {
+      const std::vector<int> folded = back_to_back(w, alive);
+      const std::size_t now = folded.empty() ? 0 : flip_folded_caps(w, alive, {}, moved, folded);
+      if (now == 0) break;
+      flips += now;
+    }
+    if (flips > 0) {
+      rep.repairs.push_back(plural(flips, "folded sliver triangle") +
+                            " (a cap over its long edge, back to back with the surface around it) flipped (the "
+                            "surface moved by at most " + fmt_number(moved) + ")");
+      si = self_intersections(w.points(), w.tris, TriangleTree(w.points(), w.tris), alive, w.input_index);
+    }
+  }
   rep.self_intersection_pairs_tested = si.tested;
   if (si.count > 0 && repair) {
     // Up to three rounds: a flip can leave another cap folded beside it (one of the Orion's).

@@ -25,8 +25,10 @@
 //     (predicates.h); pairs sharing a vertex or an edge count only if they overlap beyond it.
 //     Folded caps among them (slivers with an angle over 170 degrees whose tip lies across their
 //     long edge, folding them over their neighbours: CAD tessellations make them) get their long
-//     edge flipped (repair_folded_caps, a repair line with how far the surface moved); the pairs
-//     left -> error naming the count and the first pair with a point.
+//     edge flipped (repair_folded_caps, a repair line with how far the surface moved), and so are,
+//     first, folded caps back to back with the surface all around that cross nothing (the sheet
+//     around them not flat; its own repair line); the pairs left -> error naming the count and
+//     the first pair with a point.
 #pragma once
 
 #include <Eigen/Core>

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "modules/base/error.h"
+#include "surface3d/features.h"
 #include "tests/surface3d/test_surfaces.h"
 
 namespace plaf {
@@ -146,6 +147,34 @@ TEST_CASE("reference: a curve of several edges, open or closed, is one polyline"
   CHECK(n.x() < -0.5);
   CHECK(n.norm() == doctest::Approx(1));
   CHECK((n - Vector3d(-1, 0, 0)).norm() > 1e-3);
+}
+
+// A sheet (normal +z) with a folded cap: the cap (q, p, t) over the long edge p - q, its tip t 0.001
+// across that edge, so it lies back to back with the faces across all three of its edges
+// (features.h: inverted); the fan around t folds down into a shallow V notch (u 0.1 below the
+// sheet). At t the cap's corner (174 degrees) and the fan's (186) nearly cancel: counted, the cap
+// turned the angle-weighted normal 93 degrees from the sheet's (the published Orion capsule's
+// caps: 82 degrees, 3 folds the remesher could not mend). Without it the normal near t is the
+// fan's, within 6 degrees of +z.
+TEST_CASE("reference: a cap folded back over the sheet does not turn the normal at its tip") {
+  TriangleSoup soup;
+  soup.points = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.99, 0.001, 0}, {0.5, -1, -0.1}};  // p, q, w, t, u
+  soup.triangles = {{0, 1, 2}, {1, 0, 3}, {3, 0, 4}, {1, 3, 4}};
+  const TriSurface s = surface_from_soup(soup);
+  CHECK(inverted_faces(s.mesh) == std::vector<char>{0, 1, 0, 0});
+  const auto ref = make_discrete_reference(s);
+  const Vector3d t = soup.points[3], u = soup.points[4];
+  // On the fan beside t, below the sheet's plane: only the fan's faces are that close.
+  const Vector3d x = t + 0.01 * (u - t);
+  CHECK((ref->project(x) - x).norm() < 1e-15);
+  CHECK(ref->normal(x).z() > std::cos(6 * M_PI / 180));
+  // A cap that is no fold (its tip on the sheet's side, below the long edge) is not inverted, and
+  // the normal near its tip is the same.
+  soup.points[3] = {0.99, -0.001, 0};
+  const TriSurface plain = surface_from_soup(soup);
+  CHECK(inverted_faces(plain.mesh) == std::vector<char>(4, 0));
+  CHECK(make_discrete_reference(plain)->normal(soup.points[3] + 0.01 * (u - soup.points[3])).z() >
+        std::cos(6 * M_PI / 180));
 }
 
 }  // namespace

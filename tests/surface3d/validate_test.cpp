@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "modules/base/error.h"
+#include "surface3d/features.h"
 
 namespace plaf {
 namespace {
@@ -298,6 +299,30 @@ TEST_CASE("validate: a folded sliver cap is flipped over its long edge, the rest
   for (const std::array<int, 3>& t : std::vector<std::array<int, 3>>{{4, 5, 8}, {5, 7, 8}, {7, 6, 8}, {6, 4, 8}})
     far.triangles.push_back(t);
   CHECK_THROWS_WITH_AS(validate_surface(far, {}), doctest::Contains("self-intersecting triangle pair"), InputError);
+}
+
+// The same cap lifted 0.001 off the top face: it crosses nothing (the pairs sharing its edges are
+// not coplanar), but it is back to back with the three triangles across its edges (the published
+// Orion capsule's eight, in a wedge of the sheet or a fan that doubles back). Left, its tip's
+// normal is no body's and the remesher may keep it as a fold; repaired, it is flipped.
+TEST_CASE("validate: a folded cap back to back with the surface all around is flipped though it crosses nothing") {
+  TriangleSoup fold = without(cube(), {10, 11});
+  fold.points.push_back({0.495, 0.505, 1.001});  // point 8, 0.007 across the diagonal 4-7
+  for (const std::array<int, 3>& t : std::vector<std::array<int, 3>>{{7, 4, 8}, {4, 5, 8}, {5, 7, 8}, {4, 7, 6}})
+    fold.triangles.push_back(t);
+  SurfaceCheckOptions check;
+  check.repair_folded_caps = false;
+  SurfaceCheckReport rep;
+  const TriSurface kept = validate_surface(fold, check, &rep);
+  CHECK(rep.repairs.empty());
+  CHECK(kept.mesh.n_faces() == fold.triangles.size());
+  const TriSurface s = validate_surface(fold, {}, &rep);
+  REQUIRE(rep.repairs.size() == 1);
+  MESSAGE(rep.repairs[0]);
+  CHECK(rep.repairs[0].find("1 folded sliver triangle (a cap over its long edge, back to back") == 0);
+  CHECK(s.euler_characteristic() == 2);
+  // No face is turned against all its neighbours any more.
+  for (const char inverted : inverted_faces(s.mesh)) CHECK(inverted == 0);
 }
 
 TEST_CASE("validate: interpenetrating bodies and a folded surface are self-intersections") {
