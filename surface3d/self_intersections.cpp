@@ -280,25 +280,27 @@ std::vector<int> back_to_back(const validate_detail::Work& w, const std::vector<
 
 void validate_detail::check_self_intersections(Work& w, const TriangleTree& tree, const std::vector<char>& alive,
                                                bool repair, SurfaceCheckReport& rep) {
-  IntersectionCount si = self_intersections(w.points(), w.tris, tree, alive, w.input_index);
+  std::size_t cap_flips = 0;
   if (repair) {
     // Folded caps back to back with the surface all around, crossing nothing: flipped too (up to
     // three rounds, as below), before the crossing pairs are repaired.
     double moved = 0;
-    std::size_t flips = 0;
     for (int round = 0; round < 3; ++round) {
       const std::vector<int> folded = back_to_back(w, alive);
       const std::size_t now = folded.empty() ? 0 : flip_folded_caps(w, alive, {}, moved, folded);
       if (now == 0) break;
-      flips += now;
+      cap_flips += now;
     }
-    if (flips > 0) {
-      rep.repairs.push_back(plural(flips, "folded sliver triangle") +
+    if (cap_flips > 0) {
+      rep.repairs.push_back(plural(cap_flips, "folded sliver triangle") +
                             " (a cap over its long edge, back to back with the surface around it) flipped (the "
                             "surface moved by at most " + fmt_number(moved) + ")");
-      si = self_intersections(w.points(), w.tris, TriangleTree(w.points(), w.tris), alive, w.input_index);
     }
   }
+  // One crossing test, on the triangles after those flips (the given tree is of the ones before).
+  IntersectionCount si =
+      cap_flips > 0 ? self_intersections(w.points(), w.tris, TriangleTree(w.points(), w.tris), alive, w.input_index)
+                    : self_intersections(w.points(), w.tris, tree, alive, w.input_index);
   rep.self_intersection_pairs_tested = si.tested;
   if (si.count > 0 && repair) {
     // Up to three rounds: a flip can leave another cap folded beside it (one of the Orion's).

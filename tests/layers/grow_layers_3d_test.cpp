@@ -684,11 +684,12 @@ TEST_CASE("normals 3D: at a cusp no direction sees every face, the most normal o
 }
 
 // Ten layers of 0.01 on two unit spheres 0.05 apart (order q), with the proximity rule's share.
-LayerResult<3> ten_layers_on_two_spheres(int q, double proximity) {
+// Ten layers of height h on two spheres 0.05 apart.
+LayerResult<3> ten_layers_on_two_spheres(int q, double proximity, double h = 0.01) {
   LayerParams p;
   p.max_layers = 10;
   p.proximity = proximity;
-  return grow_layers(two_spheres(3, q, 0.05), UniformMetricField<3>(Metric<3>::isotropic(0.01)), p);
+  return grow_layers(two_spheres(3, q, 0.05), UniformMetricField<3>(Metric<3>::isotropic(h)), p);
 }
 
 TEST_CASE("layers 3D: where two spheres' gap is used up their columns stop, the rest of both grows every layer") {
@@ -763,10 +764,7 @@ TEST_CASE("layers 3D: around stopped columns the front slopes gently: neighbours
   // coverage, where without the two rules it was 0.627 and 92.3 %.
   for (int q : {1, 2}) {
     CAPTURE(q);
-    LayerParams p;
-    p.max_layers = 10;
-    p.proximity = 0;
-    const LayerResult<3> r = grow_layers(two_spheres(3, q, 0.05), UniformMetricField<3>(Metric<3>::isotropic(0.03)), p);
+    const LayerResult<3> r = ten_layers_on_two_spheres(q, 0, 0.03);
     REQUIRE_FALSE(r.coverage.stopped_early.empty());
     CHECK(r.layers.size() == 10);
     CHECK(r.coverage.complete > 0.93);
