@@ -28,6 +28,7 @@
 #include "modules/pipeline/writers.h"
 #include "modules/mesh/hybrid2d.h"
 #include "modules/mesh/hybrid3d.h"
+#include "modules/mesh/untangle3d.h"
 #include "modules/mesh/quality.h"
 #include "modules/pipeline/layer_table.h"
 #include "modules/pipeline/run_config.h"
@@ -77,7 +78,28 @@ void assemble(RunState<3>& s, StageReport& rep) {
   if (s.layers) {
     // The layer mesh moves into the run's mesh (the layer table needs only its stats after).
     if (s.fill) {
+      // The fill's tetrahedra are appended to the layers' block of order-Q tetrahedra (if any),
+      // and the assembly's high-order nodes come after the fill's vertices.
+      const int q = s.layers->outer.order;
+      std::size_t first_cell = 0;
+      for (const CellBlock& b : s.layers->mesh.cells)
+        if (b.type == CellType::Tetrahedron && b.order == q) first_cell = b.size();
       s.mesh = assemble_hybrid_3d(std::move(s.layers->mesh), s.layers->outer, *s.fill);
+      std::size_t block = s.mesh.cells.size();
+      for (std::size_t k = 0; k < s.mesh.cells.size(); ++k)
+        if (s.mesh.cells[k].type == CellType::Tetrahedron && s.mesh.cells[k].order == q) block = k;
+      // Where the front stayed curved, the fill's tetrahedra it inverts are untangled by their
+      // own high-order nodes (untangle3d.h); the quality stage certifies the result.
+      const FillUntangling u = untangle_fill_3d(s.mesh, block, first_cell);
+      rep.add("fill_curved_tets", u.curved);
+      rep.add("fill_untangled", u.invalid_before - u.invalid_after);
+      rep.add("fill_still_invalid", u.invalid_after);
+      if (u.invalid_before > 0)
+        rep.line("assembly: " + std::to_string(u.invalid_before) + " of the fill's " + std::to_string(u.curved) +
+                 " tetrahedra on the curved front were inverted by it; " +
+                 std::to_string(u.invalid_before - u.invalid_after) + " untangled by moving " +
+                 std::to_string(u.nodes_moved) + " of their high-order nodes, " + std::to_string(u.invalid_after) +
+                 " left");
       return;
     }
     std::size_t bare = 0;

@@ -1,0 +1,258 @@
+// SPDX-License-Identifier: MIT
+// Untangling the fill's tetrahedra at a curved outer front (untangle3d.h).
+#include "modules/mesh/untangle3d.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+#include "modules/elements/lagrange.h"
+#include "modules/elements/validity.h"
+
+namespace plaf {
+inline namespace mesh {
+
+namespace {
+
+// The tetrahedra around a node, judged together: fewer invalid first, then the larger smallest
+// certified min det J / linear det J.
+struct BallQuality {
+  std::size_t invalid = 0;
+  double worst = std::numeric_limits<double>::infinity();
+  bool better_than(const BallQuality& o) const {
+    if (invalid != o.invalid) return invalid < o.invalid;
+    return worst > o.worst + 1e-9 * std::max(1.0, std::abs(o.worst));
+  }
+};
+
+constexpr int kSweeps = 30;
+constexpr std::size_t kMaxDirections = 8;  // the largest neighbour displacements tried per node
+constexpr int kHalvings = 6;               // the compass search's step halvings per node and sweep
+
+}  // namespace
+
+FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::size_t first_cell) {
+  FillUntangling s;
+  if (block >= mesh.cells.size()) return s;
+  const CellBlock& b = mesh.cells[block];
+  const int q = b.order;
+  if (b.type != CellType::Tetrahedron || q < 2 || first_cell >= b.size()) return s;
+  const int np = b.nodes_per_cell();
+  const LagrangeElement& el = lagrange_element(CellType::Tetrahedron, q);
+  std::vector<std::array<double, 4>> weight(static_cast<std::size_t>(np));
+  for (int k = 0; k < np; ++k) {
+    const Lattice& l = el.lattice()[static_cast<std::size_t>(k)];
+    weight[static_cast<std::size_t>(k)] = {static_cast<double>(q - l[0] - l[1] - l[2]) / q, static_cast<double>(l[0]) / q,
+                                           static_cast<double>(l[1]) / q, static_cast<double>(l[2]) / q};
+  }
+  std::vector<Eigen::Vector3d>& x = mesh.nodes;
+  auto at = [&](NodeId id) -> Eigen::Vector3d& { return x[static_cast<std::size_t>(id)]; };
+  const std::size_t nc = b.size() - first_cell;
+  auto cell = [&](std::size_t c) { return b.cell(first_cell + c); };  // a fill cell
+  auto linear = [&](std::size_t c, int k) {
+    const NodeId* n = cell(c);
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    for (int i = 0; i < 4; ++i) p += weight[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)] * at(n[i]);
+    return p;
+  };
+  auto size_of = [&](std::size_t c) {
+    const NodeId* n = cell(c);
+    double h = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) h = std::max(h, (at(n[i]) - at(n[j])).norm());
+    return h;
+  };
+
+  // Movable: a high-order node (a vertex of no cell) on no boundary facet or curve (the wall's
+  // nodes stay on the body, the planes' and the farfield's on their facets). The layers' own
+  // high-order nodes are movable too: every cell around a moved node is judged.
+  std::vector<std::uint8_t> fixed(x.size(), 0);
+  for (const CellBlock& cb : mesh.cells) {
+    const int corners = cb.type == CellType::Prism ? 6 : 4;
+    for (std::size_t i = 0; i < cb.size(); ++i)
+      for (int k = 0; k < corners; ++k) fixed[static_cast<std::size_t>(cb.cell(i)[k])] = 1;
+  }
+  for (const auto* group : {&mesh.boundary, &mesh.curves})
+    for (const CellBlock& f : *group)
+      for (NodeId id : f.connectivity) fixed[static_cast<std::size_t>(id)] = 1;
+
+  JacobianCertifier certifier;
+  std::vector<double> coords;
+  std::map<std::pair<std::size_t, std::size_t>, double> scale;
+  // (valid, certified min det J over the cell's scale) of cell i of block k.
+  auto judge = [&](std::size_t k, std::size_t i) {
+    const CellBlock& cb = mesh.cells[k];
+    const int n = cb.nodes_per_cell();
+    coords.resize(static_cast<std::size_t>(3 * n));
+    const NodeId* ids = cb.cell(i);
+    for (int j = 0; j < n; ++j)
+      for (int d = 0; d < 3; ++d) coords[static_cast<std::size_t>(3 * j + d)] = at(ids[j])[d];
+    ++s.certified;
+    const JacobianBounds jb = certifier.certify(cb.type, cb.order, coords.data());
+    // Over a scale fixed per cell (its largest det J when first seen), so that a move is judged by
+    // the smallest det J alone (over the current largest, bulging a cell would pass for progress).
+    const auto [it, first] = scale.emplace(std::make_pair(k, i), jb.max_upper);
+    const double r = it->second > 0 ? jb.min_lower / it->second : -std::numeric_limits<double>::infinity();
+    return std::make_pair(jb.valid, r);
+  };
+
+  // 1. The curved fill cells and, of those, the invalid ones.
+  std::vector<std::size_t> invalid;
+  for (std::size_t c = 0; c < nc; ++c) {
+    const NodeId* n = cell(c);
+    const double tol = 1e-12 * size_of(c);
+    bool curved = false;
+    for (int k = 4; k < np && !curved; ++k) curved = (at(n[k]) - linear(c, k)).norm() > tol;
+    if (!curved) continue;
+    ++s.curved;
+    if (!judge(block, first_cell + c).first) invalid.push_back(c);
+  }
+  s.invalid_before = s.invalid_after = invalid.size();
+  if (invalid.empty()) return s;
+
+  // 2. The region: the invalid cells and the fill cells sharing a vertex with one; its movable
+  // nodes, and every cell of the mesh around each of them (the ball a move is judged on).
+  std::unordered_set<NodeId> bad_vertices;
+  for (std::size_t c : invalid)
+    for (int i = 0; i < 4; ++i) bad_vertices.insert(cell(c)[i]);
+  std::vector<NodeId> work;
+  struct Around {
+    std::vector<std::pair<std::size_t, std::size_t>> cells;  // (block, cell)
+    std::size_t fill_cell = 0;                                // a fill tetrahedron holding it
+    int local = -1;                                           // ... at this local index
+  };
+  std::unordered_map<NodeId, Around> ball;
+  for (std::size_t c = 0; c < nc; ++c) {
+    const NodeId* n = cell(c);
+    if (!(bad_vertices.count(n[0]) || bad_vertices.count(n[1]) || bad_vertices.count(n[2]) || bad_vertices.count(n[3])))
+      continue;
+    for (int k = 4; k < np; ++k) {
+      if (fixed[static_cast<std::size_t>(n[k])]) continue;
+      const auto [it, added] = ball.emplace(n[k], Around{});
+      if (!added) continue;
+      it->second.fill_cell = c;
+      it->second.local = k;
+      work.push_back(n[k]);
+    }
+  }
+  for (std::size_t k = 0; k < mesh.cells.size(); ++k) {
+    const CellBlock& cb = mesh.cells[k];
+    const int n = cb.nodes_per_cell();
+    for (std::size_t i = 0; i < cb.size(); ++i)
+      for (int j = 0; j < n; ++j) {
+        const auto it = ball.find(cb.cell(i)[j]);
+        if (it != ball.end()) it->second.cells.emplace_back(k, i);
+      }
+  }
+  // Every cell a move can change.
+  std::vector<std::pair<std::size_t, std::size_t>> touched;
+  for (std::size_t c : invalid) touched.emplace_back(block, first_cell + c);
+  for (const auto& [id, a] : ball) touched.insert(touched.end(), a.cells.begin(), a.cells.end());
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+
+  auto ball_quality = [&](const Around& a) {
+    BallQuality bq;
+    for (const auto& [k, i] : a.cells) {
+      const auto [ok, r] = judge(k, i);
+      if (!ok) ++bq.invalid;
+      bq.worst = std::min(bq.worst, r);
+    }
+    return bq;
+  };
+
+  // 3. Node by node: the move that most improves its ball.
+  std::unordered_set<NodeId> moved;
+  for (int sweep = 0; sweep < kSweeps; ++sweep) {
+    bool any = false;
+    for (NodeId m : work) {
+      const Around& a = ball[m];
+      BallQuality best = ball_quality(a);
+      if (best.invalid == 0) continue;  // a move here could only make its own cells worse
+      Eigen::Vector3d& xm = at(m);
+      const Eigen::Vector3d start = xm;
+      const Eigen::Vector3d lin = linear(a.fill_cell, a.local);
+      // The displacements of the curved nodes of the fill cells around (one per node), the
+      // largest first, and their mean.
+      std::vector<std::pair<double, Eigen::Vector3d>> dirs;
+      std::unordered_set<NodeId> seen{m};
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (const auto& [k, i] : a.cells) {
+        if (k != block || i < first_cell) continue;
+        const std::size_t c = i - first_cell;
+        const double tol = 1e-12 * size_of(c);
+        for (int j = 4; j < np; ++j) {
+          const NodeId id = cell(c)[j];
+          if (!seen.insert(id).second) continue;
+          const Eigen::Vector3d d = at(id) - linear(c, j);
+          if (d.norm() <= tol) continue;
+          dirs.emplace_back(d.norm(), d);
+          mean += d;
+        }
+      }
+      if (!dirs.empty()) {
+        mean /= static_cast<double>(dirs.size());
+        std::sort(dirs.begin(), dirs.end(), [](const auto& l, const auto& r) { return l.first > r.first; });
+        if (dirs.size() > kMaxDirections) dirs.resize(kMaxDirections);
+        dirs.emplace_back(mean.norm(), mean);
+      }
+      Eigen::Vector3d best_x = start;
+      auto trial = [&](const Eigen::Vector3d& p) {
+        xm = p;
+        const BallQuality bq = ball_quality(a);
+        if (bq.better_than(best)) {
+          best = bq;
+          best_x = p;
+        }
+      };
+      trial(lin);
+      for (const auto& [len, d] : dirs)
+        for (double share : {0.5, 1.0}) trial(lin + share * d);
+      // Then a compass search from the best: steps along the axes (and the largest
+      // displacement), halved when none helps.
+      const double size = size_of(a.fill_cell);
+      double step = dirs.empty() ? 0.05 * size : 0.5 * dirs.front().first;
+      // The axes and the cube's face diagonals: the worst cell's bound is a max-min of smooth
+      // functions, whose ridges axis steps alone cannot climb.
+      std::vector<Eigen::Vector3d> axes = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()};
+      for (int i = 0; i < 3; ++i)
+        for (int j = i + 1; j < 3; ++j)
+          for (double sj : {1.0, -1.0}) {
+            Eigen::Vector3d e = Eigen::Vector3d::Zero();
+            e[i] = 1;
+            e[j] = sj;
+            axes.push_back(e.normalized());
+          }
+      if (!dirs.empty() && dirs.front().first > 0) axes.push_back(dirs.front().second.normalized());
+      for (int halvings = 0; halvings < kHalvings && step > 1e-9 * size;) {
+        const Eigen::Vector3d from = best_x;
+        for (const Eigen::Vector3d& e : axes)
+          for (double sign : {1.0, -1.0}) trial(from + sign * step * e);
+        if (best_x == from) {
+          step *= 0.5;
+          ++halvings;
+        }
+      }
+      xm = best_x;
+      if (best_x != start) {
+        any = true;
+        moved.insert(m);
+      }
+    }
+    std::size_t left = 0;
+    for (const auto& [k, i] : touched) left += judge(k, i).first ? 0 : 1;
+    s.invalid_after = left;
+    if (left == 0 || !any) break;
+  }
+  s.nodes_moved = moved.size();
+  return s;
+}
+
+}  // namespace mesh
+}  // namespace plaf
