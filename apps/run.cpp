@@ -330,6 +330,7 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
   // 6. The mesh of the run.
   reports.emplace_back("layers");
   assemble(s, reports.back());
+  reports.back().print(out);  // its lines (bare wall triangles, untangled fill cells) in the summary
   const HybridMesh<Dim>& mesh = s.mesh;
   clock.done("mesh", c.geometry.type + ", " + std::to_string(mesh.num_cells()) + " cells, " +
                          std::to_string(mesh.nodes.size()) + " nodes of order " + std::to_string(c.order));
