@@ -94,6 +94,7 @@ void assemble(RunState<3>& s, StageReport& rep) {
       rep.add("fill_curved_tets", u.curved);
       rep.add("fill_untangled", u.invalid_before - u.invalid_after);
       rep.add("fill_still_invalid", u.invalid_after);
+      rep.add("fill_untangle_certified", u.certified);  // its work, in cells certified
       if (u.invalid_before > 0)
         rep.line("assembly: " + std::to_string(u.invalid_before) + " of the fill's " + std::to_string(u.curved) +
                  " tetrahedra on the curved front were inverted by it; " +

@@ -22,7 +22,9 @@
 // displacement, the step halved 6 times). A move is kept when it lowers the number of invalid
 // cells around the node (every cell of the mesh holding it, layers' prisms and tetrahedra too) or,
 // at the same number, raises their smallest certified min det J over each cell's largest when
-// first seen (Bezier bounds, validity.h). Up to 30 sweeps, until every cell of the region is valid or a sweep moves nothing.
+// first seen (Bezier bounds, validity.h). Up to 30 sweeps, until every cell of the region is
+// valid, a sweep moves nothing or 2 million cells have been certified (the compass search takes at
+// most 24 steps per node and sweep): bounded work on any front.
 // The quality stage certifies every cell afterwards as always: what stays invalid fails the run.
 // Measured on the published bodies (h0 1e-5 L, Q2, TetGen fill, configs sized from the bounding
 // box): see the closing note of issue 30 and layers.fill_untangled in the report.
