@@ -99,8 +99,8 @@ void assemble(RunState<3>& s, StageReport& rep) {
         rep.line("assembly: " + std::to_string(u.invalid_before) + " of the fill's " + std::to_string(u.curved) +
                  " tetrahedra on the curved front were inverted by it; " +
                  std::to_string(u.invalid_before - u.invalid_after) + " untangled by moving " +
-                 std::to_string(u.nodes_moved) + " of their high-order nodes, " + std::to_string(u.invalid_after) +
-                 " left");
+                 std::to_string(u.nodes_moved) + " high-order nodes and " + std::to_string(u.vertices_moved) +
+                 " vertices off the boundary, " + std::to_string(u.invalid_after) + " left");
       return;
     }
     std::size_t bare = 0;

@@ -36,13 +36,59 @@ constexpr std::size_t kMaxDirections = 8;  // the largest neighbour displacement
 constexpr int kHalvings = 6;               // the compass search's step halvings per node and sweep
 constexpr int kMaxSteps = 24;              // ... and its steps in all (each tries 20 directions)
 // The work in all, in certified cells: the search stops there (the quality stage then reports
-// what is left). Measured on the published spot (h0 1e-5 L, Q2, 32 inverted fill cells): 405,437
-// cells certified within the 1.4 s of its whole assembly, so the bound is a few seconds.
+// what is left). Measured on the published spot (h0 1e-5 L, Q2, 32 inverted fill cells): 1,194,310
+// cells certified within the 2.1 s of its whole assembly, so the bound is a few seconds.
 constexpr std::size_t kMaxCertified = 2000000;
+
+// The compass search's directions: the axes and the cube's face diagonals (the worst cell's
+// bound is a max-min of smooth functions, whose ridges axis steps alone cannot climb), and an
+// extra one if given.
+std::vector<Eigen::Vector3d> compass_directions(const Eigen::Vector3d& extra) {
+  std::vector<Eigen::Vector3d> e = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()};
+  for (int i = 0; i < 3; ++i)
+    for (int j = i + 1; j < 3; ++j)
+      for (double sj : {1.0, -1.0}) {
+        Eigen::Vector3d d = Eigen::Vector3d::Zero();
+        d[i] = 1;
+        d[j] = sj;
+        e.push_back(d.normalized());
+      }
+  if (extra.norm() > 0) e.push_back(extra.normalized());
+  return e;
+}
+
+// From *best, steps of `step` along each direction both ways (trial(p) moves *best to p when p is
+// better), the step halved when none helps: kHalvings halvings, kMaxSteps steps at most.
+template <class Trial>
+void compass_search(const std::vector<Eigen::Vector3d>& dirs, double step, double floor, const Eigen::Vector3d* best,
+                    Trial trial) {
+  for (int halvings = 0, steps = 0; halvings < kHalvings && steps < kMaxSteps && step > floor; ++steps) {
+    const Eigen::Vector3d from = *best;
+    for (const Eigen::Vector3d& e : dirs)
+      for (double sign : {1.0, -1.0}) trial(from + sign * step * e);
+    if (*best == from) {
+      step *= 0.5;
+      ++halvings;
+    }
+  }
+}
+
+// The linear (order-1) weights of each node of a (type, order) cell on its corners:
+// w[node * corners + corner].
+std::vector<double> corner_weights(CellType type, int order) {
+  const LagrangeElement& el = lagrange_element(type, order);
+  const LagrangeElement& lin = lagrange_element(type, 1);
+  std::vector<double> w(static_cast<std::size_t>(el.size() * lin.size()));
+  for (int j = 0; j < el.size(); ++j) {
+    const std::array<double, 3> xi = el.ref_node(j);
+    lin.eval(xi.data(), &w[static_cast<std::size_t>(j * lin.size())]);
+  }
+  return w;
+}
 
 }  // namespace
 
-FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::size_t first_cell) {
+FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::size_t first_cell, UntangleMoves moves) {
   FillUntangling s;
   if (block >= mesh.cells.size()) return s;
   const CellBlock& b = mesh.cells[block];
@@ -77,15 +123,16 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
   // Movable: a high-order node (a vertex of no cell) on no boundary facet or curve (the wall's
   // nodes stay on the body, the planes' and the farfield's on their facets). The layers' own
   // high-order nodes are movable too: every cell around a moved node is judged.
-  std::vector<std::uint8_t> fixed(x.size(), 0);
+  std::vector<std::uint8_t> on_boundary(x.size(), 0);
+  for (const auto* group : {&mesh.boundary, &mesh.curves})
+    for (const CellBlock& f : *group)
+      for (NodeId id : f.connectivity) on_boundary[static_cast<std::size_t>(id)] = 1;
+  std::vector<std::uint8_t> fixed = on_boundary;
   for (const CellBlock& cb : mesh.cells) {
     const int corners = cb.type == CellType::Prism ? 6 : 4;
     for (std::size_t i = 0; i < cb.size(); ++i)
       for (int k = 0; k < corners; ++k) fixed[static_cast<std::size_t>(cb.cell(i)[k])] = 1;
   }
-  for (const auto* group : {&mesh.boundary, &mesh.curves})
-    for (const CellBlock& f : *group)
-      for (NodeId id : f.connectivity) fixed[static_cast<std::size_t>(id)] = 1;
 
   JacobianCertifier certifier;
   std::vector<double> coords;
@@ -156,16 +203,54 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
         if (it != ball.end()) it->second.cells.emplace_back(k, i);
       }
   }
+  // The invalid cells' vertices off the boundary (the fill's own points, the layers' column nodes
+  // off the wall and the planes) move too, when their high-order nodes cannot untangle a cell: a
+  // vertex carries every node of the cells around it along by the node's linear weight on it, so
+  // those cells keep their curvature, and no boundary node moves (a node with weight on a vertex
+  // off the boundary lies on no boundary facet).
+  struct VertexAround {
+    std::vector<std::pair<std::size_t, std::size_t>> cells;  // (block, cell) with the vertex as a corner
+    std::vector<std::pair<NodeId, double>> carried;          // node, its weight on the vertex
+    double shortest = std::numeric_limits<double>::infinity();  // edge from the vertex
+  };
+  std::unordered_map<NodeId, VertexAround> vertex_ball;
+  for (NodeId v : bad_vertices)
+    if (moves.vertices && !on_boundary[static_cast<std::size_t>(v)]) vertex_ball.emplace(v, VertexAround{});
+  if (!vertex_ball.empty())
+    for (std::size_t k = 0; k < mesh.cells.size(); ++k) {
+      const CellBlock& cb = mesh.cells[k];
+      const int n = cb.nodes_per_cell(), corners = cb.type == CellType::Prism ? 6 : 4;
+      const std::vector<double> w = corner_weights(cb.type, cb.order);
+      for (std::size_t i = 0; i < cb.size(); ++i)
+        for (int c = 0; c < corners; ++c) {
+          const auto it = vertex_ball.find(cb.cell(i)[c]);
+          if (it == vertex_ball.end()) continue;
+          VertexAround& va = it->second;
+          va.cells.emplace_back(k, i);
+          for (int j = 0; j < n; ++j) {
+            const double wj = w[static_cast<std::size_t>(j * corners + c)];
+            if (std::abs(wj) > 1e-12) va.carried.emplace_back(cb.cell(i)[j], wj);
+            if (j < corners && j != c) va.shortest = std::min(va.shortest, (at(cb.cell(i)[j]) - at(cb.cell(i)[c])).norm());
+          }
+        }
+    }
+  for (auto& [v, va] : vertex_ball) {
+    std::sort(va.carried.begin(), va.carried.end());
+    va.carried.erase(std::unique(va.carried.begin(), va.carried.end(),
+                                 [](const auto& l, const auto& r) { return l.first == r.first; }),
+                     va.carried.end());
+  }
   // Every cell a move can change.
   std::vector<std::pair<std::size_t, std::size_t>> touched;
   for (std::size_t c : invalid) touched.emplace_back(block, first_cell + c);
   for (const auto& [id, a] : ball) touched.insert(touched.end(), a.cells.begin(), a.cells.end());
+  for (const auto& [id, va] : vertex_ball) touched.insert(touched.end(), va.cells.begin(), va.cells.end());
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
 
-  auto ball_quality = [&](const Around& a) {
+  auto ball_quality = [&](const std::vector<std::pair<std::size_t, std::size_t>>& cells) {
     BallQuality bq;
-    for (const auto& [k, i] : a.cells) {
+    for (const auto& [k, i] : cells) {
       const auto [ok, r] = judge(k, i);
       if (!ok) ++bq.invalid;
       bq.worst = std::min(bq.worst, r);
@@ -174,13 +259,13 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
   };
 
   // 3. Node by node: the move that most improves its ball.
-  std::unordered_set<NodeId> moved;
+  std::unordered_set<NodeId> moved, moved_vertices;
   for (int sweep = 0; sweep < kSweeps; ++sweep) {
     bool any = false;
-    for (NodeId m : work) {
+    for (NodeId m : moves.nodes ? work : std::vector<NodeId>{}) {
       if (s.certified > kMaxCertified) break;
       const Around& a = ball[m];
-      BallQuality best = ball_quality(a);
+      BallQuality best = ball_quality(a.cells);
       if (best.invalid == 0) continue;  // a move here could only make its own cells worse
       Eigen::Vector3d& xm = at(m);
       const Eigen::Vector3d start = xm;
@@ -212,7 +297,7 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
       Eigen::Vector3d best_x = start;
       auto trial = [&](const Eigen::Vector3d& p) {
         xm = p;
-        const BallQuality bq = ball_quality(a);
+        const BallQuality bq = ball_quality(a.cells);
         if (bq.better_than(best)) {
           best = bq;
           best_x = p;
@@ -221,35 +306,40 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
       trial(lin);
       for (const auto& [len, d] : dirs)
         for (double share : {0.5, 1.0}) trial(lin + share * d);
-      // Then a compass search from the best: steps along the axes (and the largest
-      // displacement), halved when none helps.
+      // Then a compass search from the best (the largest displacement one of its directions).
       const double size = size_of(a.fill_cell);
-      double step = dirs.empty() ? 0.05 * size : 0.5 * dirs.front().first;
-      // The axes and the cube's face diagonals: the worst cell's bound is a max-min of smooth
-      // functions, whose ridges axis steps alone cannot climb.
-      std::vector<Eigen::Vector3d> axes = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()};
-      for (int i = 0; i < 3; ++i)
-        for (int j = i + 1; j < 3; ++j)
-          for (double sj : {1.0, -1.0}) {
-            Eigen::Vector3d e = Eigen::Vector3d::Zero();
-            e[i] = 1;
-            e[j] = sj;
-            axes.push_back(e.normalized());
-          }
-      if (!dirs.empty() && dirs.front().first > 0) axes.push_back(dirs.front().second.normalized());
-      for (int halvings = 0, steps = 0; halvings < kHalvings && steps < kMaxSteps && step > 1e-9 * size; ++steps) {
-        const Eigen::Vector3d from = best_x;
-        for (const Eigen::Vector3d& e : axes)
-          for (double sign : {1.0, -1.0}) trial(from + sign * step * e);
-        if (best_x == from) {
-          step *= 0.5;
-          ++halvings;
-        }
-      }
+      compass_search(compass_directions(dirs.empty() ? Eigen::Vector3d::Zero() : dirs.front().second),
+                     dirs.empty() ? 0.05 * size : 0.5 * dirs.front().first, 1e-9 * size, &best_x, trial);
       xm = best_x;
       if (best_x != start) {
         any = true;
         moved.insert(m);
+      }
+    }
+    // Then the vertices of cells still invalid: a compass search over the vertex's shift.
+    for (auto& [v, va] : vertex_ball) {
+      if (s.certified > kMaxCertified) break;
+      BallQuality best = ball_quality(va.cells);
+      if (best.invalid == 0) continue;
+      std::vector<Eigen::Vector3d> from(va.carried.size());
+      for (std::size_t j = 0; j < va.carried.size(); ++j) from[j] = at(va.carried[j].first);
+      auto place = [&](const Eigen::Vector3d& d) {
+        for (std::size_t j = 0; j < va.carried.size(); ++j) at(va.carried[j].first) = from[j] + va.carried[j].second * d;
+      };
+      Eigen::Vector3d best_d = Eigen::Vector3d::Zero();
+      auto trial = [&](const Eigen::Vector3d& d) {
+        place(d);
+        const BallQuality bq = ball_quality(va.cells);
+        if (bq.better_than(best)) {
+          best = bq;
+          best_d = d;
+        }
+      };
+      compass_search(compass_directions(Eigen::Vector3d::Zero()), 0.1 * va.shortest, 1e-9 * va.shortest, &best_d, trial);
+      place(best_d);
+      if (best_d.norm() > 0) {
+        any = true;
+        moved_vertices.insert(v);
       }
     }
     std::size_t left = 0;
@@ -258,6 +348,7 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
     if (left == 0 || !any || s.certified > kMaxCertified) break;
   }
   s.nodes_moved = moved.size();
+  s.vertices_moved = moved_vertices.size();
   return s;
 }
 

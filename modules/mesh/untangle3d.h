@@ -19,7 +19,11 @@
 // of each of the 8 largest displacements from the linear position of the curved nodes in the
 // fill tetrahedra around it and of their mean (so a straight edge beside a bent one bends with
 // it), then by a compass search (the axes, the cube's face diagonals and the largest
-// displacement, the step halved 6 times). A move is kept when it lowers the number of invalid
+// displacement, the step halved 6 times). Then each vertex of a cell still invalid that lies on
+// no boundary facet or curve (the fill's own points, the layers' column nodes off the wall) by a
+// compass search over its shift, carrying every node of the cells around it along by the node's
+// linear weight on it (their curvature kept; a node with weight on such a vertex is on no
+// boundary). A move is kept when it lowers the number of invalid
 // cells around the node (every cell of the mesh holding it, layers' prisms and tetrahedra too) or,
 // at the same number, raises their smallest certified min det J over each cell's largest when
 // first seen (Bezier bounds, validity.h). Up to 30 sweeps, until every cell of the region is
@@ -42,12 +46,18 @@ struct FillUntangling {
   std::size_t invalid_before = 0;  // of those, not certified valid before
   std::size_t invalid_after = 0;   // ... and after
   std::size_t nodes_moved = 0;     // free high-order nodes moved
+  std::size_t vertices_moved = 0;  // vertices off the boundary moved (their cells' nodes carried along)
   std::size_t certified = 0;       // cells certified on the way (the cost)
 };
 
 // The fill's tetrahedra are cells [first_cell, end) of mesh.cells[block] (order Q tetrahedra).
 // Movable: every high-order node (a vertex of no cell) on no boundary facet or curve.
-FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::size_t first_cell);
+struct UntangleMoves {
+  bool nodes = true;     // the free high-order nodes
+  bool vertices = true;  // the invalid cells' vertices off the boundary
+};
+FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::size_t first_cell,
+                                UntangleMoves moves = {});
 
 }  // namespace mesh
 }  // namespace plaf

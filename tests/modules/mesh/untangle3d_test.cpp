@@ -82,6 +82,28 @@ TEST_CASE("untangle 3D: a fill tetrahedron inverted by a curved front edge is un
           before[static_cast<std::size_t>(t.ids[static_cast<std::size_t>(k)])]);
 }
 
+TEST_CASE("untangle 3D: the vertex off the front untangles the cell alone, its edges carried along") {
+  BulgedTet t(0.1, 0.05);
+  REQUIRE_FALSE(t.valid());
+  const std::vector<Eigen::Vector3d> before = t.mesh.nodes;
+  const FillUntangling u = untangle_fill_3d(t.mesh, 0, 0, UntangleMoves{.nodes = false, .vertices = true});
+  CHECK(u.invalid_before == 1);
+  CHECK(u.invalid_after == 0);
+  CHECK(u.nodes_moved == 0);
+  CHECK(u.vertices_moved == 1);
+  CHECK(t.valid());
+  for (int k : {0, 1, 2, t.node_on(0, 1), t.node_on(1, 2), t.node_on(0, 2)})
+    CHECK(t.mesh.nodes[static_cast<std::size_t>(t.ids[static_cast<std::size_t>(k)])] ==
+          before[static_cast<std::size_t>(t.ids[static_cast<std::size_t>(k)])]);
+  CHECK(t.mesh.nodes[static_cast<std::size_t>(t.ids[3])].z() > 0.1);  // vertex 3 rose
+  // ... and carried its straight edges along: they are still straight.
+  for (int a : {0, 1, 2}) {
+    const Eigen::Vector3d mid = 0.5 * (t.mesh.nodes[static_cast<std::size_t>(t.ids[static_cast<std::size_t>(a)])] +
+                                       t.mesh.nodes[static_cast<std::size_t>(t.ids[3])]);
+    CHECK((t.mesh.nodes[static_cast<std::size_t>(t.ids[static_cast<std::size_t>(t.node_on(a, 3))])] - mid).norm() < 1e-12);
+  }
+}
+
 TEST_CASE("untangle 3D: a valid curved fill is left as it is, and a cell with no free node stays invalid and is counted") {
   SUBCASE("valid") {
     BulgedTet t(0.1, 0.01);  // h - 4 bulge = 0.06
