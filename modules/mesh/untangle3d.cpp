@@ -95,13 +95,7 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
   const int q = b.order;
   if (b.type != CellType::Tetrahedron || q < 2 || first_cell >= b.size()) return s;
   const int np = b.nodes_per_cell();
-  const LagrangeElement& el = lagrange_element(CellType::Tetrahedron, q);
-  std::vector<std::array<double, 4>> weight(static_cast<std::size_t>(np));
-  for (int k = 0; k < np; ++k) {
-    const Lattice& l = el.lattice()[static_cast<std::size_t>(k)];
-    weight[static_cast<std::size_t>(k)] = {static_cast<double>(q - l[0] - l[1] - l[2]) / q, static_cast<double>(l[0]) / q,
-                                           static_cast<double>(l[1]) / q, static_cast<double>(l[2]) / q};
-  }
+  const std::vector<double> weight = corner_weights(CellType::Tetrahedron, q);
   std::vector<Eigen::Vector3d>& x = mesh.nodes;
   auto at = [&](NodeId id) -> Eigen::Vector3d& { return x[static_cast<std::size_t>(id)]; };
   const std::size_t nc = b.size() - first_cell;
@@ -109,7 +103,7 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
   auto linear = [&](std::size_t c, int k) {
     const NodeId* n = cell(c);
     Eigen::Vector3d p = Eigen::Vector3d::Zero();
-    for (int i = 0; i < 4; ++i) p += weight[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)] * at(n[i]);
+    for (int i = 0; i < 4; ++i) p += weight[static_cast<std::size_t>(4 * k + i)] * at(n[i]);
     return p;
   };
   auto size_of = [&](std::size_t c) {
@@ -119,20 +113,6 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
       for (int j = i + 1; j < 4; ++j) h = std::max(h, (at(n[i]) - at(n[j])).norm());
     return h;
   };
-
-  // Movable: a high-order node (a vertex of no cell) on no boundary facet or curve (the wall's
-  // nodes stay on the body, the planes' and the farfield's on their facets). The layers' own
-  // high-order nodes are movable too: every cell around a moved node is judged.
-  std::vector<std::uint8_t> on_boundary(x.size(), 0);
-  for (const auto* group : {&mesh.boundary, &mesh.curves})
-    for (const CellBlock& f : *group)
-      for (NodeId id : f.connectivity) on_boundary[static_cast<std::size_t>(id)] = 1;
-  std::vector<std::uint8_t> fixed = on_boundary;
-  for (const CellBlock& cb : mesh.cells) {
-    const int corners = cb.type == CellType::Prism ? 6 : 4;
-    for (std::size_t i = 0; i < cb.size(); ++i)
-      for (int k = 0; k < corners; ++k) fixed[static_cast<std::size_t>(cb.cell(i)[k])] = 1;
-  }
 
   JacobianCertifier certifier;
   std::vector<double> coords;
@@ -168,6 +148,20 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
   }
   s.invalid_before = s.invalid_after = invalid.size();
   if (invalid.empty()) return s;
+
+  // Movable: a high-order node (a vertex of no cell) on no boundary facet or curve (the wall's
+  // nodes stay on the body, the planes' and the farfield's on their facets). The layers' own
+  // high-order nodes are movable too: every cell around a moved node is judged.
+  std::vector<std::uint8_t> on_boundary(x.size(), 0);
+  for (const auto* group : {&mesh.boundary, &mesh.curves})
+    for (const CellBlock& f : *group)
+      for (NodeId id : f.connectivity) on_boundary[static_cast<std::size_t>(id)] = 1;
+  std::vector<std::uint8_t> fixed = on_boundary;
+  for (const CellBlock& cb : mesh.cells) {
+    const int corners = cb.type == CellType::Prism ? 6 : 4;
+    for (std::size_t i = 0; i < cb.size(); ++i)
+      for (int k = 0; k < corners; ++k) fixed[static_cast<std::size_t>(cb.cell(i)[k])] = 1;
+  }
 
   // 2. The region: the invalid cells and the fill cells sharing a vertex with one; its movable
   // nodes, and every cell of the mesh around each of them (the ball a move is judged on).
