@@ -202,14 +202,14 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
   // vertex carries every node of the cells around it along by the node's linear weight on it, so
   // those cells keep their curvature, and no boundary node moves (a node with weight on a vertex
   // off the boundary lies on no boundary facet).
-  struct VertexAround {
-    std::vector<std::pair<std::size_t, std::size_t>> cells;  // (block, cell) with the vertex as a corner
-    std::vector<std::pair<NodeId, double>> carried;          // node, its weight on the vertex
-    double shortest = std::numeric_limits<double>::infinity();  // edge from the vertex
+  struct Group {
+    std::vector<std::pair<std::size_t, std::size_t>> cells;  // (block, cell) a shift changes
+    std::vector<std::pair<NodeId, double>> carried;          // node, its weight in the shift
+    double shortest = std::numeric_limits<double>::infinity();  // the shortest edge around (the step's scale)
   };
-  std::unordered_map<NodeId, VertexAround> vertex_ball;
+  std::unordered_map<NodeId, Group> vertex_ball;
   for (NodeId v : bad_vertices)
-    if (moves.vertices && !on_boundary[static_cast<std::size_t>(v)]) vertex_ball.emplace(v, VertexAround{});
+    if (moves.vertices && !on_boundary[static_cast<std::size_t>(v)]) vertex_ball.emplace(v, Group{});
   if (!vertex_ball.empty())
     for (std::size_t k = 0; k < mesh.cells.size(); ++k) {
       const CellBlock& cb = mesh.cells[k];
@@ -219,7 +219,7 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
         for (int c = 0; c < corners; ++c) {
           const auto it = vertex_ball.find(cb.cell(i)[c]);
           if (it == vertex_ball.end()) continue;
-          VertexAround& va = it->second;
+          Group& va = it->second;
           va.cells.emplace_back(k, i);
           for (int j = 0; j < n; ++j) {
             const double wj = w[static_cast<std::size_t>(j * corners + c)];
@@ -233,6 +233,24 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
     va.carried.erase(std::unique(va.carried.begin(), va.carried.end(),
                                  [](const auto& l, const auto& r) { return l.first == r.first; }),
                      va.carried.end());
+  }
+  // Each invalid cell's free nodes as one group (weight 1), judged on every cell around them.
+  std::vector<Group> cell_groups;
+  for (std::size_t c : moves.nodes ? invalid : std::vector<std::size_t>{}) {
+    Group g;
+    for (int k = 4; k < np; ++k) {
+      const auto it = ball.find(cell(c)[k]);
+      if (it == ball.end()) continue;
+      g.carried.emplace_back(it->first, 1.0);
+      g.cells.insert(g.cells.end(), it->second.cells.begin(), it->second.cells.end());
+    }
+    if (g.carried.size() < 2) continue;  // one node alone is the node moves' work
+    std::sort(g.cells.begin(), g.cells.end());
+    g.cells.erase(std::unique(g.cells.begin(), g.cells.end()), g.cells.end());
+    const NodeId* n = cell(c);
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) g.shortest = std::min(g.shortest, (at(n[i]) - at(n[j])).norm());
+    cell_groups.push_back(std::move(g));
   }
   // Every cell a move can change.
   std::vector<std::pair<std::size_t, std::size_t>> touched;
@@ -250,6 +268,31 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
       bq.worst = std::min(bq.worst, r);
     }
     return bq;
+  };
+
+  // A group's shift d moves each of its nodes by its weight times d; the best shift by a compass
+  // search, judged on the group's cells. True when it moved.
+  auto shift_group = [&](Group& g) {
+    if (s.certified > kMaxCertified) return false;
+    BallQuality best = ball_quality(g.cells);
+    if (best.invalid == 0) return false;
+    std::vector<Eigen::Vector3d> from(g.carried.size());
+    for (std::size_t j = 0; j < g.carried.size(); ++j) from[j] = at(g.carried[j].first);
+    auto place = [&](const Eigen::Vector3d& d) {
+      for (std::size_t j = 0; j < g.carried.size(); ++j) at(g.carried[j].first) = from[j] + g.carried[j].second * d;
+    };
+    Eigen::Vector3d best_d = Eigen::Vector3d::Zero();
+    auto trial = [&](const Eigen::Vector3d& d) {
+      place(d);
+      const BallQuality bq = ball_quality(g.cells);
+      if (bq.better_than(best)) {
+        best = bq;
+        best_d = d;
+      }
+    };
+    compass_search(compass_directions(Eigen::Vector3d::Zero()), 0.1 * g.shortest, 1e-9 * g.shortest, &best_d, trial);
+    place(best_d);
+    return best_d.norm() > 0;
   };
 
   // 3. Node by node: the move that most improves its ball.
@@ -310,32 +353,18 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
         moved.insert(m);
       }
     }
-    // Then the vertices of cells still invalid: a compass search over the vertex's shift.
-    for (auto& [v, va] : vertex_ball) {
-      if (s.certified > kMaxCertified) break;
-      BallQuality best = ball_quality(va.cells);
-      if (best.invalid == 0) continue;
-      std::vector<Eigen::Vector3d> from(va.carried.size());
-      for (std::size_t j = 0; j < va.carried.size(); ++j) from[j] = at(va.carried[j].first);
-      auto place = [&](const Eigen::Vector3d& d) {
-        for (std::size_t j = 0; j < va.carried.size(); ++j) at(va.carried[j].first) = from[j] + va.carried[j].second * d;
-      };
-      Eigen::Vector3d best_d = Eigen::Vector3d::Zero();
-      auto trial = [&](const Eigen::Vector3d& d) {
-        place(d);
-        const BallQuality bq = ball_quality(va.cells);
-        if (bq.better_than(best)) {
-          best = bq;
-          best_d = d;
-        }
-      };
-      compass_search(compass_directions(Eigen::Vector3d::Zero()), 0.1 * va.shortest, 1e-9 * va.shortest, &best_d, trial);
-      place(best_d);
-      if (best_d.norm() > 0) {
+    // Then the vertices of cells still invalid, and the free nodes of each invalid cell together
+    // (where each node alone trades one cell for another): a compass search over the shift.
+    for (auto& [v, va] : vertex_ball)
+      if (shift_group(va)) {
         any = true;
         moved_vertices.insert(v);
       }
-    }
+    for (Group& g : cell_groups)
+      if (shift_group(g)) {
+        any = true;
+        for (const auto& [id, w] : g.carried) moved.insert(id);
+      }
     std::size_t left = 0;
     for (const auto& [k, i] : touched) left += judge(k, i).first ? 0 : 1;
     s.invalid_after = left;

@@ -23,7 +23,8 @@
 // no boundary facet or curve (the fill's own points, the layers' column nodes off the wall) by a
 // compass search over its shift, carrying every node of the cells around it along by the node's
 // linear weight on it (their curvature kept; a node with weight on such a vertex is on no
-// boundary). A move is kept when it lowers the number of invalid
+// boundary); and the free nodes of each invalid cell shifted together, where each node alone
+// trades one cell for another. A move is kept when it lowers the number of invalid
 // cells around the node (every cell of the mesh holding it, layers' prisms and tetrahedra too) or,
 // at the same number, raises their smallest certified min det J over each cell's largest when
 // first seen (Bezier bounds, validity.h). Up to 30 sweeps, until every cell of the region is
