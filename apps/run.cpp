@@ -28,6 +28,7 @@
 #include "modules/pipeline/writers.h"
 #include "modules/mesh/hybrid2d.h"
 #include "modules/mesh/hybrid3d.h"
+#include "modules/mesh/bend_fill3d.h"
 #include "modules/mesh/untangle3d.h"
 #include "modules/mesh/quality.h"
 #include "modules/pipeline/layer_table.h"
@@ -88,19 +89,43 @@ void assemble(RunState<3>& s, StageReport& rep) {
       std::size_t block = s.mesh.cells.size();
       for (std::size_t k = 0; k < s.mesh.cells.size(); ++k)
         if (s.mesh.cells[k].type == CellType::Tetrahedron && s.mesh.cells[k].order == q) block = k;
-      // Where the front stayed curved, the fill's tetrahedra it inverts are untangled by their
-      // own high-order nodes (untangle3d.h); the quality stage certifies the result.
+      // Where the front stayed curved, the fill bends with it (bend_fill3d.h), and the fill's
+      // tetrahedra it still inverts are untangled by their own high-order nodes and points
+      // (untangle3d.h); the quality stage certifies the result.
+      const FillBending bent = bend_fill_3d(s.mesh, block, first_cell);
+      rep.add("fill_curved_boundary_triangles", bent.curved_faces);
+      rep.add("fill_bent_nodes", bent.nodes_moved);
+      rep.add("fill_bent_returned", bent.nodes_returned);
+      rep.add("fill_bent_max_shift", bent.max_shift);
+      rep.add("fill_bent_invalid_before", bent.invalid_before);
+      rep.add("fill_bent_invalid_after", bent.invalid_after);
+      if (bent.nodes_moved + bent.nodes_returned > 0)
+        rep.line("assembly: the fill bent with the " + std::to_string(bent.curved_faces) +
+                 " curved triangles of its boundary: " + std::to_string(bent.nodes_moved) +
+                 " of its nodes moved, by at most " + num(bent.max_shift) + " (" +
+                 std::to_string(bent.nodes_returned) + " put back where a cell turned invalid); inverted cells " +
+                 std::to_string(bent.invalid_before) + " -> " + std::to_string(bent.invalid_after));
       const FillUntangling u = untangle_fill_3d(s.mesh, block, first_cell);
       rep.add("fill_curved_tets", u.curved);
       rep.add("fill_untangled", u.invalid_before - u.invalid_after);
       rep.add("fill_still_invalid", u.invalid_after);
       rep.add("fill_untangle_certified", u.certified);  // its work, in cells certified
+      rep.add("fill_straightened_cells", u.cells_straightened);
+      rep.add("fill_straightened_boundary_nodes", u.straightened);
+      rep.add("fill_straightened_max_deviation", u.straightened_max);
       if (u.invalid_before > 0)
         rep.line("assembly: " + std::to_string(u.invalid_before) + " of the fill's " + std::to_string(u.curved) +
                  " tetrahedra on the curved front were inverted by it; " +
                  std::to_string(u.invalid_before - u.invalid_after) + " untangled by moving " +
                  std::to_string(u.nodes_moved) + " high-order nodes and " + std::to_string(u.vertices_moved) +
                  " vertices off the boundary, " + std::to_string(u.invalid_after) + " left");
+      if (u.cells_straightened > 0)
+        rep.line("assembly: " + std::to_string(u.cells_straightened) +
+                 " cells made straight around fill cells no move untangled" +
+                 (u.straightened > 0 ? "; WARNING: " + std::to_string(u.straightened) +
+                                           " high-order nodes of the boundary straightened with them, the geometry "
+                                           "given up there by at most " + num(u.straightened_max)
+                                     : std::string()));
       return;
     }
     std::size_t bare = 0;

@@ -10,9 +10,9 @@
 //     assembly (assemble_hybrid_3d keeps the outer front's nodes), so the mesh stays conforming,
 //     and the quality stage certifies them as every cell. The paper fills from a linear front
 //     (Sec. II.C); a curved face under an isotropic tetrahedron as tall as its edges is the robust
-//     choice where no straight closing cell is valid. A tetrahedron it inverts is untangled in
-//     the assembly by its high-order nodes off the boundary (modules/mesh/untangle3d.h); one that
-//     stays inverted fails the run.
+//     choice where no straight closing cell is valid. In the assembly the fill bends with it
+//     (modules/mesh/bend_fill3d.h), a tetrahedron still inverted is untangled by its nodes and
+//     points off the boundary (modules/mesh/untangle3d.h); one that stays inverted fails the run.
 //  2. Symmetry planes: the layer mesh's boundary tags of kind symmetry, each on an axis-aligned
 //     plane (their facets' nodes fitted); the outer front's open edges (its rim) must lie on
 //     them. The farfield is then a box cut to the bodies' side of every plane.

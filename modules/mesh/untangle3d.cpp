@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 #include <unordered_map>
 #include <unordered_set>
 #include <utility>
@@ -39,6 +40,8 @@ constexpr int kMaxSteps = 24;              // ... and its steps in all (each tri
 // what is left). Measured on the published spot (h0 1e-5 L, Q2, 32 inverted fill cells): 1,194,310
 // cells certified within the 2.1 s of its whole assembly, so the bound is a few seconds.
 constexpr std::size_t kMaxCertified = 2000000;
+// The last resort's region per inverted cell: the cells made straight in turn, at most.
+constexpr std::size_t kMaxStraightened = 64;
 
 // The compass search's directions: the axes and the cube's face diagonals (the worst cell's
 // bound is a max-min of smooth functions, whose ridges axis steps alone cannot climb), and an
@@ -171,8 +174,8 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
   std::vector<NodeId> work;
   struct Around {
     std::vector<std::pair<std::size_t, std::size_t>> cells;  // (block, cell)
-    std::size_t fill_cell = 0;                                // a fill tetrahedron holding it
-    int local = -1;                                           // ... at this local index
+    std::size_t fill_cell = 0;                               // a fill tetrahedron holding it
+    int local = -1;                                          // ... at this local index
   };
   std::unordered_map<NodeId, Around> ball;
   for (std::size_t c = 0; c < nc; ++c) {
@@ -203,8 +206,8 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
   // those cells keep their curvature, and no boundary node moves (a node with weight on a vertex
   // off the boundary lies on no boundary facet).
   struct Group {
-    std::vector<std::pair<std::size_t, std::size_t>> cells;  // (block, cell) a shift changes
-    std::vector<std::pair<NodeId, double>> carried;          // node, its weight in the shift
+    std::vector<std::pair<std::size_t, std::size_t>> cells;     // (block, cell) a shift changes
+    std::vector<std::pair<NodeId, double>> carried;             // node, its weight in the shift
     double shortest = std::numeric_limits<double>::infinity();  // the shortest edge around (the step's scale)
   };
   std::unordered_map<NodeId, Group> vertex_ball;
@@ -224,7 +227,8 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
           for (int j = 0; j < n; ++j) {
             const double wj = w[static_cast<std::size_t>(j * corners + c)];
             if (std::abs(wj) > 1e-12) va.carried.emplace_back(cb.cell(i)[j], wj);
-            if (j < corners && j != c) va.shortest = std::min(va.shortest, (at(cb.cell(i)[j]) - at(cb.cell(i)[c])).norm());
+            if (j < corners && j != c)
+              va.shortest = std::min(va.shortest, (at(cb.cell(i)[j]) - at(cb.cell(i)[c])).norm());
           }
         }
     }
@@ -297,78 +301,161 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
 
   // 3. Node by node: the move that most improves its ball.
   std::unordered_set<NodeId> moved, moved_vertices;
-  for (int sweep = 0; sweep < kSweeps; ++sweep) {
-    bool any = false;
-    for (NodeId m : moves.nodes ? work : std::vector<NodeId>{}) {
-      if (s.certified > kMaxCertified) break;
-      const Around& a = ball[m];
-      BallQuality best = ball_quality(a.cells);
-      if (best.invalid == 0) continue;  // a move here could only make its own cells worse
-      Eigen::Vector3d& xm = at(m);
-      const Eigen::Vector3d start = xm;
-      const Eigen::Vector3d lin = linear(a.fill_cell, a.local);
-      // The displacements of the curved nodes of the fill cells around (one per node), the
-      // largest first, and their mean.
-      std::vector<std::pair<double, Eigen::Vector3d>> dirs;
-      std::unordered_set<NodeId> seen{m};
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      for (const auto& [k, i] : a.cells) {
-        if (k != block || i < first_cell) continue;
-        const std::size_t c = i - first_cell;
-        const double tol = 1e-12 * size_of(c);
-        for (int j = 4; j < np; ++j) {
-          const NodeId id = cell(c)[j];
-          if (!seen.insert(id).second) continue;
-          const Eigen::Vector3d d = at(id) - linear(c, j);
-          if (d.norm() <= tol) continue;
-          dirs.emplace_back(d.norm(), d);
-          mean += d;
+  auto sweeps = [&] {
+    for (int sweep = 0; sweep < kSweeps; ++sweep) {
+      bool any = false;
+      for (NodeId m : moves.nodes ? work : std::vector<NodeId>{}) {
+        if (s.certified > kMaxCertified) break;
+        const Around& a = ball[m];
+        BallQuality best = ball_quality(a.cells);
+        if (best.invalid == 0) continue;  // a move here could only make its own cells worse
+        Eigen::Vector3d& xm = at(m);
+        const Eigen::Vector3d start = xm;
+        const Eigen::Vector3d lin = linear(a.fill_cell, a.local);
+        // The displacements of the curved nodes of the fill cells around (one per node), the
+        // largest first, and their mean.
+        std::vector<std::pair<double, Eigen::Vector3d>> dirs;
+        std::unordered_set<NodeId> seen{m};
+        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+        for (const auto& [k, i] : a.cells) {
+          if (k != block || i < first_cell) continue;
+          const std::size_t c = i - first_cell;
+          const double tol = 1e-12 * size_of(c);
+          for (int j = 4; j < np; ++j) {
+            const NodeId id = cell(c)[j];
+            if (!seen.insert(id).second) continue;
+            const Eigen::Vector3d d = at(id) - linear(c, j);
+            if (d.norm() <= tol) continue;
+            dirs.emplace_back(d.norm(), d);
+            mean += d;
+          }
+        }
+        if (!dirs.empty()) {
+          mean /= static_cast<double>(dirs.size());
+          std::sort(dirs.begin(), dirs.end(), [](const auto& l, const auto& r) { return l.first > r.first; });
+          if (dirs.size() > kMaxDirections) dirs.resize(kMaxDirections);
+          dirs.emplace_back(mean.norm(), mean);
+        }
+        Eigen::Vector3d best_x = start;
+        auto trial = [&](const Eigen::Vector3d& p) {
+          xm = p;
+          const BallQuality bq = ball_quality(a.cells);
+          if (bq.better_than(best)) {
+            best = bq;
+            best_x = p;
+          }
+        };
+        trial(lin);
+        for (const auto& [len, d] : dirs)
+          for (double share : {0.5, 1.0}) trial(lin + share * d);
+        // Then a compass search from the best (the largest displacement one of its directions).
+        const double size = size_of(a.fill_cell);
+        compass_search(compass_directions(dirs.empty() ? Eigen::Vector3d::Zero() : dirs.front().second),
+                       dirs.empty() ? 0.05 * size : 0.5 * dirs.front().first, 1e-9 * size, &best_x, trial);
+        xm = best_x;
+        if (best_x != start) {
+          any = true;
+          moved.insert(m);
         }
       }
-      if (!dirs.empty()) {
-        mean /= static_cast<double>(dirs.size());
-        std::sort(dirs.begin(), dirs.end(), [](const auto& l, const auto& r) { return l.first > r.first; });
-        if (dirs.size() > kMaxDirections) dirs.resize(kMaxDirections);
-        dirs.emplace_back(mean.norm(), mean);
-      }
-      Eigen::Vector3d best_x = start;
-      auto trial = [&](const Eigen::Vector3d& p) {
-        xm = p;
-        const BallQuality bq = ball_quality(a.cells);
-        if (bq.better_than(best)) {
-          best = bq;
-          best_x = p;
+      // Then the vertices of cells still invalid, and the free nodes of each invalid cell together
+      // (where each node alone trades one cell for another): a compass search over the shift.
+      for (auto& [v, va] : vertex_ball)
+        if (shift_group(va)) {
+          any = true;
+          moved_vertices.insert(v);
         }
-      };
-      trial(lin);
-      for (const auto& [len, d] : dirs)
-        for (double share : {0.5, 1.0}) trial(lin + share * d);
-      // Then a compass search from the best (the largest displacement one of its directions).
-      const double size = size_of(a.fill_cell);
-      compass_search(compass_directions(dirs.empty() ? Eigen::Vector3d::Zero() : dirs.front().second),
-                     dirs.empty() ? 0.05 * size : 0.5 * dirs.front().first, 1e-9 * size, &best_x, trial);
-      xm = best_x;
-      if (best_x != start) {
-        any = true;
-        moved.insert(m);
+      for (Group& g : cell_groups)
+        if (shift_group(g)) {
+          any = true;
+          for (const auto& [id, w] : g.carried) moved.insert(id);
+        }
+      std::size_t left = 0;
+      for (const auto& [k, i] : touched) left += judge(k, i).first ? 0 : 1;
+      s.invalid_after = left;
+      if (left == 0 || !any || s.certified > kMaxCertified) break;
+    }
+  };
+  sweeps();
+
+  // 4. The last resort, for a fill cell still invalid: the cell made straight (its linear
+  // tetrahedron, as TetGen made it, is valid), and every cell that turns invalid by it straight too,
+  // in turn, up to kMaxStraightened cells; kept when every cell of the region is then valid, else
+  // undone. Where such a cell's nodes are on the boundary (a bare wall edge, where columns stopped
+  // before their first layer and TetGen's ear spans a fold of the wall: the 717 wing's tip at h0
+  // 1e-4 L) the wall's curvature is given up there, as the surface stage straightens a triangle it
+  // cannot curve validly: counted and measured (FillUntangling::straightened, straightened_max).
+  std::vector<std::size_t> left_cells;
+  for (const auto& [k, i] : touched)
+    if (k == block && i >= first_cell && !judge(k, i).first) left_cells.push_back(i);
+  if (!left_cells.empty() && s.certified <= kMaxCertified) {
+    // The cells around every node (CSR over the whole mesh: only built on this path).
+    std::vector<std::size_t> start(x.size() + 1, 0);
+    for (const CellBlock& cb : mesh.cells)
+      for (NodeId id : cb.connectivity) ++start[static_cast<std::size_t>(id) + 1];
+    for (std::size_t i = 0; i < x.size(); ++i) start[i + 1] += start[i];
+    std::vector<std::pair<std::size_t, std::size_t>> around(start.back());
+    {
+      std::vector<std::size_t> fill_at(start.begin(), start.end() - 1);
+      for (std::size_t k = 0; k < mesh.cells.size(); ++k) {
+        const CellBlock& cb = mesh.cells[k];
+        const std::size_t n = static_cast<std::size_t>(cb.nodes_per_cell());
+        for (std::size_t i = 0; i < cb.size(); ++i)
+          for (std::size_t j = 0; j < n; ++j) around[fill_at[static_cast<std::size_t>(cb.cell(i)[j])]++] = {k, i};
       }
     }
-    // Then the vertices of cells still invalid, and the free nodes of each invalid cell together
-    // (where each node alone trades one cell for another): a compass search over the shift.
-    for (auto& [v, va] : vertex_ball)
-      if (shift_group(va)) {
-        any = true;
-        moved_vertices.insert(v);
+    std::vector<std::vector<double>> block_weights;
+    for (const CellBlock& cb : mesh.cells) block_weights.push_back(corner_weights(cb.type, cb.order));
+    auto straighten = [&](std::size_t k, std::size_t i, std::unordered_map<NodeId, Eigen::Vector3d>& was) {
+      const CellBlock& cb = mesh.cells[k];
+      const int n = cb.nodes_per_cell(), corners = cb.type == CellType::Prism ? 6 : 4;
+      const std::vector<double>& w = block_weights[k];
+      const NodeId* ids = cb.cell(i);
+      for (int j = corners; j < n; ++j) {
+        Eigen::Vector3d p = Eigen::Vector3d::Zero();
+        for (int c = 0; c < corners; ++c) p += w[static_cast<std::size_t>(j * corners + c)] * at(ids[c]);
+        if (at(ids[j]) == p) continue;
+        was.emplace(ids[j], at(ids[j]));
+        at(ids[j]) = p;
       }
-    for (Group& g : cell_groups)
-      if (shift_group(g)) {
-        any = true;
-        for (const auto& [id, w] : g.carried) moved.insert(id);
+    };
+    for (std::size_t seed : left_cells) {
+      if (judge(block, seed).first) continue;  // made valid by an earlier seed's region
+      std::unordered_map<NodeId, Eigen::Vector3d> was;
+      std::set<std::pair<std::size_t, std::size_t>> region{{block, seed}};
+      std::vector<std::pair<std::size_t, std::size_t>> queue{{block, seed}};
+      bool ok = false;
+      while (!queue.empty() && region.size() <= kMaxStraightened) {
+        const auto [k, i] = queue.back();
+        queue.pop_back();
+        straighten(k, i, was);
+        // The cells around the nodes moved so far, judged; an invalid one joins the region.
+        ok = true;
+        std::set<std::pair<std::size_t, std::size_t>> near;
+        for (const auto& [id, p] : was)
+          for (std::size_t a = start[static_cast<std::size_t>(id)]; a < start[static_cast<std::size_t>(id) + 1]; ++a)
+            near.insert(around[a]);
+        for (const auto& ki : near) {
+          if (judge(ki.first, ki.second).first) continue;
+          ok = false;
+          if (region.insert(ki).second) queue.push_back(ki);
+        }
+        if (ok) break;
       }
+      if (!ok) {
+        for (const auto& [id, p] : was) at(id) = p;
+        continue;
+      }
+      for (const auto& [id, p] : was) {
+        if (!on_boundary[static_cast<std::size_t>(id)]) continue;
+        ++s.straightened;
+        s.straightened_max = std::max(s.straightened_max, (at(id) - p).norm());
+      }
+      s.cells_straightened += region.size();
+    }
     std::size_t left = 0;
     for (const auto& [k, i] : touched) left += judge(k, i).first ? 0 : 1;
     s.invalid_after = left;
-    if (left == 0 || !any || s.certified > kMaxCertified) break;
   }
   s.nodes_moved = moved.size();
   s.vertices_moved = moved_vertices.size();

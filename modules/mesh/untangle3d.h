@@ -11,6 +11,7 @@
 // with a sag of 2.7e-3 under an ear 2.7e-3 thick (scaled Jacobian -2.2), while the ear's free edge
 // beside it, 3e-3 away, stayed straight.
 //
+// The fill has been bent with the curved front first (bend_fill3d.h); this is for what that leaves.
 // A high-order node that is no cell's vertex and lies on no boundary facet or curve is free to
 // move (the fill's own edges, and the layers' column edges and top faces where the front has a
 // step around stopped columns): the cells' shapes are their vertices', high-order nodes only bend
@@ -30,6 +31,11 @@
 // first seen (Bezier bounds, validity.h). Up to 30 sweeps, until every cell of the region is
 // valid, a sweep moves nothing or 2 million cells have been certified (the compass search takes at
 // most 24 steps per node and sweep): bounded work on any front.
+// The last resort for a fill cell still invalid: it is made straight (TetGen's linear cell is
+// valid), and each cell that turns invalid by it too, in turn (at most 64), kept when all are then
+// valid. Where those cells' nodes are on the boundary (a bare wall edge) the wall's curvature is
+// given up there, as the surface stage straightens a triangle it cannot curve validly: counted
+// and measured in the report (layers.fill_straightened_cells, fill_straightened_boundary_nodes).
 // The quality stage certifies every cell afterwards as always: what stays invalid fails the run.
 // Measured on the published bodies (h0 1e-5 L, Q2, TetGen fill, configs sized from the bounding
 // box): see the closing note of issue 30 and layers.fill_untangled in the report.
@@ -43,12 +49,15 @@ namespace plaf {
 inline namespace mesh {
 
 struct FillUntangling {
-  std::size_t curved = 0;          // fill tetrahedra with a node off its linear position
-  std::size_t invalid_before = 0;  // of those, not certified valid before
-  std::size_t invalid_after = 0;   // ... and after
-  std::size_t nodes_moved = 0;     // free high-order nodes moved
-  std::size_t vertices_moved = 0;  // vertices off the boundary moved (their cells' nodes carried along)
-  std::size_t certified = 0;       // cells certified on the way (the cost)
+  std::size_t curved = 0;              // fill tetrahedra with a node off its linear position
+  std::size_t invalid_before = 0;      // of those, not certified valid before
+  std::size_t invalid_after = 0;       // ... and after
+  std::size_t nodes_moved = 0;         // free high-order nodes moved
+  std::size_t vertices_moved = 0;      // vertices off the boundary moved (their cells' nodes carried along)
+  std::size_t certified = 0;           // cells certified on the way (the cost)
+  std::size_t cells_straightened = 0;  // cells made straight (the last resort)
+  std::size_t straightened = 0;        // ... their boundary nodes put back on the straight sides
+  double straightened_max = 0;         // ... the farthest any of them moved (the geometry given up)
 };
 
 // The fill's tetrahedra are cells [first_cell, end) of mesh.cells[block] (order Q tetrahedra).

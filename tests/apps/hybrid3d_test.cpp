@@ -5,6 +5,8 @@
 // planes: no node off the slab, every face on the planes tagged, the planes' area covered.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -97,6 +99,11 @@ TEST_CASE("hybrid 3D: a sphere in a box is closed and conforming, its cells fill
   const HybridMesh<3> m = read_msh41(d / "out" / "case.msh").mesh3;
   CHECK(count(m, CellType::Prism) > 0);
   CHECK(count(m, CellType::Tetrahedron) > 0);
+  // Every node belongs to a cell (Gmsh's check warns of a node connected to no 3D element).
+  std::vector<char> used(m.nodes.size(), 0);
+  for (const CellBlock& b : m.cells)
+    for (const NodeId id : b.connectivity) used[static_cast<std::size_t>(id)] = 1;
+  CHECK(std::count(used.begin(), used.end(), 0) == 0);
   const std::string report = plaf::test::read_text(d / "out" / "case.report.json");
   CHECK(report.find("\"open_facets\": 0") != std::string::npos);
   CHECK(report.find("\"invalid\": 0") != std::string::npos);

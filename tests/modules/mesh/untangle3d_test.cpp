@@ -108,7 +108,7 @@ TEST_CASE("untangle 3D: the vertex off the front untangles the cell alone, its e
   }
 }
 
-TEST_CASE("untangle 3D: a valid curved fill is left as it is, and a cell with no free node stays invalid and is counted") {
+TEST_CASE("untangle 3D: a valid curved fill is left as it is; a cell with no free node is made straight, or left and counted") {
   SUBCASE("valid") {
     BulgedTet t(0.1, 0.01);  // h - 4 bulge = 0.06
     REQUIRE(t.valid());
@@ -119,13 +119,29 @@ TEST_CASE("untangle 3D: a valid curved fill is left as it is, and a cell with no
     CHECK(u.nodes_moved == 0);
     CHECK(t.mesh.nodes == before);
   }
-  SUBCASE("every node on the front") {
+  SUBCASE("every node on the front: the last resort makes it straight, the boundary's bulge given up and measured") {
     BulgedTet t(0.1, 0.05, true);
     const std::vector<Eigen::Vector3d> before = t.mesh.nodes;
     const FillUntangling u = untangle_fill_3d(t.mesh, 0, 0);
     CHECK(u.invalid_before == 1);
-    CHECK(u.invalid_after == 1);
+    CHECK(u.invalid_after == 0);
     CHECK(u.nodes_moved == 0);
+    CHECK(u.cells_straightened == 1);
+    CHECK(u.straightened == 1);  // the one curved node, on the front
+    CHECK(u.straightened_max == doctest::Approx(0.05));
+    CHECK(t.valid());
+    // Straight: the bulged edge's node is back at its midpoint; the vertices did not move.
+    CHECK((t.x(t.node_on(0, 1)) - 0.5 * (t.x(0) + t.x(1))).norm() < 1e-15);
+    for (int k = 0; k < 4; ++k) CHECK(t.x(k) == before[static_cast<std::size_t>(t.ids[static_cast<std::size_t>(k)])]);
+  }
+  SUBCASE("a cell inverted even straight is left as it was and counted") {
+    BulgedTet t(-0.1, 0.05, true);  // the apex below the front: the linear tetrahedron is inverted
+    const std::vector<Eigen::Vector3d> before = t.mesh.nodes;
+    const FillUntangling u = untangle_fill_3d(t.mesh, 0, 0);
+    CHECK(u.invalid_before == 1);
+    CHECK(u.invalid_after == 1);
+    CHECK(u.cells_straightened == 0);
+    CHECK(u.straightened == 0);
     CHECK(t.mesh.nodes == before);
     CHECK_FALSE(t.valid());
   }
