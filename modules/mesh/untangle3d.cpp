@@ -24,9 +24,11 @@ namespace {
 // The cells around a node, judged together: fewer invalid first, then the larger smallest
 // certified min det J over each cell's fixed scale (judge, below).
 struct BallQuality {
+  std::size_t layers_invalid = 0;  // of the layers' cells (all valid before: a move may not trade one in)
   std::size_t invalid = 0;
   double worst = std::numeric_limits<double>::infinity();
   bool better_than(const BallQuality& o) const {
+    if (layers_invalid != o.layers_invalid) return layers_invalid < o.layers_invalid;
     if (invalid != o.invalid) return invalid < o.invalid;
     return worst > o.worst + 1e-9 * std::max(1.0, std::abs(o.worst));
   }
@@ -40,8 +42,9 @@ constexpr int kMaxSteps = 24;              // ... and its steps in all (each tri
 // what is left). Measured on the published spot (h0 1e-5 L, Q2, 32 inverted fill cells): 1,194,310
 // cells certified within the 2.1 s of its whole assembly, so the bound is a few seconds.
 constexpr std::size_t kMaxCertified = 2000000;
-// The last resort's region per inverted cell: the cells made straight in turn, at most.
-constexpr std::size_t kMaxStraightened = 64;
+// The last resort's region per inverted cell: the cells made straight in turn, at most (a column of
+// 40 layers of 2-3 tetrahedra each and the fill beside it: 272 measured on the spot).
+constexpr std::size_t kMaxStraightened = 512;
 
 // The compass search's directions: the axes and the cube's face diagonals (the worst cell's
 // bound is a max-min of smooth functions, whose ridges axis steps alone cannot climb), and an
@@ -269,6 +272,7 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
     for (const auto& [k, i] : cells) {
       const auto [ok, r] = judge(k, i);
       if (!ok) ++bq.invalid;
+      if (!ok && (k != block || i < first_cell)) ++bq.layers_invalid;
       bq.worst = std::min(bq.worst, r);
     }
     return bq;
@@ -385,10 +389,10 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
   // before their first layer and TetGen's ear spans a fold of the wall: the 717 wing's tip at h0
   // 1e-4 L) the wall's curvature is given up there, as the surface stage straightens a triangle it
   // cannot curve validly: counted and measured (FillUntangling::straightened, straightened_max).
-  std::vector<std::size_t> left_cells;
+  std::vector<std::pair<std::size_t, std::size_t>> left_cells;  // (block, cell)
   for (const auto& [k, i] : touched)
-    if (k == block && i >= first_cell && !judge(k, i).first) left_cells.push_back(i);
-  if (!left_cells.empty() && s.certified <= kMaxCertified) {
+    if (k == block && i >= first_cell && !judge(k, i).first) left_cells.emplace_back(k, i);
+  if (!left_cells.empty()) {  // its own bound (kMaxStraightened per cell), not the sweeps'
     // The cells around every node (CSR over the whole mesh: only built on this path).
     std::vector<std::size_t> start(x.size() + 1, 0);
     for (const CellBlock& cb : mesh.cells)
@@ -419,28 +423,56 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
         at(ids[j]) = p;
       }
     };
-    for (std::size_t seed : left_cells) {
-      if (judge(block, seed).first) continue;  // made valid by an earlier seed's region
+    // The cells around the given nodes (each once).
+    auto cells_around = [&](const std::vector<NodeId>& ids) {
+      std::set<std::pair<std::size_t, std::size_t>> near;
+      for (NodeId id : ids)
+        for (std::size_t a = start[static_cast<std::size_t>(id)]; a < start[static_cast<std::size_t>(id) + 1]; ++a)
+          near.insert(around[a]);
+      return near;
+    };
+    // Two passes: a seed whose region outgrew the bound may be valid, or closer, after the others'.
+    for (std::size_t pass = 0; pass < 2 * left_cells.size(); ++pass) {
+      const auto& seed = left_cells[pass % left_cells.size()];
+      if (judge(seed.first, seed.second).first) continue;  // made valid by an earlier seed's region
       std::unordered_map<NodeId, Eigen::Vector3d> was;
-      std::set<std::pair<std::size_t, std::size_t>> region{{block, seed}};
-      std::vector<std::pair<std::size_t, std::size_t>> queue{{block, seed}};
+      std::set<std::pair<std::size_t, std::size_t>> region{seed};
+      std::vector<std::pair<std::size_t, std::size_t>> queue{seed};
       bool ok = false;
-      while (!queue.empty() && region.size() <= kMaxStraightened) {
+      while (region.size() <= kMaxStraightened) {
+        if (queue.empty()) {
+          // Every cell around every node moved: valid, or a straight cell still invalid (its
+          // linear self inverted: no way on), or one to add.
+          std::vector<NodeId> all;
+          for (const auto& [id, p] : was) all.push_back(id);
+          bool stuck = false;
+          for (const auto& ki : cells_around(all)) {
+            if (judge(ki.first, ki.second).first) continue;
+            if (region.insert(ki).second)
+              queue.push_back(ki);
+            else
+              stuck = true;
+          }
+          if (stuck || queue.empty()) {
+            ok = !stuck;
+            break;
+          }
+        }
         const auto [k, i] = queue.back();
         queue.pop_back();
-        straighten(k, i, was);
-        // The cells around the nodes moved so far, judged; an invalid one joins the region.
-        ok = true;
-        std::set<std::pair<std::size_t, std::size_t>> near;
-        for (const auto& [id, p] : was)
-          for (std::size_t a = start[static_cast<std::size_t>(id)]; a < start[static_cast<std::size_t>(id) + 1]; ++a)
-            near.insert(around[a]);
-        for (const auto& ki : near) {
-          if (judge(ki.first, ki.second).first) continue;
-          ok = false;
-          if (region.insert(ki).second) queue.push_back(ki);
+        if (judge(k, i).first) continue;  // valid again by the cells made straight since it joined
+        std::unordered_map<NodeId, Eigen::Vector3d> step;
+        straighten(k, i, step);
+        std::vector<NodeId> ids;
+        for (const auto& [id, p] : step) {
+          ids.push_back(id);
+          was.emplace(id, p);
         }
-        if (ok) break;
+        // A cell the step inverts joins the region (a layers' cell too: straight, it hands its
+        // bend to the cell under it, down to the wall if need be: on the published spot, h0 1e-5
+        // L, Q2, 272 cells of a column and the fill beside it, 16 wall nodes moved by 0.0019).
+        for (const auto& ki : cells_around(ids))
+          if (!judge(ki.first, ki.second).first && region.insert(ki).second) queue.push_back(ki);
       }
       if (!ok) {
         for (const auto& [id, p] : was) at(id) = p;

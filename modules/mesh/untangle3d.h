@@ -25,14 +25,16 @@
 // compass search over its shift, carrying every node of the cells around it along by the node's
 // linear weight on it (their curvature kept; a node with weight on such a vertex is on no
 // boundary); and the free nodes of each invalid cell shifted together, where each node alone
-// trades one cell for another. A move is kept when it lowers the number of invalid
-// cells around the node (every cell of the mesh holding it, layers' prisms and tetrahedra too) or,
-// at the same number, raises their smallest certified min det J over each cell's largest when
+// trades one cell for another. A move is kept when it inverts none of the layers' cells (all
+// certified valid by the layer stage: a move may not trade a fill cell's inversion for one of
+// theirs), then lowers the number of invalid cells around the node (every cell of the mesh holding
+// it, layers' prisms and tetrahedra too) or, at the same number, raises their smallest certified min det J over each cell's largest when
 // first seen (Bezier bounds, validity.h). Up to 30 sweeps, until every cell of the region is
 // valid, a sweep moves nothing or 2 million cells have been certified (the compass search takes at
 // most 24 steps per node and sweep): bounded work on any front.
 // The last resort for a fill cell still invalid: it is made straight (TetGen's linear cell is
-// valid), and each cell that turns invalid by it too, in turn (at most 64), kept when all are then
+// valid), and each cell that turns invalid by it too, in turn (at most 512; a layers' cell too, which
+// straight hands its bend to the cell under it, down to the wall if need be), kept when all are then
 // valid. Where those cells' nodes are on the boundary (a bare wall edge) the wall's curvature is
 // given up there, as the surface stage straightens a triangle it cannot curve validly: counted
 // and measured in the report (layers.fill_straightened_cells, fill_straightened_boundary_nodes).
