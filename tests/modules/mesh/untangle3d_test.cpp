@@ -108,7 +108,7 @@ TEST_CASE("untangle 3D: the vertex off the front untangles the cell alone, its e
   }
 }
 
-TEST_CASE("untangle 3D: a valid curved fill is left as it is; a cell with no free node is made straight, or left and counted") {
+TEST_CASE("untangle 3D: a valid curved fill is left as it is, a cell with no free node is made straight or left and counted") {
   SUBCASE("valid") {
     BulgedTet t(0.1, 0.01);  // h - 4 bulge = 0.06
     REQUIRE(t.valid());
