@@ -101,6 +101,7 @@ FillBending bend_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::size_t fir
   Eigen::AlignedBox3d curved_box;
   for (auto& [key, f] : faces) {
     if (f.v[0] < 0) continue;
+    if (!(f.h > 0)) continue;  // a degenerate triangle bends nothing and has no reach
     if (f.curved) {
       ++s.curved_faces;
       radius = std::max(radius, f.reach);
@@ -108,11 +109,12 @@ FillBending bend_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::size_t fir
     }
     bnd.push_back(std::move(f));
   }
-  if (s.curved_faces == 0) return s;
+  if (s.curved_faces == 0 || !(radius > 0)) return s;
   curved_box.min().array() -= radius;
   curved_box.max().array() += radius;
   // A straight triangle holds its neighbourhood within min(its reach, radius): every triangle's
-  // reach is then within the box query below.
+  // reach is then within the box query below (a node within the box, radius around it; the
+  // triangles kept are those within 2 radius of a curved one).
   std::vector<Eigen::Vector3d> pts;
   std::vector<std::array<int, 3>> tris;
   std::vector<const Face*> of;
@@ -120,6 +122,8 @@ FillBending bend_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::size_t fir
     f.reach = std::min(f.reach, radius);
     Eigen::AlignedBox3d box;
     for (NodeId v : f.v) box.extend(at(v));
+    box.min().array() -= radius;
+    box.max().array() += radius;
     if (!box.intersects(curved_box)) continue;
     const int base = static_cast<int>(pts.size());
     for (NodeId v : f.v) pts.push_back(at(v));
@@ -191,7 +195,8 @@ FillBending bend_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::size_t fir
   // 3. The guard: no cell the map touches may turn invalid. The fill cells with a moved node are
   // certified before and after; a cell valid before and not after gets its moved nodes back, until
   // none is left (each round returns at least one node, and with every node back each cell is as
-  // it was), so the map only ever helps.
+  // it was), so no cell valid before is invalid after. (A cell invalid before may stay so, its
+  // vertices moved: the untangler's work, untangle3d.h.)
   std::vector<std::uint8_t> moved(x.size(), 0);
   for (const auto& [id, d] : moves) moved[static_cast<std::size_t>(id)] = 1;
   std::vector<std::size_t> touched;
@@ -218,8 +223,8 @@ FillBending bend_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::size_t fir
     from[m] = at(moves[m].first);
     at(moves[m].first) += moves[m].second;
   }
-  std::map<NodeId, std::size_t> move_of;
-  for (std::size_t m = 0; m < moves.size(); ++m) move_of.emplace(moves[m].first, m);
+  std::vector<std::size_t> move_of(x.size(), 0);
+  for (std::size_t m = 0; m < moves.size(); ++m) move_of[static_cast<std::size_t>(moves[m].first)] = m;
   for (;;) {
     std::size_t returned = 0;
     s.invalid_after = 0;
@@ -234,7 +239,7 @@ FillBending bend_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::size_t fir
         const std::size_t id = static_cast<std::size_t>(n[j]);
         if (!moved[id]) continue;
         moved[id] = 0;
-        at(n[j]) = from[move_of.at(n[j])];
+        at(n[j]) = from[move_of[id]];
         ++returned;
       }
     }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <set>
@@ -382,43 +383,59 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
   };
   sweeps();
 
-  // 4. The last resort, for a fill cell still invalid: the cell made straight (its linear
-  // tetrahedron, as TetGen made it, is valid), and every cell that turns invalid by it straight too,
-  // in turn, up to kMaxStraightened cells; kept when every cell of the region is then valid, else
-  // undone. Where such a cell's nodes are on the boundary (a bare wall edge, where columns stopped
-  // before their first layer and TetGen's ear spans a fold of the wall: the 717 wing's tip at h0
-  // 1e-4 L) the wall's curvature is given up there, as the surface stage straightens a triangle it
-  // cannot curve validly: counted and measured (FillUntangling::straightened, straightened_max).
+  // 4. The last resort, for a fill cell still invalid: the cell made straight (valid when its
+  // linear tetrahedron is: TetGen's are, and the moves above keep every fill cell's vertices where
+  // no more cells around are invalid; a cell inverted even straight stops its region), and every
+  // cell that turns invalid by it straight too, in turn, up to kMaxStraightened cells; kept when
+  // every cell around every node it moved is then valid, else undone. Where such a cell's nodes
+  // are on the boundary (a bare wall edge, where columns stopped before their first layer and
+  // TetGen's ear spans a fold of the wall: the 717 wing's tip at h0 1e-4 L) the wall's curvature
+  // is given up there, as the surface stage straightens a triangle it cannot curve validly:
+  // counted and measured (FillUntangling::straightened, straightened_max).
   std::vector<std::pair<std::size_t, std::size_t>> left_cells;  // (block, cell)
   for (const auto& [k, i] : touched)
     if (k == block && i >= first_cell && !judge(k, i).first) left_cells.emplace_back(k, i);
   if (!left_cells.empty()) {  // its own bound (kMaxStraightened per cell), not the sweeps'
-    // The cells around every node (CSR over the whole mesh: only built on this path).
+    // The cells around every node (CSR over the whole mesh, a cell by its index over all blocks:
+    // built only on this path).
+    std::vector<std::size_t> block_start(mesh.cells.size() + 1, 0);
+    for (std::size_t k = 0; k < mesh.cells.size(); ++k) block_start[k + 1] = block_start[k] + mesh.cells[k].size();
+    const auto global = [&](std::size_t k, std::size_t i) { return static_cast<std::uint32_t>(block_start[k] + i); };
+    const auto local = [&](std::uint32_t g) {
+      const std::size_t k =
+          static_cast<std::size_t>(std::upper_bound(block_start.begin(), block_start.end(), g) - block_start.begin()) -
+          1;
+      return std::make_pair(k, g - block_start[k]);
+    };
     std::vector<std::size_t> start(x.size() + 1, 0);
     for (const CellBlock& cb : mesh.cells)
       for (NodeId id : cb.connectivity) ++start[static_cast<std::size_t>(id) + 1];
     for (std::size_t i = 0; i < x.size(); ++i) start[i + 1] += start[i];
-    std::vector<std::pair<std::size_t, std::size_t>> around(start.back());
+    std::vector<std::uint32_t> around(start.back());
     {
       std::vector<std::size_t> fill_at(start.begin(), start.end() - 1);
       for (std::size_t k = 0; k < mesh.cells.size(); ++k) {
         const CellBlock& cb = mesh.cells[k];
         const std::size_t n = static_cast<std::size_t>(cb.nodes_per_cell());
         for (std::size_t i = 0; i < cb.size(); ++i)
-          for (std::size_t j = 0; j < n; ++j) around[fill_at[static_cast<std::size_t>(cb.cell(i)[j])]++] = {k, i};
+          for (std::size_t j = 0; j < n; ++j) around[fill_at[static_cast<std::size_t>(cb.cell(i)[j])]++] = global(k, i);
       }
     }
     std::vector<std::vector<double>> block_weights;
     for (const CellBlock& cb : mesh.cells) block_weights.push_back(corner_weights(cb.type, cb.order));
+    // Cell (k, i) made straight: its nodes off their linear position by more than rounding
+    // (straight_tolerance) moved there, each node's position before into `was` (first one kept).
     auto straighten = [&](std::size_t k, std::size_t i, std::unordered_map<NodeId, Eigen::Vector3d>& was) {
       const CellBlock& cb = mesh.cells[k];
       const int n = cb.nodes_per_cell(), corners = cb.type == CellType::Prism ? 6 : 4;
       const std::vector<double>& w = block_weights[k];
       const NodeId* ids = cb.cell(i);
+      double size = 0;
+      for (int c = 1; c < corners; ++c) size = std::max(size, (at(ids[c]) - at(ids[0])).norm());
       for (int j = corners; j < n; ++j) {
         Eigen::Vector3d p = Eigen::Vector3d::Zero();
         for (int c = 0; c < corners; ++c) p += w[static_cast<std::size_t>(j * corners + c)] * at(ids[c]);
-        if (at(ids[j]) == p) continue;
+        if ((at(ids[j]) - p).norm() <= straight_tolerance(size, p.norm())) continue;
         was.emplace(ids[j], at(ids[j]));
         at(ids[j]) = p;
       }
@@ -428,7 +445,7 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
       std::set<std::pair<std::size_t, std::size_t>> near;
       for (NodeId id : ids)
         for (std::size_t a = start[static_cast<std::size_t>(id)]; a < start[static_cast<std::size_t>(id) + 1]; ++a)
-          near.insert(around[a]);
+          near.insert(local(around[a]));
       return near;
     };
     // Two passes: a seed whose region outgrew the bound may be valid, or closer, after the others'.
@@ -436,33 +453,17 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
       const auto& seed = left_cells[pass % left_cells.size()];
       if (judge(seed.first, seed.second).first) continue;  // made valid by an earlier seed's region
       std::unordered_map<NodeId, Eigen::Vector3d> was;
-      std::set<std::pair<std::size_t, std::size_t>> region{seed};
+      std::set<std::pair<std::size_t, std::size_t>> region{seed}, straight;
       std::vector<std::pair<std::size_t, std::size_t>> queue{seed};
       bool ok = false;
-      while (region.size() <= kMaxStraightened) {
-        if (queue.empty()) {
-          // Every cell around every node moved: valid, or a straight cell still invalid (its
-          // linear self inverted: no way on), or one to add.
-          std::vector<NodeId> all;
-          for (const auto& [id, p] : was) all.push_back(id);
-          bool stuck = false;
-          for (const auto& ki : cells_around(all)) {
-            if (judge(ki.first, ki.second).first) continue;
-            if (region.insert(ki).second)
-              queue.push_back(ki);
-            else
-              stuck = true;
-          }
-          if (stuck || queue.empty()) {
-            ok = !stuck;
-            break;
-          }
-        }
-        const auto [k, i] = queue.back();
+      while (!queue.empty() && straight.size() <= kMaxStraightened) {
+        const auto ki = queue.back();
         queue.pop_back();
-        if (judge(k, i).first) continue;  // valid again by the cells made straight since it joined
+        if (judge(ki.first, ki.second).first) continue;  // valid again by the cells made straight since
+        // An invalid cell already straight: its linear self is inverted, no way on.
+        if (!straight.insert(ki).second) break;
         std::unordered_map<NodeId, Eigen::Vector3d> step;
-        straighten(k, i, step);
+        straighten(ki.first, ki.second, step);
         std::vector<NodeId> ids;
         for (const auto& [id, p] : step) {
           ids.push_back(id);
@@ -470,9 +471,23 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
         }
         // A cell the step inverts joins the region (a layers' cell too: straight, it hands its
         // bend to the cell under it, down to the wall if need be: on the published spot, h0 1e-5
-        // L, Q2, 272 cells of a column and the fill beside it, 16 wall nodes moved by 0.0019).
-        for (const auto& ki : cells_around(ids))
-          if (!judge(ki.first, ki.second).first && region.insert(ki).second) queue.push_back(ki);
+        // L, Q2, 259 cells of a column and the fill beside it, 10 wall nodes moved by 0.0019); one
+        // in the region already but not straight yet (valid when its turn came) is queued again,
+        // and the cell itself once more (it is judged again, straight).
+        queue.push_back(ki);
+        for (const auto& nb : cells_around(ids))
+          if (!judge(nb.first, nb.second).first && (region.insert(nb).second || !straight.count(nb)))
+            queue.push_back(nb);
+        // Done when the queue holds valid cells only: then every cell around every node moved is
+        // checked below.
+        if (std::all_of(queue.begin(), queue.end(), [&](const auto& c) { return judge(c.first, c.second).first; })) {
+          std::vector<NodeId> all;
+          for (const auto& [id, p] : was) all.push_back(id);
+          const auto near = cells_around(all);
+          ok = judge(seed.first, seed.second).first &&
+               std::all_of(near.begin(), near.end(), [&](const auto& c) { return judge(c.first, c.second).first; });
+          break;
+        }
       }
       if (!ok) {
         for (const auto& [id, p] : was) at(id) = p;
@@ -483,7 +498,7 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
         ++s.straightened;
         s.straightened_max = std::max(s.straightened_max, (at(id) - p).norm());
       }
-      s.cells_straightened += region.size();
+      s.cells_straightened += straight.size();
     }
     std::size_t left = 0;
     for (const auto& [k, i] : touched) left += judge(k, i).first ? 0 : 1;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "modules/mesh/bend_fill3d.h"
+#include "modules/mesh/untangle3d.h"
 
 #include <doctest/doctest.h>
 
@@ -127,8 +128,14 @@ TEST_CASE("bend fill 3D: a fill thinner than its curved front's bulge bends with
   const FillBending bent = bend_fill_3d(col.mesh, 0, 0);
   CHECK(bent.curved_faces == 32);  // every bottom triangle has an edge inside the square
   CHECK(bent.nodes_moved > 0);
-  CHECK(bent.max_shift <= 0.03 + 1e-12);  // no node moves further than the front's largest bulge
+  // Here every fill node lies over a vertex or an edge midpoint of a front triangle, where the
+  // triangle's displacement is a node's: none moves further than the largest bulge.
+  CHECK(bent.max_shift <= 0.03 + 1e-12);
   CHECK(col.invalid() == 0);
+  // The guard's counts: the cells the map moved were inverted before, none after, nothing put back.
+  CHECK(bent.invalid_before > 0);
+  CHECK(bent.invalid_after == 0);
+  CHECK(bent.nodes_returned == 0);
   // The boundary stays; a node beyond the reach of every front triangle (its longest edge, the
   // diagonal 0.354) does not move. Above the centre (0.375, 0.375) of a square, the midpoint of its
   // diagonal from (0.25, 0.25) to (0.5, 0.5), which rose by bulge_there, the fill's nodes (the
@@ -162,4 +169,27 @@ TEST_CASE("bend fill 3D: a straight front moves nothing") {
   CHECK(bent.nodes_moved == 0);
   CHECK(col.mesh.nodes == before);
   CHECK(col.invalid() == 0);
+}
+
+TEST_CASE("bend fill 3D: without the bend, the untangler's last resort makes the bulge's cells straight") {
+  // The same column, untangled with no node or vertex moves: only the last resort acts. The
+  // lowest cells are inverted by the front's bulge; making one straight puts its front edges
+  // back on their chords, which straightens the cells around those edges too (fewer cells made
+  // straight than were inverted).
+  Column col(4, 0.03);
+  const std::size_t inverted = col.invalid();
+  REQUIRE(inverted > 1);
+  const std::vector<Eigen::Vector3d> before = col.mesh.nodes;
+  const FillUntangling u = untangle_fill_3d(col.mesh, 0, 0, UntangleMoves{.nodes = false, .vertices = false});
+  CHECK(u.invalid_before == inverted);
+  CHECK(u.invalid_after == 0);
+  CHECK(col.invalid() == 0);
+  CHECK(u.cells_straightened > 0);
+  CHECK(u.cells_straightened < inverted);
+  CHECK(u.straightened > 0);  // front nodes: the bulge given up there, and measured
+  CHECK(u.straightened_max > 0.01);
+  CHECK(u.straightened_max <= 0.03 + 1e-12);
+  // Off the front, only nodes of the lowest level (z <= 0.02) moved: the region stays local.
+  for (std::size_t i = 0; i < before.size(); ++i)
+    if (!col.front[i] && before[i].z() > 0.02 + 1e-12) CHECK(col.mesh.nodes[i] == before[i]);
 }
