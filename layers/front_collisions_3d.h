@@ -26,7 +26,8 @@ struct FrontSurface {
 };
 
 // The faces of fronts[0] (by index) with a sub-triangle that crosses a sub-triangle of any of the
-// fronts (fronts[0] itself included) with which it shares no mesh node, or (order > 1) whose
+// fronts (fronts[0] itself included) with which it shares no mesh node, or only one and they
+// cross beyond it (a fold around the node), or (order > 1) whose
 // chord (its vertices' triangle, what the fill meets) so crosses another face's chord. Sorted,
 // unique. With `unmoved` (per face of fronts[0]: 1 when the layer left it where it was, every
 // column under it stopped), a pair of which neither side moved is not a collision of this layer

@@ -658,6 +658,29 @@ TEST_CASE("layers 3D: a crossing between two faces the layer did not move is not
   CHECK(front_collisions({{&tri, &ids}}, nodes, 1, &one) == std::vector<std::size_t>{0, 1});
 }
 
+// Two faces around one node: a fold (the second passes through the first beyond the node) is a
+// collision, as TetGen finds it; faces meeting only at the node, or along an edge, are not.
+TEST_CASE("layers 3D: two faces sharing one node collide when one folds through the other") {
+  // Face 0: the unit right triangle at z = 0 on node 0. Face 1 on node 0 too: its far edge from
+  // (0.3, 0.3, -0.2) to (0.3, 0.3, 0.2) pierces face 0 at (0.3, 0.3, 0).
+  std::vector<Vector3d> nodes = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.3, 0.3, -0.2}, {0.3, 0.3, 0.2}};
+  const std::vector<int> tri = {0, 1, 2, 0, 3, 4};
+  const std::vector<NodeId> ids = {0, 1, 2, 3, 4};
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1) == std::vector<std::size_t>{0, 1});
+  // Face 1 moved off face 0's sector (its far edge at x = -0.3): they meet at node 0 alone.
+  nodes[3].x() = nodes[4].x() = -0.3;
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1).empty());
+  // Coplanar, folded back over face 0 (its far edge inside face 0's sector, in its plane).
+  nodes[3] = {0.2, 0.1, 0};
+  nodes[4] = {0.1, 0.2, 0};
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1) == std::vector<std::size_t>{0, 1});
+  // Two faces of a fan around node 0, side by side: no collision.
+  nodes[3] = {0, -1, 0};
+  nodes[4] = {1, -1, 0.5};
+  const std::vector<int> fan = {0, 1, 2, 0, 3, 1};
+  CHECK(front_collisions({{&fan, &ids}}, nodes, 1).empty());
+}
+
 TEST_CASE("normals 3D: at a cusp no direction sees every face, the most normal one is still given") {
   // Five faces whose normals span more than a hemisphere: the best direction has a negative
   // smallest cosine, the visibility normal none.
