@@ -33,7 +33,7 @@
 // valid, a sweep moves nothing or 2 million cells have been certified (the compass search takes at
 // most 24 steps per node and sweep): bounded work on any front.
 // The last resort for a fill cell still invalid: it is made straight (TetGen's linear cell is
-// valid), and each cell that turns invalid by it too, in turn (at most 512; a layers' cell too, which
+// valid), and each cell that turns invalid by it too, in turn (at most 2048; a layers' cell too, which
 // straight hands its bend to the cell under it, down to the wall if need be), kept when all are then
 // valid. Where those cells' nodes are on the boundary (a bare wall edge) the wall's curvature is
 // given up there, as the surface stage straightens a triangle it cannot curve validly: counted
