@@ -308,82 +308,79 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
 
   // 3. Node by node: the move that most improves its ball.
   std::unordered_set<NodeId> moved, moved_vertices;
-  auto sweeps = [&] {
-    for (int sweep = 0; sweep < kSweeps; ++sweep) {
-      bool any = false;
-      for (NodeId m : moves.nodes ? work : std::vector<NodeId>{}) {
-        if (s.certified > kMaxCertified) break;
-        const Around& a = ball[m];
-        BallQuality best = ball_quality(a.cells);
-        if (best.invalid == 0) continue;  // a move here could only make its own cells worse
-        Eigen::Vector3d& xm = at(m);
-        const Eigen::Vector3d start = xm;
-        const Eigen::Vector3d lin = linear(a.fill_cell, a.local);
-        // The displacements of the curved nodes of the fill cells around (one per node), the
-        // largest first, and their mean.
-        std::vector<std::pair<double, Eigen::Vector3d>> dirs;
-        std::unordered_set<NodeId> seen{m};
-        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-        for (const auto& [k, i] : a.cells) {
-          if (k != block || i < first_cell) continue;
-          const std::size_t c = i - first_cell;
-          const double tol = 1e-12 * size_of(c);
-          for (int j = 4; j < np; ++j) {
-            const NodeId id = cell(c)[j];
-            if (!seen.insert(id).second) continue;
-            const Eigen::Vector3d d = at(id) - linear(c, j);
-            if (d.norm() <= tol) continue;
-            dirs.emplace_back(d.norm(), d);
-            mean += d;
-          }
-        }
-        if (!dirs.empty()) {
-          mean /= static_cast<double>(dirs.size());
-          std::sort(dirs.begin(), dirs.end(), [](const auto& l, const auto& r) { return l.first > r.first; });
-          if (dirs.size() > kMaxDirections) dirs.resize(kMaxDirections);
-          dirs.emplace_back(mean.norm(), mean);
-        }
-        Eigen::Vector3d best_x = start;
-        auto trial = [&](const Eigen::Vector3d& p) {
-          xm = p;
-          const BallQuality bq = ball_quality(a.cells);
-          if (bq.better_than(best)) {
-            best = bq;
-            best_x = p;
-          }
-        };
-        trial(lin);
-        for (const auto& [len, d] : dirs)
-          for (double share : {0.5, 1.0}) trial(lin + share * d);
-        // Then a compass search from the best (the largest displacement one of its directions).
-        const double size = size_of(a.fill_cell);
-        compass_search(compass_directions(dirs.empty() ? Eigen::Vector3d::Zero() : dirs.front().second),
-                       dirs.empty() ? 0.05 * size : 0.5 * dirs.front().first, 1e-9 * size, &best_x, trial);
-        xm = best_x;
-        if (best_x != start) {
-          any = true;
-          moved.insert(m);
+  for (int sweep = 0; sweep < kSweeps; ++sweep) {
+    bool any = false;
+    for (NodeId m : moves.nodes ? work : std::vector<NodeId>{}) {
+      if (s.certified > kMaxCertified) break;
+      const Around& a = ball[m];
+      BallQuality best = ball_quality(a.cells);
+      if (best.invalid == 0) continue;  // a move here could only make its own cells worse
+      Eigen::Vector3d& xm = at(m);
+      const Eigen::Vector3d start = xm;
+      const Eigen::Vector3d lin = linear(a.fill_cell, a.local);
+      // The displacements of the curved nodes of the fill cells around (one per node), the
+      // largest first, and their mean.
+      std::vector<std::pair<double, Eigen::Vector3d>> dirs;
+      std::unordered_set<NodeId> seen{m};
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (const auto& [k, i] : a.cells) {
+        if (k != block || i < first_cell) continue;
+        const std::size_t c = i - first_cell;
+        const double tol = 1e-12 * size_of(c);
+        for (int j = 4; j < np; ++j) {
+          const NodeId id = cell(c)[j];
+          if (!seen.insert(id).second) continue;
+          const Eigen::Vector3d d = at(id) - linear(c, j);
+          if (d.norm() <= tol) continue;
+          dirs.emplace_back(d.norm(), d);
+          mean += d;
         }
       }
-      // Then the vertices of cells still invalid, and the free nodes of each invalid cell together
-      // (where each node alone trades one cell for another): a compass search over the shift.
-      for (auto& [v, va] : vertex_ball)
-        if (shift_group(va)) {
-          any = true;
-          moved_vertices.insert(v);
+      if (!dirs.empty()) {
+        mean /= static_cast<double>(dirs.size());
+        std::sort(dirs.begin(), dirs.end(), [](const auto& l, const auto& r) { return l.first > r.first; });
+        if (dirs.size() > kMaxDirections) dirs.resize(kMaxDirections);
+        dirs.emplace_back(mean.norm(), mean);
+      }
+      Eigen::Vector3d best_x = start;
+      auto trial = [&](const Eigen::Vector3d& p) {
+        xm = p;
+        const BallQuality bq = ball_quality(a.cells);
+        if (bq.better_than(best)) {
+          best = bq;
+          best_x = p;
         }
-      for (Group& g : cell_groups)
-        if (shift_group(g)) {
-          any = true;
-          for (const auto& [id, w] : g.carried) moved.insert(id);
-        }
-      std::size_t left = 0;
-      for (const auto& [k, i] : touched) left += judge(k, i).first ? 0 : 1;
-      s.invalid_after = left;
-      if (left == 0 || !any || s.certified > kMaxCertified) break;
+      };
+      trial(lin);
+      for (const auto& [len, d] : dirs)
+        for (double share : {0.5, 1.0}) trial(lin + share * d);
+      // Then a compass search from the best (the largest displacement one of its directions).
+      const double size = size_of(a.fill_cell);
+      compass_search(compass_directions(dirs.empty() ? Eigen::Vector3d::Zero() : dirs.front().second),
+                     dirs.empty() ? 0.05 * size : 0.5 * dirs.front().first, 1e-9 * size, &best_x, trial);
+      xm = best_x;
+      if (best_x != start) {
+        any = true;
+        moved.insert(m);
+      }
     }
-  };
-  sweeps();
+    // Then the vertices of cells still invalid, and the free nodes of each invalid cell together
+    // (where each node alone trades one cell for another): a compass search over the shift.
+    for (auto& [v, va] : vertex_ball)
+      if (shift_group(va)) {
+        any = true;
+        moved_vertices.insert(v);
+      }
+    for (Group& g : cell_groups)
+      if (shift_group(g)) {
+        any = true;
+        for (const auto& [id, w] : g.carried) moved.insert(id);
+      }
+    std::size_t left = 0;
+    for (const auto& [k, i] : touched) left += judge(k, i).first ? 0 : 1;
+    s.invalid_after = left;
+    if (left == 0 || !any || s.certified > kMaxCertified) break;
+  }
 
   // 4. The last resort, for a fill cell still invalid: the cell made straight (valid when its
   // linear tetrahedron is: TetGen's are, and the moves above keep every fill cell's vertices where
