@@ -44,7 +44,11 @@ one at a time (plaf uses the cores it needs); each is killed after --timeout sec
 
     python3 bench/sweep_3d.py [--plaf build/apps/plaf] [--out sweep3d_out] [--fill] [--keep]
                               [--subset] [--timeout 2400] [--only BODY,...] [--h0 1e-5,...]
-                              [--orders 1,2,3]
+                              [--orders 1,2,3] [--body NAME=FILE[:half] ...]
+
+--body NAME=FILE[:half] adds a body from any surface file (STL, OBJ, Plot3D .fmt) under the same
+rule (:half: a half model on the plane z = 0); given alone, only those bodies run. So a body
+none of plaf's tests know is tried as a new user would (a CAD part exported by Gmsh, a scan).
 
 --subset runs the rows of SUBSET (for ctest: rows that pass today, the analytic bodies and the
 published bullet; a published row missing from the data root makes it exit 77, ctest's skipped, once the
@@ -321,6 +325,9 @@ def main():
     ap.add_argument("--only", default="", help="comma-separated bodies (e.g. spot,sphere): only their rows")
     ap.add_argument("--h0", default="", help="comma-separated h0 factors (of the body's size), e.g. 1e-5")
     ap.add_argument("--orders", default="", help="comma-separated orders, e.g. 1,2")
+    ap.add_argument("--body", action="append", default=[], metavar="NAME=FILE[:half]",
+                    help="one more body from a surface file (STL, OBJ, Plot3D .fmt) under the same rule; "
+                         ":half for a half model on the plane z = 0 (a body none of plaf's tests know)")
     ap.add_argument("--layer-key", action="append", default=[], metavar="KEY=VALUE",
                     help="one more key of every run's layers section, to study an option across the "
                          "bodies (e.g. smooth_normals=true); the rule's configurations have none")
@@ -339,13 +346,23 @@ def main():
             continue
         lo, hi = bbox_file(path)
         args.bodies[name] = (["type: surface_file", f"file: data:surfaces/{file}"], lo, hi, half)
+    extra = []
+    for spec in args.body:
+        name, sep, file = spec.partition("=")
+        half = file.endswith(":half")
+        file = os.path.abspath(file[:-5] if half else file)
+        if not sep or not re.fullmatch(r"[A-Za-z0-9_]+", name) or not os.path.isfile(file):
+            sys.exit(f"sweep_3d: --body {spec}: expected NAME=FILE[:half] with an existing file")
+        lo, hi = bbox_file(file)
+        args.bodies[name] = (["type: surface_file", f"file: {file}"], lo, hi, half)
+        extra.append(name)
     args.layer_keys = []
     for kv in args.layer_key:
         key, sep, value = kv.partition("=")
         if not sep or not key.strip() or not value.strip():
             sys.exit(f"sweep_3d: --layer-key {kv}: expected KEY=VALUE (e.g. smooth_normals=true)")
         args.layer_keys.append((key.strip(), value.strip()))
-    known = list(PUBLISHED) + list(ANALYTIC)
+    known = list(PUBLISHED) + list(ANALYTIC) + extra
     if args.subset:
         subset = SUBSET_FILL if args.fill else SUBSET
         rows = [r for r in subset if r[0] in args.bodies]
@@ -357,7 +374,7 @@ def main():
                 sys.exit(f"sweep_3d: --only {b}: no such body (known: {', '.join(known)})")
         h0s = [float(h) for h in args.h0.split(",") if h] or H0S
         orders = [int(q) for q in args.orders.split(",") if q] or ORDERS
-        names = [b for b in (only or known) if b in args.bodies]  # --only's order
+        names = [b for b in (only or extra or known) if b in args.bodies]  # --only's order; --body alone: its bodies
         rows = [(b, h, q) for b in names for h in h0s for q in orders]
         skipped = []
     os.makedirs(os.path.join(args.out, "configs"), exist_ok=True)

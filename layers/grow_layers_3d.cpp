@@ -1213,6 +1213,22 @@ class PartLayerBuilder {
       if (c)
         for (int k = nw.face_vertices(f); k < nw.face_size(f); ++k) straight[static_cast<std::size_t>(fl[k])] = 1;
     }
+    // The narrowest face each high-order node lies on: the smallest altitude of the linear
+    // triangles of the base under its faces (lean_cap below).
+    std::vector<double> narrow(nd, std::numeric_limits<double>::infinity());
+    for (std::size_t f = 0; f < nw.num_faces(); ++f) {
+      const int* fl = nw.face(f);
+      if (nw.face_vertices(f) != 3) continue;
+      const Vec& a = x_[static_cast<std::size_t>(dirs_[static_cast<std::size_t>(fl[0])].base)];
+      const Vec& b = x_[static_cast<std::size_t>(dirs_[static_cast<std::size_t>(fl[1])].base)];
+      const Vec& c = x_[static_cast<std::size_t>(dirs_[static_cast<std::size_t>(fl[2])].base)];
+      const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+      const double altitude = longest > 0 ? (b - a).cross(c - a).norm() / longest : 0.0;
+      for (int k = 3; k < nw.face_size(f); ++k) {
+        double& w = narrow[static_cast<std::size_t>(fl[k])];
+        w = std::min(w, altitude);
+      }
+    }
     double clipped_max = 0;
     off_lift_.assign(nd, Vec::Zero());
     for (std::size_t d = 0; d < nd; ++d) {
@@ -1250,8 +1266,23 @@ class PartLayerBuilder {
         }
         continue;
       }
+      // Lean cap. A node grown along its own direction stands off the straight top (its face's
+      // vertex tops' chord plus the base's own offset) by up to kMaxBend of its height (blend()).
+      // On a sliver face of the front that offset turns the curved edges' tangents at the
+      // sliver's sharp corner: an edge's end tangent turns by 4 x its middle node's offset over
+      // its length, and the corner's angle is the face's width over that length, so two edges
+      // leaning differently by a quarter of the width invert the cell there. Fans along a curved
+      // ridge make such slivers (a fan's sector strip, split into two triangles, is 1e-4 as wide
+      // as it is long in the first layers: a cylinder's flat end at h0 1e-5, 93 invalid cells in
+      // layer 3, 5 % of the wall stopped). So the offset is capped at an eighth of the narrowest
+      // face's altitude: no cap on a well-shaped face of a thin layer, the straight top on a
+      // sliver.
+      const Vec straight_top = target + (x_[l] - linear);
+      const Vec lean = top_[d] - straight_top;
+      const double cap = 0.125 * narrow[d];
+      if (lean.norm() > cap) top_[d] = straight_top + lean * (cap / lean.norm());
       clipped_max = std::max(clipped_max, attenuate<3>(&top_[d], &target, &dh_[d], 1, f_atten_));
-      off_lift_[d] = top_[d] - (target + (x_[l] - linear));
+      off_lift_[d] = top_[d] - straight_top;
     }
     if (q_ == 1 && std::isfinite(f_atten_)) clipped_max = std::max(clipped_max, chord_sag_need(nw));
     out_.built.max_clipped_rel = clipped_max;
@@ -1846,6 +1877,14 @@ class SurfaceFronts final : public FrontGrower<3> {
       const TriangleTree::Hit back = wall_.first_hit(x, -d, -eps, inf);
       const bool under = back.triangle >= 0 && wall_normal_[static_cast<std::size_t>(back.triangle)].dot(d) > 0;
       if (under) below[k] = std::max(0.0, back.t);
+      // The column's own wall is at most its stack's thickness back along the column (the
+      // stack's layers, summed along their zigzag), and along the front's normal, which leans
+      // from the column, not much more. A ray back that misses it (grazing a convex ridge,
+      // between the faces around the ridge node) meets the body's far side instead: on a flange
+      // 0.4 thick, a rim column's ray back met the hub 1.2 away, which made its stack 1.2 thick,
+      // its room negative and 74 columns along a convex rim stop for proximity in layer 2. So the
+      // distance back is at most twice the stack (a ray leaning 60 degrees from the wall's normal).
+      if (under && l < p.stack.size()) below[k] = std::min(below[k], 2 * p.stack[l]);
       // A wall face sharing a node with the face below is the column's own neighbourhood (a ray
       // along a vertex normal can graze its ring where the faces around bend), not a facing wall.
       // (On the wall the column's node is a wall node: its own faces are skipped by id.)

@@ -24,7 +24,11 @@
 //     ridge or corner with a merged normal; a fan's directions and a concave merge's keep
 //     theirs), so the pull below (at the paper's f_atten, 0.2) outruns the bend; they are
 //     attenuated toward the linear interpolation of
-//     its vertex tops (Fig. 5) by at most f_atten times their height; a straight base edge or
+//     its vertex tops (Fig. 5) by at most f_atten times their height; before that pull a node
+//     stands off the straight top (its vertex tops' chord plus the base's offset from its chord)
+//     by at most an eighth of the narrowest altitude of its faces (the lean cap: on the sliver
+//     strips a fan leaves along a curved ridge the lean turned the curved edges past the
+//     sliver's corner); a straight base edge or
 //     triangle grows a straight top, and so does every triangle touching a concave node (as next
 //     to a 2D concave corner); the column nodes are uniform along base -> top, so every prism is
 //     linear along its height;
@@ -95,7 +99,8 @@
 //     its cells cannot be valid, stops there too: no run ends on a cusp.
 //  8. the proximity rule (layer_core.h, step 1; SurfaceFronts::stop_point_room): a ray along
 //     each vertex column's front normal to the first wall triangle facing it (its own face's
-//     neighbours skipped) and one back to its own wall give the gap; the allowance, share x the
+//     neighbours skipped) and one back to its own wall give the gap (the distance back at most
+//     twice the column's stack: a ray grazing a convex ridge meets the body's far side); the allowance, share x the
 //     gap x cos/(1 + cos), is graded over the front's edges (at most half the distance more);
 //     where the front is concave, a layer may take at most half the distance to its nearest
 //     focus (where two neighbouring columns, along the front's angle-weighted normals, meet),

@@ -287,6 +287,50 @@ CurvedFront<3> cube(int n, int q, bool open_bottom = false) {
   return b.f;
 }
 
+// A closed cylinder of radius R about the z axis from z = 0 to z = 1 (a machined post): its side
+// in m x k quadrilaterals split in two, each end a fan of m triangles about its centre, every
+// node of order q on the exact body (the side's radially, an end's by the map that takes its
+// polygon onto the disk). Its two circles are convex ridges of 90 degrees.
+CurvedFront<3> closed_cylinder(int m, int k, int q, double R) {
+  FrontBuilder b(q, 1.0);
+  b.f.tags = {{"wall", BoundaryKind::Wall}};
+  // Uneven angles along the circles, as a CAD tessellation spaces them.
+  std::vector<double> theta(static_cast<std::size_t>(m) + 1);
+  for (int i = 0; i <= m; ++i) theta[static_cast<std::size_t>(i)] = 2 * M_PI * (i + 0.3 * std::sin(2.7 * (i % m))) / m;
+  auto rim = [&](int i, double z) {
+    const double t = theta[static_cast<std::size_t>(i)];
+    return Vector3d(R * std::cos(t), R * std::sin(t), z);
+  };
+  auto side = [&](const Vector3d& lin, Vector3d& nrm) {
+    nrm = Vector3d(lin.x(), lin.y(), 0).normalized();
+    return Vector3d(R * nrm.x(), R * nrm.y(), lin.z());
+  };
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < m; ++i) {
+      const double z0 = static_cast<double>(j) / k, z1 = static_cast<double>(j + 1) / k;
+      b.triangle(rim(i, z0), rim(i + 1, z0), rim(i + 1, z1), 0, side);
+      b.triangle(rim(i, z0), rim(i + 1, z1), rim(i, z1), 0, side);
+    }
+  for (const double z : {0.0, 1.0})
+    for (int i = 0; i < m; ++i) {
+      // The polygon's side i onto its arc: radially, by R cos(half) / cos(angle from its middle).
+      const double mid = 0.5 * (theta[static_cast<std::size_t>(i)] + theta[static_cast<std::size_t>(i) + 1]);
+      const double half = 0.5 * (theta[static_cast<std::size_t>(i) + 1] - theta[static_cast<std::size_t>(i)]);
+      auto end = [&](const Vector3d& lin, Vector3d& nrm) {
+        nrm = Vector3d(0, 0, z > 0.5 ? 1 : -1);
+        if (std::hypot(lin.x(), lin.y()) < 1e-14) return lin;
+        const double s = std::cos(std::remainder(std::atan2(lin.y(), lin.x()) - mid, 2 * M_PI)) / std::cos(half);
+        return Vector3d(lin.x() * s, lin.y() * s, z);
+      };
+      const Vector3d c(0, 0, z);
+      if (z > 0.5)
+        b.triangle(c, rim(i, z), rim(i + 1, z), 0, end);
+      else
+        b.triangle(c, rim(i + 1, z), rim(i, z), 0, end);
+    }
+  return b.f;
+}
+
 // (1/3) of the integral of x . n dA over the outer front's curved triangles and quadrilaterals.
 double enclosed_volume(const LayerResult<3>& r) {
   const int q = r.outer.order;
@@ -1395,6 +1439,48 @@ TEST_CASE("layers 3D: a layer with stopped columns attenuates its base's curvatu
     }
     CHECK(cut >= 5);
     for (const std::string& e : r.events) CHECK(e.find("rebuilt with f_atten") == std::string::npos);
+    CHECK(invalid_cells(r, q) == 0);
+    check_conforming_and_apart(r, q);
+  }
+}
+
+TEST_CASE("layers 3D: fans along a curved ridge keep their sector strips valid: a cylinder's flat ends grow every layer") {
+  // The fans along a circle's ridge leave strips a sector wide and an edge long: at h0 = 1e-5 of
+  // an edge 0.065 long, split into two triangles 1e-4 as wide as they are long, whose high-order
+  // tops must keep the sliver's sharp corner (the lean cap, grow_layers_3d.cpp, tops()). On this
+  // exact cylinder (unevenly spaced along its circles) the high-order nodes' own directions
+  // agree with their faces' blend and every layer grows at Q2 and Q3, with the cap or without:
+  // a guard of fans along curved ridges. The cap's case, a CAD-tessellated STL of the same body
+  // where the remeshed ridge's nodes lean apart, is in tests/apps/surface_cli_test.cpp (a
+  // machined post).
+  for (int q : {2, 3}) {
+    CAPTURE(q);
+    const double R = 0.5;
+    const CurvedFront<3> f = closed_cylinder(48, 12, q, R);
+    const TestWallMetric m(
+        1e-5, 1.2, 0.05,
+        [R](const Vector3d& x) {
+          const double dr = std::max(0.0, std::hypot(x.x(), x.y()) - R), dz = std::max({0.0, x.z() - 1, -x.z()});
+          return std::hypot(dr, dz);
+        },
+        [R](const Vector3d& x) {
+          // Outside: the distance's gradient; on the wall, the normal of the nearest part.
+          const double r = std::hypot(x.x(), x.y());
+          const Vector3d radial = r > 0 ? Vector3d(x.x() / r, x.y() / r, 0) : Vector3d(Vector3d::UnitX());
+          const double dr = std::max(0.0, r - R), dz = x.z() > 1 ? x.z() - 1 : (x.z() < 0 ? x.z() : 0.0);
+          if (dr + std::abs(dz) > 0) return Vector3d((dr * radial + Vector3d(0, 0, dz)).normalized());
+          const double side = R - r, top = 1 - x.z(), bottom = x.z();
+          if (side <= std::min(top, bottom)) return radial;
+          return Vector3d(0, 0, top < bottom ? 1 : -1);
+        });
+    LayerParams p;
+    p.max_layers = 8;
+    const LayerResult<3> r = grow_layers(f, m, p);
+    CHECK(count_of(r, "ridge_fans.edges") == 2 * 48);
+    REQUIRE(r.layers.size() == 8);
+    for (const std::string& e : r.events) CHECK(e.find("invalid cells") == std::string::npos);
+    CHECK(r.coverage.columns_complete == r.coverage.columns);
+    CHECK(r.layers.back().coverage == doctest::Approx(1.0).epsilon(1e-12));
     CHECK(invalid_cells(r, q) == 0);
     check_conforming_and_apart(r, q);
   }
