@@ -107,6 +107,7 @@ void assemble(RunState<3>& s, StageReport& rep) {
                  std::to_string(bent.invalid_before) + " -> " + std::to_string(bent.invalid_after));
       const FillUntangling u = untangle_fill_3d(s.mesh, block, first_cell);
       rep.add("fill_curved_tets", u.curved);
+      rep.add("fill_flat_tets", u.flat);
       // invalid_after counts every cell a move could change (layers' cells too), so the difference
       // is clamped.
       const std::size_t untangled = u.invalid_before > u.invalid_after ? u.invalid_before - u.invalid_after : 0;
@@ -118,7 +119,9 @@ void assemble(RunState<3>& s, StageReport& rep) {
       rep.add("fill_straightened_max_deviation", u.straightened_max);
       if (u.invalid_before > 0)
         rep.line("assembly: " + std::to_string(u.invalid_before) + " of the fill's " + std::to_string(u.curved) +
-                 " curved tetrahedra were inverted; " + std::to_string(untangled) + " untangled by moving " +
+                 " curved tetrahedra" +
+                 (u.flat > 0 ? " and " + std::to_string(u.flat) + " flat straight ones (TetGen's slivers)" : std::string()) +
+                 " were inverted; " + std::to_string(untangled) + " untangled by moving " +
                  std::to_string(u.nodes_moved) + " high-order nodes and " + std::to_string(u.vertices_moved) +
                  " vertices off the boundary, " + std::to_string(u.invalid_after) + " left");
       if (u.cells_straightened > 0)

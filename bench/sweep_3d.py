@@ -110,10 +110,10 @@ SUBSET = [
 ]
 
 # With --fill, the hybrid subset: the published 717 wing (half model on its symmetry plane) at h0
-# 1e-4 L, order 2, about 45 s: its front stays curved at the tip's trailing edge, where columns
-# stop before their first layer, so the fill bends with it (5 inverted cells -> 2), the untangler
-# runs and its last resort makes 9 cells straight (measured on aaa4f11): every stage after TetGen
-# on a real body, ending valid.
+# 1e-4 L, order 2, about 50 s: its front stays curved at the tip's trailing edge, where columns
+# stop before their first layer, so the fill bends with it (3 inverted cells -> 0) and the
+# untangler lifts a flat TetGen sliver at the front that the certificate calls inverted
+# (measured on the head of 2026-12-06): every stage after TetGen on a real body, ending valid.
 SUBSET_FILL = [
     ("wing_717", 1e-4, 2),
 ]

@@ -52,7 +52,8 @@ inline namespace mesh {
 
 struct FillUntangling {
   std::size_t curved = 0;              // fill tetrahedra with a node off its linear position
-  std::size_t invalid_before = 0;      // of those, not certified valid before
+  std::size_t flat = 0;                // straight fill tetrahedra not certified valid (flat slivers)
+  std::size_t invalid_before = 0;      // of those and the curved, not certified valid before
   std::size_t invalid_after = 0;       // ... and after
   std::size_t nodes_moved = 0;         // free high-order nodes moved
   std::size_t vertices_moved = 0;      // vertices off the boundary moved (their cells' nodes carried along)

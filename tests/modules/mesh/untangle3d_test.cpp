@@ -152,3 +152,28 @@ TEST_CASE("untangle 3D: a valid curved fill is left as it is, a cell with no fre
     CHECK(u.certified == 0);
   }
 }
+
+TEST_CASE("untangle 3D: a flat straight tetrahedron (a TetGen sliver at the front) is untangled by its free vertex") {
+  // Straight, its apex 1e-9 below the front's plane: a signed volume within rounding of 0 that the
+  // certificate calls invalid. It is no curved cell, but its vertex off the front lifts it.
+  BulgedTet t(-1e-9, 0);
+  REQUIRE_FALSE(t.valid());
+  const std::vector<Eigen::Vector3d> before = t.mesh.nodes;
+  const FillUntangling u = untangle_fill_3d(t.mesh, 0, 0);
+  CHECK(u.curved == 0);
+  CHECK(u.flat == 1);
+  CHECK(u.invalid_before == 1);
+  CHECK(u.invalid_after == 0);
+  CHECK(u.vertices_moved == 1);
+  CHECK(t.valid());
+  CHECK(t.front_unmoved(before));
+}
+
+TEST_CASE("untangle 3D: a straight fill is not certified, however thin its cells, while they are valid") {
+  BulgedTet t(1e-3, 0);  // a valid sliver: 1e-3 tall over a unit triangle
+  REQUIRE(t.valid());
+  const FillUntangling u = untangle_fill_3d(t.mesh, 0, 0);
+  CHECK(u.certified == 0);
+  CHECK(u.flat == 0);
+  CHECK(u.invalid_before == 0);
+}
