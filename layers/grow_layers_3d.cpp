@@ -1270,16 +1270,18 @@ class PartLayerBuilder {
       // vertex tops' chord plus the base's own offset) by up to kMaxBend of its height (blend()).
       // On a sliver face of the front that offset turns the curved edges' tangents at the
       // sliver's sharp corner: an edge's end tangent turns by 4 x its middle node's offset over
-      // its length, and the corner's angle is the face's width over that length, so two edges
+      // its length (Q2), and the corner's angle is the face's width over that length, so two edges
       // leaning differently by a quarter of the width invert the cell there. Fans along a curved
       // ridge make such slivers (a fan's sector strip, split into two triangles, is 1e-4 as wide
       // as it is long in the first layers: a cylinder's flat end at h0 1e-5, 93 invalid cells in
-      // layer 3, 5 % of the wall stopped). So the offset is capped at an eighth of the narrowest
-      // face's altitude: no cap on a well-shaped face of a thin layer, the straight top on a
-      // sliver.
+      // layer 3, 5 % of the wall stopped). So the offset is capped at the narrowest face's
+      // altitude over 2 Q^2 (an eighth at Q2; at Q3 an edge's end tangent moves by 9 x its nearer
+      // inner node's offset over its length, so an eighteenth: a CAD cylinder's STL at Q3, 97.1 %
+      // with an eighth, 99.9 %): no cap on a well-shaped face of a thin layer, the straight top
+      // on a sliver.
       const Vec straight_top = target + (x_[l] - linear);
       const Vec lean = top_[d] - straight_top;
-      const double cap = 0.125 * narrow[d];
+      const double cap = narrow[d] / (2.0 * q_ * q_);
       if (lean.norm() > cap) top_[d] = straight_top + lean * (cap / lean.norm());
       clipped_max = std::max(clipped_max, attenuate<3>(&top_[d], &target, &dh_[d], 1, f_atten_));
       off_lift_[d] = top_[d] - straight_top;

@@ -26,7 +26,7 @@
 //     attenuated toward the linear interpolation of
 //     its vertex tops (Fig. 5) by at most f_atten times their height; before that pull a node
 //     stands off the straight top (its vertex tops' chord plus the base's offset from its chord)
-//     by at most an eighth of the narrowest altitude of its faces (the lean cap: on the sliver
+//     by at most the narrowest altitude of its faces over 2 Q^2 (the lean cap: on the sliver
 //     strips a fan leaves along a curved ridge the lean turned the curved edges past the
 //     sliver's corner); a straight base edge or
 //     triangle grows a straight top, and so does every triangle touching a concave node (as next

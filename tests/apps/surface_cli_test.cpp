@@ -473,8 +473,9 @@ TEST_CASE("surface cli: a machined post (a CAD-tessellated cylinder with flat en
   // A cylinder of radius 0.5 and height 1 as CAD exports it: 64 strips the whole height, each end
   // a fan about its centre. The fans along its two circles leave sector strips 1e-4 as wide as
   // they are long; without the lean cap on the high-order tops (grow_layers_3d.cpp, tops()) 98
-  // columns stopped along the circles in layers 8-9 (99.3 % coverage; a Gmsh-meshed STL of the
-  // same cylinder 94.6 %). Now every column reaches its stop rule.
+  // columns stopped along the circles in layers 8-9 at Q2 (99.3 % coverage; a Gmsh-meshed STL of
+  // the same cylinder 94.6 %), and at Q3 with the Q2 cap 473 (97.1 %). Now every column reaches
+  // its stop rule at Q2, all but 5 at Q3.
   constexpr int m = 64;
   TriangleSoup post;
   for (int i = 0; i < m; ++i)
@@ -489,27 +490,30 @@ TEST_CASE("surface cli: a machined post (a CAD-tessellated cylinder with flat en
     post.triangles.push_back({top, b0, b1});
     post.triangles.push_back({bottom, a1, a0});
   }
-  const TempDir d("surface_cli_post");
-  write_text(d / "case.stl", ascii_stl(post));
-  const PlafResult r = run_config(d,
-                                  "name: case\norder: 2\ngeometry: {type: surface_file, file: case.stl}\n"
-                                  "metric: {type: wall_power_law, h0: 1e-5, growth: 1.2, h_wall_max: 0.04, h_max: 3}\n"
-                                  "surface: {curvature_factor: 0.3}\nlayers: {max: 12}\noutput: {formats: [report]}\n");
-  INFO(r.err);
-  REQUIRE(r.code == 0);
-  const std::string report = read_text(d / "out" / "case.report.json");
-  CHECK(report.find("\"ridge_fans\": {\"edges\": 0") == std::string::npos);
-  const std::size_t cov = report.find("\"coverage\": {");
-  REQUIRE(cov != std::string::npos);
-  const std::size_t at = report.find("\"columns\": ", cov), done = report.find("\"columns_complete\": ", cov);
-  REQUIRE(at != std::string::npos);
-  REQUIRE(done != std::string::npos);
-  const long columns = std::strtol(report.c_str() + at + 11, nullptr, 10);
-  const long complete = std::strtol(report.c_str() + done + 20, nullptr, 10);
-  MESSAGE(complete << " of " << columns << " columns reached their stop rule");
-  CHECK(columns > 1000);
-  CHECK(complete == columns);
-  CHECK(report.find("columns stopped where no valid cell could be grown") == std::string::npos);
+  for (const int q : {2, 3}) {
+    CAPTURE(q);
+    const TempDir d("surface_cli_post_q" + std::to_string(q));
+    write_text(d / "case.stl", ascii_stl(post));
+    const PlafResult r = run_config(d, "name: case\norder: " + std::to_string(q) +
+                                           "\ngeometry: {type: surface_file, file: case.stl}\n"
+                                           "metric: {type: wall_power_law, h0: 1e-5, growth: 1.2, h_wall_max: 0.04, h_max: 3}\n"
+                                           "surface: {curvature_factor: 0.3}\nlayers: {max: 12}\noutput: {formats: [report]}\n");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string report = read_text(d / "out" / "case.report.json");
+    CHECK(report.find("\"ridge_fans\": {\"edges\": 0") == std::string::npos);
+    const std::size_t cov = report.find("\"coverage\": {");
+    REQUIRE(cov != std::string::npos);
+    const std::size_t at = report.find("\"columns\": ", cov), done = report.find("\"columns_complete\": ", cov);
+    REQUIRE(at != std::string::npos);
+    REQUIRE(done != std::string::npos);
+    const long columns = std::strtol(report.c_str() + at + 11, nullptr, 10);
+    const long complete = std::strtol(report.c_str() + done + 20, nullptr, 10);
+    MESSAGE("Q" << q << ": " << complete << " of " << columns << " columns reached their stop rule");
+    CHECK(columns > 1000);
+    // Q2: every column; Q3: all but a few (4866 of 4871, one region; 4398 with the Q2 cap).
+    CHECK(complete >= columns - (q == 2 ? 0 : columns / 200));
+  }
 }
 
 TEST_CASE("surface cli: a flange with bores (Gmsh's OpenCASCADE tessellation) keeps its layers along its convex rims") {
