@@ -323,10 +323,13 @@ std::unique_ptr<tetgenio> build_plc(const LinearFront<3>& front, const PlcNumber
 }
 
 // p (PLC, carving from the hole points), Y (no Steiner point on the front), Q (quiet), z (ids from
-// 0), J (no jettisoned points, so input ids stay), q/a bounds.
+// 0), J (no jettisoned points, so input ids stay), M0/1 (coplanar facets merged as by default,
+// but no two points: TetGen replaces a point within 1e-8 of the box's diagonal of another by it,
+// which drops the front's triangles on it; a flange's layers, 4e-7 apart at a bore's rim in a
+// farfield 40 wide, lost 11), q/a bounds.
 std::string tetgen_switches(const TetFillParams& params) {
   std::ostringstream sw;
-  sw << "pYQzJ";
+  sw << "pYQzJM0/1";
   if (params.max_radius_edge > 0) sw << 'q' << params.max_radius_edge;
   if (params.max_volume > 0) sw << 'a' << params.max_volume;
   if (!params.node_sizes.empty()) sw << 'm';
