@@ -48,7 +48,8 @@ one at a time (plaf uses the cores it needs); each is killed after --timeout sec
 
 --body NAME=FILE[:half] adds a body from any surface file (STL, OBJ, Plot3D .fmt) under the same
 rule (:half: a half model on the plane z = 0); given alone, only those bodies run. So a body
-none of plaf's tests know is tried as a new user would (a CAD part exported by Gmsh, a scan).
+none of plaf's tests know is tried as a new user would (a CAD part exported by Gmsh, a scan);
+bench/cad_bodies.py writes five such parts and prints their --body arguments.
 
 --subset runs the rows of SUBSET (for ctest: rows that pass today, the analytic bodies and the
 published bullet; a published row missing from the data root makes it exit 77, ctest's skipped, once the
