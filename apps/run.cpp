@@ -118,9 +118,11 @@ void assemble(RunState<3>& s, StageReport& rep) {
       rep.add("fill_straightened_boundary_nodes", u.straightened);
       rep.add("fill_straightened_max_deviation", u.straightened_max);
       if (u.invalid_before > 0)
-        rep.line("assembly: " + std::to_string(u.invalid_before) + " of the fill's " + std::to_string(u.curved) +
+        rep.line("assembly: " + std::to_string(u.invalid_before - u.flat) + " of the fill's " + std::to_string(u.curved) +
                  " curved tetrahedra" +
-                 (u.flat > 0 ? " and " + std::to_string(u.flat) + " flat straight ones (TetGen's slivers)" : std::string()) +
+                 (u.flat > 0 ? " and " + std::to_string(u.flat) + " flat straight one" + (u.flat > 1 ? "s" : "") +
+                                   " (TetGen's slivers)"
+                             : std::string()) +
                  " were inverted; " + std::to_string(untangled) + " untangled by moving " +
                  std::to_string(u.nodes_moved) + " high-order nodes and " + std::to_string(u.vertices_moved) +
                  " vertices off the boundary, " + std::to_string(u.invalid_after) + " left");

@@ -48,7 +48,7 @@ struct TetFillStats {
   std::size_t new_points = 0;          // nodes after front.nodes (TetGen's interior Steiner points)
   double min_dihedral_deg = 0;         // smallest dihedral angle of any tet, degrees
   double max_radius_edge = 0;          // largest circumradius / shortest edge (regular tet: sqrt(6)/4)
-  std::string switches;                // the TetGen switches used, e.g. "pYQzJq1.5"
+  std::string switches;                // the TetGen switches used, e.g. "pYQzJM0/1q1.5"
 };
 
 // The fill (linear_front.h's FillResult: front.nodes, same ids, then the new ones; order-1

@@ -549,17 +549,21 @@ TEST_CASE("surface cli: a flange with bores (Gmsh's OpenCASCADE tessellation) ke
   const std::string report = read_text(d / "out" / "case.report.json");
   const std::size_t cov = report.find("\"coverage\": {");
   REQUIRE(cov != std::string::npos);
-  const double complete = std::strtod(report.c_str() + report.find("\"complete\": ", cov) + 12, nullptr);
+  const std::size_t at_complete = report.find("\"complete\": ", cov);
+  REQUIRE(at_complete != std::string::npos);
+  const double complete = std::strtod(report.c_str() + at_complete + 12, nullptr);
   MESSAGE("coverage " << complete);
   CHECK(complete > 0.995);
   // No column stops for proximity before the last layer (the bolt holes are 0.3 wide, the
   // stack of 12 layers 0.0016 thick: only the last layers' columns deep in a hole may).
-  std::size_t earliest = 99;
+  std::size_t earliest = 99, events = 0;
   for (std::size_t at = report.find("\"layer "); at != std::string::npos; at = report.find("\"layer ", at + 1)) {
     const std::size_t end = report.find('"', at + 1);
+    ++events;
     if (report.substr(at, end - at).find("columns stopped where their stacks fill their share") == std::string::npos) continue;
     earliest = std::min(earliest, static_cast<std::size_t>(std::strtoul(report.c_str() + at + 7, nullptr, 10)));
   }
+  REQUIRE(events > 0);  // the last layer's proximity stops at least (the events are read)
   MESSAGE("first layer with proximity stops: " << earliest);
   CHECK(earliest >= 10);
 }

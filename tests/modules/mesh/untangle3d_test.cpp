@@ -169,8 +169,8 @@ TEST_CASE("untangle 3D: a flat straight tetrahedron (a TetGen sliver at the fron
   CHECK(t.front_unmoved(before));
 }
 
-TEST_CASE("untangle 3D: a straight fill is not certified, however thin its cells, while they are valid") {
-  BulgedTet t(1e-3, 0);  // a valid sliver: 1e-3 tall over a unit triangle
+TEST_CASE("untangle 3D: a straight fill of cells not near flat is not certified") {
+  BulgedTet t(1e-3, 0);  // a valid sliver 1e-3 tall over a unit triangle: 6V = 1e-3, over 1e-6 of its span cubed
   REQUIRE(t.valid());
   const FillUntangling u = untangle_fill_3d(t.mesh, 0, 0);
   CHECK(u.certified == 0);
