@@ -141,12 +141,15 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
     // progress); a cell inverted everywhere has a scale too.
     // (A flat straight cell, a seed since TetGen's slivers are, has bounds near 0: its scale has a
     // floor of 1e-12 of its corners' span cubed, so that lifting it off flat scores as progress.)
-    double span = 0;
-    for (int v = 0; v < 4; ++v)
-      for (int w = v + 1; w < 4; ++w) span = std::max(span, (at(ids[v]) - at(ids[w])).norm());
-    const double sc = scale.emplace(std::make_pair(k, i),
-                                    std::max({jb.max_upper, std::abs(jb.min_lower), 1e-12 * span * span * span}))
-                          .first->second;
+    auto it = scale.find(std::make_pair(k, i));
+    if (it == scale.end()) {  // the first time only (judge is the sweeps' inner loop)
+      double span = 0;
+      for (int v = 0; v < 4; ++v)
+        for (int w = v + 1; w < 4; ++w) span = std::max(span, (at(ids[v]) - at(ids[w])).norm());
+      it = scale.emplace(std::make_pair(k, i), std::max({jb.max_upper, std::abs(jb.min_lower), 1e-12 * span * span * span}))
+               .first;
+    }
+    const double sc = it->second;
     const double r = sc > 0 ? jb.min_lower / sc : -std::numeric_limits<double>::infinity();
     return std::make_pair(jb.valid, r);
   };
