@@ -347,6 +347,9 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
   r.stats = tets.stats;
   r.fill.nodes = std::move(tets.nodes);
   r.fill.simplices = std::move(tets.simplices);
+
+  // 5. The metric optimisation, every front node fixed.
+  r.optimize = optimize_fill_3d(r.fill, front.nodes.size(), metric, params.optimize);
   r.farfield = fp;
   return r;
 }

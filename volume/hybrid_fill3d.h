@@ -23,6 +23,8 @@
 //  4. TetGen fills the region with the front preserved (no Steiner point on any of it), one hole
 //     point inside the layers of every connected outer front (the centroid of a prism under one
 //     of its triangles), and sizes (switch m): at a node of the front its mean edge length.
+//  5. The fill is optimised in the run's metric (optimize_3d.h: splits, collapses, swaps and
+//     moves toward unit edges, TetGen's slivers swapped away), every front frozen.
 #pragma once
 
 #include <functional>
@@ -33,6 +35,7 @@
 #include "modules/mesh/linear_front.h"
 #include "modules/metric/metric.h"
 #include "volume/farfield3d.h"
+#include "volume/optimize_3d.h"
 #include "volume/tetgen_fill.h"
 
 namespace plaf::volume {
@@ -40,6 +43,7 @@ namespace plaf::volume {
 struct HybridFillParams {
   FarfieldParams3 farfield;  // h = 0: the metric's largest size at the farfield, at most a quarter of its extent
   TetFillParams tet;         // node_sizes are set here
+  Optimize3Params optimize;  // step 5
   double grading = 0.25;     // growth of the symmetry planes' sizes per unit distance from their loops
   // Called once the farfield is built, before the planes and TetGen mesh anything, with the
   // tetrahedra predicted inside it (6 sqrt 2 per unit of the integral of 1/h^3, h the metric's
@@ -50,7 +54,8 @@ struct HybridFillParams {
 
 struct HybridFill {
   FillResult<3> fill;  // boundary: the farfield's and the planes' triangles, tagged
-  TetFillStats stats;
+  TetFillStats stats;       // TetGen's tetrahedra, before step 5
+  Optimize3Stats optimize;  // step 5
   FarfieldParams3 farfield;  // as resolved (h, cuts)
   std::size_t farfield_triangles = 0, plane_triangles = 0, holes = 0;
   std::size_t curved_front_triangles = 0;  // step 1: the outer front's triangles still curved

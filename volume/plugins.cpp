@@ -24,6 +24,7 @@ HybridFillParams parse_tetgen(const ConfigNode& section) {
   if (p.tet.max_radius_edge > 0 && p.tet.max_radius_edge < 1.1)
     throw ConfigError(section.where("max_radius_edge") + ": TetGen's quality bound must be 0 (off) or at least 1.1");
   p.tet.max_volume = section.get_in_range("max_volume", 0.0, 0.0, std::numeric_limits<double>::max());
+  p.optimize.passes = section.get_int("optimize_passes", p.optimize.passes, 0, 50);
   const ConfigNode f = section.child("farfield");
   FarfieldParams3& ff = p.farfield;
   ff.shape = f.get_choice("shape", ff.shape, {"sphere", "box"});
@@ -114,6 +115,39 @@ void register_plugins() {
         rep.add("switches", st.switches);
         rep.line("fill: " + std::to_string(st.tets) + " tetrahedra, " + std::to_string(st.new_points) +
                  " new points, min dihedral " + std::to_string(st.min_dihedral_deg) + " deg (TetGen -" + st.switches + ")");
+        const Optimize3Stats& o = fill.optimize;
+        rep.add("optimize.splits", o.splits);
+        rep.add("optimize.collapses", o.collapses);
+        rep.add("optimize.swaps", o.swaps);
+        rep.add("optimize.moves", o.moves);
+        rep.add("optimize.repairs", o.repairs);
+        for (const auto& [when, f] : {std::pair{"before", &o.before}, std::pair{"after", &o.after}}) {
+          const std::string k = std::string("optimize.") + when + ".";
+          rep.add(k + "tets", f->tets);
+          rep.add(k + "quality_min", f->quality_min);
+          rep.add(k + "quality_min_inner", f->quality_min_inner);
+          rep.add(k + "unit_fraction", f->unit_fraction);
+          rep.add(k + "length_min", f->length_min);
+          rep.add(k + "length_max", f->length_max);
+          rep.add(k + "min_dihedral_deg", f->min_dihedral_deg);
+          rep.add(k + "min_dihedral_inner_deg", f->min_dihedral_inner_deg);
+          rep.add(k + "below_5deg", f->below_5deg);
+          rep.add(k + "below_10deg", f->below_10deg);
+          rep.add(k + "flat", f->flat);
+        }
+        rep.line("fill: optimised in the metric: " + std::to_string(o.splits) + " splits, " +
+                 std::to_string(o.collapses) + " collapses, " + std::to_string(o.swaps) + " swaps, " +
+                 std::to_string(o.moves) + " moves, " + std::to_string(o.repairs) + " sliver repairs; tets " +
+                 std::to_string(o.before.tets) + " -> " +
+                 std::to_string(o.after.tets) + ", unit edges " + num(100 * o.before.unit_fraction) + " % -> " +
+                 num(100 * o.after.unit_fraction) + " %, longest " + num(o.before.length_max) + " -> " +
+                 num(o.after.length_max) + ", least quality " + num(o.before.quality_min) + " -> " +
+                 num(o.after.quality_min) + " (" + num(o.before.quality_min_inner) + " -> " +
+                 num(o.after.quality_min_inner) + " off the fronts), min dihedral " + num(o.before.min_dihedral_deg) + " -> " +
+                 num(o.after.min_dihedral_deg) + " deg (" + num(o.before.min_dihedral_inner_deg) + " -> " +
+                 num(o.after.min_dihedral_inner_deg) + " off the fronts), under 10 deg " +
+                 std::to_string(o.before.below_10deg) + " -> " + std::to_string(o.after.below_10deg) + ", flat " +
+                 std::to_string(o.before.flat) + " -> " + std::to_string(o.after.flat));
         if (fill.curved_front_triangles > 0)
           rep.line("fill: " + std::to_string(fill.curved_front_triangles) +
                    " triangles of the layers' outer front are still curved (no valid closing layer there, "

@@ -431,7 +431,8 @@ void check_front_preserved(const LinearFront<3>& front, const FaceIndex& front_f
                      "(linear_front.h), and a hole point must lie inside a body");
 }
 
-// Smallest dihedral angle (radians) and circumradius / shortest edge of the tet p[0..3].
+}  // namespace
+
 std::pair<double, double> tet_shape(const std::array<Eigen::Vector3d, 4>& p) {
   // Normals of the faces opposite each vertex, all pointing at that vertex (inward): the
   // dihedral angle at the edge of faces k and l is pi minus the angle between their normals.
@@ -444,7 +445,9 @@ std::pair<double, double> tet_shape(const std::array<Eigen::Vector3d, 4>& p) {
     if (n[k].dot(p[k] - a) < 0) n[k] = -n[k];
     n[k].normalize();
   }
-  double min_dihedral = std::numbers::pi;
+  // A flat tet (zero volume: its face normals all parallel, their orientation undefined) has a
+  // dihedral angle of 0.
+  double min_dihedral = (p[1] - p[0]).dot((p[2] - p[0]).cross(p[3] - p[0])) == 0 ? 0.0 : std::numbers::pi;
   for (int k = 0; k < 4; ++k)
     for (int l = k + 1; l < 4; ++l)
       min_dihedral = std::min(min_dihedral, std::numbers::pi - std::acos(std::clamp(n[k].dot(n[l]), -1.0, 1.0)));
@@ -458,6 +461,8 @@ std::pair<double, double> tet_shape(const std::array<Eigen::Vector3d, 4>& p) {
     for (int l = k + 1; l < 4; ++l) shortest = std::min(shortest, (p[k] - p[l]).norm());
   return {min_dihedral, centre.norm() / shortest};
 }
+
+namespace {
 
 // The stats of tetgen_fill.h, measured on the tets; `n_front` nodes came from the front.
 TetFillStats measure_fill(const TetFillResult& fill, std::size_t n_front) {

@@ -24,6 +24,7 @@
 #include <array>
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -65,5 +66,9 @@ struct TetFillResult : FillResult<3> {
 // TetGen's code or signal, its switches and its last printed lines) if TetGen fails or a front triangle is a face of no tet; InputError
 // if one is a face of two tets or of one tet behind it (the contract above).
 TetFillResult tetgen_fill(const LinearFront<3>& front, const TetFillParams& params = {});
+
+// Smallest dihedral angle (radians) and circumradius / shortest edge of the tet p[0..3] (either
+// orientation; a flat tet has angle 0).
+std::pair<double, double> tet_shape(const std::array<Eigen::Vector3d, 4>& p);
 
 }  // namespace plaf::volume

@@ -17,49 +17,15 @@
 
 #include "modules/base/error.h"
 #include "modules/geometry/predicates.h"
+#include "tests/volume/box_front.h"
 
 using namespace plaf;
 using volume::TetFillResult;
 using Vec = Eigen::Vector3d;
+using test::add_cube;
+using test::Normals;
 
 namespace {
-
-enum class Normals { In, Out };
-
-// Adds the surface of the cube lo + [0, side]^3 to the front, n x n squares per face, each split
-// into two triangles whose normals point into the cube (In: the cube is the region to fill, an
-// outer box) or out of it (Out: the cube is a body, the region to fill is around it), tagged
-// with a new tag `name`. Only the surface lattice points become nodes.
-void add_cube(LinearFront<3>& f, const Vec& lo, double side, int n, Normals normals, const std::string& name) {
-  std::map<std::array<int, 3>, NodeId> ids;
-  auto id = [&](int i, int j, int k) {
-    const auto [it, fresh] = ids.emplace(std::array<int, 3>{i, j, k}, static_cast<NodeId>(f.nodes.size()));
-    if (fresh) f.nodes.push_back(lo + side * Vec(i, j, k) / n);
-    return it->second;
-  };
-  const int tag = static_cast<int>(f.tags.size());
-  f.tags.push_back({name, normals == Normals::In ? BoundaryKind::Farfield : BoundaryKind::Wall});
-  // p, q, r, s counter-clockwise seen from outside the cube (outward right-hand normal).
-  auto quad = [&](NodeId p, NodeId q, NodeId r, NodeId s) {
-    if (normals == Normals::Out) {
-      f.triangles.push_back({p, q, r});
-      f.triangles.push_back({p, r, s});
-    } else {
-      f.triangles.push_back({p, r, q});
-      f.triangles.push_back({p, s, r});
-    }
-    f.triangle_tag.insert(f.triangle_tag.end(), {tag, tag});
-  };
-  for (int u = 0; u < n; ++u)
-    for (int v = 0; v < n; ++v) {
-      quad(id(u, v, 0), id(u, v + 1, 0), id(u + 1, v + 1, 0), id(u + 1, v, 0));  // z = 0, outward -z
-      quad(id(u, v, n), id(u + 1, v, n), id(u + 1, v + 1, n), id(u, v + 1, n));  // z = 1, outward +z
-      quad(id(u, 0, v), id(u + 1, 0, v), id(u + 1, 0, v + 1), id(u, 0, v + 1));  // y = 0, outward -y
-      quad(id(u, n, v), id(u, n, v + 1), id(u + 1, n, v + 1), id(u + 1, n, v));  // y = 1, outward +y
-      quad(id(0, u, v), id(0, u, v + 1), id(0, u + 1, v + 1), id(0, u + 1, v));  // x = 0, outward -x
-      quad(id(n, u, v), id(n, u + 1, v), id(n, u + 1, v + 1), id(n, u, v + 1));  // x = 1, outward +x
-    }
-}
 
 // The box o + [0, 3a]^3 (farfield, normals inward) around the body o + [a, 2a]^3 (wall, normals
 // out of the body), with the body's hole point at its centre when `hole`. Two nodes inside the

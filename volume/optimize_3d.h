@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: MIT
+// Metric optimisation of a 3D fill (issue 32): the counterpart of optimize_2d.h for TetGen's
+// tetrahedra. TetGen refines to an isotropic size interpolated from the front and leaves slivers
+// (flat tets of good radius-edge ratio, dihedral angles down to 0 at a front); this pass moves
+// the fill toward unit edges in the run's metric and away from slivers, with the surfaces frozen.
+//
+// Frozen: the first `fixed_nodes` nodes (linear_front.h: the fronts', the farfield's and the
+// symmetry planes' nodes) never move or go, and no boundary triangle (a face of one tet: the
+// fronts, listed in fill.boundary or not) is changed: the fronts stay bit-identical and each boundary triangle keeps exactly one tet, on
+// its side. Per pass:
+//  1. splits (all passes but the last two): an edge longer than sqrt 2 in the metric that lies
+//     on no boundary triangle gets its midpoint as a new free node, each tet around it becoming
+//     two; longest first;
+//  2. collapses (all passes but the last two): an edge shorter than 1/sqrt 2 with a free end
+//     loses that end (merged into the other, under the link condition, no new edge longer than
+//     sqrt 2);
+//  3. swaps: a face of two tets becomes an edge of three (2-3), and an interior edge of n = 3..7
+//     tets is removed, its ring triangulated by the best fan (3-2, 4-4, 5-6, ...), when the worst
+//     tet of the set gets better;
+//  4. smoothing: a free node moves toward the mean of the points that would make each tet of its
+//     ball regular in its metric (by 1, 1/2 or 1/4 of the way), in a poor ball then toward its
+//     worst tet's own point (by down to 1/100 of the way), kept when the ball's worst tet gets
+//     better, or stays and the ball's mean quality rises;
+//  5. slivers (tets under kSliver = 0.05 that the swaps left): a free vertex of one moves to the
+//     centre of its ball's kernel (the point farthest inside every face around it), else merges
+//     into a neighbour (new tets down to 0.01, edges up to 2.5 units); a sliver of fixed nodes
+//     (two front triangles in a shallow valley) has an interior edge split and the midpoint put
+//     at its kernel's centre. TetGen leaves such tets at the fronts: flat ones of 1e-10 on the
+//     published 717 wing, around a Steiner point it put on a front triangle's edge.
+// Splits, collapses and repairs never make a tet under kSliver outside step 5.
+// The quality is the mean ratio in the metric (12 (3 V_M)^(2/3) / sum of the squared edge
+// lengths L_M^2: 1 for a tet regular in the metric, 0 flat), a tet taking the mean of its
+// vertices' metric matrices; an edge measures by the mean of its ends'. No collapse makes a tet
+// worse than kFloor (0.2) or than the worst it replaces, no split worse than kFloor or half the
+// worst of its ring (halving a needle's long edge makes two needles a little worse, which the next
+// splits, swaps and moves mend); swaps and moves never lower the worst of the tets they change.
+// Every new or moved tet is checked
+// with the exact orient3d (predicates.h), so a fill of positive tets stays positive, and a flat
+// one (orient3d = 0, TetGen's slivers) can only be replaced, never made. New nodes are appended
+// and collapsed ones dropped at the end: the fixed nodes keep their ids (linear_front.h).
+#pragma once
+
+#include <cstddef>
+
+#include "modules/mesh/linear_front.h"
+#include "modules/metric/metric.h"
+
+namespace plaf::volume {
+
+struct Optimize3Params {
+  int passes = 6;  // 0: nothing
+};
+
+// The fill's shape, measured (measure_fill_3d).
+struct FillShape3 {
+  std::size_t tets = 0;
+  double quality_min = 0;                // mean ratio in the metric (negative: inverted)
+  double quality_min_inner = 0;          // the same over the tets with no fixed node (1 when there is none)
+  double unit_fraction = 0;              // edges of metric length in [1/sqrt2, sqrt2]
+  double length_min = 0, length_max = 0;  // metric edge lengths
+  double min_dihedral_deg = 0;           // every tet
+  double min_dihedral_inner_deg = 0;     // tets with no fixed node (180 when there is none)
+  std::size_t below_5deg = 0, below_10deg = 0;  // tets with a dihedral angle under 5 / 10 degrees
+  std::size_t flat = 0;                  // tets whose exact orient3d is not positive
+};
+
+struct Optimize3Stats {
+  std::size_t splits = 0, collapses = 0, swaps = 0, moves = 0;
+  std::size_t repairs = 0;  // slivers mended by step 5
+  FillShape3 before, after;
+};
+
+FillShape3 measure_fill_3d(const FillResult<3>& fill, std::size_t fixed_nodes, const MetricField<3>& metric);
+
+// Throws InputError if a tet uses a node out of range.
+Optimize3Stats optimize_fill_3d(FillResult<3>& fill, std::size_t fixed_nodes, const MetricField<3>& metric,
+                                const Optimize3Params& params = {});
+
+}  // namespace plaf::volume
