@@ -7,7 +7,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
+#include <initializer_list>
 
 #include <filesystem>
 #include <fstream>
@@ -96,6 +98,20 @@ inline int count_files(const std::filesystem::path& dir) {
   for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
     if (e.is_regular_file()) ++n;
   return n;
+}
+
+// The number at a path of keys in a JSON report as plaf writes it: each section (`"key": {`)
+// searched after the previous one, then the number's key ({"fill", "optimize", "after",
+// "unit_fraction"}); NaN if a key is missing.
+inline double report_value(const std::string& report, std::initializer_list<std::string> path) {
+  std::size_t at = 0, left = path.size();
+  for (const std::string& key : path) {
+    const std::string want = "\"" + key + (--left > 0 ? "\": {" : "\": ");
+    at = report.find(want, at);
+    if (at == std::string::npos) return std::nan("");
+    at += want.size();
+  }
+  return std::strtod(report.c_str() + at, nullptr);
 }
 
 }  // namespace plaf::test

@@ -85,6 +85,71 @@ std::vector<Vec> layer_holes(const LayerResult<3>& lr, int outer_tag) {
   return out;
 }
 
+// Distance from x to the plane of triangle abc.
+double plane_distance(const Vec& a, const Vec& b, const Vec& c, const Vec& x) {
+  const Vec n = (b - a).cross(c - a);
+  const double nn = n.norm();
+  return nn > 0 ? std::abs(n.dot(x - a)) / nn : 0.0;
+}
+
+// The size ratio across the layers' outer front (HybridFill::FrontRatio): over each outer
+// triangle, the fill tetrahedron's height (its apex's distance to the triangle's plane) over the
+// layer cell's below it (a prism's bottom centroid's, a tetrahedron's apex's).
+FrontRatio front_ratio(const LayerResult<3>& lr, int outer_tag, const FillResult<3>& fill) {
+  const LinearFront<3>& ff = lr.fill_front;
+  std::map<std::array<NodeId, 3>, std::pair<double, double>> heights;  // sorted triangle -> (layer, fill)
+  for (std::size_t t = 0; t < ff.triangles.size(); ++t) {
+    if (ff.triangle_tag[t] != outer_tag) continue;
+    std::array<NodeId, 3> key = ff.triangles[t];
+    std::sort(key.begin(), key.end());
+    heights.emplace(key, std::pair{0.0, 0.0});
+  }
+  auto at = [&](NodeId v) -> const Vec& { return lr.mesh.nodes[static_cast<std::size_t>(v)]; };
+  static constexpr int kTetFaces[4][4] = {{0, 1, 2, 3}, {0, 1, 3, 2}, {0, 2, 3, 1}, {1, 2, 3, 0}};  // face, apex
+  for (const CellBlock& cb : lr.mesh.cells) {
+    const bool prism = cb.type == CellType::Prism;
+    for (std::size_t c = 0; c < cb.size(); ++c) {
+      const NodeId* v = cb.cell(c);
+      if (prism) {
+        std::array<NodeId, 3> key = {v[3], v[4], v[5]};
+        std::sort(key.begin(), key.end());
+        const auto it = heights.find(key);
+        if (it != heights.end())
+          it->second.first = plane_distance(at(v[3]), at(v[4]), at(v[5]), (at(v[0]) + at(v[1]) + at(v[2])) / 3);
+        continue;
+      }
+      for (const auto& f : kTetFaces) {
+        std::array<NodeId, 3> key = {v[f[0]], v[f[1]], v[f[2]]};
+        std::sort(key.begin(), key.end());
+        const auto it = heights.find(key);
+        if (it != heights.end()) it->second.first = plane_distance(at(v[f[0]]), at(v[f[1]]), at(v[f[2]]), at(v[f[3]]));
+      }
+    }
+  }
+  for (const auto& t : fill.simplices)
+    for (const auto& f : kTetFaces) {
+      std::array<NodeId, 3> key = {t[f[0]], t[f[1]], t[f[2]]};
+      std::sort(key.begin(), key.end());
+      const auto it = heights.find(key);
+      if (it == heights.end()) continue;
+      const auto& x = fill.nodes;
+      it->second.second = plane_distance(x[static_cast<std::size_t>(t[f[0]])], x[static_cast<std::size_t>(t[f[1]])],
+                                         x[static_cast<std::size_t>(t[f[2]])], x[static_cast<std::size_t>(t[f[3]])]);
+    }
+  std::vector<double> ratios;
+  for (const auto& [key, h] : heights)
+    if (h.first > 0 && h.second > 0) ratios.push_back(h.second / h.first);
+  FrontRatio r;
+  r.triangles = ratios.size();
+  if (ratios.empty()) return r;
+  std::sort(ratios.begin(), ratios.end());
+  auto pct = [&](double q) { return ratios[std::min(ratios.size() - 1, static_cast<std::size_t>(q * static_cast<double>(ratios.size())))]; };
+  r.p50 = pct(0.5);
+  r.p95 = pct(0.95);
+  r.max = ratios.back();
+  return r;
+}
+
 // A symmetry plane x[axis] = offset of the layer mesh, with the tag its facets carry.
 struct Plane {
   int axis = 0;
@@ -349,7 +414,9 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
   r.fill.simplices = std::move(tets.simplices);
 
   // 5. The metric optimisation, every front node fixed.
+  r.front_ratio_before = front_ratio(lr, outer_tag, r.fill);
   r.optimize = optimize_fill_3d(r.fill, front.nodes.size(), metric, params.optimize);
+  r.front_ratio_after = front_ratio(lr, outer_tag, r.fill);
   r.farfield = fp;
   return r;
 }

@@ -52,10 +52,19 @@ struct HybridFillParams {
   std::function<void(double tetrahedra)> size_check;
 };
 
+// The size ratio across the layers' outer front: per outer triangle, the height of the fill's
+// tetrahedron on it over the height of the layer cell under it; its median, 95th percentile and
+// largest over the triangles that have both.
+struct FrontRatio {
+  std::size_t triangles = 0;
+  double p50 = 0, p95 = 0, max = 0;
+};
+
 struct HybridFill {
   FillResult<3> fill;  // boundary: the farfield's and the planes' triangles, tagged
   TetFillStats stats;       // TetGen's tetrahedra, before step 5
   Optimize3Stats optimize;  // step 5
+  FrontRatio front_ratio_before, front_ratio_after;  // TetGen's, and after step 5
   FarfieldParams3 farfield;  // as resolved (h, cuts)
   std::size_t farfield_triangles = 0, plane_triangles = 0, holes = 0;
   std::size_t curved_front_triangles = 0;  // step 1: the outer front's triangles still curved

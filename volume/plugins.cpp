@@ -135,6 +135,13 @@ void register_plugins() {
           rep.add(k + "below_10deg", f->below_10deg);
           rep.add(k + "flat", f->flat);
         }
+        for (const auto& [when, f] : {std::pair{"before", &fill.front_ratio_before}, std::pair{"after", &fill.front_ratio_after}}) {
+          const std::string k = std::string("front_ratio.") + when + ".";
+          rep.add(k + "triangles", f->triangles);
+          rep.add(k + "p50", f->p50);
+          rep.add(k + "p95", f->p95);
+          rep.add(k + "max", f->max);
+        }
         rep.line("fill: optimised in the metric: " + std::to_string(o.splits) + " splits, " +
                  std::to_string(o.collapses) + " collapses, " + std::to_string(o.swaps) + " swaps, " +
                  std::to_string(o.moves) + " moves, " + std::to_string(o.repairs) + " sliver repairs; tets " +
@@ -147,7 +154,10 @@ void register_plugins() {
                  num(o.after.min_dihedral_deg) + " deg (" + num(o.before.min_dihedral_inner_deg) + " -> " +
                  num(o.after.min_dihedral_inner_deg) + " off the fronts), under 10 deg " +
                  std::to_string(o.before.below_10deg) + " -> " + std::to_string(o.after.below_10deg) + ", flat " +
-                 std::to_string(o.before.flat) + " -> " + std::to_string(o.after.flat));
+                 std::to_string(o.before.flat) + " -> " + std::to_string(o.after.flat) +
+                 "; first tetrahedron over last layer's height across the outer front: median " +
+                 num(fill.front_ratio_before.p50) + " -> " + num(fill.front_ratio_after.p50) + ", 95 % " +
+                 num(fill.front_ratio_before.p95) + " -> " + num(fill.front_ratio_after.p95));
         if (fill.curved_front_triangles > 0)
           rep.line("fill: " + std::to_string(fill.curved_front_triangles) +
                    " triangles of the layers' outer front are still curved (no valid closing layer there, "

@@ -214,3 +214,36 @@ TEST_CASE("layers table: a 2D run with transition triangles and split_quads repo
   CHECK(report.find("\"min_scaled_jacobian\": null", table) != std::string::npos);
   CHECK(report.find("\"curved_cells\": null", table) != std::string::npos);
 }
+
+TEST_CASE("hybrid 3D: the fill is optimised in the metric and hands off smoothly from the layers") {
+  // A box body (ridges and corners, fans) in a box farfield: TetGen sizes its tets from the
+  // front's edges, too large for the metric next to the layers; the optimiser (volume/optimize_3d.h)
+  // brings the edges to unit length and the first tet's height near the last layer's.
+  const TempDir d("hybrid_fill_optimised");
+  const std::string cfg =
+      "name: case\norder: 2\ngeometry: {type: box, lo: [0, 0, 0], hi: [2, 1, 0.5]}\n"
+      "metric: {type: wall_power_law, h0: 0.001, growth: 1.2, h_max: 2.0, h_wall_max: 0.2}\n"
+      "surface: {ridge_angle_deg: 30}\nlayers: {max: 12}\n"
+      "fill: {type: tetgen, farfield: {shape: box, size: [8, 8, 8]}}\noutput: {formats: [report]}\n";
+  const PlafResult r = run_plaf("run " + write_text(d / "case.yaml", cfg).string() + " --out " + (d / "out").string(), d);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const std::string report = plaf::test::read_text(d / "out" / "case.report.json");
+  using plaf::test::report_value;
+  auto opt = [&](const char* when, const char* key) { return report_value(report, {"fill", "optimize", when, key}); };
+  auto ratio = [&](const char* when, const char* key) { return report_value(report, {"fill", "front_ratio", when, key}); };
+  MESSAGE("unit edges " << opt("before", "unit_fraction") << " -> " << opt("after", "unit_fraction") << ", tets "
+                        << opt("before", "tets") << " -> " << opt("after", "tets") << ", least quality "
+                        << opt("before", "quality_min") << " -> " << opt("after", "quality_min") << ", front ratio p95 "
+                        << ratio("before", "p95") << " -> " << ratio("after", "p95"));
+  CHECK(opt("after", "unit_fraction") >= 0.85);
+  CHECK(opt("after", "unit_fraction") > opt("before", "unit_fraction"));
+  // The longest edge stays where the frozen fronts hold it (3.7 units here, from 9.2).
+  CHECK(opt("after", "length_max") < opt("before", "length_max"));
+  CHECK(opt("after", "quality_min") > opt("before", "quality_min"));
+  CHECK(opt("after", "flat") == 0);
+  CHECK(ratio("after", "triangles") > 500);
+  CHECK(ratio("after", "p95") <= 2);
+  CHECK(ratio("after", "p95") < ratio("before", "p95"));
+  CHECK(report.find("\"invalid\": 0") != std::string::npos);
+}

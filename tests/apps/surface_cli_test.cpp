@@ -107,11 +107,9 @@ TriangleSoup sphere_with_inner_pieces() {
 
 // The number after "KEY": in the report's object that starts with "SECTION": { (required there).
 double report_number(const std::string& report, const std::string& section, const std::string& key) {
-  const std::size_t from = report.find("\"" + section + "\": {");
-  REQUIRE(from != std::string::npos);
-  const std::size_t at = report.find("\"" + key + "\": ", from);
-  REQUIRE(at != std::string::npos);
-  return std::strtod(report.c_str() + at + key.size() + 4, nullptr);
+  const double v = plaf::test::report_value(report, {section, key});
+  REQUIRE(!std::isnan(v));
+  return v;
 }
 
 }  // namespace
