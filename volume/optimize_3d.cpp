@@ -148,8 +148,12 @@ class Optimizer3 {
     ball_.resize(x_.size());
     gone_.assign(x_.size(), 0);
     dead_.assign(t_.size(), 0);
-    for (std::size_t i = 0; i < t_.size(); ++i)
+    touched_.assign(x_.size(), 1);
+    q_.resize(t_.size());
+    for (std::size_t i = 0; i < t_.size(); ++i) {
       for (NodeId v : t_[i]) ball_[v].push_back(static_cast<std::uint32_t>(i));
+      q_[i] = quality(t_[i]);
+    }
     // The boundary: the faces of one tet (the fronts, the farfield, the planes, whether or not
     // fill.boundary lists them: the layers' outer front is an interface of the hybrid mesh).
     std::vector<std::array<NodeId, 3>> faces;
@@ -207,11 +211,14 @@ class Optimizer3 {
     const auto i = static_cast<std::uint32_t>(t_.size());
     t_.push_back(t);
     dead_.push_back(0);
-    for (NodeId v : t) ball_[v].push_back(i);
+    q_.push_back(quality(t));
+    if (touched_.size() < x_.size()) touched_.resize(x_.size(), 1);
+    for (NodeId v : t) ball_[v].push_back(i), touched_[v] = 1;
   }
   void kill(std::uint32_t i) {
     dead_[i] = 1;
     for (NodeId v : t_[i]) {
+      touched_[v] = 1;
       std::vector<std::uint32_t>& b = ball_[v];
       *std::find(b.begin(), b.end(), i) = b.back();
       b.pop_back();
@@ -233,7 +240,7 @@ class Optimizer3 {
   }
   double worst(const std::vector<std::uint32_t>& tets) const {
     double q = std::numeric_limits<double>::infinity();
-    for (std::uint32_t i : tets) q = std::min(q, quality(t_[i]));
+    for (std::uint32_t i : tets) q = std::min(q, q_[i]);
     return q;
   }
   std::vector<std::uint64_t> edges() const {
@@ -255,6 +262,16 @@ class Optimizer3 {
     if (d.dot(m_[v] * d) > kMetricReuse * kMetricReuse) {
       m_[v] = metric_.evaluate(x_[v]).matrix();
       m_at_[v] = x_[v];
+    }
+  }
+
+  // Node v moved: its metric followed (refresh_metric), its tets' qualities measured again, and
+  // every node of its ball touched (smoothing tries a node again only once its ball changed).
+  void after_move(NodeId v) {
+    refresh_metric(v);
+    for (std::uint32_t i : ball_[v]) {
+      q_[i] = quality(t_[i]);
+      for (NodeId w : t_[i]) touched_[w] = 1;
     }
   }
 
@@ -380,7 +397,7 @@ class Optimizer3 {
     std::size_t n = 0;
     const std::size_t count = t_.size();
     for (std::size_t i = 0; i < count; ++i) {
-      if (dead_[i] || quality(t_[i]) >= kSwapBelow) continue;
+      if (dead_[i] || q_[i] >= kSwapBelow) continue;
       const Tet t = t_[i];
       bool done = false;
       for (int k = 0; k < 4 && !done; ++k)
@@ -398,12 +415,12 @@ class Optimizer3 {
     std::size_t n = 0;
     const std::size_t count = t_.size();
     for (std::size_t i = 0; i < count; ++i) {
-      if (dead_[i] || quality(t_[i]) >= kSliver) continue;
+      if (dead_[i] || q_[i] >= kSliver) continue;
       const Tet t = t_[i];
       // A repair must at least double the sliver's quality, up to kRepairFloor: at a front
       // triangle of aspect ratio 1e4 (a fan's sector strip, issue 31) no tet is better than a
       // sliver, and the kernel's centre is the best one.
-      const double least = std::min(kRepairFloor, 2 * quality(t));
+      const double least = std::min(kRepairFloor, 2 * q_[i]);
       bool done = false;
       for (int k = 0; k < 4 && !done; ++k)
         if (static_cast<std::size_t>(t[k]) >= fixed_) done = kernel_move(t[k]);
@@ -456,7 +473,7 @@ class Optimizer3 {
       x_[v] = from;
       return false;
     }
-    refresh_metric(v);
+    after_move(v);
     return true;
   }
 
@@ -517,7 +534,7 @@ class Optimizer3 {
     for (NodeId v : t_[j])
       if (v != f0 && v != f1 && v != f2) e = v;
     if (has_edge(d, e)) return false;
-    const double old = std::min(quality(t), quality(t_[j]));
+    const double old = std::min(q_[i], q_[j]);
     made_.clear();
     double q = std::numeric_limits<double>::infinity();
     for (int p = 0; p < 4; ++p) {
@@ -601,7 +618,10 @@ class Optimizer3 {
   std::size_t smooth_sweep() {
     std::size_t n = 0;
     for (std::size_t v = fixed_; v < x_.size(); ++v)
-      if (!gone_[v]) n += smooth(static_cast<NodeId>(v)) ? 1 : 0;
+      if (!gone_[v] && touched_[v]) {
+        touched_[v] = 0;
+        n += smooth(static_cast<NodeId>(v)) ? 1 : 0;
+      }
     return n;
   }
 
@@ -628,7 +648,7 @@ class Optimizer3 {
       const double side = ((f[1] - f[0]).norm() + (f[2] - f[1]).norm() + (f[0] - f[2]).norm()) / 3;
       const Vec ideal = (f[0] + f[1] + f[2]) / 3 + nrm / nn * side * std::sqrt(2.0 / 3.0);
       mean += ideal;
-      const double q = quality(t_[i]);
+      const double q = q_[i];
       if (q < old_min) old_min = q, worst_ideal = ideal;
       old_sum += q;
     }
@@ -660,7 +680,7 @@ class Optimizer3 {
       x_[v] = from;
       return false;
     }
-    refresh_metric(v);
+    after_move(v);
     return true;
   }
 
@@ -701,6 +721,8 @@ class Optimizer3 {
   std::vector<Vec> m_at_;  // where each node's metric was evaluated
   std::vector<std::vector<std::uint32_t>> ball_;
   std::vector<char> gone_, dead_;
+  std::vector<double> q_;       // per tet: its quality (kept current by add and after_move)
+  std::vector<char> touched_;   // per node: its ball changed since smoothing last tried it
   std::unordered_set<std::uint64_t> boundary_edges_;
   std::vector<std::uint32_t> ring_, others_;
   std::vector<NodeId> scratch_nodes_, scratch_nbr_;
