@@ -523,28 +523,37 @@ int check_command(const std::filesystem::path& path, const std::optional<std::fi
   StageClock clock(timings);
   // The metric first: a bad config fails before the (possibly long) read.
   std::optional<RunConfig> c;
-  std::unique_ptr<MetricField<2>> metric;
+  std::unique_ptr<MetricField<2>> metric2;
+  std::unique_ptr<MetricField<3>> metric3;
   QualityOptions qo;
   if (metric_config) {
     c = load_run_config(*metric_config);
-    if (c->dim != 2) throw InputError(metric_config->string() + ": --metric takes a 2D configuration");
-    RunState<2> s(*c);  // the config's geometry and metric stages, nothing else
+    // The config's geometry and metric stages, nothing else.
     StageReport ignored;
-    chosen<2>(*c, StageKind::Geometry)(s, ignored);
-    chosen<2>(*c, StageKind::Metric)(s, ignored);
-    metric = std::move(s.metric);
+    if (c->dim == 2) {
+      RunState<2> s(*c);
+      chosen<2>(*c, StageKind::Geometry)(s, ignored);
+      chosen<2>(*c, StageKind::Metric)(s, ignored);
+      metric2 = std::move(s.metric);
+    } else {
+      RunState<3> s(*c);
+      chosen<3>(*c, StageKind::Geometry)(s, ignored);
+      chosen<3>(*c, StageKind::Metric)(s, ignored);
+      metric3 = std::move(s.metric);
+    }
     qo.histogram_bins = c->output.histogram_bins;
     clock.done("metric", c->metric.type + " from " + metric_config->string());
   }
   const MshMesh m = read_msh41(path);
   clock.done("read", path.string() + ", dimension " + std::to_string(m.dim));
   QualityReport report;
-  if (m.dim == 2) {
-    report = assess_quality<2>(m.mesh2, metric.get(), qo);
-  } else {
-    if (metric) throw InputError(path.string() + ": --metric takes a 2D mesh (the run configurations are 2D)");
-    report = assess_quality<3>(m.mesh3, nullptr, qo);
-  }
+  if (metric_config && m.dim != c->dim)
+    throw InputError(path.string() + ": a " + std::to_string(m.dim) + "D mesh measured in the metric of a " +
+                     std::to_string(c->dim) + "D configuration (" + metric_config->string() + ")");
+  if (m.dim == 2)
+    report = assess_quality<2>(m.mesh2, metric2.get(), qo);
+  else
+    report = assess_quality<3>(m.mesh3, metric3.get(), qo);
   clock.done("quality", std::to_string(report.cells_total) + " cells certified");
   report.name = path.string();
   report.timings_s = timings;

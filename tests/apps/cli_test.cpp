@@ -171,14 +171,15 @@ TEST_CASE("cli: an output folder that cannot be made is exit code 1 with one lin
         std::string::npos);
 }
 
-TEST_CASE("cli: check --metric refuses a 3D configuration, and --out '' is an output.dir error") {
+TEST_CASE("cli: check --metric refuses a configuration of the other dimension, and --out '' is an output.dir error") {
   const TempDir d("cli_check_3d");
   const fs::path cfg = write_text(d / "case.yaml", good);
   REQUIRE(run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d).code == 0);
   const fs::path sphere = write_text(d / "sphere.yaml", "geometry: {type: sphere}\nmetric: {type: uniform, h: 0.5}\n");
   const PlafResult r = run_plaf("check " + (d / "out" / "case.msh").string() + " --metric " + sphere.string(), d);
   CHECK(r.code == 1);
-  CHECK(r.err.find(sphere.string() + ": --metric takes a 2D configuration") != std::string::npos);
+  CHECK(r.err.find((d / "out" / "case.msh").string() + ": a 2D mesh measured in the metric of a 3D configuration (" +
+                   sphere.string() + ")") != std::string::npos);
   const PlafResult empty = run_plaf("run " + cfg.string() + " --out ''", d);
   CHECK(empty.code == 1);
   CHECK(empty.err.find("output.dir '': cannot create the folder") != std::string::npos);
@@ -339,4 +340,28 @@ TEST_CASE("cli: the outputs are one set: a writer that fails half-way, or a stop
     // Stopped before the writers made the folder (a loaded machine), or after: nothing is left.
     CHECK((!fs::exists(out) || fs::is_empty(out)));
   }
+}
+
+TEST_CASE("cli: check --metric measures a 3D mesh's tetrahedra in a 3D configuration's metric, as the run did") {
+  // Another tool's mesh (bench/bench_volume.py: Gmsh's) is measured so; here plaf's own, whose
+  // run measured it too.
+  const TempDir d("cli_check_metric_3d");
+  const fs::path cfg = write_text(
+      d / "case.yaml",
+      "name: case\norder: 2\ngeometry: {type: sphere, center: [0, 0, 0], radius: 1}\n"
+      "metric: {type: wall_power_law, h0: 0.001, growth: 1.3, h_max: 2.0, h_wall_max: 0.3}\n"
+      "layers: {max: 6}\nfill: {type: tetgen, farfield: {shape: box, size: [8, 8, 8]}}\n");
+  REQUIRE(run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d).code == 0);
+  const PlafResult r = run_plaf("check " + (d / "out" / "case.msh").string() + " --metric " + cfg.string() + " --report " +
+                                    (d / "check.json").string(),
+                                d);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const std::string ran = plaf::test::read_text(d / "out" / "case.report.json");
+  const std::string checked = plaf::test::read_text(d / "check.json");
+  const double run_unit = plaf::test::report_value(ran, {"metric", "tetrahedra", "unit_fraction"});
+  const double check_unit = plaf::test::report_value(checked, {"metric", "tetrahedra", "unit_fraction"});
+  MESSAGE("tetrahedra's unit edges: run " << run_unit << ", check " << check_unit);
+  CHECK(run_unit > 0.5);
+  CHECK(check_unit == doctest::Approx(run_unit).epsilon(1e-6));
 }
