@@ -13,6 +13,7 @@
 
 #include "modules/elements/lagrange.h"
 #include "modules/elements/validity.h"
+#include "modules/geometry/predicates.h"
 #include "modules/geometry/aabb_tree.h"
 
 namespace plaf {
@@ -213,9 +214,19 @@ FillBending bend_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::size_t fir
       for (int d = 0; d < 3; ++d) coords[static_cast<std::size_t>(3 * j + d)] = at(n[j])[d];
     return certifier.certify(CellType::Tetrahedron, q, coords.data()).valid;
   };
-  std::vector<std::uint8_t> was_valid(touched.size());
+  // A cell's corners spanning a positive volume (exact orient3d). A curved cell can be certified
+  // with its corner tetrahedron inverted, which `gmsh -check` and solvers that measure cells by
+  // their vertices reject (the published BWB at h0 1e-5 L: a fill cell inverted before the map,
+  // bent so, then untangled by its high-order nodes alone); the map may not invert any cell's
+  // corners, whether the cell was valid before or not.
+  auto corners = [&](std::size_t c) {
+    const NodeId* n = b.cell(c);
+    return sign_orient3d(at(n[0]), at(n[1]), at(n[2]), at(n[3])) < 0;
+  };
+  std::vector<std::uint8_t> was_valid(touched.size()), had_corners(touched.size());
   for (std::size_t t = 0; t < touched.size(); ++t) {
     was_valid[t] = valid(touched[t]) ? 1 : 0;
+    had_corners[t] = corners(touched[t]) ? 1 : 0;
     s.invalid_before += was_valid[t] ? 0 : 1;
   }
   std::vector<Eigen::Vector3d> from(moves.size());
@@ -229,8 +240,9 @@ FillBending bend_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::size_t fir
     std::size_t returned = 0;
     s.invalid_after = 0;
     for (std::size_t t = 0; t < touched.size(); ++t) {
-      if (valid(touched[t])) continue;
-      if (!was_valid[t]) {
+      const bool kept_corners = !had_corners[t] || corners(touched[t]);
+      if (kept_corners && valid(touched[t])) continue;
+      if (kept_corners && !was_valid[t]) {
         ++s.invalid_after;
         continue;
       }

@@ -36,8 +36,11 @@
 // is the untangler's work (untangle3d.h); the quality stage certifies every cell afterwards.
 // Guarded: no cell turns invalid. The map is smooth but TetGen's slivers (dihedral angles of
 // 0.001 degrees on the published bodies) invert under almost any motion; a cell valid before the
-// map and not after gets its moved nodes back, round after round, until every cell valid before
-// is valid (with all nodes back the fill is as it was).
+// map and not after, or whose corners (its vertices' straight tetrahedron) turn inverted, gets its
+// moved nodes back, round after round, until every cell valid before is valid and no cell's
+// corners inverted (with all nodes back the fill is as it was). A curved cell can be certified
+// with inverted corners, but `gmsh -check` and solvers that measure cells by their vertices
+// reject it.
 
 #pragma once
 
