@@ -139,6 +139,8 @@ class Optimizer3 {
  public:
   Optimizer3(FillResult<3>& fill, std::size_t fixed, const MetricField<3>& metric)
       : fill_(fill), x_(fill.nodes), t_(fill.simplices), fixed_(fixed), metric_(metric) {
+    // x_ and t_ are copies: the fill is written back only at the end (compact), so an exception
+    // (a metric that throws) leaves it as it was.
     for (const Tet& t : t_)
       for (NodeId v : t)
         if (v < 0 || static_cast<std::size_t>(v) >= x_.size())
@@ -156,6 +158,8 @@ class Optimizer3 {
     }
     // The boundary: the faces of one tet (the fronts, the farfield, the planes, whether or not
     // fill.boundary lists them: the layers' outer front is an interface of the hybrid mesh).
+    frozen_.assign(x_.size(), 0);
+    std::fill(frozen_.begin(), frozen_.begin() + static_cast<std::ptrdiff_t>(std::min(fixed_, x_.size())), 1);
     std::vector<std::array<NodeId, 3>> faces;
     faces.reserve(4 * t_.size());
     for (const Tet& t : t_)
@@ -169,7 +173,10 @@ class Optimizer3 {
       std::size_t j = i + 1;
       while (j < faces.size() && faces[j] == faces[i]) ++j;
       if (j - i == 1)
-        for (int k = 0; k < 3; ++k) boundary_edges_.insert(edge_key(faces[i][k], faces[i][(k + 1) % 3]));
+        for (int k = 0; k < 3; ++k) {
+          boundary_edges_.insert(edge_key(faces[i][k], faces[i][(k + 1) % 3]));
+          frozen_[static_cast<std::size_t>(faces[i][k])] = 1;  // a boundary node stays, fixed or not
+        }
       i = j;
     }
   }
@@ -190,6 +197,7 @@ class Optimizer3 {
       st.moves += smooth_sweep();
       st.swaps += swap_sweep();
       const std::size_t changes = st.splits + st.collapses + st.swaps + st.moves + st.repairs - changes_before;
+      drop_dead_tets();
       if (pass >= passes - kPlacePasses && changes * 1000 < alive_tets()) break;
     }
     compact();
@@ -294,7 +302,10 @@ class Optimizer3 {
     ring(a, b, ring_);
     if (ring_.empty()) return false;  // gone with an earlier change
     const double w = worst(ring_);
-    const double floor = lift ? std::min(kRepairFloor, 2 * w) : std::max(kSliver, std::min(kFloor, kSplitShare * w));
+    // A lifted split must better its ring's worst (by kGain at least, doubling it up to
+    // kRepairFloor).
+    const double floor = lift ? std::max(w + kGain, std::min(kRepairFloor, 2 * w))
+                              : std::max(kSliver, std::min(kFloor, kSplitShare * w));
     const auto mid = static_cast<NodeId>(x_.size());
     x_.push_back(0.5 * (x_[a] + x_[b]));
     // The ends' mean metric while the split is judged, the field's once it is made (a wall
@@ -303,6 +314,7 @@ class Optimizer3 {
     m_at_.push_back(x_.back());
     ball_.emplace_back();
     gone_.push_back(0);
+    frozen_.push_back(0);
     made_.clear();
     for (std::uint32_t i : ring_) {
       Tet ta = t_[i], tb = t_[i];
@@ -318,7 +330,7 @@ class Optimizer3 {
     }
     for (std::size_t j = 0; j < made_.size() && ok; ++j) ok = positive(made_[j]) && quality(made_[j]) >= floor;
     if (!ok) {
-      x_.pop_back(), m_.pop_back(), m_at_.pop_back(), ball_.pop_back(), gone_.pop_back();
+      x_.pop_back(), m_.pop_back(), m_at_.pop_back(), ball_.pop_back(), gone_.pop_back(), frozen_.pop_back();
       return false;
     }
     m_[mid] = metric_.evaluate(x_[mid]).matrix();
@@ -347,7 +359,7 @@ class Optimizer3 {
   // Node a (free) merged into b, no new edge longer than max_length, no new tet worse than
   // least (nor than kFloor or the worst it replaces).
   bool collapse(NodeId a, NodeId b, double max_length = std::numbers::sqrt2, double least = kSliver) {
-    if (static_cast<std::size_t>(a) < fixed_ || gone_[a]) return false;
+    if (frozen_[a] || gone_[a]) return false;
     ring(a, b, ring_);
     if (ring_.empty()) return false;
     // Link condition: every vertex and edge the links of a and b share is in the link of ab.
@@ -423,10 +435,10 @@ class Optimizer3 {
       const double least = std::min(kRepairFloor, 2 * q_[i]);
       bool done = false;
       for (int k = 0; k < 4 && !done; ++k)
-        if (static_cast<std::size_t>(t[k]) >= fixed_) done = kernel_move(t[k]);
+        if (!frozen_[t[k]]) done = kernel_move(t[k]);
       for (int k = 0; k < 4 && !done; ++k) {
         const NodeId a = t[k];
-        if (static_cast<std::size_t>(a) < fixed_) continue;
+        if (frozen_[a]) continue;
         std::vector<NodeId>& nbr = scratch_nbr_;
         nbr.clear();
         for (std::uint32_t c : ball_[a])
@@ -617,8 +629,8 @@ class Optimizer3 {
   // --- Smoothing ------------------------------------------------------------------------------
   std::size_t smooth_sweep() {
     std::size_t n = 0;
-    for (std::size_t v = fixed_; v < x_.size(); ++v)
-      if (!gone_[v] && touched_[v]) {
+    for (std::size_t v = 0; v < x_.size(); ++v)
+      if (!frozen_[v] && !gone_[v] && touched_[v]) {
         touched_[v] = 0;
         n += smooth(static_cast<NodeId>(v)) ? 1 : 0;
       }
@@ -684,7 +696,25 @@ class Optimizer3 {
     return true;
   }
 
-  // Drops the dead tets and the collapsed nodes; the fixed nodes keep their ids.
+  // Drops the dead tets from t_ (every sweep scans it; the changes leave several dead per live
+  // one), renumbering the balls.
+  void drop_dead_tets() {
+    std::vector<std::uint32_t> id(t_.size(), 0);
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < t_.size(); ++i)
+      if (!dead_[i]) {
+        id[i] = static_cast<std::uint32_t>(n);
+        t_[n] = t_[i], q_[n] = q_[i];
+        ++n;
+      }
+    t_.resize(n), q_.resize(n);
+    dead_.assign(n, 0);
+    for (std::vector<std::uint32_t>& b : ball_)
+      for (std::uint32_t& i : b) i = id[i];
+  }
+
+  // Writes the fill back without the dead tets and the collapsed nodes; the fixed nodes keep
+  // their ids.
   void compact() {
     std::vector<NodeId> id(x_.size(), -1);
     std::vector<Vec> nodes;
@@ -705,7 +735,6 @@ class Optimizer3 {
     fill_.nodes = std::move(nodes);
     fill_.simplices = std::move(tets);
     m_ = std::move(m);
-    dead_.assign(t_.size(), 0);
   }
 
  public:
@@ -713,8 +742,9 @@ class Optimizer3 {
 
  private:
   FillResult<3>& fill_;
-  std::vector<Vec>& x_;
-  std::vector<Tet>& t_;
+  std::vector<Vec> x_;
+  std::vector<Tet> t_;
+  std::vector<char> frozen_;  // per node: fixed (the first fixed_) or on a boundary triangle
   std::size_t fixed_;
   const MetricField<3>& metric_;
   std::vector<Mat> m_;

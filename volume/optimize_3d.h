@@ -5,39 +5,47 @@
 // the fill toward unit edges in the run's metric and away from slivers, with the surfaces frozen.
 //
 // Frozen: the first `fixed_nodes` nodes (linear_front.h: the fronts', the farfield's and the
-// symmetry planes' nodes) never move or go, and no boundary triangle (a face of one tet: the
-// fronts, listed in fill.boundary or not) is changed: the fronts stay bit-identical and each boundary triangle keeps exactly one tet, on
-// its side. Per pass:
-//  1. splits (all passes but the last two): an edge longer than sqrt 2 in the metric that lies
-//     on no boundary triangle gets its midpoint as a new free node, each tet around it becoming
-//     two; longest first;
-//  2. collapses (all passes but the last two): an edge shorter than 1/sqrt 2 with a free end
-//     loses that end (merged into the other, under the link condition, no new edge longer than
-//     sqrt 2);
-//  3. swaps: a face of two tets becomes an edge of three (2-3), and an interior edge of n = 3..7
-//     tets is removed, its ring triangulated by the best fan (3-2, 4-4, 5-6, ...), when the worst
-//     tet of the set gets better;
-//  4. smoothing: a free node moves toward the mean of the points that would make each tet of its
-//     ball regular in its metric (by 1, 1/2 or 1/4 of the way), in a poor ball then toward its
-//     worst tet's own point (by down to 1/100 of the way), kept when the ball's worst tet gets
-//     better, or stays and the ball's mean quality rises;
-//  5. slivers (tets under kSliver = 0.05 that the swaps left): a free vertex of one moves to the
-//     centre of its ball's kernel (the point farthest inside every face around it), else merges
-//     into a neighbour (new tets down to 0.01, edges up to 2.5 units); a sliver of fixed nodes
-//     (two front triangles in a shallow valley) has an interior edge split and the midpoint put
-//     at its kernel's centre. TetGen leaves such tets at the fronts: flat ones of 1e-10 on the
-//     published 717 wing, around a Steiner point it put on a front triangle's edge.
-// Splits, collapses and repairs never make a tet under kSliver outside step 5.
+// symmetry planes' nodes) and every node of a boundary triangle (a face of one tet: the fronts,
+// listed in fill.boundary or not) never move or go, and no boundary triangle is changed: the
+// fronts stay bit-identical and each boundary triangle keeps exactly one tet, on its side. The
+// other nodes are free. Per pass, in this order:
+//  1. splits (all passes but the last two; so none with passes <= 2): an edge longer than sqrt 2
+//     in the metric that lies on no boundary triangle gets its midpoint as a new free node, each
+//     tet around it becoming two; longest first;
+//  2. collapses (the same passes): an edge shorter than 1/sqrt 2 with a free end loses that end
+//     (merged into the other, under the link condition, no new edge longer than sqrt 2);
+//  3. swaps, on the tets under 0.5: a face of two tets becomes an edge of three (2-3), and an
+//     interior edge of n = 3..7 tets is removed, its ring triangulated by the best fan (3-2, 4-4,
+//     5-6, ...), when the worst tet of the set gets better by 1e-4 at least;
+//  4. slivers (tets under kSliver = 0.05 that the swaps left): a free vertex of one moves to the
+//     centre of its ball's kernel (the point farthest inside every face around it) if that
+//     betters the ball's worst tet, else merges into a neighbour (new tets at least twice the
+//     sliver's quality, up to 0.01; edges up to 2.5 units), else an interior edge of the sliver is
+//     split and the midpoint put at its ball's kernel centre, kept if the ring's worst tet gets
+//     better by 1e-4 and at least doubles (up to 0.01). TetGen leaves such tets at the fronts:
+//     flat ones of 1e-10 on the published 717 wing, around a Steiner point it put on a front
+//     triangle's edge; at a front triangle of aspect ratio 1e4 (a fan's sector strip) no tet is
+//     better than a sliver;
+//  5. smoothing, of the free nodes whose ball changed since they were last tried: a node moves
+//     toward the mean of the points that would make each tet of its ball regular in its metric
+//     (by 1, 1/2 or 1/4 of the way), in a ball under 0.5 then toward its worst tet's own point
+//     (by down to 1/100 of the way), kept when the ball's worst tet gets better, or stays and the
+//     ball's mean quality rises;
+//  6. swaps again.
 // The quality is the mean ratio in the metric (12 (3 V_M)^(2/3) / sum of the squared edge
 // lengths L_M^2: 1 for a tet regular in the metric, 0 flat), a tet taking the mean of its
-// vertices' metric matrices; an edge measures by the mean of its ends'. No collapse makes a tet
-// worse than kFloor (0.2) or than the worst it replaces, no split worse than kFloor or half the
-// worst of its ring (halving a needle's long edge makes two needles a little worse, which the next
-// splits, swaps and moves mend); swaps and moves never lower the worst of the tets they change.
-// Every new or moved tet is checked
-// with the exact orient3d (predicates.h), so a fill of positive tets stays positive, and a flat
-// one (orient3d = 0, TetGen's slivers) can only be replaced, never made. New nodes are appended
-// and collapsed ones dropped at the end: the fixed nodes keep their ids (linear_front.h).
+// vertices' metric matrices; an edge measures by the mean of its ends'. No collapse of step 2
+// makes a tet worse than kSliver, kFloor (0.2) or the worst it replaces, whichever is least of the
+// last two but at least kSliver; no split worse than kSliver or than the least of kFloor and half
+// the worst of its ring (halving a needle's long edge makes two needles a little worse, which the
+// next splits, swaps and moves mend); swaps, moves and step 4 never lower the worst of the tets
+// they change (a node's metric, evaluated again once it moved 0.05 metric units, and a split's
+// midpoint's, judged by its ends' mean, then evaluated, may shift qualities a little).
+// Every new or moved tet is checked with the exact orient3d (predicates.h), so a fill of positive
+// tets stays positive, and a flat one (orient3d = 0, TetGen's slivers) can only be replaced,
+// never made. New nodes are appended and collapsed ones dropped at the end: the fixed nodes keep
+// their ids (linear_front.h). The fill is written back only at the end (an exception leaves it
+// as it was).
 #pragma once
 
 #include <cstddef>

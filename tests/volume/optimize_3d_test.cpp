@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include "modules/base/error.h"
 #include "modules/geometry/predicates.h"
 #include "tests/volume/box_front.h"
 #include "volume/tetgen_fill.h"
@@ -263,4 +264,55 @@ TEST_CASE("volume 3D optimiser: a free node on a front triangle's edge, in two f
   CHECK(st.after.flat == 0);
   CHECK(st.after.quality_min > 0.3);
   CHECK(std::abs(check_optimized(f, fill) - 4.0 / 3) <= 1e-12);
+}
+
+TEST_CASE("volume 3D optimiser: swaps, moves and sliver repairs never lower the worst tet") {
+  // Two passes: no splits or collapses (optimize_3d.h), a uniform metric: what is left (swaps,
+  // sliver repairs, moves) may only better the worst tet. TetGen without its quality bound in a
+  // metric of sizes 0.5, 0.5, 0.1 leaves slivers (in the metric) for step 4 to repair.
+  LinearFront<3> f;
+  test::add_box(f, Vec(0, 0, 0), Vec(2, 2, 1), {12, 12, 6}, test::Normals::In, "farfield");
+  volume::TetFillParams tp;
+  tp.max_radius_edge = 0;
+  FillResult<3> fill = as_fill(f, volume::tetgen_fill(f, tp));
+  const UniformMetricField<3> metric(Metric<3>::from_matrix(Eigen::Vector3d(4, 4, 100).asDiagonal()));
+  volume::Optimize3Params p;
+  p.passes = 2;
+  const volume::Optimize3Stats st = volume::optimize_fill_3d(fill, f.nodes.size(), metric, p);
+  MESSAGE("quality min " << st.before.quality_min << " -> " << st.after.quality_min << ", " << st.swaps << " swaps, "
+                         << st.repairs << " repairs, " << st.moves << " moves");
+  CHECK(st.splits + st.collapses == 0);
+  CHECK(st.swaps + st.repairs + st.moves > 0);
+  CHECK(st.after.quality_min >= st.before.quality_min);
+  check_optimized(f, fill);
+}
+
+TEST_CASE("volume 3D optimiser: a boundary node stays though it is not among the fixed ones") {
+  LinearFront<3> f;
+  test::add_cube(f, Vec(0, 0, 0), 1.0, 6, test::Normals::In, "farfield");
+  volume::TetFillParams tp;
+  tp.max_radius_edge = 0;
+  FillResult<3> fill = as_fill(f, volume::tetgen_fill(f, tp));
+  const UniformMetricField<3> metric(Metric<3>::isotropic(0.3));  // coarser than the front: collapses
+  const volume::Optimize3Stats st = volume::optimize_fill_3d(fill, 0, metric);
+  CHECK(st.collapses + st.moves > 0);
+  CHECK(std::abs(check_optimized(f, fill) - 1) <= 1e-12);
+}
+
+TEST_CASE("volume 3D optimiser: no passes leave the fill as TetGen made it, and a node out of range is an InputError") {
+  LinearFront<3> f;
+  test::add_cube(f, Vec(0, 0, 0), 1.0, 3, test::Normals::In, "farfield");
+  FillResult<3> fill = as_fill(f, volume::tetgen_fill(f, {}));
+  const FillResult<3> before = fill;
+  const UniformMetricField<3> metric(Metric<3>::isotropic(0.1));
+  volume::Optimize3Params p;
+  p.passes = 0;
+  const volume::Optimize3Stats st = volume::optimize_fill_3d(fill, f.nodes.size(), metric, p);
+  CHECK(fill.nodes == before.nodes);
+  CHECK(fill.simplices == before.simplices);
+  CHECK(st.before.tets == st.after.tets);
+  fill.simplices.push_back({0, 1, 2, static_cast<NodeId>(fill.nodes.size())});
+  const FillResult<3> bad = fill;
+  CHECK_THROWS_AS(volume::optimize_fill_3d(fill, f.nodes.size(), metric), InputError);
+  CHECK(fill.simplices == bad.simplices);
 }
