@@ -1,14 +1,17 @@
 // SPDX-License-Identifier: MIT
 // Box surfaces for the 3D fill tests (tetgen_fill_test, optimize_3d_test): the faces of an
-// axis-aligned box as the triangles of a LinearFront<3>.
+// axis-aligned box as the triangles of a LinearFront<3>; and how a fill's tets use a front.
 #pragma once
 
 #include <array>
+#include <algorithm>
 #include <map>
+#include <vector>
 #include <string>
 
 #include <Eigen/Core>
 
+#include "modules/geometry/predicates.h"
 #include "modules/mesh/linear_front.h"
 
 namespace plaf::test {
@@ -64,6 +67,40 @@ inline void add_box(LinearFront<3>& f, const Eigen::Vector3d& lo, const Eigen::V
 inline void add_cube(LinearFront<3>& f, const Eigen::Vector3d& lo, double side, int n, Normals normals,
                      const std::string& name) {
   add_box(f, lo, Eigen::Vector3d::Constant(side), {n, n, n}, normals, name);
+}
+
+// The tets' faces, each sorted, with the vertices opposite it (one per tet holding it).
+using FaceApexes = std::map<std::array<NodeId, 3>, std::vector<NodeId>>;
+inline FaceApexes face_apexes(const std::vector<std::array<NodeId, 4>>& tets) {
+  FaceApexes apexes;
+  for (const auto& t : tets)
+    for (int k = 0; k < 4; ++k) {
+      std::array<NodeId, 3> face{t[(k + 1) % 4], t[(k + 2) % 4], t[(k + 3) % 4]};
+      std::sort(face.begin(), face.end());
+      apexes[face].push_back(t[k]);
+    }
+  return apexes;
+}
+
+// Of the front's triangles: those that are not a face of exactly one tet, and those whose tet
+// lies behind them (not on their right-hand normal's side, linear_front.h; exact orient3d).
+struct FrontUse {
+  std::size_t not_once = 0, behind = 0;
+};
+inline FrontUse front_use(const LinearFront<3>& f, const std::vector<Eigen::Vector3d>& nodes, const FaceApexes& apexes) {
+  FrontUse u;
+  for (const auto& t : f.triangles) {
+    std::array<NodeId, 3> face = t;
+    std::sort(face.begin(), face.end());
+    const auto it = apexes.find(face);
+    if (it == apexes.end() || it->second.size() != 1) {
+      ++u.not_once;
+      continue;
+    }
+    if (!(orient3d(f.nodes[t[0]], f.nodes[t[1]], f.nodes[t[2]], nodes[static_cast<std::size_t>(it->second[0])]) < 0))
+      ++u.behind;
+  }
+  return u;
 }
 
 }  // namespace plaf::test

@@ -51,11 +51,10 @@ double volume_of(const FillResult<3>& fill, const Tet& t) {
 // The contract of optimize_3d.h on a result: the fixed nodes bit-identical, every tet positive
 // (exact), every boundary triangle a face of exactly one tet, on its normal's side (the front's
 // normals point into the region), no tet repeated, the volume kept. Returns the volume.
-double check_optimized(const LinearFront<3>& f, const FillResult<3>& fill, bool inward_normals = true) {
+double check_optimized(const LinearFront<3>& f, const FillResult<3>& fill) {
   std::size_t moved = 0;
   for (std::size_t i = 0; i < f.nodes.size(); ++i) moved += fill.nodes[i] != f.nodes[i];
   CHECK(moved == 0);
-  std::map<std::array<NodeId, 3>, std::vector<NodeId>> apexes;
   std::map<Tet, int> seen;
   std::size_t non_positive = 0, repeated = 0;
   double volume = 0;
@@ -65,29 +64,15 @@ double check_optimized(const LinearFront<3>& f, const FillResult<3>& fill, bool 
     std::sort(s.begin(), s.end());
     repeated += seen[s]++ > 0 ? 1 : 0;
     volume += volume_of(fill, t);
-    for (int k = 0; k < 4; ++k) {
-      std::array<NodeId, 3> face{t[(k + 1) % 4], t[(k + 2) % 4], t[(k + 3) % 4]};
-      std::sort(face.begin(), face.end());
-      apexes[face].push_back(t[k]);
-    }
   }
   CHECK(non_positive == 0);
   CHECK(repeated == 0);
-  std::size_t not_once = 0, behind = 0, open_faces = 0;
+  const test::FaceApexes apexes = test::face_apexes(fill.simplices);
+  std::size_t open_faces = 0;
   for (const auto& [face, apex] : apexes) open_faces += apex.size() == 1 ? 1 : 0;
-  for (const auto& t : f.triangles) {
-    std::array<NodeId, 3> face = t;
-    std::sort(face.begin(), face.end());
-    const auto it = apexes.find(face);
-    if (it == apexes.end() || it->second.size() != 1) {
-      ++not_once;
-      continue;
-    }
-    if (inward_normals && !(orient3d(f.nodes[t[0]], f.nodes[t[1]], f.nodes[t[2]], fill.nodes[it->second[0]]) < 0))
-      ++behind;
-  }
-  CHECK(not_once == 0);
-  CHECK(behind == 0);
+  const test::FrontUse use = test::front_use(f, fill.nodes, apexes);
+  CHECK(use.not_once == 0);
+  CHECK(use.behind == 0);
   CHECK(open_faces == f.triangles.size());  // no face of one tet but the boundary's: no hole opened
   return volume;
 }

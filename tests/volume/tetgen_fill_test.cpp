@@ -70,34 +70,19 @@ double check_fill(const LinearFront<3>& f, const TetFillResult& r, bool flat_all
   for (const auto& t : f.triangles)
     for (NodeId v : t) on_front[v] = true;
 
-  std::map<std::array<NodeId, 3>, std::vector<NodeId>> apexes;  // sorted face -> opposite vertices
   std::size_t non_positive = 0, on_unused = 0;
   double volume = 0;
   for (const auto& t : r.simplices) {
     if (!(orient3d(r.nodes[t[0]], r.nodes[t[1]], r.nodes[t[2]], r.nodes[t[3]]) < 0)) ++non_positive;
     volume += tet_volume(r, t);
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < 4; ++k)
       if (static_cast<std::size_t>(t[k]) < f.nodes.size() && !on_front[t[k]]) ++on_unused;
-      std::array<NodeId, 3> face{t[(k + 1) % 4], t[(k + 2) % 4], t[(k + 3) % 4]};
-      std::sort(face.begin(), face.end());
-      apexes[face].push_back(t[k]);
-    }
   }
   CHECK(non_positive == 0);
   CHECK(on_unused == 0);
-  std::size_t not_once = 0, behind = 0;
-  for (const auto& t : f.triangles) {
-    std::array<NodeId, 3> face = t;
-    std::sort(face.begin(), face.end());
-    const auto it = apexes.find(face);
-    if (it == apexes.end() || it->second.size() != 1) {
-      ++not_once;
-      continue;
-    }
-    if (!(orient3d(f.nodes[t[0]], f.nodes[t[1]], f.nodes[t[2]], r.nodes[it->second[0]]) < 0)) ++behind;
-  }
-  CHECK(not_once == 0);
-  CHECK(behind == 0);
+  const test::FrontUse use = test::front_use(f, r.nodes, test::face_apexes(r.simplices));
+  CHECK(use.not_once == 0);
+  CHECK(use.behind == 0);
   // Golden bounds of the shape measures: the regular tet has the largest least dihedral angle,
   // arccos(1/3) = 70.53 deg, and the smallest radius-edge ratio, sqrt(6)/4 (both exact).
   CHECK(r.stats.min_dihedral_deg >= 0);
