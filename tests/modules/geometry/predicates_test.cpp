@@ -480,3 +480,21 @@ TEST_CASE("predicates: triangles_intersect agrees with a separating-axis referen
   CHECK(hits > total / 10);
   CHECK(hits < total * 9 / 10);
 }
+
+TEST_CASE("predicates: coincident points give exactly 0, and a triangle with two vertices in one point is a segment") {
+  // The shortcut of orient2d/orient3d for coincident points (no exact sum) and of the projection
+  // for such triangles (collision checks of collapsed columns' front triangles) answer as the
+  // exact arithmetic does.
+  const Vector3d p(0.1, 0.7, 1e-3), q(0.30000000000000004, -2.5, 7), r(1e-300, 3, -4);
+  CHECK(orient3d(p, p, q, r) == 0);
+  CHECK(orient3d(p, q, r, q) == 0);
+  CHECK(orient2d(Vector2d(0.1, 0.3), Vector2d(0.7, 0.9), Vector2d(0.1, 0.3)) == 0);
+  CHECK(std::isnan(orient3d(p, p, q, Vector3d(std::nan(""), 0, 0))));
+  const Tri base = {Vector3d(0, 0, 0), Vector3d(4, 0, 0), Vector3d(0, 4, 0)};
+  // A degenerate triangle (a segment from (1, 1, -1) to (1, 1, 1)) pierces the base; beside it, not.
+  check_triangles(base, {Vector3d(1, 1, -1), Vector3d(1, 1, -1), Vector3d(1, 1, 1)}, true);
+  check_triangles(base, {Vector3d(5, 5, -1), Vector3d(5, 5, -1), Vector3d(5, 5, 1)}, false);
+  // A point (three vertices in one) on the base, and off it by one ulp.
+  check_triangles(base, {Vector3d(1, 1, 0), Vector3d(1, 1, 0), Vector3d(1, 1, 0)}, true);
+  check_triangles(base, {Vector3d(1, 1, 0x1p-52), Vector3d(1, 1, 0x1p-52), Vector3d(1, 1, 0x1p-52)}, false);
+}
