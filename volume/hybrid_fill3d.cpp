@@ -95,9 +95,13 @@ double plane_distance(const Vec& a, const Vec& b, const Vec& c, const Vec& x) {
 // The size ratio across the layers' outer front (HybridFill::FrontRatio): over each outer
 // triangle, the fill tetrahedron's height (its apex's distance to the triangle's plane) over the
 // layer cell's below it (a prism's bottom centroid's, a tetrahedron's apex's).
-FrontRatio front_ratio(const LayerResult<3>& lr, int outer_tag, const FillResult<3>& fill) {
+using FrontHeights = std::map<std::array<NodeId, 3>, std::pair<double, double>>;  // sorted triangle -> (layer, fill)
+
+// Over each outer triangle, the height of the layer cell below it (the fill's left 0): computed
+// once, before and after the optimiser alike.
+FrontHeights layer_heights(const LayerResult<3>& lr, int outer_tag) {
   const LinearFront<3>& ff = lr.fill_front;
-  std::map<std::array<NodeId, 3>, std::pair<double, double>> heights;  // sorted triangle -> (layer, fill)
+  FrontHeights heights;
   for (std::size_t t = 0; t < ff.triangles.size(); ++t) {
     if (ff.triangle_tag[t] != outer_tag) continue;
     std::array<NodeId, 3> key = ff.triangles[t];
@@ -126,6 +130,12 @@ FrontRatio front_ratio(const LayerResult<3>& lr, int outer_tag, const FillResult
       }
     }
   }
+  return heights;
+}
+
+// The ratio with the fill's tetrahedra on the outer triangles (heights: layer_heights).
+FrontRatio front_ratio(FrontHeights heights, const FillResult<3>& fill) {
+  static constexpr int kTetFaces[4][4] = {{0, 1, 2, 3}, {0, 1, 3, 2}, {0, 2, 3, 1}, {1, 2, 3, 0}};  // face, apex
   for (const auto& t : fill.simplices)
     for (const auto& f : kTetFaces) {
       std::array<NodeId, 3> key = {t[f[0]], t[f[1]], t[f[2]]};
@@ -414,9 +424,10 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
   r.fill.simplices = std::move(tets.simplices);
 
   // 5. The metric optimisation, every front node fixed.
-  r.front_ratio_before = front_ratio(lr, outer_tag, r.fill);
+  const FrontHeights below = layer_heights(lr, outer_tag);
+  r.front_ratio_before = front_ratio(below, r.fill);
   r.optimize = optimize_fill_3d(r.fill, front.nodes.size(), metric, params.optimize);
-  r.front_ratio_after = front_ratio(lr, outer_tag, r.fill);
+  r.front_ratio_after = front_ratio(below, r.fill);
   r.farfield = fp;
   return r;
 }
