@@ -15,6 +15,8 @@
 #include <vector>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 #include <Eigen/Geometry>
 
 #include "modules/base/error.h"
@@ -82,6 +84,35 @@ double mean_ratio(const Mat& m, const Vec& a, const Vec& b, const Vec& c, const 
 }
 
 // The measures of optimize_3d.h's FillShape3, from the nodes' metric matrices.
+// The stretch FillShape3::Stretched counts from.
+constexpr double kStretched = 10;
+
+// A metric's largest size over its smallest: sqrt of its largest eigenvalue over its smallest.
+double metric_stretch_of(const Mat& m) {
+  const Eigen::SelfAdjointEigenSolver<Mat> es(m, Eigen::EigenvaluesOnly);
+  const Vec l = es.eigenvalues();
+  return l[0] > 0 ? std::sqrt(l[2] / l[0]) : std::numeric_limits<double>::infinity();
+}
+
+// A tet's own stretch (FillShape3::Stretched): the condition number of the affine map from the
+// regular tet of unit edges onto it; infinite for a flat one.
+double tet_stretch(const Vec& a, const Vec& b, const Vec& c, const Vec& d) {
+  static const Mat regular_inverse = [] {
+    Mat r;
+    r.col(0) = Vec(1, 0, 0);
+    r.col(1) = Vec(0.5, std::sqrt(3.0) / 2, 0);
+    r.col(2) = Vec(0.5, std::sqrt(3.0) / 6, std::sqrt(2.0 / 3.0));
+    return Mat(r.inverse());
+  }();
+  Mat e;
+  e.col(0) = b - a;
+  e.col(1) = c - a;
+  e.col(2) = d - a;
+  const Eigen::JacobiSVD<Mat> svd(e * regular_inverse);
+  const Vec sv = svd.singularValues();
+  return sv[2] > 0 ? sv[0] / sv[2] : std::numeric_limits<double>::infinity();
+}
+
 FillShape3 measure(const std::vector<Vec>& x, const std::vector<Tet>& tets, const std::vector<char>* dead,
                    const std::vector<Mat>& m, std::size_t fixed) {
   FillShape3 s;
@@ -90,12 +121,18 @@ FillShape3 measure(const std::vector<Vec>& x, const std::vector<Tet>& tets, cons
   s.length_min = std::numeric_limits<double>::infinity();
   double dmin = std::numbers::pi, dinner = std::numbers::pi;
   std::vector<std::uint64_t> edges;
+  std::vector<double> metric_stretch, own_stretch, stretched_quality;
   for (std::size_t i = 0; i < tets.size(); ++i) {
     if (dead && (*dead)[i]) continue;
     const Tet& t = tets[i];
     ++s.tets;
     const Mat mt = (m[t[0]] + m[t[1]] + m[t[2]] + m[t[3]]) / 4;
     const double q = mean_ratio(mt, x[t[0]], x[t[1]], x[t[2]], x[t[3]]);
+    if (const double ms = metric_stretch_of(mt); ms >= kStretched) {
+      metric_stretch.push_back(ms);
+      own_stretch.push_back(tet_stretch(x[t[0]], x[t[1]], x[t[2]], x[t[3]]));
+      stretched_quality.push_back(q);
+    }
     s.quality_min = std::min(s.quality_min, q);
     const double dihedral = tet_shape({x[t[0]], x[t[1]], x[t[2]], x[t[3]]}).first;
     dmin = std::min(dmin, dihedral);
@@ -124,6 +161,21 @@ FillShape3 measure(const std::vector<Vec>& x, const std::vector<Tet>& tets, cons
   s.unit_fraction = edges.empty() ? 0 : static_cast<double>(unit) / static_cast<double>(edges.size());
   s.min_dihedral_deg = s.tets ? dmin * 180 / std::numbers::pi : 0;
   s.min_dihedral_inner_deg = dinner * 180 / std::numbers::pi;
+  if (!own_stretch.empty()) {
+    auto pct = [](std::vector<double>& v, double f) {
+      const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(f * static_cast<double>(v.size())));
+      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+      return v[k];
+    };
+    s.stretched.tets = own_stretch.size();
+    s.stretched.at_least_10 = static_cast<double>(std::count_if(own_stretch.begin(), own_stretch.end(), [](double r) { return r >= kStretched; })) /
+                              static_cast<double>(own_stretch.size());
+    s.stretched.metric_p50 = pct(metric_stretch, 0.5);
+    s.stretched.stretch_p10 = pct(own_stretch, 0.1);
+    s.stretched.stretch_p50 = pct(own_stretch, 0.5);
+    s.stretched.stretch_p90 = pct(own_stretch, 0.9);
+    s.stretched.quality_p50 = pct(stretched_quality, 0.5);
+  }
   return s;
 }
 

@@ -70,6 +70,17 @@ struct FillShape3 {
   double min_dihedral_inner_deg = 0;     // tets with no fixed node (180 when there is none)
   std::size_t below_5deg = 0, below_10deg = 0;  // tets with a dihedral angle under 5 / 10 degrees
   std::size_t flat = 0;                  // tets whose exact orient3d is not positive
+  // The tets where the metric is stretched 10:1 or more (its largest size over its smallest, of
+  // the mean of the tet's node metrics), and the tets' own stretch there: the largest over the
+  // smallest size of the metric in which the tet is regular (the affine map from a regular unit
+  // tet: its largest singular value over its smallest). Percentiles over those tets; 0 without.
+  struct Stretched {
+    std::size_t tets = 0;
+    double metric_p50 = 0;                                     // the metric's stretch
+    double stretch_p10 = 0, stretch_p50 = 0, stretch_p90 = 0;  // the tets' own
+    double at_least_10 = 0;                                    // share of them stretched >= 10:1
+    double quality_p50 = 0;                                    // mean ratio in the metric
+  } stretched;
 };
 
 struct Optimize3Stats {

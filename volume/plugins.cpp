@@ -134,6 +134,13 @@ void register_plugins() {
           rep.add(k + "below_5deg", f->below_5deg);
           rep.add(k + "below_10deg", f->below_10deg);
           rep.add(k + "flat", f->flat);
+          rep.add(k + "stretched.tets", f->stretched.tets);
+          rep.add(k + "stretched.metric_p50", f->stretched.metric_p50);
+          rep.add(k + "stretched.stretch_p10", f->stretched.stretch_p10);
+          rep.add(k + "stretched.stretch_p50", f->stretched.stretch_p50);
+          rep.add(k + "stretched.stretch_p90", f->stretched.stretch_p90);
+          rep.add(k + "stretched.at_least_10", f->stretched.at_least_10);
+          rep.add(k + "stretched.quality_p50", f->stretched.quality_p50);
         }
         for (const auto& [when, f] : {std::pair{"before", &fill.front_ratio_before}, std::pair{"after", &fill.front_ratio_after}}) {
           const std::string k = std::string("front_ratio.") + when + ".";
@@ -158,6 +165,13 @@ void register_plugins() {
                  "; first tetrahedron over last layer's height across the outer front: median " +
                  num(fill.front_ratio_before.p50) + " -> " + num(fill.front_ratio_after.p50) + ", 95 % " +
                  num(fill.front_ratio_before.p95) + " -> " + num(fill.front_ratio_after.p95));
+        if (o.after.stretched.tets > 0)
+          rep.line("fill: where the metric is stretched 10:1 or more (median " + num(o.after.stretched.metric_p50) +
+                   ":1): " + std::to_string(o.before.stretched.tets) + " -> " + std::to_string(o.after.stretched.tets) +
+                   " tets, their own stretch median " + num(o.before.stretched.stretch_p50) + " -> " +
+                   num(o.after.stretched.stretch_p50) + " (10 % under " + num(o.after.stretched.stretch_p10) + "), " +
+                   num(100 * o.after.stretched.at_least_10) + " % of them 10:1 or more, quality median " +
+                   num(o.before.stretched.quality_p50) + " -> " + num(o.after.stretched.quality_p50));
         if (fill.curved_front_triangles > 0)
           rep.line("fill: " + std::to_string(fill.curved_front_triangles) +
                    " triangles of the layers' outer front are still curved (no valid closing layer there, "

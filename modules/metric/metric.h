@@ -12,6 +12,8 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace plaf {
 inline namespace metric {
@@ -88,6 +90,24 @@ class UniformMetricField final : public MetricField<Dim> {
 
  private:
   Metric<Dim> m_;
+};
+
+// The intersection of several fields (`metric: {intersect: [...]}`, run_config.h): at every point
+// the first field's metric intersected with each other's in turn (intersect above), so every size
+// is the smallest any field asks for in that direction.
+template <int Dim>
+class IntersectedMetricField final : public MetricField<Dim> {
+ public:
+  using Fields = std::vector<std::shared_ptr<const MetricField<Dim>>>;
+  explicit IntersectedMetricField(Fields fields) : fields_(std::move(fields)) {}
+  Metric<Dim> evaluate(const typename MetricField<Dim>::Point& x) const override {
+    Metric<Dim> m = fields_.front()->evaluate(x);
+    for (std::size_t i = 1; i < fields_.size(); ++i) m = intersect(m, fields_[i]->evaluate(x));
+    return m;
+  }
+
+ private:
+  Fields fields_;
 };
 
 // Metric length of the straight segment a -> b, by Gauss-Legendre quadrature of

@@ -114,6 +114,23 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   };
   plan(StageKind::Geometry, geometry_type, g, r.geometry);
   plan(StageKind::Metric, metric_type, m, r.metric);
+  // metric.intersect: further fields the run's metric is intersected with (a refinement band
+  // given on a background mesh over a wall law, say); each item is a metric section of its own.
+  if (m.has("intersect")) {
+    const std::vector<ConfigNode> more = m.child_list("intersect");
+    if (more.empty()) throw ConfigError(m.where("intersect") + ": give a list of metric sections, e.g. [{type: background, file: band.msh}]");
+    std::vector<Stage<2>> more2;
+    std::vector<Stage<3>> more3;
+    for (const ConfigNode& item : more) {
+      if (!item.has("type")) throw ConfigError(item.where() + ": each metric to intersect needs its type");
+      PlannedStage planned;
+      plan(StageKind::Metric, item.get_string("type", ""), item, planned);
+      if (planned.run2) more2.push_back(planned.run2);
+      if (planned.run3) more3.push_back(planned.run3);
+    }
+    if (r.metric.run2) r.metric.run2 = intersect_metric_stages<2>(r.metric.run2, more2);
+    if (r.metric.run3) r.metric.run3 = intersect_metric_stages<3>(r.metric.run3, more3);
+  }
   // The surface mesh follows from the geometry: curves of the spline loops or the annulus' exact
   // map in 2D (no section), the remesher in 3D (whose section holds its keys and may name it).
   const ConfigNode sf = c.child("surface");

@@ -18,6 +18,10 @@
 //                           modules/metric/wall_metric_3d.h, without curvature_factor and h_corner)
 //     type: background      BackgroundParams (modules/metric/metric_fields.h), 2D and 3D (a
 //                           background mesh of the run's dimension, modules/metric/background_metric.h)
+//     intersect: [{type: ...}, ...]   further metric sections, each with its own type and keys;
+//                           the run's metric is their intersection with this one (the smallest
+//                           size any asks for along every direction: IntersectedMetricField,
+//                           metric.h), e.g. a wall law with a refinement band on a background mesh
 //   extrude:                a 2D section (geometry type airfoils) extruded between the symmetry
 //                           planes z = 0 and z = span: the run is 3D (modules/mesh/extrude_front.h).
 //                           Geometry, metric and the surface's curves are the 2D section's (2D

@@ -159,6 +159,30 @@ void register_core_plugins() {
   (void)once;
 }
 
+template <int Dim>
+Stage<Dim> intersect_metric_stages(Stage<Dim> first, std::vector<Stage<Dim>> more) {
+  more.insert(more.begin(), std::move(first));
+  return [more](RunState<Dim>& s, StageReport& rep) {
+    typename IntersectedMetricField<Dim>::Fields fields, along_wall;
+    bool own_sizes = false;  // some field gave sizes along the wall (3D)
+    for (const Stage<Dim>& stage : more) {
+      stage(s, rep);
+      if (!s.metric) throw MesherError("metric: a field of the intersection gave no metric");
+      std::shared_ptr<const MetricField<Dim>> field(std::move(s.metric));
+      fields.push_back(field);
+      if constexpr (Dim == 3) {
+        own_sizes = own_sizes || s.surface_sizes;
+        along_wall.push_back(s.surface_sizes ? std::shared_ptr<const MetricField<3>>(std::move(s.surface_sizes)) : field);
+      }
+    }
+    s.metric = std::make_unique<IntersectedMetricField<Dim>>(std::move(fields));
+    if constexpr (Dim == 3)
+      if (own_sizes) s.surface_sizes = std::make_unique<IntersectedMetricField<3>>(std::move(along_wall));
+  };
+}
+template Stage<2> intersect_metric_stages(Stage<2>, std::vector<Stage<2>>);
+template Stage<3> intersect_metric_stages(Stage<3>, std::vector<Stage<3>>);
+
 std::string plugin_listing() {
   std::string out;
   auto names = [](const std::vector<std::string>& v) {

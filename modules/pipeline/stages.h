@@ -49,6 +49,13 @@ StageRegistry<Dim>& stage_registry(StageKind kind);
 // "none" layers and fill of both dimensions. Idempotent.
 void register_core_plugins();
 
+// The metric stage of `metric: {type: ..., intersect: [{type: ...}, ...]}` (run_config.h): runs
+// `first`, then each of `more` on the same state, and leaves there the intersection of their
+// fields (IntersectedMetricField, metric.h); in 3D also of their sizes along the wall, where
+// any of them gave such sizes (RunState<3>::surface_sizes; the others' own metric stands for them).
+template <int Dim>
+Stage<Dim> intersect_metric_stages(Stage<Dim> first, std::vector<Stage<Dim>> more);
+
 // One line per stage kind and dimension with its registered types, and the output formats.
 std::string plugin_listing();
 

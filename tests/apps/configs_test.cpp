@@ -602,6 +602,17 @@ TEST_CASE("configs: 3D prism layers are certified, conforming and attenuate to a
       CHECK(json_number(report, "edges", report.find("\"tetrahedra\": {")) > 0);  // the tets' metric lengths
       CHECK(read_text(r.out / (r.name + ".msh")).find("\"farfield\"") != std::string::npos);
       if (r.name == "wing_symmetry_hybrid") CHECK(json_number(report, "symmetry_triangles", fill) > 100);
+      if (r.name == "sphere_wake_hybrid") {
+        // Issue 32's anisotropic case: the wake sheet asks for 20:1; the optimised fill has 85 % of
+        // its edges unit in the metric and the tetrahedra in the sheet stretched 10:1 and more.
+        using plaf::test::report_value;
+        CHECK(report_value(report, {"fill", "optimize", "after", "unit_fraction"}) >= 0.85);
+        CHECK(report_value(report, {"fill", "optimize", "after", "stretched", "metric_p50"}) == doctest::Approx(20).epsilon(0.01));
+        CHECK(report_value(report, {"fill", "optimize", "after", "stretched", "tets"}) > 10000);
+        CHECK(report_value(report, {"fill", "optimize", "after", "stretched", "stretch_p50"}) >= 10);
+        CHECK(report_value(report, {"fill", "optimize", "after", "stretched", "at_least_10"}) >= 0.85);
+        CHECK(report_value(report, {"fill", "optimize", "after", "flat"}) == 0);
+      }
     }
     if (r.name == "sphere_layers") {
       // h0 = 1e-5 R: the first layer's aspect ratio is above 1e4.

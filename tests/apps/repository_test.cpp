@@ -139,26 +139,32 @@ TEST_CASE("repository: data/ holds only generators and the files they write, non
     const std::string name = e.path().filename().string();
     if (!e.is_regular_file() || name.rfind("make_", 0) != 0 || e.path().extension() != ".py") continue;
     ++generators;
-    // The output a generator writes by default is named in its docstring: "Writes DIR/FILE".
+    // The output a generator writes by default is named in its docstring: "Writes DIR/FILE.EXT",
+    // or "Writes DIR/FILE.EXT and .EXT2" for a pair (given one path, it writes the pair beside it).
     const std::string text = read_all(e.path());
     std::smatch m;
-    REQUIRE_MESSAGE(std::regex_search(text, m, std::regex(R"(Writes ([A-Za-z0-9_/]+\.dat))")), name);
-    const std::string out = m[1].str();
-    outputs.insert(out);
-    const fs::path scratch = fs::temp_directory_path() / ("plaf_generated_" + std::to_string(::getpid()) + ".dat");
-    const std::string cmd = "python3 " + e.path().string() + " " + scratch.string() + " > /dev/null";
+    REQUIRE_MESSAGE(std::regex_search(text, m, std::regex(R"(Writes ([A-Za-z0-9_/]+)(\.[a-z]+)(?: and (\.[a-z]+))?)")), name);
+    std::vector<std::string> extensions = {m[2].str()};
+    if (m[3].matched) extensions.push_back(m[3].str());
+    const fs::path scratch = fs::temp_directory_path() / ("plaf_generated_" + std::to_string(::getpid()));
+    const std::string cmd = "python3 " + e.path().string() + " " + scratch.string() + extensions.front() + " > /dev/null";
     INFO(cmd);
     REQUIRE(std::system(cmd.c_str()) == 0);
-    const std::string shelf = plaf::test::published(out);
-    if (fs::exists(data / out))
-      CHECK(read_all(scratch) == read_all(data / out));
-    else if (!shelf.empty())
-      CHECK(read_all(scratch) == read_all(shelf));
-    else
-      plaf::test::request_skip("no data root holds " + out + " to compare its generator's output with");
-    fs::remove(scratch);
+    for (const std::string& ext : extensions) {
+      const std::string out = m[1].str() + ext;
+      const fs::path written = scratch.string() + ext;
+      outputs.insert(out);
+      const std::string shelf = plaf::test::published(out);
+      if (fs::exists(data / out))
+        CHECK(read_all(written) == read_all(data / out));
+      else if (!shelf.empty())
+        CHECK(read_all(written) == read_all(shelf));
+      else
+        plaf::test::request_skip("no data root holds " + out + " to compare its generator's output with");
+      fs::remove(written);
+    }
   }
-  CHECK(generators == 2);
+  CHECK(generators == 3);
   for (const auto& f : fs::recursive_directory_iterator(data)) {
     if (!f.is_regular_file()) continue;
     const std::string rel = f.path().lexically_relative(data).generic_string();

@@ -301,3 +301,26 @@ TEST_CASE("volume 3D optimiser: no passes leave the fill as TetGen made it, and 
   CHECK_THROWS_AS(volume::optimize_fill_3d(fill, f.nodes.size(), metric), InputError);
   CHECK(fill.simplices == bad.simplices);
 }
+
+TEST_CASE("volume 3D optimiser: the stretched tets are those where the metric asks 10:1, measured by their own stretch") {
+  // A regular unit tet squashed along z by 12 (its own stretch 12), another regular one (stretch 1),
+  // in a metric of sizes 1, 1, 1/12 along z (stretch 12): both counted, one stretched 10:1.
+  const double s = 1.0 / 12;
+  FillResult<3> fill;
+  const Vec regular[4] = {Vec(0, 0, 0), Vec(1, 0, 0), Vec(0.5, std::sqrt(3.0) / 2, 0), Vec(0.5, std::sqrt(3.0) / 6, std::sqrt(2.0 / 3.0))};
+  for (const Vec& x : regular) fill.nodes.push_back(Vec(x.x(), x.y(), s * x.z()));
+  for (const Vec& x : regular) fill.nodes.push_back(x + Vec(5, 0, 0));
+  fill.simplices = {{0, 1, 2, 3}, {4, 5, 6, 7}};
+  Eigen::Matrix3d m = Eigen::Matrix3d::Identity();
+  m(2, 2) = 144;
+  const volume::FillShape3 shape = volume::measure_fill_3d(fill, 0, UniformMetricField<3>(Metric<3>::from_matrix(m)));
+  CHECK(shape.stretched.tets == 2);
+  CHECK(shape.stretched.metric_p50 == doctest::Approx(12));
+  CHECK(shape.stretched.stretch_p10 == doctest::Approx(1));
+  CHECK(shape.stretched.stretch_p90 == doctest::Approx(12));
+  CHECK(shape.stretched.at_least_10 == doctest::Approx(0.5));
+  // The squashed tet is regular in the metric (mean ratio 1), the other is not.
+  CHECK(shape.stretched.quality_p50 == doctest::Approx(1));
+  // An isotropic metric stretches nothing.
+  CHECK(volume::measure_fill_3d(fill, 0, UniformMetricField<3>(Metric<3>::isotropic(1))).stretched.tets == 0);
+}

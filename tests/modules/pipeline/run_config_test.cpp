@@ -16,6 +16,8 @@
 #include "modules/metric/metric_fields.h"
 #include "modules/metric/wall_metric.h"
 #include "modules/pipeline/config.h"
+#include "modules/pipeline/run_state.h"
+#include "modules/pipeline/stage_report.h"
 #include "surface3d/plugins.h"
 #include "tests/test_support.h"
 
@@ -453,4 +455,44 @@ TEST_CASE("run config: a circle body instead of a file, its radius required and 
   CHECK(err("geometry: {type: airfoils, bodies: [{file: a.dat, circle: {radius: 1}}]}\n") ==
         doctest::Contains("one of file, naca or circle"));
   CHECK(err("geometry: {type: airfoils, bodies: [{name: x}]}\n") == doctest::Contains("file, naca or circle is required"));
+}
+
+TEST_CASE("run config: metric.intersect lists metric sections of their own, and the run's metric is their intersection") {
+  // The stage: a wall-free pair, isotropic 0.1 intersected with 1 along x and 0.02 along y, then
+  // with isotropic 0.05: the smallest size along each direction.
+  const RunConfig c = parse_run_config(one_body + "metric:\n  type: uniform\n  h: 0.1\n  intersect:\n"
+                                                  "    - {type: uniform, sizes: [1, 0.02]}\n    - {type: uniform, h: 0.05}\n",
+                                       "i.yaml");
+  REQUIRE(c.metric.run2);
+  RunState<2> state(c);
+  StageReport rep;
+  c.metric.run2(state, rep);
+  REQUIRE(state.metric);
+  const Metric<2> m = state.metric->evaluate(Eigen::Vector2d(0.3, -2));
+  CHECK(m.size_along(Eigen::Vector2d::UnitX()) == doctest::Approx(0.05));
+  CHECK(m.size_along(Eigen::Vector2d::UnitY()) == doctest::Approx(0.02));
+  // 3D: the same, the extra field's sizes along z.
+  const RunConfig c3 = parse_run_config(
+      "geometry: {type: sphere}\nmetric: {type: uniform, h: 0.2, intersect: [{type: uniform, sizes: [1, 1, 0.01]}]}\n", "i3.yaml");
+  REQUIRE(c3.metric.run3);
+  RunState<3> state3(c3);
+  c3.metric.run3(state3, rep);
+  const Metric<3> m3 = state3.metric->evaluate(Eigen::Vector3d(1, 2, 3));
+  CHECK(m3.size_along(Eigen::Vector3d::UnitX()) == doctest::Approx(0.2));
+  CHECK(m3.size_along(Eigen::Vector3d::UnitZ()) == doctest::Approx(0.01));
+  CHECK_FALSE(state3.surface_sizes);  // no field gave sizes along the wall
+
+  // Errors name the item: its type is required and its keys are its plugin's.
+  CHECK(config_error(one_body + "metric: {type: uniform, intersect: [{h: 0.1}]}\n")
+            .find("metric.intersect[0]: each metric to intersect needs its type") != std::string::npos);
+  CHECK(config_error(one_body + "metric: {type: uniform, intersect: [{type: uniform, h0: 0.1}]}\n")
+            .find("unknown key 'metric.intersect[0].h0'") != std::string::npos);
+  CHECK(config_error(one_body + "metric: {type: uniform, intersect: [{type: uniform, intersect: [{type: uniform}]}]}\n")
+            .find("unknown key 'metric.intersect[0].intersect'") != std::string::npos);
+  CHECK(config_error(one_body + "metric: {type: uniform, intersect: [{type: spline}]}\n").find("spline") != std::string::npos);
+  CHECK(config_error(one_body + "metric: {type: uniform, intersect: []}\n").find("metric.intersect: give a list") !=
+        std::string::npos);
+  CHECK(config_error(one_body + "metric: {type: uniform, intersect: 3}\n").find("expected a list of maps") != std::string::npos);
+  CHECK(config_error(one_body + "metric: {type: uniform, intersect: [{type: background}]}\n").find("metric.intersect[0]") !=
+        std::string::npos);
 }
