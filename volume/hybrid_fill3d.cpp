@@ -211,6 +211,33 @@ class GradedSizes final : public MetricField<2> {
   double g_, cap_;
 };
 
+// A symmetry plane's metric for its 2D fill: the run's metric restricted to the plane (the
+// block of its tensor along the plane's two axes u, v: exact for every length in the plane),
+// intersected with the sizes graded from the plane's loops (GradedSizes), so that the triangles
+// start at the loops' edge lengths and follow the metric, anisotropic where it is, away from them.
+class PlaneMetric final : public MetricField<2> {
+ public:
+  PlaneMetric(const MetricField<3>& metric, int axis, double offset, const GradedSizes& graded)
+      : metric_(metric), axis_(axis), offset_(offset), graded_(graded) {}
+  Metric<2> evaluate(const Eigen::Vector2d& p) const override {
+    const int u = (axis_ + 1) % 3, v = (axis_ + 2) % 3;
+    Vec x;
+    x[axis_] = offset_;
+    x[u] = p.x();
+    x[v] = p.y();
+    const Eigen::Matrix3d m = metric_.evaluate(x).matrix();
+    Eigen::Matrix2d in_plane;
+    in_plane << m(u, u), m(u, v), m(v, u), m(v, v);
+    return intersect(Metric<2>::from_matrix(in_plane), graded_.evaluate(p));
+  }
+
+ private:
+  const MetricField<3>& metric_;
+  int axis_;
+  double offset_;
+  const GradedSizes& graded_;
+};
+
 double signed_area(const std::vector<Eigen::Vector2d>& pts) {
   double a = 0;
   for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -378,7 +405,8 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
       }
       plane.loops.push_back(loop);
     }
-    const GradedSizes field(plane.nodes, sizes, params.grading, fp.h);
+    const GradedSizes graded(plane.nodes, sizes, params.grading, fp.h);
+    const PlaneMetric field(metric, a, planes[p].offset, graded);
     const AdvancingFrontResult af = advancing_front_fill(plane, field);
     for (std::size_t k = plane.nodes.size(); k < af.nodes.size(); ++k) {
       Vec x;

@@ -17,9 +17,11 @@
 //     plane (their facets' nodes fitted); the outer front's open edges (its rim) must lie on
 //     them. The farfield is then a box cut to the bodies' side of every plane.
 //  3. Each plane's region (the farfield's cut loop outside, the rim loops inside) is meshed with
-//     the 2D advancing front (advancing_front_2d.h) in the plane's coordinates, sized by a graded
-//     isotropic field: from each loop node's mean edge length, growing by `grading` per unit
-//     distance, at most the farfield's h. Its triangles carry the plane's tag.
+//     the 2D advancing front (advancing_front_2d.h) in the plane's coordinates, in the run's
+//     metric restricted to the plane, intersected with a graded isotropic field: from each loop
+//     node's mean edge length, growing by `grading` per unit distance, at most the farfield's h
+//     (so the triangles start at the loops' sizes and follow the metric, anisotropic where it
+//     is, away from them). Its triangles carry the plane's tag.
 //  4. TetGen fills the region with the front preserved (no Steiner point on any of it), one hole
 //     point inside the layers of every connected outer front (the centroid of a prism under one
 //     of its triangles), and sizes (switch m): at a node of the front its mean edge length.

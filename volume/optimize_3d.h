@@ -13,11 +13,12 @@
 //     in the metric that lies on no boundary triangle gets its midpoint as a new free node, each
 //     tet around it becoming two; longest first;
 //  2. collapses (the same passes): an edge shorter than 1/sqrt 2 with a free end loses that end
-//     (merged into the other, under the link condition, no new edge longer than sqrt 2);
+//     (merged into the other, under the link condition, no new edge longer than 1.6: the next
+//     pass's splits halve an edge between sqrt 2 and 1.6 into two unit ones);
 //  3. swaps, on the tets under 0.5: a face of two tets becomes an edge of three (2-3), and an
 //     interior edge of n = 3..7 tets is removed, its ring triangulated by the best fan (3-2, 4-4,
 //     5-6, ...), when the worst tet of the set gets better by 1e-4 at least;
-//  4. slivers (tets under kSliver = 0.05 that the swaps left): a free vertex of one moves to the
+//  4. slivers (tets under 0.15 that the swaps left): a free vertex of one moves to the
 //     centre of its ball's kernel (the point farthest inside every face around it) if that
 //     betters the ball's worst tet, else merges into a neighbour (new tets at least twice the
 //     sliver's quality, up to 0.01; edges up to 2.5 units), else an interior edge of the sliver is
@@ -66,9 +67,15 @@ struct FillShape3 {
   double quality_min_inner = 0;          // the same over the tets with no fixed node (1 when there is none)
   double unit_fraction = 0;              // edges of metric length in [1/sqrt2, sqrt2]
   double length_min = 0, length_max = 0;  // metric edge lengths
+  double length_max_free = 0;            // the longest with a free end (the others are frozen)
   double min_dihedral_deg = 0;           // every tet
   double min_dihedral_inner_deg = 0;     // tets with no fixed node (180 when there is none)
   std::size_t below_5deg = 0, below_10deg = 0;  // tets with a dihedral angle under 5 / 10 degrees
+  // The same angles in the metric (the tet mapped by M^(1/2) of its mean metric, where edges
+  // measure their metric length): equal to the above where the metric is isotropic; where it
+  // is stretched, a tet stretched along it has the angles of its image, regular or not.
+  double metric_min_dihedral_deg = 0, metric_min_dihedral_inner_deg = 0;
+  std::size_t metric_below_5deg = 0, metric_below_10deg = 0;
   std::size_t flat = 0;                  // tets whose exact orient3d is not positive
   // The tets where the metric is stretched 10:1 or more (its largest size over its smallest, of
   // the mean of the tet's node metrics), and the tets' own stretch there: the largest over the

@@ -129,11 +129,16 @@ void register_plugins() {
           rep.add(k + "unit_fraction", f->unit_fraction);
           rep.add(k + "length_min", f->length_min);
           rep.add(k + "length_max", f->length_max);
+          rep.add(k + "length_max_free", f->length_max_free);
           rep.add(k + "min_dihedral_deg", f->min_dihedral_deg);
           rep.add(k + "min_dihedral_inner_deg", f->min_dihedral_inner_deg);
           rep.add(k + "below_5deg", f->below_5deg);
           rep.add(k + "below_10deg", f->below_10deg);
           rep.add(k + "flat", f->flat);
+          rep.add(k + "metric_min_dihedral_deg", f->metric_min_dihedral_deg);
+          rep.add(k + "metric_min_dihedral_inner_deg", f->metric_min_dihedral_inner_deg);
+          rep.add(k + "metric_below_5deg", f->metric_below_5deg);
+          rep.add(k + "metric_below_10deg", f->metric_below_10deg);
           rep.add(k + "stretched.tets", f->stretched.tets);
           rep.add(k + "stretched.metric_p50", f->stretched.metric_p50);
           rep.add(k + "stretched.stretch_p10", f->stretched.stretch_p10);
@@ -155,12 +160,17 @@ void register_plugins() {
                  std::to_string(o.before.tets) + " -> " +
                  std::to_string(o.after.tets) + ", unit edges " + num(100 * o.before.unit_fraction) + " % -> " +
                  num(100 * o.after.unit_fraction) + " %, longest " + num(o.before.length_max) + " -> " +
-                 num(o.after.length_max) + ", least quality " + num(o.before.quality_min) + " -> " +
+                 num(o.after.length_max) + " (" + num(o.before.length_max_free) + " -> " + num(o.after.length_max_free) +
+                 " with a free end), least quality " + num(o.before.quality_min) + " -> " +
                  num(o.after.quality_min) + " (" + num(o.before.quality_min_inner) + " -> " +
                  num(o.after.quality_min_inner) + " off the fronts), min dihedral " + num(o.before.min_dihedral_deg) + " -> " +
                  num(o.after.min_dihedral_deg) + " deg (" + num(o.before.min_dihedral_inner_deg) + " -> " +
                  num(o.after.min_dihedral_inner_deg) + " off the fronts), under 10 deg " +
-                 std::to_string(o.before.below_10deg) + " -> " + std::to_string(o.after.below_10deg) + ", flat " +
+                 std::to_string(o.before.below_10deg) + " -> " + std::to_string(o.after.below_10deg) +
+                 "; in the metric: min dihedral " + num(o.before.metric_min_dihedral_deg) + " -> " +
+                 num(o.after.metric_min_dihedral_deg) + " deg (" + num(o.before.metric_min_dihedral_inner_deg) + " -> " +
+                 num(o.after.metric_min_dihedral_inner_deg) + " off the fronts), under 10 deg " +
+                 std::to_string(o.before.metric_below_10deg) + " -> " + std::to_string(o.after.metric_below_10deg) + "; flat " +
                  std::to_string(o.before.flat) + " -> " + std::to_string(o.after.flat) +
                  "; first tetrahedron over last layer's height across the outer front: median " +
                  num(fill.front_ratio_before.p50) + " -> " + num(fill.front_ratio_after.p50) + ", 95 % " +
