@@ -14,6 +14,7 @@
 #include <unordered_map>
 
 #include "modules/elements/mapping.h"
+#include "modules/geometry/predicates.h"
 
 namespace plaf {
 inline namespace mesh {
@@ -191,8 +192,12 @@ void measure_edges(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& bl
 // the smallest scaled Jacobian so far drops (rarely: a few dozen times per mesh).
 template <class Where>
 void record_cell(const JacobianBounds& jb, double sj, double ar, QualityReport& r, CellQuality* per_cell,
-                 Where&& where) {
+                 Where&& where, bool corners_positive = true) {
   if (!jb.valid && r.cells_invalid++ == 0) r.first_invalid = where();
+  if (jb.valid && !corners_positive) {
+    ++r.cells_inverted_corners;
+    if (r.cells_invalid++ == 0) r.first_invalid = where() + " (Jacobian positive, corners inverted)";
+  }
   if (!jb.proven) ++r.cells_unproven;
   if (sj < r.scaled_jacobian_min) {
     r.scaled_jacobian_min = sj;
@@ -200,7 +205,7 @@ void record_cell(const JacobianBounds& jb, double sj, double ar, QualityReport& 
   }
   if (jb.valid) r.aspect_ratio_max = std::max(r.aspect_ratio_max, ar);
   if (per_cell) {
-    per_cell->valid.push_back(jb.valid ? 1 : 0);
+    per_cell->valid.push_back(jb.valid && corners_positive ? 1 : 0);
     per_cell->scaled_jacobian.push_back(sj);
     per_cell->aspect_ratio.push_back(ar);
   }
@@ -272,6 +277,21 @@ std::string json_string(const std::string& x) {
 }
 
 template <int Dim>
+bool simplex_corners_positive(CellType type, const double* xs) {
+  if constexpr (Dim == 2) {
+    if (type != CellType::Triangle) return true;
+    const Eigen::Vector2d a(xs[0], xs[1]), b(xs[2], xs[3]), c(xs[4], xs[5]);
+    return sign_orient2d(a, b, c) > 0;
+  } else {
+    if (type != CellType::Tetrahedron) return true;
+    const Eigen::Vector3d a(xs[0], xs[1], xs[2]), b(xs[3], xs[4], xs[5]), c(xs[6], xs[7], xs[8]), d(xs[9], xs[10], xs[11]);
+    return sign_orient3d(a, b, c, d) < 0;  // det [b - a, c - a, d - a] > 0 (predicates.h)
+  }
+}
+template bool simplex_corners_positive<2>(CellType, const double*);
+template bool simplex_corners_positive<3>(CellType, const double*);
+
+template <int Dim>
 QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>* metric, const QualityOptions& options,
                              CellQuality* per_cell) {
   QualityReport r;
@@ -293,6 +313,7 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
     // Certified on worker threads (modules/base/parallel.h), recorded in order.
     std::vector<JacobianBounds> bounds(b.size());
     std::vector<double> ratios(b.size());
+    std::vector<char> corners(b.size(), 1);
     parallel_chunks(b.size(), 256, [&](unsigned w, std::size_t begin, std::size_t end) {
       JacobianCertifier& cert = w == 0 ? certifier : *extra.at(w - 1);
       std::vector<double> xs(static_cast<std::size_t>(e.size()) * Dim), gs(xs.size());
@@ -300,6 +321,7 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
         gather_coords(mesh, b, i, xs.data());
         bounds[i] = cert.certify(b.type, b.order, xs.data());
         ratios[i] = aspect_ratio<Dim>(e, xs.data(), gs.data());
+        corners[i] = simplex_corners_positive<Dim>(b.type, xs.data()) ? 1 : 0;
       }
     });
     for (std::size_t i = 0; i < b.size(); ++i) {
@@ -312,7 +334,7 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
         for (int d = 0; d < Dim; ++d) w << (d ? ", " : "") << mesh.nodes[b.cell(i)[0]][d];
         w << ")";
         return w.str();
-      });
+      }, corners[i] != 0);
     }
   }
   if (r.cells_total == 0) r.scaled_jacobian_min = 0;
@@ -400,7 +422,8 @@ std::string report_json(const QualityReport& r) {
     s << (first ? "" : ", ") << json_string(k) << ": " << n;
     first = false;
   }
-  s << "},\n    \"invalid\": " << r.cells_invalid << ",\n    \"unproven\": " << r.cells_unproven
+  s << "},\n    \"invalid\": " << r.cells_invalid << ",\n    \"inverted_corners\": " << r.cells_inverted_corners
+    << ",\n    \"unproven\": " << r.cells_unproven
     << ",\n    \"first_invalid\": " << json_string(r.first_invalid) << "\n  },\n";
   s << "  \"scaled_jacobian\": {\"min\": " << json_number(r.scaled_jacobian_min)
     << ", \"worst\": " << json_string(r.scaled_jacobian_worst) << "},\n";
@@ -470,6 +493,8 @@ std::string report_summary(const QualityReport& r) {
   }
   s << ")\n  invalid cells: " << r.cells_invalid;
   if (r.cells_unproven) s << " (" << r.cells_unproven << " undecided at the depth limit)";
+  if (r.cells_inverted_corners)
+    s << " (" << r.cells_inverted_corners << " with a positive Jacobian but inverted corners)";
   s << "\n  min scaled Jacobian: " << r.scaled_jacobian_min << "   max aspect ratio: " << r.aspect_ratio_max << '\n';
   if (r.has_metric)
     s << "  metric edge lengths: " << r.metric.count << " edges, " << 100.0 * r.metric.unit_fraction

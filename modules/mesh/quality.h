@@ -66,6 +66,11 @@ struct QualityReport {
   std::map<std::string, std::size_t> cells_by_type;  // "quadrilateral_Q3": n
   std::size_t cells_invalid = 0;
   std::size_t cells_unproven = 0;  // undecided at the depth limit (counted invalid too)
+  // Simplices (2D triangles, 3D tetrahedra) whose Jacobian is certified positive but whose corners
+  // span a non-positive area or volume (exact orient2d / orient3d): a curved cell may be valid so,
+  // but readers that orient a cell by its corners (gmsh -check among them) take it for inverted.
+  // Counted invalid too.
+  std::size_t cells_inverted_corners = 0;
   std::string first_invalid;       // "<type> cell <i> of block <b> at (x, y[, z])" of the first invalid cell
   double scaled_jacobian_min = 0;
   std::string scaled_jacobian_worst;  // the cell with the smallest one, described as first_invalid
@@ -91,6 +96,12 @@ struct QualityOptions {
   ValidityOptions validity;
   int histogram_bins = 12;
 };
+
+// True when the corners of a simplex cell (its first Dim + 1 nodes, coordinates xs as
+// gather_coords lays them out) span a positive area (2D) or volume (3D), by the exact predicates;
+// true for every other cell type.
+template <int Dim>
+bool simplex_corners_positive(CellType type, const double* xs);
 
 // Metric conformity: every distinct linear edge of the cells is measured as the curved Lagrange
 // edge it is; the edges of triangle cells are counted once more in triangle_metric.

@@ -742,3 +742,22 @@ TEST_CASE("quality: 2D and volume meshes are not marked surface") {
   CHECK_FALSE(r.surface);
   CHECK(r.cells_total == 6);
 }
+
+TEST_CASE("quality: simplex corners are positive, inverted or flat by the exact predicates, other cells pass") {
+  // Corners as gather_coords lays them out (the first Dim + 1 nodes of a simplex).
+  const double tri[] = {0, 0, 1, 0, 0, 1};
+  const double tri_cw[] = {0, 0, 0, 1, 1, 0};
+  const double tri_flat[] = {0, 0, 1, 1, 3, 3};
+  CHECK(simplex_corners_positive<2>(CellType::Triangle, tri));
+  CHECK_FALSE(simplex_corners_positive<2>(CellType::Triangle, tri_cw));
+  CHECK_FALSE(simplex_corners_positive<2>(CellType::Triangle, tri_flat));
+  CHECK(simplex_corners_positive<2>(CellType::Quadrilateral, tri_cw));  // not a simplex
+  const double tet[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+  const double tet_mirrored[] = {0, 0, 0, 0, 1, 0, 1, 0, 0, 0, 0, 1};
+  // Flat to the last bit: the fourth corner in the plane of the others, at 1e-30 scale.
+  const double tet_flat[] = {0, 0, 0, 1e-30, 0, 0, 0, 1e-30, 0, 1e-30, 1e-30, 0};
+  CHECK(simplex_corners_positive<3>(CellType::Tetrahedron, tet));
+  CHECK_FALSE(simplex_corners_positive<3>(CellType::Tetrahedron, tet_mirrored));
+  CHECK_FALSE(simplex_corners_positive<3>(CellType::Tetrahedron, tet_flat));
+  CHECK(simplex_corners_positive<3>(CellType::Prism, tet_mirrored));  // not a simplex
+}
