@@ -364,6 +364,7 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
   }
 
   // 3. Each plane's region: the farfield's cut loop and the rim loops, by the 2D advancing front.
+  std::vector<std::pair<NodeId, int>> in_plane;  // the planes' own nodes and their axes
   for (std::size_t p = 0; p < planes.size(); ++p) {
     const int a = planes[p].axis, u = (a + 1) % 3, v = (a + 2) % 3;
     auto flat = [&](NodeId id) { return Eigen::Vector2d(front.nodes[static_cast<std::size_t>(id)][u], front.nodes[static_cast<std::size_t>(id)][v]); };
@@ -409,6 +410,7 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
     const PlaneMetric field(metric, a, planes[p].offset, graded);
     const AdvancingFrontResult af = advancing_front_fill(plane, field);
     for (std::size_t k = plane.nodes.size(); k < af.nodes.size(); ++k) {
+      in_plane.emplace_back(static_cast<NodeId>(front.nodes.size()), a);  // the optimiser may slide it
       Vec x;
       x[a] = planes[p].offset;
       x[u] = af.nodes[k].x();
@@ -454,7 +456,9 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
   // 5. The metric optimisation, every front node fixed.
   const FrontHeights below = layer_heights(lr, outer_tag);
   r.front_ratio_before = front_ratio(below, r.fill);
-  r.optimize = optimize_fill_3d(r.fill, front.nodes.size(), metric, params.optimize);
+  Optimize3Params op = params.optimize;
+  op.in_plane = std::move(in_plane);
+  r.optimize = optimize_fill_3d(r.fill, front.nodes.size(), metric, op);
   r.front_ratio_after = front_ratio(below, r.fill);
   r.farfield = fp;
   return r;

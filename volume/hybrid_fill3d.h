@@ -26,7 +26,8 @@
 //     point inside the layers of every connected outer front (the centroid of a prism under one
 //     of its triangles), and sizes (switch m): at a node of the front its mean edge length.
 //  5. The fill is optimised in the run's metric (optimize_3d.h: splits, collapses, swaps and
-//     moves toward unit edges, TetGen's slivers swapped away), every front frozen.
+//     moves toward unit edges, TetGen's slivers swapped away), every front frozen but the
+//     symmetry planes' own nodes (inside their loops), which slide within their plane.
 #pragma once
 
 #include <functional>

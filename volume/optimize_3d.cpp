@@ -211,7 +211,8 @@ std::vector<Mat> node_metrics(const std::vector<Vec>& x, const MetricField<3>& m
 
 class Optimizer3 {
  public:
-  Optimizer3(FillResult<3>& fill, std::size_t fixed, const MetricField<3>& metric)
+  Optimizer3(FillResult<3>& fill, std::size_t fixed, const MetricField<3>& metric,
+             const std::vector<std::pair<NodeId, int>>& in_plane = {})
       : fill_(fill), x_(fill.nodes), t_(fill.simplices), fixed_(fixed), metric_(metric) {
     // x_ and t_ are copies: the fill is written back only at the end (compact), so an exception
     // (a metric that throws) leaves it as it was.
@@ -252,6 +253,12 @@ class Optimizer3 {
           frozen_[static_cast<std::size_t>(faces[i][k])] = 1;  // a boundary node stays, fixed or not
         }
       i = j;
+    }
+    plane_axis_.assign(x_.size(), -1);
+    for (const auto& [v, axis] : in_plane) {
+      if (v < 0 || static_cast<std::size_t>(v) >= x_.size() || axis < 0 || axis > 2)
+        throw InputError("optimize 3d: in-plane node " + std::to_string(v) + " or axis " + std::to_string(axis) + " out of range");
+      plane_axis_[static_cast<std::size_t>(v)] = axis;
     }
   }
 
@@ -389,6 +396,7 @@ class Optimizer3 {
     ball_.emplace_back();
     gone_.push_back(0);
     frozen_.push_back(0);
+    plane_axis_.push_back(-1);
     made_.clear();
     for (std::uint32_t i : ring_) {
       Tet ta = t_[i], tb = t_[i];
@@ -405,6 +413,7 @@ class Optimizer3 {
     for (std::size_t j = 0; j < made_.size() && ok; ++j) ok = positive(made_[j]) && quality(made_[j]) >= floor;
     if (!ok) {
       x_.pop_back(), m_.pop_back(), m_at_.pop_back(), ball_.pop_back(), gone_.pop_back(), frozen_.pop_back();
+      plane_axis_.pop_back();
       return false;
     }
     m_[mid] = metric_.evaluate(x_[mid]).matrix();
@@ -704,7 +713,7 @@ class Optimizer3 {
   std::size_t smooth_sweep() {
     std::size_t n = 0;
     for (std::size_t v = 0; v < x_.size(); ++v)
-      if (!frozen_[v] && !gone_[v] && touched_[v]) {
+      if ((!frozen_[v] || plane_axis_[v] >= 0) && !gone_[v] && touched_[v]) {
         touched_[v] = 0;
         n += smooth(static_cast<NodeId>(v)) ? 1 : 0;
       }
@@ -753,12 +762,18 @@ class Optimizer3 {
     // Toward the mean of the ideal points (the ball's shape), then, in a poor ball, toward the
     // worst tet's own ideal point by shorter and shorter steps (a sliver next to its neighbours
     // of fair shape: the mean leaves it or inverts a neighbour).
-    const Vec target = back.solve(Vec(mean / static_cast<double>(ball.size())));
+    // A plane's node keeps its coordinate across the plane, exactly.
+    const int axis = plane_axis_[static_cast<std::size_t>(v)];
+    auto in_plane = [&](Vec p) {
+      if (axis >= 0) p[axis] = from[axis];
+      return p;
+    };
+    const Vec target = in_plane(back.solve(Vec(mean / static_cast<double>(ball.size()))));
     bool moved = false;
     for (double step : {1.0, 0.5, 0.25})
       if (!moved) moved = accept(from + step * (target - from));
     if (!moved && old_min < kSwapBelow) {
-      const Vec lift = back.solve(worst_ideal);
+      const Vec lift = in_plane(back.solve(worst_ideal));
       for (double step : {1.0, 0.5, 0.25, 0.1, 0.03, 0.01})
         if (!moved) moved = accept(from + step * (lift - from));
     }
@@ -819,6 +834,7 @@ class Optimizer3 {
   std::vector<Vec> x_;
   std::vector<Tet> t_;
   std::vector<char> frozen_;  // per node: fixed (the first fixed_) or on a boundary triangle
+  std::vector<int> plane_axis_;  // per node: the axis of the plane it may move in (step 5), or -1
   std::size_t fixed_;
   const MetricField<3>& metric_;
   std::vector<Mat> m_;
@@ -842,7 +858,7 @@ FillShape3 measure_fill_3d(const FillResult<3>& fill, std::size_t fixed_nodes, c
 
 Optimize3Stats optimize_fill_3d(FillResult<3>& fill, std::size_t fixed_nodes, const MetricField<3>& metric,
                                 const Optimize3Params& params) {
-  Optimizer3 opt(fill, fixed_nodes, metric);
+  Optimizer3 opt(fill, fixed_nodes, metric, params.in_plane);
   if (params.passes <= 0) {
     Optimize3Stats st;
     st.before = st.after = opt.shape();

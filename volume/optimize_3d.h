@@ -27,7 +27,8 @@
 //     flat ones of 1e-10 on the published 717 wing, around a Steiner point it put on a front
 //     triangle's edge; at a front triangle of aspect ratio 1e4 (a fan's sector strip) no tet is
 //     better than a sliver;
-//  5. smoothing, of the free nodes whose ball changed since they were last tried: a node moves
+//  5. smoothing, of the free nodes (and the in_plane ones, within their plane) whose ball changed
+//     since they were last tried: a node moves
 //     toward the mean of the points that would make each tet of its ball regular in its metric
 //     (by 1, 1/2 or 1/4 of the way), in a ball under 0.5 then toward its worst tet's own point
 //     (by down to 1/100 of the way), kept when the ball's worst tet gets better, or stays and the
@@ -58,6 +59,10 @@ namespace plaf::volume {
 
 struct Optimize3Params {
   int passes = 6;  // 0: nothing
+  // Nodes that step 5 may move within their plane (the symmetry planes' own nodes, inside their
+  // loops): node id and the axis the plane is normal to (the node keeps that coordinate exactly).
+  // Fixed or on boundary triangles, they are frozen for every other step.
+  std::vector<std::pair<NodeId, int>> in_plane;
 };
 
 // The fill's shape, measured (measure_fill_3d).

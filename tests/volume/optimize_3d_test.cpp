@@ -324,3 +324,44 @@ TEST_CASE("volume 3D optimiser: the stretched tets are those where the metric as
   // An isotropic metric stretches nothing.
   CHECK(volume::measure_fill_3d(fill, 0, UniformMetricField<3>(Metric<3>::isotropic(1))).stretched.tets == 0);
 }
+
+TEST_CASE("volume 3D optimiser: a plane's own nodes slide in their plane, exactly on it, the other fixed nodes stay") {
+  // The box's face z = 0 stands for a symmetry plane: its nodes inside the face may move in it.
+  LinearFront<3> f;
+  test::add_box(f, Vec(0, 0, 0), Vec(4, 4, 4), {5, 5, 5}, test::Normals::In, "farfield");
+  const volume::TetFillResult r = volume::tetgen_fill(f, {});
+  FillResult<3> fill = as_fill(f, r);
+  volume::Optimize3Params params;
+  std::vector<char> sliding(f.nodes.size(), 0);
+  for (std::size_t i = 0; i < f.nodes.size(); ++i) {
+    const Vec& x = f.nodes[i];
+    if (x.z() == 0 && x.x() > 0 && x.x() < 4 && x.y() > 0 && x.y() < 4) {
+      params.in_plane.emplace_back(static_cast<NodeId>(i), 2);
+      sliding[i] = 1;
+    }
+  }
+  REQUIRE(params.in_plane.size() == 16);
+  const GradedMetric metric(0.3, 0.3);  // finer near x = 0: the face's uniform nodes are not ideal
+  const volume::Optimize3Stats st = volume::optimize_fill_3d(fill, f.nodes.size(), metric, params);
+  std::size_t slid = 0, moved_other = 0, off_plane = 0;
+  for (std::size_t i = 0; i < f.nodes.size(); ++i) {
+    if (sliding[i]) {
+      slid += fill.nodes[i] != f.nodes[i];
+      off_plane += fill.nodes[i].z() != 0;
+    } else {
+      moved_other += fill.nodes[i] != f.nodes[i];
+    }
+  }
+  CHECK(slid > 0);
+  CHECK(off_plane == 0);
+  CHECK(moved_other == 0);
+  // The rest of the contract, with the front where the slides left it.
+  LinearFront<3> after = f;
+  std::copy(fill.nodes.begin(), fill.nodes.begin() + static_cast<std::ptrdiff_t>(f.nodes.size()), after.nodes.begin());
+  CHECK(std::abs(check_optimized(after, fill) - 64) <= 1e-10);
+  CHECK(st.after.flat == 0);
+  // An axis out of range is an InputError.
+  volume::Optimize3Params bad;
+  bad.in_plane.emplace_back(0, 3);
+  CHECK_THROWS_AS(volume::optimize_fill_3d(fill, f.nodes.size(), metric, bad), InputError);
+}
