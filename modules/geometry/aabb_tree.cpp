@@ -182,8 +182,12 @@ TriangleTree::Closest TriangleTree::closest(const Vector3d& p) const {
   best.point = Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   best.barycentric = Vector3d::Zero();
   if (nodes_.empty()) return best;
-  // Depth first, nearer child first, so a good candidate prunes most boxes early.
-  std::vector<std::pair<double, int>> stack = {{nodes_[0].box.squaredExteriorDistance(p), 0}};
+  // Depth first, nearer child first, so a good candidate prunes most boxes early. The stack is
+  // the thread's own, kept between queries (no allocation per query: the wall metric asks one
+  // per point it evaluates).
+  thread_local std::vector<std::pair<double, int>> stack;
+  stack.clear();
+  stack.emplace_back(nodes_[0].box.squaredExteriorDistance(p), 0);
   while (!stack.empty()) {
     const auto [d2, id] = stack.back();
     stack.pop_back();
