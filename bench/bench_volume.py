@@ -66,43 +66,43 @@ Run by hand after building (Debian's gmsh and python3-gmsh):
         [--layers 30] [--h0 1e-5] [--growth 1.25] [--radius 20] [--algo3d hxt|delaunay]
         [--gmsh-threads 1] [--optimize-passes N]
 
-Measured on 2026-12-06 15:05, this machine (2 cores, 24 GiB; one other plaf run at the start),
-plaf Release build of the head after 5328d80 (plaf check --metric takes 3D configs since
-c6d7a3b), Gmsh 4.8.4, default options (one run; long printed lines wrapped here):
+Measured on 2026-12-06 18:30, this machine (2 cores, 24 GiB, nothing else running), plaf
+Release build of 05555d4 (collapses to 1.6, slivers repaired under 0.15), Gmsh 4.8.4, default
+options (one run; long printed lines wrapped here):
                      wall tris   prisms    tets    cells surface s layers s  fill s  mesh s total s  cells/s
-plaf Q2 (TetGen)         19770   593100   94414   687514     0.379   11.030   1.403   0.235  13.047    52695
-plaf Q2 (+optimise)      19770   593100 1013646  1606746     0.389   11.120  22.870   3.568  37.947    42342
-gmsh Q1 (HXT)            19552   586560  105220   691780     0.407    0.788   0.255       -   1.450   477206
-   plaf (TetGen)/gmsh cells/s: 0.11 (goal >= 1: not met); by stage: prisms/s 0.07, tets/s 0.16;
-     layers/fill time 7.86 (goal <= 1: not met)
-   plaf (+optimise)/gmsh cells/s: 0.09 (goal >= 1: not met); by stage: prisms/s 0.07, tets/s 0.11;
-     layers/fill time 0.49 (goal <= 1: met)
-   gmsh layers/volume time: 3.08
+plaf Q2 (TetGen)         19770   593100   94414   687514     0.460    9.072   1.712   0.275  11.518    59689
+plaf Q2 (+optimise)      19770   593100  843387  1436487     0.452    9.504  25.024   3.389  38.370    37438
+gmsh Q1 (HXT)            19552   586560  105569   692129     0.464    0.899   0.282       -   1.645   420682
+   plaf (TetGen)/gmsh cells/s: 0.14 (goal >= 1: not met); by stage: prisms/s 0.10, tets/s 0.15;
+     layers/fill time 5.30 (goal <= 1: not met)
+   plaf (+optimise)/gmsh cells/s: 0.09 (goal >= 1: not met); by stage: prisms/s 0.10, tets/s 0.09;
+     layers/fill time 0.38 (goal <= 1: met)
+   gmsh layers/volume time: 3.19
    plaf (TetGen): 30 layers, farfield 720 triangles (h 4.75), 0 invalid, min scaled Jacobian 0.729;
-     quality stage 8.97 s, process 22.0 s, peak RSS 735 MiB
+     quality stage 10.82 s, process 22.4 s, peak RSS 743 MiB
    plaf (+optimise): 30 layers, farfield 720 triangles (h 4.75), 0 invalid, min scaled Jacobian
-     0.729; quality stage 16.48 s, process 54.5 s, peak RSS 1192 MiB
+     0.729; quality stage 15.24 s, process 53.7 s, peak RSS 1217 MiB
    gmsh: wall size 0.0397, farfield 626 triangles, 1 thread(s), peak RSS 225 MiB (this process)
 
 fill                      time s     tets unit edges min dihedral tets < 10 deg
-plaf TetGen alone          1.403    94414      0.344         4.68           435
-plaf TetGen + optimiser   22.870  1013646      0.940         5.03          1318
-gmsh HXT volume            0.255   105220      0.320            -             -
-   gmsh unit edges: 137635 tet edges
-   plaf fill time: with optimiser / TetGen alone 16.31, with optimiser / gmsh volume 89.55,
-     TetGen alone / gmsh volume 5.49
-   tets: with optimiser / TetGen alone 10.74, / gmsh 9.63; unit edges: with optimiser / TetGen
-     alone 2.73, / gmsh 2.94
-   optimiser: 339114 splits, 185838 collapses, 172777 swaps, 508943 moves, 0 sliver repairs; min
-     dihedral off the fronts 6.10 -> 5.46 deg, under 5 deg 4 -> 0, flat 0 -> 0
-  The optimiser takes the fill's unit edges from 34 % (Gmsh's HXT: 32 %) to 94 % by making 10.7x
-  the tets (TetGen's are mostly too long in the metric: 339,114 splits against 185,838
-  collapses), at 16x TetGen's fill time, 90x Gmsh's volume stage; its min dihedral 4.68 -> 5.03
-  deg, but 1318 tets under 10 deg against 435 (the metric is anisotropic at the layers' top).
-  "layers/fill met" with it is the fill grown slower, not the layers faster. The plaf layer
-  stage (11 s here, 3.8 s on 2026-11-24) is not what this change touched; its time varies with
-  the machine's load.
-  An earlier run the same day (789cb9b, load 2.6-5.1) gave the same counts at 45 s of fill.
+plaf TetGen alone          1.712    94414      0.344         4.68           435
+plaf TetGen + optimiser   25.024   843387      0.964         5.30          1745
+gmsh HXT volume            0.282   105569      0.317            -             -
+   gmsh unit edges: 138018 tet edges
+   plaf fill time: with optimiser / TetGen alone 14.62, with optimiser / gmsh volume 88.68,
+     TetGen alone / gmsh volume 6.07
+   tets: with optimiser / TetGen alone 8.93, / gmsh 7.99; unit edges: with optimiser / TetGen
+     alone 2.80, / gmsh 3.04
+   optimiser: 384789 splits, 260475 collapses, 172696 swaps, 457172 moves, 483 sliver repairs; min
+     dihedral off the fronts 6.10 -> 5.30 deg, under 5 deg 4 -> 0, flat 0 -> 0
+  The optimiser takes the fill's unit edges from 34 % (Gmsh's HXT: 32 %) to 96 % by making 8.9x
+  the tets, at 15x TetGen's fill time, 89x Gmsh's volume stage. Its physical min dihedral goes
+  4.68 -> 5.30 deg, with 1745 tets under 10 deg against 435: the metric is anisotropic at the
+  layers' top (30 layers stop short of isotropy), and those tets are stretched along it.
+  "layers/fill met" with it is the fill grown slower, not the layers faster. The layer stage
+  (9.1 s here, 3.8 s on 2026-11-24) is issue 33's regression, untouched here.
+  The run of 15:05 the same day (5328d80: collapses to sqrt 2, repairs under 0.05) gave 94.0 %
+  unit edges with 1,013,646 tets in 22.9 s of fill.
 
 Before the fill's optimiser (one plaf run, TetGen alone; the table of the time): measured on
 2026-11-24, this machine (2 cores, 24 GiB; load 0.8-1.7 from other agents, so +-10 %), plaf
