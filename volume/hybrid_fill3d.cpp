@@ -453,7 +453,7 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
   r.fill.nodes = std::move(tets.nodes);
   r.fill.simplices = std::move(tets.simplices);
 
-  // 5. The metric optimisation, every front node fixed.
+  // 5. The metric optimisation, every front node fixed but the planes' own (sliding in them).
   const FrontHeights below = layer_heights(lr, outer_tag);
   r.front_ratio_before = front_ratio(below, r.fill);
   Optimize3Params op = params.optimize;

@@ -62,7 +62,8 @@ constexpr double kRepairFloor = 0.01;
 // A collapse of a short edge may make edges up to this long (metric units): sqrt 2 leaves most
 // short edges across an anisotropic metric's long sizes (above the M6's layers, 85k of 748k
 // edges, the new edge to a neighbour one size away in the short direction and a little along
-// being just over); the next split sweep halves a longer edge into two unit ones. Measured on the
+// being just over); the next split sweep halves a longer edge into two unit ones (the last
+// collapse sweep's longer edges stay: the last kPlacePasses passes only swap and smooth). Measured on the
 // shipped hybrids: 1.6 gives the most unit edges (M6 86.9 -> 89.9 %, box 93.2 -> 94.9 %, sphere
 // 92.9 -> 95.0 %), 1.9 fewer.
 constexpr double kCollapseLength = 1.6;
@@ -154,7 +155,10 @@ FillShape3 measure(const std::vector<Vec>& x, const std::vector<Tet>& tets, cons
     s.below_10deg += deg < 10 ? 1 : 0;
     const Eigen::LLT<Mat> llt(mt);
     const Mat lt = llt.matrixU();  // M = U^T U: |U e| is e's metric length
-    const double in_metric = tet_shape({lt * x[t[0]], lt * x[t[1]], lt * x[t[2]], lt * x[t[3]]}).first;
+    // (A mean of SPD metrics is SPD; should its factor fail, the tet counts as flat in the metric.)
+    const double in_metric = llt.info() == Eigen::Success
+                                 ? tet_shape({lt * x[t[0]], lt * x[t[1]], lt * x[t[2]], lt * x[t[3]]}).first
+                                 : 0.0;
     mmin = std::min(mmin, in_metric);
     if (inner) minner = std::min(minner, in_metric);
     const double mdeg = in_metric * 180 / std::numbers::pi;
@@ -231,6 +235,12 @@ class Optimizer3 {
       for (NodeId v : t_[i]) ball_[v].push_back(static_cast<std::uint32_t>(i));
       q_[i] = quality(t_[i]);
     }
+    plane_axis_.assign(x_.size(), -1);
+    for (const auto& [v, axis] : in_plane) {
+      if (v < 0 || static_cast<std::size_t>(v) >= x_.size() || axis < 0 || axis > 2)
+        throw InputError("optimize 3d: in-plane node " + std::to_string(v) + " or axis " + std::to_string(axis) + " out of range");
+      plane_axis_[static_cast<std::size_t>(v)] = axis;
+    }
     // The boundary: the faces of one tet (the fronts, the farfield, the planes, whether or not
     // fill.boundary lists them: the layers' outer front is an interface of the hybrid mesh).
     frozen_.assign(x_.size(), 0);
@@ -251,14 +261,16 @@ class Optimizer3 {
         for (int k = 0; k < 3; ++k) {
           boundary_edges_.insert(edge_key(faces[i][k], faces[i][(k + 1) % 3]));
           frozen_[static_cast<std::size_t>(faces[i][k])] = 1;  // a boundary node stays, fixed or not
+          // A sliding node's boundary triangles all lie in its plane.
+          if (const int axis = plane_axis_[static_cast<std::size_t>(faces[i][k])]; axis >= 0) {
+            const double c = x_[static_cast<std::size_t>(faces[i][k])][axis];
+            for (NodeId w : faces[i])
+              if (x_[static_cast<std::size_t>(w)][axis] != c)
+                throw InputError("optimize 3d: in-plane node " + std::to_string(faces[i][k]) +
+                                 " lies on a boundary triangle off its plane");
+          }
         }
       i = j;
-    }
-    plane_axis_.assign(x_.size(), -1);
-    for (const auto& [v, axis] : in_plane) {
-      if (v < 0 || static_cast<std::size_t>(v) >= x_.size() || axis < 0 || axis > 2)
-        throw InputError("optimize 3d: in-plane node " + std::to_string(v) + " or axis " + std::to_string(axis) + " out of range");
-      plane_axis_[static_cast<std::size_t>(v)] = axis;
     }
   }
 

@@ -6,15 +6,17 @@
 //
 // Frozen: the first `fixed_nodes` nodes (linear_front.h: the fronts', the farfield's and the
 // symmetry planes' nodes) and every node of a boundary triangle (a face of one tet: the fronts,
-// listed in fill.boundary or not) never move or go, and no boundary triangle is changed: the
-// fronts stay bit-identical and each boundary triangle keeps exactly one tet, on its side. The
-// other nodes are free. Per pass, in this order:
+// listed in fill.boundary or not) never go, and none moves but the Optimize3Params::in_plane
+// ones, within their plane (step 5). No boundary triangle is split, merged or swapped: the fronts
+// other than those planes stay bit-identical and each boundary triangle keeps exactly one tet, on
+// its side. The other nodes are free. Per pass, in this order:
 //  1. splits (all passes but the last two; so none with passes <= 2): an edge longer than sqrt 2
 //     in the metric that lies on no boundary triangle gets its midpoint as a new free node, each
 //     tet around it becoming two; longest first;
 //  2. collapses (the same passes): an edge shorter than 1/sqrt 2 with a free end loses that end
 //     (merged into the other, under the link condition, no new edge longer than 1.6: the next
-//     pass's splits halve an edge between sqrt 2 and 1.6 into two unit ones);
+//     pass's splits halve an edge between sqrt 2 and 1.6 into two unit ones, but the last
+//     collapse sweep's stay);
 //  3. swaps, on the tets under 0.5: a face of two tets becomes an edge of three (2-3), and an
 //     interior edge of n = 3..7 tets is removed, its ring triangulated by the best fan (3-2, 4-4,
 //     5-6, ...), when the worst tet of the set gets better by 1e-4 at least;
@@ -61,7 +63,9 @@ struct Optimize3Params {
   int passes = 6;  // 0: nothing
   // Nodes that step 5 may move within their plane (the symmetry planes' own nodes, inside their
   // loops): node id and the axis the plane is normal to (the node keeps that coordinate exactly).
-  // Fixed or on boundary triangles, they are frozen for every other step.
+  // Fixed or on boundary triangles, they are frozen for every other step. Every boundary triangle
+  // at such a node must lie in its plane (InputError otherwise: sliding would dent the other
+  // surface).
   std::vector<std::pair<NodeId, int>> in_plane;
 };
 
@@ -72,7 +76,7 @@ struct FillShape3 {
   double quality_min_inner = 0;          // the same over the tets with no fixed node (1 when there is none)
   double unit_fraction = 0;              // edges of metric length in [1/sqrt2, sqrt2]
   double length_min = 0, length_max = 0;  // metric edge lengths
-  double length_max_free = 0;            // the longest with a free end (the others are frozen)
+  double length_max_free = 0;            // the longest with a free end (the others join fixed nodes)
   double min_dihedral_deg = 0;           // every tet
   double min_dihedral_inner_deg = 0;     // tets with no fixed node (180 when there is none)
   std::size_t below_5deg = 0, below_10deg = 0;  // tets with a dihedral angle under 5 / 10 degrees

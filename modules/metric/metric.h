@@ -15,6 +15,8 @@
 #include <utility>
 #include <vector>
 
+#include "modules/base/error.h"
+
 namespace plaf {
 inline namespace metric {
 
@@ -93,13 +95,17 @@ class UniformMetricField final : public MetricField<Dim> {
 };
 
 // The intersection of several fields (`metric: {intersect: [...]}`, run_config.h): at every point
-// the first field's metric intersected with each other's in turn (intersect above), so every size
-// is the smallest any field asks for in that direction.
+// the first field's metric intersected with each other's in turn (intersect above: along the
+// common eigenvectors of each pair the smaller size, so the unit ball lies inside every field's;
+// with three or more fields the result may depend on their order where no common basis exists).
+// Throws Error on an empty list.
 template <int Dim>
 class IntersectedMetricField final : public MetricField<Dim> {
  public:
   using Fields = std::vector<std::shared_ptr<const MetricField<Dim>>>;
-  explicit IntersectedMetricField(Fields fields) : fields_(std::move(fields)) {}
+  explicit IntersectedMetricField(Fields fields) : fields_(std::move(fields)) {
+    if (fields_.empty()) throw Error("IntersectedMetricField: no field to intersect");
+  }
   Metric<Dim> evaluate(const typename MetricField<Dim>::Point& x) const override {
     Metric<Dim> m = fields_.front()->evaluate(x);
     for (std::size_t i = 1; i < fields_.size(); ++i) m = intersect(m, fields_[i]->evaluate(x));

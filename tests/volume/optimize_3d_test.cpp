@@ -319,8 +319,10 @@ TEST_CASE("volume 3D optimiser: the stretched tets are those where the metric as
   CHECK(shape.stretched.stretch_p10 == doctest::Approx(1));
   CHECK(shape.stretched.stretch_p90 == doctest::Approx(12));
   CHECK(shape.stretched.at_least_10 == doctest::Approx(0.5));
-  // The squashed tet is regular in the metric (mean ratio 1), the other is not.
+  // The squashed tet is regular in the metric (mean ratio 1: the upper median of two), the other
+  // is not (the least quality).
   CHECK(shape.stretched.quality_p50 == doctest::Approx(1));
+  CHECK(shape.quality_min < 0.5);
   // An isotropic metric stretches nothing.
   CHECK(volume::measure_fill_3d(fill, 0, UniformMetricField<3>(Metric<3>::isotropic(1))).stretched.tets == 0);
 }
@@ -360,8 +362,17 @@ TEST_CASE("volume 3D optimiser: a plane's own nodes slide in their plane, exactl
   std::copy(fill.nodes.begin(), fill.nodes.begin() + static_cast<std::ptrdiff_t>(f.nodes.size()), after.nodes.begin());
   CHECK(std::abs(check_optimized(after, fill) - 64) <= 1e-10);
   CHECK(st.after.flat == 0);
-  // An axis out of range is an InputError.
+  // An axis out of range is an InputError, and so is a node on a boundary triangle off its plane
+  // (a corner of the face z = 0 is on the faces x = 0 and y = 0 too).
   volume::Optimize3Params bad;
   bad.in_plane.emplace_back(0, 3);
   CHECK_THROWS_AS(volume::optimize_fill_3d(fill, f.nodes.size(), metric, bad), InputError);
+  std::size_t corner = f.nodes.size();
+  for (std::size_t i = 0; i < f.nodes.size(); ++i)
+    if (f.nodes[i] == Vec(0, 0, 0)) corner = i;
+  REQUIRE(corner < f.nodes.size());
+  volume::Optimize3Params edge;
+  edge.in_plane.emplace_back(static_cast<NodeId>(corner), 2);
+  FillResult<3> again = as_fill(f, r);
+  CHECK_THROWS_AS(volume::optimize_fill_3d(again, f.nodes.size(), metric, edge), InputError);
 }

@@ -754,8 +754,10 @@ TEST_CASE("quality: simplex corners are positive, inverted or flat by the exact 
   CHECK(simplex_corners_positive<2>(CellType::Quadrilateral, tri_cw));  // not a simplex
   const double tet[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
   const double tet_mirrored[] = {0, 0, 0, 0, 1, 0, 1, 0, 0, 0, 0, 1};
-  // Flat to the last bit: the fourth corner in the plane of the others, at 1e-30 scale.
-  const double tet_flat[] = {0, 0, 0, 1e-30, 0, 0, 0, 1e-30, 0, 1e-30, 1e-30, 0};
+  // Exactly flat but not axis-aligned, far from the origin: four corners on x + y + z = 3e8 + 4
+  // (every coordinate exact in doubles), where a determinant in doubles is not reliably 0.
+  const double o = 1e8;
+  const double tet_flat[] = {o + 1, o + 1, o + 2, o + 3, o + 0.5, o + 0.5, o + 0.25, o + 2.5, o + 1.25, o + 2, o + 2, o + 0};
   CHECK(simplex_corners_positive<3>(CellType::Tetrahedron, tet));
   CHECK_FALSE(simplex_corners_positive<3>(CellType::Tetrahedron, tet_mirrored));
   CHECK_FALSE(simplex_corners_positive<3>(CellType::Tetrahedron, tet_flat));
