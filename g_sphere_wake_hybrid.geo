@@ -1,5 +1,0 @@
-Merge "/work/main/build/tests/config_runs/out/sphere_wake_hybrid/sphere_wake_hybrid.msh";
-Plugin(AnalyseMeshQuality).JacobianDeterminant=1;
-Plugin(AnalyseMeshQuality).DimensionOfElements=3;
-Plugin(AnalyseMeshQuality).Recompute=1;
-Plugin(AnalyseMeshQuality).Run;
