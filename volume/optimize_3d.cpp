@@ -95,7 +95,6 @@ double mean_ratio(const Mat& m, const Vec& a, const Vec& b, const Vec& c, const 
   return vol < 0 ? -r : r;
 }
 
-// The measures of optimize_3d.h's FillShape3, from the nodes' metric matrices.
 // The stretch FillShape3::Stretched counts from.
 constexpr double kStretched = 10;
 
@@ -125,6 +124,7 @@ double tet_stretch(const Vec& a, const Vec& b, const Vec& c, const Vec& d) {
   return sv[2] > 0 ? sv[0] / sv[2] : std::numeric_limits<double>::infinity();
 }
 
+// The measures of optimize_3d.h's FillShape3, from the nodes' metric matrices.
 FillShape3 measure(const std::vector<Vec>& x, const std::vector<Tet>& tets, const std::vector<char>* dead,
                    const std::vector<Mat>& m, std::size_t fixed) {
   FillShape3 s;
@@ -164,7 +164,7 @@ FillShape3 measure(const std::vector<Vec>& x, const std::vector<Tet>& tets, cons
     const double mdeg = in_metric * 180 / std::numbers::pi;
     s.metric_below_5deg += mdeg < 5 ? 1 : 0;
     s.metric_below_10deg += mdeg < 10 ? 1 : 0;
-    s.flat += sign_orient3d(x[t[0]], x[t[1]], x[t[2]], x[t[3]]) < 0 ? 0 : 1;
+    s.flat += positive_tet(x[t[0]], x[t[1]], x[t[2]], x[t[3]]) ? 0 : 1;
     for (int k = 0; k < 4; ++k)
       for (int l = k + 1; l < 4; ++l) edges.push_back(edge_key(t[k], t[l]));
   }
@@ -300,7 +300,7 @@ class Optimizer3 {
  private:
   // --- The mesh -------------------------------------------------------------------------------
   std::size_t alive_tets() const { return static_cast<std::size_t>(std::count(dead_.begin(), dead_.end(), 0)); }
-  bool positive(const Tet& t) const { return sign_orient3d(x_[t[0]], x_[t[1]], x_[t[2]], x_[t[3]]) < 0; }
+  bool positive(const Tet& t) const { return positive_tet(x_[t[0]], x_[t[1]], x_[t[2]], x_[t[3]]); }
   double quality(const Tet& t) const {
     return mean_ratio((m_[t[0]] + m_[t[1]] + m_[t[2]] + m_[t[3]]) / 4, x_[t[0]], x_[t[1]], x_[t[2]], x_[t[3]]);
   }

@@ -39,6 +39,12 @@ double orient3d(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen:
 int sign_orient2d(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c);
 int sign_orient3d(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                   const Eigen::Vector3d& d);
+// True iff the tetrahedron (a, b, c, d) has positive volume in hybrid_mesh.h's sense
+// (det [b - a, c - a, d - a] > 0), exactly: orient3d(a, b, c, d) < 0.
+inline bool positive_tet(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                         const Eigen::Vector3d& d) {
+  return sign_orient3d(a, b, c, d) < 0;
+}
 
 // Segments ab and cd cross at exactly one point interior to both: no endpoint lies on the other
 // segment (or its line) and the segments are not collinear. A degenerate segment never crosses.

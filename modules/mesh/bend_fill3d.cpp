@@ -221,7 +221,7 @@ FillBending bend_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::size_t fir
   // corners, whether the cell was valid before or not.
   auto corners = [&](std::size_t c) {
     const NodeId* n = b.cell(c);
-    return sign_orient3d(at(n[0]), at(n[1]), at(n[2]), at(n[3])) < 0;
+    return positive_tet(at(n[0]), at(n[1]), at(n[2]), at(n[3]));
   };
   std::vector<std::uint8_t> was_valid(touched.size()), had_corners(touched.size());
   for (std::size_t t = 0; t < touched.size(); ++t) {

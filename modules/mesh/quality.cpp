@@ -285,7 +285,7 @@ bool simplex_corners_positive(CellType type, const double* xs) {
   } else {
     if (type != CellType::Tetrahedron) return true;
     const Eigen::Vector3d a(xs[0], xs[1], xs[2]), b(xs[3], xs[4], xs[5]), c(xs[6], xs[7], xs[8]), d(xs[9], xs[10], xs[11]);
-    return sign_orient3d(a, b, c, d) < 0;  // det [b - a, c - a, d - a] > 0 (predicates.h)
+    return positive_tet(a, b, c, d);
   }
 }
 template bool simplex_corners_positive<2>(CellType, const double*);

@@ -159,7 +159,7 @@ FillUntangling untangle_fill_3d(HybridMesh<3>& mesh, std::size_t block, std::siz
     // a cell whose corners were inverted from the start: requiring it made the published BWB at
     // h0 1e-5 L end with one cell no move mended.)
     if (cb.type == CellType::Tetrahedron) {
-      const bool corners = sign_orient3d(at(ids[0]), at(ids[1]), at(ids[2]), at(ids[3])) < 0;
+      const bool corners = positive_tet(at(ids[0]), at(ids[1]), at(ids[2]), at(ids[3]));
       const auto [c, fresh] = corners_at_first.emplace(std::make_pair(k, i), corners);
       if (c->second && !corners) return std::make_pair(false, std::min(r, 0.0) - 1);
     }

@@ -498,3 +498,10 @@ TEST_CASE("predicates: coincident points give exactly 0, and a triangle with two
   check_triangles(base, {Vector3d(1, 1, 0), Vector3d(1, 1, 0), Vector3d(1, 1, 0)}, true);
   check_triangles(base, {Vector3d(1, 1, 0x1p-52), Vector3d(1, 1, 0x1p-52), Vector3d(1, 1, 0x1p-52)}, false);
 }
+
+TEST_CASE("predicates: positive_tet is hybrid_mesh.h's positive volume, exactly") {
+  const Vector3d a(0, 0, 0), b(1, 0, 0), c(0, 1, 0), d(0, 0, 1);
+  CHECK(positive_tet(a, b, c, d));                       // det [b - a, c - a, d - a] = 1
+  CHECK_FALSE(positive_tet(a, c, b, d));                 // mirrored
+  CHECK_FALSE(positive_tet(a, b, c, Vector3d(3, -2, 0)));  // flat
+}
