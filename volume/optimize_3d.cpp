@@ -54,18 +54,18 @@ constexpr int kPlacePasses = 2;
 // to this quality (on the published 717 wing, TetGen's Steiner point in a front triangle's plane:
 // its best collapse makes a tet of 0.04 and an edge of 2.25 units, for two of 1e-10).
 constexpr double kRepairLength = 2.5;
-// Step 4 repairs the tets under this that the swaps left (the M6 hybrid: from under 0.05 to under
-// 0.15, its least dihedral angle in the metric 0.62 -> 1.36 degrees, the box's and the wake's
-// unit edges 94.9 -> 95.4 % and 89.7 -> 91.0 %).
+// Step 4 repairs the tets under this that the swaps left (from under 0.05 to under 0.15: the M6
+// hybrid's least dihedral angle in the metric 0.62 -> 1.36 degrees, its unit edges 91.2 -> 91.9 %,
+// the wake's 90.5 -> 91.0 %, the box's 95.41 -> 95.43 %).
 constexpr double kRepairBelow = 0.15;
 constexpr double kRepairFloor = 0.01;
 // A collapse of a short edge may make edges up to this long (metric units): sqrt 2 leaves most
-// short edges across an anisotropic metric's long sizes (above the M6's layers, 85k of 748k
+// short edges across an anisotropic metric's long sizes (above the M6's layers, 85k of about 750k
 // edges, the new edge to a neighbour one size away in the short direction and a little along
 // being just over); the next split sweep halves a longer edge into two unit ones (the last
 // collapse sweep's longer edges stay: the last kPlacePasses passes only swap and smooth). Measured on the
-// shipped hybrids: 1.6 gives the most unit edges (M6 86.9 -> 89.9 %, box 93.2 -> 94.9 %, sphere
-// 92.9 -> 95.0 %), 1.9 fewer.
+// shipped hybrids, unit edges at sqrt 2 -> 1.6: M6 86.9 -> 89.9 %, box 93.2 -> 95.4 %, sphere 92.9 ->
+// 95.5 %; the M6 at 1.5, 1.7 and 1.9: 89.0, 89.9 and 88.7 %.
 constexpr double kCollapseLength = 1.6;
 // A moved node keeps its metric until it is this far (metric units) from where it was evaluated.
 constexpr double kMetricReuse = 0.05;
