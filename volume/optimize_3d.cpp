@@ -159,6 +159,7 @@ FillShape3 measure(const std::vector<Vec>& x, const std::vector<Tet>& tets, cons
     const double in_metric = llt.info() == Eigen::Success
                                  ? tet_shape({lt * x[t[0]], lt * x[t[1]], lt * x[t[2]], lt * x[t[3]]}).first
                                  : 0.0;
+    if (in_metric < mmin) s.metric_min_dihedral_at = (x[t[0]] + x[t[1]] + x[t[2]] + x[t[3]]) / 4;
     mmin = std::min(mmin, in_metric);
     if (inner) minner = std::min(minner, in_metric);
     const double mdeg = in_metric * 180 / std::numbers::pi;
@@ -177,6 +178,7 @@ FillShape3 measure(const std::vector<Vec>& x, const std::vector<Tet>& tets, cons
     const double l = std::sqrt(e.dot(0.5 * (m[a] + m[b]) * e));
     unit += is_unit(l) ? 1 : 0;
     s.length_min = std::min(s.length_min, l);
+    if (l > s.length_max) s.length_max_at = (x[a] + x[b]) / 2;
     s.length_max = std::max(s.length_max, l);
     if (static_cast<std::size_t>(b) >= fixed) s.length_max_free = std::max(s.length_max_free, l);  // b > a
   }

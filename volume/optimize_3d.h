@@ -86,6 +86,9 @@ struct FillShape3 {
   double metric_min_dihedral_deg = 0, metric_min_dihedral_inner_deg = 0;
   std::size_t metric_below_5deg = 0, metric_below_10deg = 0;
   std::size_t flat = 0;                  // tets whose exact orient3d is not positive
+  // Where: the centroid of the tet with the smallest dihedral angle in the metric, and the
+  // midpoint of the longest edge (in the metric).
+  Eigen::Vector3d metric_min_dihedral_at = Eigen::Vector3d::Zero(), length_max_at = Eigen::Vector3d::Zero();
   // The tets where the metric is stretched 10:1 or more (its largest size over its smallest, of
   // the mean of the tet's node metrics), and the tets' own stretch there: the largest over the
   // smallest size of the metric in which the tet is regular (the affine map from a regular unit

@@ -18,6 +18,20 @@ namespace plaf::volume {
 
 namespace {
 
+// A point's coordinates written by `format` between `open` and `close`: "(x, y, z)" for the text
+// summary, "[x, y, z]" for the report.
+template <class Format>
+std::string point_text(const Eigen::Vector3d& x, const Format& format, const char* open = "(", const char* close = ")") {
+  std::string s = open;
+  for (int k = 0; k < 3; ++k) {
+    if (k > 0) s += ", ";
+    s += format(x[k]);
+  }
+  s += close;
+  return s;
+}
+std::string point_text(const Eigen::Vector3d& x) { return point_text(x, [](double v) { return num(v); }); }
+
 HybridFillParams parse_tetgen(const ConfigNode& section) {
   HybridFillParams p;
   p.tet.max_radius_edge = section.get_in_range("max_radius_edge", p.tet.max_radius_edge, 0.0, 100.0);
@@ -139,6 +153,9 @@ void register_plugins() {
           rep.add(k + "metric_min_dihedral_inner_deg", f->metric_min_dihedral_inner_deg);
           rep.add(k + "metric_below_5deg", f->metric_below_5deg);
           rep.add(k + "metric_below_10deg", f->metric_below_10deg);
+          auto point = [](const Eigen::Vector3d& x) { return point_text(x, [](double v) { return json_number(v); }, "[", "]"); };
+          rep.add_json(k + "metric_min_dihedral_at", point(f->metric_min_dihedral_at));
+          rep.add_json(k + "length_max_at", point(f->length_max_at));
           rep.add(k + "stretched.tets", f->stretched.tets);
           rep.add(k + "stretched.metric_p50", f->stretched.metric_p50);
           rep.add(k + "stretched.stretch_p10", f->stretched.stretch_p10);
@@ -160,7 +177,7 @@ void register_plugins() {
                  std::to_string(o.before.tets) + " -> " +
                  std::to_string(o.after.tets) + ", unit edges " + num(100 * o.before.unit_fraction) + " % -> " +
                  num(100 * o.after.unit_fraction) + " %, longest " + num(o.before.length_max) + " -> " +
-                 num(o.after.length_max) + " (" + num(o.before.length_max_free) + " -> " + num(o.after.length_max_free) +
+                 num(o.after.length_max) + " at " + point_text(o.after.length_max_at) + " (" + num(o.before.length_max_free) + " -> " + num(o.after.length_max_free) +
                  " with a free end), least quality " + num(o.before.quality_min) + " -> " +
                  num(o.after.quality_min) + " (" + num(o.before.quality_min_inner) + " -> " +
                  num(o.after.quality_min_inner) + " off the fronts), min dihedral " + num(o.before.min_dihedral_deg) + " -> " +
@@ -168,7 +185,7 @@ void register_plugins() {
                  num(o.after.min_dihedral_inner_deg) + " off the fronts), under 10 deg " +
                  std::to_string(o.before.below_10deg) + " -> " + std::to_string(o.after.below_10deg) +
                  "; in the metric: min dihedral " + num(o.before.metric_min_dihedral_deg) + " -> " +
-                 num(o.after.metric_min_dihedral_deg) + " deg (" + num(o.before.metric_min_dihedral_inner_deg) + " -> " +
+                 num(o.after.metric_min_dihedral_deg) + " deg at " + point_text(o.after.metric_min_dihedral_at) + " (" + num(o.before.metric_min_dihedral_inner_deg) + " -> " +
                  num(o.after.metric_min_dihedral_inner_deg) + " off the fronts), under 10 deg " +
                  std::to_string(o.before.metric_below_10deg) + " -> " + std::to_string(o.after.metric_below_10deg) + "; flat " +
                  std::to_string(o.before.flat) + " -> " + std::to_string(o.after.flat) +
