@@ -8,6 +8,8 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <numeric>
+#include <tuple>
 #include <memory>
 #include <queue>
 #include <set>
@@ -21,6 +23,7 @@
 #include "modules/elements/lagrange.h"
 #include "modules/elements/validity.h"
 #include "modules/geometry/aabb_tree.h"
+#include "modules/geometry/predicates.h"
 
 namespace plaf::layers {
 
@@ -372,6 +375,16 @@ class PartLayerBuilder {
   }
 
  private:
+  // A ridge edge of the first layer's fans: its Q + 1 old nodes along the chain, its sides (the
+  // chain's left and right triangles), the arc at each node, the sector count, and the plane its
+  // first and last node lie on (-1: none).
+  struct FanEdge {
+    std::vector<int> nodes, arcs;
+    int left = 0, right = 0, k = 1;
+    std::array<int, 2> plane = {-1, -1};
+    std::array<bool, 2> fade = {false, false};  // its first / last node is where the ridge fades
+  };
+
   const Part& next() const { return out_.next ? *out_.next : part_; }
   std::size_t ent_begin(std::size_t l) const { return static_cast<std::size_t>(ent_start_[l]); }
   std::size_t ent_end(std::size_t l) const { return static_cast<std::size_t>(ent_start_[l + 1]); }
@@ -581,9 +594,14 @@ class PartLayerBuilder {
   // fans; the prism/tetrahedron variant). A wall edge is a fan edge when its two faces
   // meet convexly at more than corner_angle_deg (at any of its nodes). Fan edges form chains
   // between corners (3 or more fan edges at a node), symmetry planes (the chain's end node on
-  // the rim) or closed loops; a chain that ends anywhere else (its ridge fades out) keeps the
-  // merged normal, as a node on two planes or with two chains on a plane does: the fan would
-  // have nowhere to close (the robust choice; Sec. II.E leaves ridges open).
+  // the rim), closed loops or, with fan_fades, fades (without it a chain ending elsewhere keeps
+  // the merged normal). A fade is a chain's end anywhere else (one fan edge at a node off the
+  // planes: its ridge fades out, as a trailing edge into a rounded tip): the node keeps its one
+  // merged direction, the fan narrows toward it by at most fan_angle_deg and one kite per edge
+  // (the fade zone, whose columns keep their directions in later layers) and closes there, a
+  // sector closed at one end of an edge being two tetrahedra (fade_cells). A chain of one edge
+  // that fades is no fan; nor is a node on two planes or with two chains on a plane: the fan
+  // would have nowhere to close (the robust choice; Sec. II.E leaves ridges open).
   // At a fan node the faces around it form wedges (separated by fan edges), each growing along
   // its own normal; between the two wedges of a fan edge an arc of 2 k Q + 1 directions (k
   // kites of at most fan_angle_deg, the same k along the chain; two straight kite edges each)
@@ -628,10 +646,18 @@ class PartLayerBuilder {
       if (convex && dev > corner_rad) fan.insert(ab);
     }
     auto on_rim = [&](int v) { return p.plane[static_cast<std::size_t>(v)][0] >= 0; };
-    // Pruning, as a worklist: a node is bad with a fan edge on two planes, with other than one on
-    // a plane, or with exactly one elsewhere; its fan edges go, and their other ends are checked
-    // again.
     std::map<int, int> cnt;
+    // A chain's end where its ridge fades (one fan edge at a node off the planes): the fan closes
+    // there to the node's one direction (fade_cells).
+    auto fades = [&](int v) {
+      const auto it = cnt.find(v);
+      return it != cnt.end() && it->second == 1 && !on_rim(v);
+    };
+    // Without fan_fades a fade is a bad end (below): the chain keeps the merged normal.
+    const bool fading = p_.fan_fades;
+    // Pruning, as a worklist: a node is bad with a fan edge on two planes or with other than one
+    // on a plane (one elsewhere is a fade); its fan edges go, and their other ends are checked
+    // again; then the chains of one edge that fade go, until nothing changes.
     std::map<int, std::vector<std::pair<int, int>>> at_node;
     const std::size_t n = p.size();
     std::unordered_map<std::uint64_t, int> side_dir;  // (fan node, triangle) -> its wedge's direction
@@ -649,20 +675,41 @@ class PartLayerBuilder {
       }
       auto bad = [&](int v) {
         const int c = cnt[v];
-        return c > 0 && (p.plane[static_cast<std::size_t>(v)][1] >= 0 || (on_rim(v) ? c != 1 : c == 1));
+        return c > 0 && (p.plane[static_cast<std::size_t>(v)][1] >= 0 || (on_rim(v) ? c != 1 : !fading && c == 1));
       };
-      std::vector<int> work;
-      for (const auto& [v, c] : cnt) work.push_back(v);
-      while (!work.empty()) {
-        const int v = work.back();
-        work.pop_back();
-        if (!bad(v)) continue;
-        for (const auto& ab : at_node[v]) {
-          if (!fan.erase(ab)) continue;
-          for (int x : {ab.first, ab.second}) {
-            --cnt[x];
-            if (x != v) work.push_back(x);
+      // A chain of one edge that fades (its other end a corner, a plane or a fade too) is no
+      // fan: a fan must open over a node before it closes. (On the published ONERA M6 the remeshed
+      // rounded tip has three such creases off the trailing edge's last node, fading within one
+      // edge of 0.018 c each; their sectors, collapsing over a corner patch 1e-5 wide, made
+      // second-layer prisms of aspect 1e4 that no height could make valid. Without them the
+      // trailing edge's own fan fades at that node.)
+      auto short_fade = [&](const std::pair<int, int>& ab) {
+        auto closed = [&](int v) { return fades(v) || cnt[v] >= 3 || on_rim(v); };
+        return (fades(ab.first) && closed(ab.second)) || (fades(ab.second) && closed(ab.first));
+      };
+      for (bool changed = true; changed;) {
+        changed = false;
+        std::vector<int> work;
+        for (const auto& [v, c] : cnt) work.push_back(v);
+        while (!work.empty()) {
+          const int v = work.back();
+          work.pop_back();
+          if (!bad(v)) continue;
+          for (const auto& ab : at_node[v]) {
+            if (!fan.erase(ab)) continue;
+            for (int x : {ab.first, ab.second}) {
+              --cnt[x];
+              if (x != v) work.push_back(x);
+            }
           }
+        }
+        std::vector<std::pair<int, int>> drop;
+        for (const auto& ab : fan)
+          if (short_fade(ab)) drop.push_back(ab);
+        for (const auto& ab : drop) {
+          fan.erase(ab);
+          --cnt[ab.first], --cnt[ab.second];
+          changed = true;
         }
       }
       for (auto it = cnt.begin(); it != cnt.end();) it = it->second == 0 ? cnt.erase(it) : std::next(it);
@@ -706,7 +753,10 @@ class PartLayerBuilder {
         }
         for (std::size_t i = 0; i < around.size(); ++i) side_dir[key(v, around[i])] = wedge_dir[find(static_cast<int>(i))];
       }
-      // High-order nodes of fan edges: one direction per side.
+      // High-order nodes of fan edges: one direction per side, its face's normal there (also on
+      // an edge whose ridge fades at an end: the fan keeps its opening up to the fade node, where
+      // its sectors close as cones, fade_cells; an opening falling along the edge would start
+      // every sector's diagonals tangent to one another at the fade node, det J = 0 there).
       for (const auto& ab : fan) {
         const Edge& E = edges.at(ab);
         const std::vector<int>& en = te.edge_nodes(E.e[0]);
@@ -725,6 +775,7 @@ class PartLayerBuilder {
         const Edge& E = edges.at(ab);
         const Vec u = (x_[static_cast<std::size_t>(ab.second)] - x_[static_cast<std::size_t>(ab.first)]).normalized();
         for (int v : {ab.first, ab.second}) {
+          if (fades(v)) continue;  // one direction there: the fan closes (fade_cells)
           const Vec& d0 = dirs_[static_cast<std::size_t>(side_dir.at(key(v, E.t[0])))].d;
           const Vec& d1 = dirs_[static_cast<std::size_t>(side_dir.at(key(v, E.t[1])))].d;
           const Vec axis = d0.cross(d1);
@@ -776,6 +827,78 @@ class PartLayerBuilder {
           if (!done.count(e)) walk(v, e);
     for (const auto& e : fan)
       if (!done.count(e)) walk(e.first, e);
+    // Fade zones. Where a chain ends in a fade, its fan closes there to one direction, and a
+    // sector's cells on the last edge are cones (fade_cells) whose outer edges sag by about a
+    // quarter of the angle they close over, in heights: a trailing edge's 160 degrees closed
+    // over one edge left the published ONERA M6's tip with front faces that needed 260 heights
+    // of attenuation and stayed curved to the last layer. So toward a fade the fan narrows, by at
+    // most fan_angle_deg (one sector's angle) per edge: at i edges from the fade a chain node's
+    // two wedge directions open by at most i fan_angle_deg, turned toward their bisector (each
+    // still sees its wedge's faces: the set of directions that see a face is a hemisphere, and
+    // both ends of the turn lie in it), so the wall's columns beside the ridge lean like the
+    // merged normal there; a high-order node on the last edge keeps its far end's opening (its
+    // sectors' diagonals from the fade node must start apart: an opening falling along the edge
+    // starts them tangent, det J = 0 at the fade node), on the edges before it the opening is
+    // interpolated. Corners and rim nodes keep theirs. The kites fall with the opening, one per
+    // edge (kites_at, below): with the chain's k kept, the 16 arc directions of a 45-degree arc
+    // at h0 8.06e-6 c lay 4e-7 apart by the M6's tip, which gmsh -check reports as duplicate
+    // nodes. (Sec. II.E does not meet fades.)
+    {
+      std::map<int, double> allowed;            // node -> the opening it may keep
+      std::map<int, std::array<int, 2>> sides;  // node -> its two wedge directions
+      for (const auto& chain : chains) {
+        std::vector<int> vs = {chain.front().first};
+        for (const auto& e : chain) vs.push_back(e.second);
+        const bool f0 = fades(vs.front()), f1 = fades(vs.back());
+        if (!f0 && !f1) continue;
+        const std::size_t m = vs.size() - 1;  // edges
+        auto dist = [&](std::size_t i) {
+          double d = std::numeric_limits<double>::infinity();
+          if (f0) d = std::min(d, static_cast<double>(i));
+          if (f1) d = std::min(d, static_cast<double>(m - i));
+          return d;
+        };
+        for (std::size_t i = 0; i < m; ++i) {
+          const auto [a, b] = chain[i];
+          const Edge& E = edges.at({std::min(a, b), std::max(a, b)});
+          const std::vector<int>& en = te.edge_nodes(E.e[0]);
+          const bool from_a = tri(static_cast<std::size_t>(E.t[0]))[en.front()] == a;
+          const bool last = fades(a) || fades(b);
+          for (std::size_t k = 0; k < en.size(); ++k) {
+            const int l = tri(static_cast<std::size_t>(E.t[0]))[en[k]];
+            const auto c = cnt.find(l);
+            if (fades(l) || (c != cnt.end() && c->second >= 3) || on_rim(l)) continue;
+            const double t = static_cast<double>(from_a ? k : en.size() - 1 - k) / q_;  // from a
+            const double d = last ? std::max(dist(i), dist(i + 1)) : dist(i) + t * (dist(i + 1) - dist(i));
+            const auto it = allowed.emplace(l, d * fan_rad).first;
+            it->second = std::min(it->second, d * fan_rad);
+            sides[l] = {dir_of(l, E.t[0]), dir_of(l, E.t[1])};
+            if (k == 0 || k + 1 == en.size()) {
+              const auto lv = zone_level_.emplace(l, static_cast<int>(d)).first;
+              lv->second = std::min(lv->second, static_cast<int>(d));
+            }
+          }
+        }
+      }
+      for (const auto& [l, open] : allowed) {
+        Dir& d0 = dirs_[static_cast<std::size_t>(sides[l][0])];
+        Dir& d1 = dirs_[static_cast<std::size_t>(sides[l][1])];
+        const double opening = std::acos(std::clamp(d0.d.dot(d1.d), -1.0, 1.0));
+        if (!(opening > open)) continue;
+        const Vec mid = slerp(d0.d, d1.d, 0.5);
+        const double f = open / opening;
+        d0.d = in_plane(static_cast<std::size_t>(l), slerp(mid, d0.d, f));
+        d1.d = in_plane(static_cast<std::size_t>(l), slerp(mid, d1.d, f));
+        ++narrowed_;
+      }
+      // The zone's columns keep their directions in later layers, as a corner's do: the faces'
+      // average at a kite node between a narrowed arc and a wider one leans along the ridge,
+      // and on the published ONERA M6 two kite nodes 2e-6 apart by the tip leaned toward each
+      // other (a focus 7e-6 ahead, layer 6).
+      for (const auto& [l, open] : allowed) zone_.insert(l);
+      for (const auto& [v, c] : cnt)
+        if (fades(v)) zone_.insert(v), zone_level_[v] = 0;
+    }
     // Arcs and fan edges.
     std::map<std::pair<int, int>, int> arc_of;  // (right direction, left direction) -> arc
     for (const auto& chain : chains) {
@@ -794,27 +917,46 @@ class PartLayerBuilder {
         }
         fe.plane[0] = on_rim(a) ? p.plane[static_cast<std::size_t>(a)][0] : -1;
         fe.plane[1] = on_rim(b) ? p.plane[static_cast<std::size_t>(b)][0] : -1;
+        fe.fade = {fades(a), fades(b)};
         list.push_back(fe);
       }
+      // Kites per node: k, but in a fade zone as many as its distance from the fade (none at the
+      // fade itself), so the sectors' count falls by one kite per edge toward the fade. The arc
+      // keeps 2 k sectors, the central ones open, the outer ones closed onto the wedge
+      // directions (both their ends one direction); a sector closed at one end of an edge and
+      // open at the other closes as a fade's does (fade_cells), one closed at both has no cells.
+      auto kites_at = [&](int l) {
+        const auto it = zone_level_.find(l);
+        return it == zone_level_.end() ? k : std::min(k, it->second);
+      };
       for (FanEdge& fe : list) {
         fe.k = k;
-        for (int l : fe.nodes) {
+        const int k0 = kites_at(fe.nodes.front()), k1 = kites_at(fe.nodes.back());
+        auto open = [k](int slot, int kites) { return k - kites <= slot && slot < k + kites; };
+        for (std::size_t pos = 0; pos < fe.nodes.size(); ++pos) {
+          const int l = fe.nodes[pos];
+          const bool inner = pos > 0 && pos + 1 < fe.nodes.size();
+          const int kn = pos == 0 ? k0 : (inner ? std::max(k0, k1) : k1);
           const int dr = dir_of(l, fe.right), dl = dir_of(l, fe.left);
           const auto [it, added] = arc_of.emplace(std::make_pair(dr, dl), static_cast<int>(arcs_.size()));
-          if (added) {
+          if (added && (dr == dl || kn == 0)) {
+            arcs_.push_back(std::vector<int>(static_cast<std::size_t>(2 * k * q_ + 1), dr));  // a fade: closed
+          } else if (added) {
             // The kites of Fig. 4 (the 2D fan, grow_layers_2d.cpp), k per node: normals n_s
             // dividing the angle between the wedge directions equally, the kite of sector s
             // (node, P_s, X_s, P_s+1) with P_s = x + h n_s and X_s where the perpendiculars to
             // n_s at P_s and to n_s+1 at P_s+1 meet, h (n_s + n_s+1) / (1 + n_s . n_s+1). The
             // arc runs P_0 X_0 P_1 ... P_k straight between them: 2 k Q + 1 directions, each
             // with the stretch that puts its top on the kites' edges (heights per unit h).
+            // (kn kites between the wedge directions, in the arc's central 2 kn sectors.)
             std::vector<int> arc(static_cast<std::size_t>(2 * k * q_ + 1));
-            arc.front() = dr;
-            arc.back() = dl;
+            const int off = (k - kn) * q_;
+            for (int m = 0; m <= off; ++m) arc[static_cast<std::size_t>(m)] = dr;
+            for (int m = off + 2 * kn * q_; m <= 2 * k * q_; ++m) arc[static_cast<std::size_t>(m)] = dl;
             const Vec d0 = dirs_[static_cast<std::size_t>(dr)].d, d1 = dirs_[static_cast<std::size_t>(dl)].d;
-            std::vector<Vec> pts;  // P_0 X_0 P_1 ... P_k per unit height
-            for (int s = 0; s <= k; ++s) {
-              const Vec ns = slerp(d0, d1, static_cast<double>(s) / k);
+            std::vector<Vec> pts;  // P_0 X_0 P_1 ... P_kn per unit height
+            for (int s = 0; s <= kn; ++s) {
+              const Vec ns = slerp(d0, d1, static_cast<double>(s) / kn);
               if (s > 0) {
                 const Vec& np = pts.back();
                 pts.push_back((np + ns) / (1 + np.dot(ns)));
@@ -823,10 +965,18 @@ class PartLayerBuilder {
             }
             pts.front() = unit_h(dr);
             pts.back() = unit_h(dl);
-            for (int m = 1; m < 2 * k * q_; ++m) {
+            for (int m = 1; m < 2 * kn * q_; ++m) {
               const std::size_t j = static_cast<std::size_t>(m / q_);
               const double t = static_cast<double>(m % q_) / q_;
-              arc[static_cast<std::size_t>(m)] = add_unit_h(l, pts[j] + t * (pts[j + 1] - pts[j]));
+              const int at = off + m, slot = at / q_;
+              // A sector closed at one end of the edge and open at the other has one triangle,
+              // which at the edge's high-order nodes uses only the arc's sector ends (and
+              // collapsed_dir's points): the directions between would be front nodes of no face.
+              if (inner && m % q_ != 0 && open(slot, k0) != open(slot, k1)) {
+                arc[static_cast<std::size_t>(at)] = arc[static_cast<std::size_t>(at - m % q_)];  // never asked for
+                continue;
+              }
+              arc[static_cast<std::size_t>(at)] = add_unit_h(l, pts[j] + t * (pts[j + 1] - pts[j]));
               if (m % (2 * q_) == 0) dirs_.back().normal = true;  // n_s
             }
             arcs_.push_back(arc);
@@ -891,18 +1041,33 @@ class PartLayerBuilder {
     // The kites' outer faces: per kite edge and ridge edge a quadrilateral (lattice i along the
     // chain, j along the arc), cut into two triangles along the diagonal the first layer's
     // tetrahedra cut it (column_order), each grown as a prism in later layers.
-    nw->ids.assign(dirs_.size(), -1);
-    nw->keep.assign(dirs_.size(), Vec::Zero());
-    nw->plane.resize(dirs_.size());
-    for (std::size_t d = 0; d < dirs_.size(); ++d) nw->plane[d] = p.plane[static_cast<std::size_t>(dirs_[d].base)];
     nw->rim = p.rim;
     for (const FanEdge& fe : fan_edges_)
       for (int s = 0; s < 2 * fe.k; ++s) {
         auto dir = [&](int i, int j) {
           return arcs_[static_cast<std::size_t>(fe.arcs[static_cast<std::size_t>(i)])][static_cast<std::size_t>(s * q_ + j)];
         };
-        for (const QuadCorners& h : quad_cut(q_, top_rank(dir(0, 0)), top_rank(dir(q_, 0)), top_rank(dir(q_, q_)), top_rank(dir(0, q_)))) {
+        const bool c0 = closed_at(fe, s, 0), c1 = closed_at(fe, s, q_);
+        if (c0 && c1) continue;  // no cells, no front
+        std::vector<QuadCorners> cut;
+        if (c0)
+          cut.push_back({{{0, 0}, {q_, 0}, {q_, q_}}});
+        else if (c1)
+          cut.push_back({{{0, 0}, {q_, 0}, {0, q_}}});
+        else
+          for (const QuadCorners& h : quad_cut(q_, top_rank(dir(0, 0)), top_rank(dir(q_, 0)), top_rank(dir(q_, q_)), top_rank(dir(0, q_))))
+            cut.push_back(h);
+        for (const QuadCorners& h : cut) {
           for (const Lattice& lat : te.lattice()) {
+            if (c0 || c1) {
+              // The one triangle of a sector's quadrilateral whose end at the fade is a point:
+              // the fade's corner t0 (i = 0) or t1 (i = Q); across the sector a point divides the
+              // kite edge as it divides the triangle's edges from that corner (collapsed_dir).
+              const int t0 = q_ - lat[0] - lat[1], t1 = lat[0], t2 = lat[1];
+              const int i = c0 ? t1 + t2 : t1, rest = c0 ? t1 + t2 : t0 + t2;
+              nw->tri.push_back(rest == 0 ? dir(i, 0) : collapsed_dir(fe, s, i, q_ * t2, rest));
+              continue;
+            }
             const auto [i, j] = quad_point(h, lat, q_);
             nw->tri.push_back(dir(i, j));
           }
@@ -919,8 +1084,44 @@ class PartLayerBuilder {
           }
         }
       }
+    nw->ids.assign(dirs_.size(), -1);
+    nw->keep.assign(dirs_.size(), Vec::Zero());
+    nw->plane.resize(dirs_.size());
+    for (std::size_t d = 0; d < dirs_.size(); ++d) nw->plane[d] = p.plane[static_cast<std::size_t>(dirs_[d].base)];
+    for (const FanEdge& fe : fan_edges_) fades_ += (fe.fade[0] ? 1 : 0) + (fe.fade[1] ? 1 : 0);
     finish_part(*nw, q_);
     out_.next = nw;
+  }
+
+  // True when sector s of fan edge fe is closed at its node i (0 or Q): both its ends there are
+  // one direction (a fade, or a fade zone's outer sector).
+  bool closed_at(const FanEdge& fe, int s, int i) const {
+    const std::vector<int>& a = arcs_[static_cast<std::size_t>(fe.arcs[static_cast<std::size_t>(i)])];
+    return a[static_cast<std::size_t>(s * q_)] == a[static_cast<std::size_t>((s + 1) * q_)];
+  }
+
+  // The direction at node i (0..Q) of fan edge fe whose top divides sector s's kite edge at
+  // j = num / den of Q (from the arc's right end): the arc's own direction where j is a lattice
+  // point, else a new one on the straight kite edge between its two neighbours (a fade's
+  // sector at Q >= 3), one per point.
+  int collapsed_dir(const FanEdge& fe, int s, int i, int num, int den) {
+    const int arc = fe.arcs[static_cast<std::size_t>(i)];
+    const std::vector<int>& a = arcs_[static_cast<std::size_t>(arc)];
+    // The arc's own directions: its sector ends, and at the edge's end nodes every one (shared
+    // with the quadrilaterals of the next edge); between a high-order node's sector ends the
+    // arc holds none (fans(): ends_only).
+    if (num % den == 0 && ((num / den) % q_ == 0 || i == 0 || i == q_)) return a[static_cast<std::size_t>(s * q_ + num / den)];
+    const int g = std::gcd(num, den);
+    num /= g, den /= g;
+    const auto key = std::make_tuple(arc, s, num, den);
+    const auto it = collapsed_dirs_.find(key);
+    if (it != collapsed_dirs_.end()) return it->second;
+    // The kite edge is straight: its points per unit height are linear across the sector.
+    const double t = static_cast<double>(num) / (static_cast<double>(den) * q_);
+    const Vec lo = unit_h(a[static_cast<std::size_t>(s * q_)]), hi = unit_h(a[static_cast<std::size_t>((s + 1) * q_)]);
+    const int d = add_unit_h(dirs_[static_cast<std::size_t>(a[static_cast<std::size_t>(s * q_)])].base, lo + t * (hi - lo));
+    collapsed_dirs_.emplace(key, d);
+    return d;
   }
 
   static Vec slerp(const Vec& a, const Vec& b, double t) {
@@ -1002,6 +1203,8 @@ class PartLayerBuilder {
     std::size_t sectors = 0;
     for (const FanEdge& fe : fan_edges_) sectors += static_cast<std::size_t>(fe.k);
     counts_->push_back({"ridge_fans.sectors", sectors});
+    counts_->push_back({"ridge_fans.fades", fades_});
+    counts_->push_back({"ridge_fans.narrowed", narrowed_});
     counts_->push_back({"corner_fans", corner_fans_});
     counts_->push_back({"nodes.cusp", cusps_});
   }
@@ -1317,6 +1520,15 @@ class PartLayerBuilder {
   // (kites and flat corner patches); one node per weight set, shared by every cell that has it.
   NodeId fan_point(std::vector<std::pair<int, int>> weights) {
     std::sort(weights.begin(), weights.end());
+    // One direction given twice (a fade's collapsed section): that column's node.
+    for (std::size_t k = 1; k < weights.size();)
+      if (weights[k].first == weights[k - 1].first) {
+        weights[k - 1].second += weights[k].second;
+        weights.erase(weights.begin() + static_cast<std::ptrdiff_t>(k));
+      } else {
+        ++k;
+      }
+    if (weights.size() == 1) return at(weights[0].first, weights[0].second);
     const auto it = fan_points_.find(weights);
     if (it != fan_points_.end()) return it->second;
     const std::size_t base = static_cast<std::size_t>(dirs_[static_cast<std::size_t>(weights[0].first)].base);
@@ -1337,7 +1549,8 @@ class PartLayerBuilder {
     col_.assign(nd * q, -1);
     out_.keep.assign(nd, Vec::Zero());
     for (std::size_t d = 0; d < nd; ++d)
-      if (fanned_ ? dirs_[d].fan && corner_node_.count(dirs_[d].base) : part_.keep[d].squaredNorm() > 0)
+      if (fanned_ ? dirs_[d].fan && (corner_node_.count(dirs_[d].base) || zone_.count(dirs_[d].base))
+                  : part_.keep[d].squaredNorm() > 0)
         out_.keep[d] = dirs_[d].d;
     out_.top.resize(nd);
     for (std::size_t d = 0; d < nd; ++d) out_.top[d] = at(static_cast<int>(d), q_);
@@ -1578,10 +1791,85 @@ class PartLayerBuilder {
     prism_tets([&](int a, int b, int c) { return at(fl[te.find({a, b, 0})], c); }, r, tets);
   }
 
-  // Ranks of the first layer's prism vertices (column_order): an old node by its local id, the
-  // top of direction d after every old node.
-  long base_rank(int l) const { return l; }
-  long top_rank(int d) const { return static_cast<long>(part_.size()) + d; }
+  // Ranks of the first layer's prism vertices (column_order): an old node by its local id (after
+  // base_rank's levels), the top of direction d after every old node.
+  // Nodes nearer a fade rank first (the fade, then a fade zone's nodes by their distance, then
+  // every other), so that every quadrilateral beside a sector closed at one end is cut along the
+  // diagonal from its closed end (fade_cells' two tetrahedra).
+  long base_rank(int l) const {
+    const auto it = zone_level_.find(l);
+    const long level = it == zone_level_.end() ? (1L << 20) : it->second;
+    return level * static_cast<long>(part_.size()) + l;
+  }
+  long top_rank(int d) const { return ((1L << 20) + 1) * static_cast<long>(part_.size()) + d; }
+
+  // The cells of sector s of fan edge fe whose ridge fades at one end, where its prism (lattice
+  // node(a, b, c): c along the edge, a toward the sector's left arc direction d1, b toward its
+  // right one d0) has its section collapsed to the fade node's column: two tetrahedra, (fade
+  // node, other node, A, B) and (fade node, its top V, A, B), A and B the sector's tops at the
+  // other node. Fade nodes rank first (base_rank), so both quadrilaterals the sector shares with
+  // its neighbours are cut along the diagonal from the fade node to A or B, which these two
+  // tetrahedra meet; Dompierre's cut of the prism would put the third tetrahedron, of no volume
+  // when straight, on the collapsed column as a curved lens. In the second a point of weights
+  // (u_v, u_V, u_A, u_B) lies at c from its weights, and divides the sector across as the
+  // tetrahedron's faces from V do: a = u_A + u_V u_A / (u_A + u_B), b likewise, so its faces on
+  // the sector's sides are theirs and its face on the outer front is the new front's triangle
+  // (fans(), collapsed_dir). Each tetrahedron is ordered positive by the exact orientation of
+  // its corners.
+  template <class Node>
+  void fade_cells(const FanEdge& fe, int s, int cf, const Node& node) {
+    const LagrangeElement& tet = lagrange_element(CellType::Tetrahedron, q_);
+    const int cn = q_ - cf;  // the closed end and the other, in c
+    const int d_fade = arcs_[static_cast<std::size_t>(fe.arcs[static_cast<std::size_t>(cf)])][static_cast<std::size_t>(s * q_)];
+    // Corners: 0 the fade node, 1 the other node (first cell) or V (second), 2 A (a = Q), 3 B (b = Q).
+    for (int cell = 0; cell < 2; ++cell) {
+      auto point = [&](const std::array<int, 4>& u) -> NodeId {
+        if (cell == 0) return node(u[2], u[3], (u[0] * cf + (q_ - u[0]) * cn) / q_);
+        const int c = ((u[0] + u[1]) * cf + (u[2] + u[3]) * cn) / q_;
+        const int ab = u[2] + u[3];
+        if (ab == 0) return at(d_fade, u[1]);
+        const int an = u[2] * (ab + u[1]), bn = u[3] * (ab + u[1]);  // a = an / ab, b = bn / ab
+        if (u[0] == 0) return at(collapsed_dir(fe, s, c, an, ab), q_);  // on the new front
+        if (an % ab == 0) return node(an / ab, bn / ab, c);
+        return sector_point(fe, s, c, an, bn, ab);
+      };
+      std::array<int, 4> perm = {0, 1, 2, 3};
+      auto corner = [&](int k) {
+        std::array<int, 4> u = {0, 0, 0, 0};
+        u[static_cast<std::size_t>(k)] = q_;
+        return mesh_.nodes[static_cast<std::size_t>(point(u))];
+      };
+      if (!positive_tet(corner(0), corner(1), corner(2), corner(3))) std::swap(perm[2], perm[3]);
+      for (const Lattice& lat : tet.lattice()) {
+        const int w[4] = {q_ - lat[0] - lat[1] - lat[2], lat[0], lat[1], lat[2]};
+        std::array<int, 4> u{};
+        for (int k = 0; k < 4; ++k) u[static_cast<std::size_t>(perm[static_cast<std::size_t>(k)])] = w[k];
+        out_.built.cells[1].push_back(point(u));
+      }
+      out_.cell_face[1].push_back(fe.left);
+    }
+  }
+
+  // A point inside sector s of a fade's fan edge fe, at node c along the edge, off the lattice
+  // (a = an / den, b = bn / den; Q >= 4): the straight section's point x + (a / Q)(top_d1 - x) +
+  // (b / Q)(top_d0 - x), as fan_point's, one per point.
+  NodeId sector_point(const FanEdge& fe, int s, int c, int an, int bn, int den) {
+    const int g = std::gcd(std::gcd(an, bn), den);
+    an /= g, bn /= g, den /= g;
+    const int arc = fe.arcs[static_cast<std::size_t>(c)];
+    const auto key = std::make_tuple(arc, s, an, bn, den);
+    const auto it = sector_points_.find(key);
+    if (it != sector_points_.end()) return it->second;
+    const std::vector<int>& a = arcs_[static_cast<std::size_t>(arc)];
+    const std::size_t d0 = static_cast<std::size_t>(a[static_cast<std::size_t>(s * q_)]);
+    const std::size_t d1 = static_cast<std::size_t>(a[static_cast<std::size_t>((s + 1) * q_)]);
+    const Vec& x = x_[static_cast<std::size_t>(dirs_[d0].base)];
+    const double sa = static_cast<double>(an) / (static_cast<double>(den) * q_), sb = static_cast<double>(bn) / (static_cast<double>(den) * q_);
+    mesh_.nodes.push_back(x + sa * (top_[d1] - x) + sb * (top_[d0] - x));
+    const NodeId id = static_cast<NodeId>(mesh_.nodes.size() - 1);
+    sector_points_.emplace(key, id);
+    return id;
+  }
 
   // The first layer's ridge fan cells (prisms of cross section the edge node and the ends of kite
   // edge s of the arc, s + 1's first, extruded along the chain, each cut into three tetrahedra)
@@ -1601,6 +1889,12 @@ class PartLayerBuilder {
           if (a == 0) return at(d0, b);
           return fan_point({{d0, b}, {d1, a}});
         };
+        const bool c0 = closed_at(fe, s, 0), c1 = closed_at(fe, s, q_);
+        if (c0 && c1) continue;
+        if (c0 || c1) {
+          fade_cells(fe, s, c0 ? 0 : q_, node);
+          continue;
+        }
         const std::vector<int>& arc0 = arcs_[static_cast<std::size_t>(fe.arcs.front())];
         const std::vector<int>& arc1 = arcs_[static_cast<std::size_t>(fe.arcs.back())];
         const std::size_t a_at = static_cast<std::size_t>((s + 1) * q_), b_at = static_cast<std::size_t>(s * q_);
@@ -1635,14 +1929,6 @@ class PartLayerBuilder {
     }
   }
 
-  // A ridge edge of the first layer's fans: its Q + 1 old nodes along the chain, its sides (the
-  // chain's left and right triangles), the arc at each node, the sector count, and the plane its
-  // first and last node lie on (-1: none).
-  struct FanEdge {
-    std::vector<int> nodes, arcs;
-    int left = 0, right = 0, k = 1;
-    std::array<int, 2> plane = {-1, -1};
-  };
 
   HybridMesh<3>& mesh_;
   const MetricField<3>& metric_;
@@ -1665,6 +1951,8 @@ class PartLayerBuilder {
   std::vector<std::uint8_t> stop_;      // per node: stopped (stops())
   bool any_stop_ = false;
   std::set<int> corner_node_;
+  std::set<int> zone_;  // the fade zones' nodes (fans()): their columns keep their directions
+  std::map<int, int> zone_level_;  // the fade zones' chain vertices: edges to the fade (0 at it)
   std::vector<int> ent_start_, ent_f_;  // per node: its sub-triangle normals, angles and faces
   std::vector<Vec> ent_n_;
   std::vector<double> ent_w_;
@@ -1673,6 +1961,10 @@ class PartLayerBuilder {
   std::vector<std::uint8_t> fan_node_;
   std::vector<std::vector<int>> arcs_;
   std::vector<FanEdge> fan_edges_;
+  std::size_t fades_ = 0;
+  std::size_t narrowed_ = 0;  // fan nodes whose opening a fade zone narrowed (fans())
+  std::map<std::tuple<int, int, int, int>, int> collapsed_dirs_;  // (arc, sector, num, den) -> direction
+  std::map<std::tuple<int, int, int, int, int>, NodeId> sector_points_;  // (arc, sector, a, b, den) -> node
   std::vector<std::pair<int, int>> corner_tets_;  // (corner node, new front triangle)
   std::size_t corner_fans_ = 0;
   std::map<std::vector<std::pair<int, int>>, NodeId> fan_points_;

@@ -41,10 +41,19 @@
 //     bump on the faces around it);
 //  6. fans (first layer; Aubry & Loehner's ridge and corner fans, Sec. II.E leaving them open): a
 //     wall edge whose faces meet convexly at more than corner_angle_deg is a fan edge; fan edges
-//     chain between corners (3+ fan edges at a node), symmetry planes and closed loops (a chain
-//     ending elsewhere keeps the merged normal: the fan would have nowhere to close; so does a
-//     fan edge whose fan opens by under 5 degrees at an end or does not turn about it, its arc's
-//     axis more than 60 degrees off the edge, as where a trailing edge meets a tip). Each wedge
+//     chain between corners (3+ fan edges at a node), symmetry planes, closed loops and, with
+//     fan_fades (off by default), fades; without it a chain ending elsewhere keeps the merged
+//     normal. A fade is a chain's end elsewhere (its ridge fades out, as a trailing edge into a
+//     rounded tip): the node keeps its merged normal; toward it the fan narrows by at most
+//     fan_angle_deg per edge (its two wedge directions turned toward their bisector) and keeps
+//     as many kites as edges to the fade (the arc's 2 k sectors kept, the outer ones closed onto
+//     the wedge directions); a sector closed at one end of an edge is two tetrahedra (the closed
+//     end's node, the other node and the sector's two tops there; the closed end's node, its top
+//     and those two), nodes nearer the fade ranking first in the cut so every quadrilateral
+//     there is cut from its closed end; the zone's columns keep their directions in later
+//     layers, as a corner's. A chain of one edge that fades keeps the merged normal, and so does
+//     a fan edge whose fan opens by under 5 degrees at an end that does not fade or does not
+//     turn about it, its arc's axis more than 60 degrees off the edge. Each wedge
 //     of faces between fan edges grows along its own normal; between the two wedges of a fan edge
 //     k sectors (at most fan_angle_deg each, one k per chain) are the 2D fan's kites (Fig. 4,
 //     grow_layers_2d.h): normals n_s dividing the angle equally, the kite (node, P_s, X_s,

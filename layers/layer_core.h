@@ -81,6 +81,10 @@ struct LayerParams {
   double f_atten = 0.2;
   double corner_angle_deg = 30.0;  // |turning angle| (2D) or dihedral deviation (3D) of a corner/ridge
   double fan_angle_deg = 45.0;     // largest angle between adjacent normals of a convex fan
+  // 3D: a ridge fan may end where its ridge fades (grow_layers_3d.h, step 6: a fade narrows it
+  // and closes it to the node's merged normal); false: such a chain keeps the merged normal
+  // along its whole ridge.
+  bool fan_fades = false;
   bool integrate_height = false;   // unit metric length along the normal instead of the size
   bool smooth_normals = false;     // 2D: one Laplacian pass over each new layer's normals; 3D: the
                                    // relaxation of grow_layers_3d.h, step 2

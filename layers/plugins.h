@@ -7,6 +7,10 @@
 //     f_atten: <0..1>       curvature attenuation fraction (Fig. 5)   default: 0.2
 //     corner_angle_deg: <1..179>  turning angle of a corner       default: 30
 //     fan_angle_deg: <5..90>  largest angle between fan normals   default: 45
+//     fan_fades: <bool>     3D: a ridge fan may end where its ridge fades (a trailing edge into
+//                           a rounded tip), narrowing and closing there; false: that ridge keeps
+//                           one merged normal along its length (grow_layers_3d.h, step 6)
+//                                                                      default: false
 //     height: size|integrate  metric size along the normal, or unit metric length   default: size
 //     smooth_normals: <bool>  smooth the normals of each layer (2D: one Laplacian pass; 3D: the
 //                           relaxation of grow_layers_3d.h, step 2)   default: false

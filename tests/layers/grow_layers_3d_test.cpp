@@ -93,31 +93,35 @@ struct FrontBuilder {
   }
 };
 
+// Places a node of a test surface from its linear position (and gives its normal).
+using Place = std::function<Vector3d(const Vector3d&, Vector3d&)>;
+
 // The unit square [0, 1]^2 at z = 0, n x n cells split in two, facing +z, its four sides on
 // symmetry planes with four tags (five with split_y0: the side y = 0 in two halves with their
-// own tags, so the node between them lies on two parallel planes).
-CurvedFront<3> plate(int n, int q, bool split_y0 = false) {
+// own tags, so the node between them lies on two parallel planes). With `place`, every node
+// (the rim's too) is placed by it from its position on the square (a height field).
+CurvedFront<3> plate(int n, int q, bool split_y0 = false, const Place& place = {}) {
   FrontBuilder b(q, 1.0);
   b.f.tags = {{"wall", BoundaryKind::Wall}, {"x0", BoundaryKind::Symmetry}, {"x1", BoundaryKind::Symmetry},
               {"y0", BoundaryKind::Symmetry}, {"y1", BoundaryKind::Symmetry}, {"y0b", BoundaryKind::Symmetry}};
-  auto flat = [](const Vector3d& x, Vector3d& nrm) {
+  const Place at = place ? place : Place([](const Vector3d& x, Vector3d& nrm) {
     nrm = Vector3d::UnitZ();
     return x;
-  };
+  });
   const double h = 1.0 / n;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const Vector3d p00(i * h, j * h, 0), p10((i + 1) * h, j * h, 0), p01(i * h, (j + 1) * h, 0),
           p11((i + 1) * h, (j + 1) * h, 0);
-      b.triangle(p00, p10, p11, 0, flat);
-      b.triangle(p00, p11, p01, 0, flat);
+      b.triangle(p00, p10, p11, 0, at);
+      b.triangle(p00, p11, p01, 0, at);
     }
   // Rim edges by their vertex pairs (the layers read the pair and the tag).
   auto rim = [&](const Vector3d& a, const Vector3d& c, int tag) {
     Vector3d unused;
-    b.f.rim_edges.push_back(b.node(a, unused));
-    b.f.rim_edges.push_back(b.node(c, unused));
-    for (int k = 1; k < q; ++k) b.f.rim_edges.push_back(b.node(a + (static_cast<double>(k) / q) * (c - a), unused));
+    b.f.rim_edges.push_back(b.node(at(a, unused), unused));
+    b.f.rim_edges.push_back(b.node(at(c, unused), unused));
+    for (int k = 1; k < q; ++k) b.f.rim_edges.push_back(b.node(at(a + (static_cast<double>(k) / q) * (c - a), unused), unused));
     b.f.rim_tag.push_back(tag);
   };
   for (int i = 0; i < n; ++i) {
@@ -1483,5 +1487,66 @@ TEST_CASE("layers 3D: fans along a curved ridge keep their sector strips valid: 
     CHECK(r.layers.back().coverage == doctest::Approx(1.0).epsilon(1e-12));
     CHECK(invalid_cells(r, q) == 0);
     check_conforming_and_apart(r, q);
+  }
+}
+
+namespace {
+
+// The roof's slope: s(y) = sin^2(pi (y - 0.2) / 0.6) for 0.2 < y < 0.8, else 0, and its
+// derivative.
+double roof_slope(double y) { return y > 0.2 && y < 0.8 ? std::pow(std::sin(M_PI * (y - 0.2) / 0.6), 2) : 0.0; }
+double roof_slope_dy(double y) { return y > 0.2 && y < 0.8 ? (M_PI / 0.6) * std::sin(2 * M_PI * (y - 0.2) / 0.6) : 0.0; }
+
+// A roof over the unit square, z = -s(y) |x - 1/2| (roof_slope): a convex ridge along x = 1/2
+// whose faces meet at 2 atan s(y), 90 degrees at y = 1/2, falling smoothly to 0 at y = 0.2 and
+// 0.8 both ways, as a trailing edge fades into a rounded tip or a chine dies out. Its four sides
+// end on the symmetry planes x = 0, x = 1, y = 0, y = 1 (level there); n x n cells (n even: the
+// ridge is a grid line), order q, every node on the roof.
+CurvedFront<3> fading_roof(int n, int q) {
+  return plate(n, q, false, [](const Vector3d& lin, Vector3d& nrm) {
+    const double sx = lin.x() < 0.5 ? 1.0 : -1.0;  // d|x - 1/2|/dx = -sx
+    const double y = lin.y(), s = roof_slope(y);
+    nrm = Vector3d(-s * sx, roof_slope_dy(y) * std::abs(lin.x() - 0.5), 1).normalized();
+    return Vector3d(lin.x(), y, -s * std::abs(lin.x() - 0.5));
+  });
+}
+
+}  // namespace
+
+TEST_CASE("layers 3D: a fan whose ridge fades narrows and closes to the node's one direction, every cell certified") {
+  // The roof's ridge bends by more than corner_angle_deg (30) where s > tan 15 degrees, y in
+  // (0.30, 0.70): with n = 20 its fan edges run from the node at y = 0.3 to the one at 0.7 (each
+  // edge is a fan edge where either end bends by more), and both ends are fades. The fan narrows
+  // toward them by at most fan_angle_deg per edge (the fade zone) and closes at each to that
+  // node's one direction, two tetrahedra per sector on the last edge; its columns keep their
+  // directions in later layers. Before, such a chain had no fan at all (a merged normal along
+  // the whole ridge, as it still has with fan_fades off, the default). A wall law of growth 1.2
+  // from h0 = 1e-5 over 12 layers; at order 4 the
+  // last edge's sectors have points off the kites' lattice (collapsed_dir, sector_point).
+  for (int q : {1, 2, 3, 4}) {
+    CAPTURE(q);
+    const int n = 20;
+    const CurvedFront<3> f = fading_roof(n, q);
+    const TestWallMetric m(
+        1e-5, 1.2, 0.05,
+        [](const Vector3d& x) { return std::max(0.0, x.z() + roof_slope(x.y()) * std::abs(x.x() - 0.5)); },
+        [](const Vector3d&) { return Vector3d(Vector3d::UnitZ()); });
+    LayerParams p;
+    p.max_layers = 12;
+    p.fan_fades = true;
+    const LayerResult<3> r = grow_layers(f, m, p);
+    REQUIRE(r.layers.size() == 12);
+    CHECK(count_of(r, "ridge_fans.fades") >= 2);
+    CHECK(count_of(r, "ridge_fans.narrowed") > 0);
+    CHECK(count_of(r, "ridge_fans.edges") >= 8);
+    CHECK(r.coverage.columns_complete == r.coverage.columns);
+    CHECK(invalid_cells(r, q) == 0);
+    check_conforming_and_apart(r, q);
+    // Off (the default), the chain keeps the merged normal: no fan on this ridge.
+    p.fan_fades = false;
+    p.max_layers = 1;
+    const LayerResult<3> off = grow_layers(f, m, p);
+    CHECK(count_of(off, "ridge_fans.fades") == 0);
+    if (q > 1) CHECK(count_of(off, "ridge_fans.edges") == 0);
   }
 }

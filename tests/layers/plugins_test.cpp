@@ -28,3 +28,10 @@ TEST_CASE("layers section: isotropic_stop defaults to node in 3D, to off (all wi
     CHECK(stop_of("isotropic_stop: node", dim) == IsotropicStop::Node);
   }
 }
+
+TEST_CASE("layers section: fan_fades is a 3D option, off by default") {
+  CHECK_FALSE(layers::parse_layer_params(ConfigNode::load_string("max: 40"), 3).fan_fades);
+  CHECK(layers::parse_layer_params(ConfigNode::load_string("fan_fades: true"), 3).fan_fades);
+  // 2D does not read it (a 2D section naming it is refused as an unknown key by the run's check).
+  CHECK_FALSE(layers::parse_layer_params(ConfigNode::load_string("fan_fades: true"), 2).fan_fades);
+}
