@@ -1893,17 +1893,19 @@ class PartLayerBuilder {
         if (c0 && c1) continue;
         if (c0 || c1) {
           fade_cells(fe, s, c0 ? 0 : q_, node);
-          continue;
+        } else {
+          const std::vector<int>& arc0 = arcs_[static_cast<std::size_t>(fe.arcs.front())];
+          const std::vector<int>& arc1 = arcs_[static_cast<std::size_t>(fe.arcs.back())];
+          const std::size_t a_at = static_cast<std::size_t>((s + 1) * q_), b_at = static_cast<std::size_t>(s * q_);
+          const std::array<long, 6> rank = {base_rank(fe.nodes.front()), top_rank(arc0[a_at]), top_rank(arc0[b_at]),
+                                            base_rank(fe.nodes.back()),  top_rank(arc1[a_at]), top_rank(arc1[b_at])};
+          prism_tets(node, column_order(rank), out_.built.cells[1]);
+          for (int k = 0; k < 3; ++k) out_.cell_face[1].push_back(fe.left);
         }
-        const std::vector<int>& arc0 = arcs_[static_cast<std::size_t>(fe.arcs.front())];
-        const std::vector<int>& arc1 = arcs_[static_cast<std::size_t>(fe.arcs.back())];
-        const std::size_t a_at = static_cast<std::size_t>((s + 1) * q_), b_at = static_cast<std::size_t>(s * q_);
-        const std::array<long, 6> rank = {base_rank(fe.nodes.front()), top_rank(arc0[a_at]), top_rank(arc0[b_at]),
-                                          base_rank(fe.nodes.back()),  top_rank(arc1[a_at]), top_rank(arc1[b_at])};
-        prism_tets(node, column_order(rank), out_.built.cells[1]);
-        for (int k = 0; k < 3; ++k) out_.cell_face[1].push_back(fe.left);
+        // The section on a symmetry plane at an open end (a closed end is a fade zone's node,
+        // never on a plane): a sector closed at its other end has the same face there.
         for (int end = 0; end < 2; ++end) {
-          if (fe.plane[end] < 0) continue;
+          if (fe.plane[end] < 0 || (end == 0 ? c0 : c1)) continue;
           for (const Lattice& lat : te.lattice())
             out_.sym_tris.push_back(end == 0 ? node(lat[0], lat[1], 0) : node(lat[1], lat[0], q_));
           out_.sym_tri_tag.push_back(planes_[static_cast<std::size_t>(fe.plane[end])].tag);

@@ -1502,14 +1502,19 @@ double roof_slope_dy(double y) { return y > 0.2 && y < 0.8 ? (M_PI / 0.6) * std:
 // 0.8 both ways, as a trailing edge fades into a rounded tip or a chine dies out. Its four sides
 // end on the symmetry planes x = 0, x = 1, y = 0, y = 1 (level there); n x n cells (n even: the
 // ridge is a grid line), order q, every node on the roof.
-CurvedFront<3> fading_roof(int n, int q) {
-  return plate(n, q, false, [](const Vector3d& lin, Vector3d& nrm) {
+CurvedFront<3> fading_roof(int n, int q, double (*slope)(double) = roof_slope, double (*slope_dy)(double) = roof_slope_dy) {
+  return plate(n, q, false, [slope, slope_dy](const Vector3d& lin, Vector3d& nrm) {
     const double sx = lin.x() < 0.5 ? 1.0 : -1.0;  // d|x - 1/2|/dx = -sx
-    const double y = lin.y(), s = roof_slope(y);
-    nrm = Vector3d(-s * sx, roof_slope_dy(y) * std::abs(lin.x() - 0.5), 1).normalized();
+    const double y = lin.y(), s = slope(y);
+    nrm = Vector3d(-s * sx, slope_dy(y) * std::abs(lin.x() - 0.5), 1).normalized();
     return Vector3d(lin.x(), y, -s * std::abs(lin.x() - 0.5));
   });
 }
+
+// A roof whose ridge starts square on the plane y = 0 (s = 1, level along y there) and fades
+// within 0.15: s(y) = cos^2(pi y / 0.3), then 0.
+double plane_roof_slope(double y) { return y < 0.15 ? std::pow(std::cos(M_PI * y / 0.3), 2) : 0.0; }
+double plane_roof_slope_dy(double y) { return y < 0.15 ? -(M_PI / 0.3) * std::sin(2 * M_PI * y / 0.3) : 0.0; }
 
 }  // namespace
 
@@ -1548,5 +1553,30 @@ TEST_CASE("layers 3D: a fan whose ridge fades narrows and closes to the node's o
     const LayerResult<3> off = grow_layers(f, m, p);
     CHECK(count_of(off, "ridge_fans.fades") == 0);
     if (q > 1) CHECK(count_of(off, "ridge_fans.edges") == 0);
+  }
+}
+
+TEST_CASE("layers 3D: a fan from a symmetry plane that fades within k edges closes its sectors and keeps its facets on the plane") {
+  // The ridge bends by 90 degrees on the plane y = 0 (k = 2 kites) and by 28 degrees at y = 0.1
+  // (n = 20): a chain of two edges from the plane to a fade, so the edge on the plane already
+  // has sectors closed at its other end (one kite there), whose sections on the plane are
+  // symmetry triangles like the open ones'.
+  for (int q : {1, 2, 3}) {
+    CAPTURE(q);
+    const CurvedFront<3> f = fading_roof(20, q, plane_roof_slope, plane_roof_slope_dy);
+    const TestWallMetric m(
+        1e-5, 1.2, 0.05,
+        [](const Vector3d& x) { return std::max(0.0, x.z() + plane_roof_slope(x.y()) * std::abs(x.x() - 0.5)); },
+        [](const Vector3d&) { return Vector3d(Vector3d::UnitZ()); });
+    LayerParams p;
+    p.max_layers = 8;
+    p.fan_fades = true;
+    const LayerResult<3> r = grow_layers(f, m, p);
+    REQUIRE(r.layers.size() == 8);
+    CHECK(count_of(r, "ridge_fans.edges") >= 2);  // (and creases across the roof's faces, at Q1 more)
+    CHECK(count_of(r, "ridge_fans.fades") >= 1);
+    CHECK(r.coverage.columns_complete == r.coverage.columns);
+    CHECK(invalid_cells(r, q) == 0);
+    check_conforming_and_apart(r, q);
   }
 }
