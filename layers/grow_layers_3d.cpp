@@ -1121,8 +1121,8 @@ class PartLayerBuilder {
     const int arc = fe.arcs[static_cast<std::size_t>(i)];
     const std::vector<int>& a = arcs_[static_cast<std::size_t>(arc)];
     // The arc's own directions: its sector ends, and at the edge's end nodes every one (shared
-    // with the quadrilaterals of the next edge); between a high-order node's sector ends the
-    // arc holds none (fans(): ends_only).
+    // with the quadrilaterals of the next edge); between the ends of a sector closed at one end
+    // of the edge a high-order node's arc holds none (fans(): "never asked for").
     if (num % den == 0 && ((num / den) % q_ == 0 || i == 0 || i == q_)) return a[static_cast<std::size_t>(s * q_ + num / den)];
     const int g = std::gcd(num, den);
     num /= g, den /= g;
@@ -1817,12 +1817,13 @@ class PartLayerBuilder {
   }
   long top_rank(int d) const { return ((1L << 20) + 1) * static_cast<long>(part_.size()) + d; }
 
-  // The cells of sector s of fan edge fe whose ridge fades at one end, where its prism (lattice
-  // node(a, b, c): c along the edge, a toward the sector's left arc direction d1, b toward its
-  // right one d0) has its section collapsed to the fade node's column: two tetrahedra, (fade
-  // node, other node, A, B) and (fade node, its top V, A, B), A and B the sector's tops at the
-  // other node. Fade nodes rank first (base_rank), so both quadrilaterals the sector shares with
-  // its neighbours are cut along the diagonal from the fade node to A or B, which these two
+  // The cells of sector s of fan edge fe closed at its end cf (at a fade, or a fade zone's outer
+  // sector where the kites fall by one), where its prism (lattice node(a, b, c): c along the
+  // edge, a toward the sector's left arc direction d1, b toward its right one d0) has its
+  // section collapsed to one column (V's): two tetrahedra, (closed node, other node, A, B) and
+  // (closed node, its top V, A, B), A and B the sector's tops at the other node. The closed end
+  // ranks first (base_rank), so both quadrilaterals the sector shares with its neighbours are
+  // cut along the diagonal from the closed node to A or B, which these two
   // tetrahedra meet; Dompierre's cut of the prism would put the third tetrahedron, of no volume
   // when straight, on the collapsed column as a curved lens. In the second a point of weights
   // (u_v, u_V, u_A, u_B) lies at c from its weights, and divides the sector across as the
