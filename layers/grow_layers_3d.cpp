@@ -382,7 +382,6 @@ class PartLayerBuilder {
     std::vector<int> nodes, arcs;
     int left = 0, right = 0, k = 1;
     std::array<int, 2> plane = {-1, -1};
-    std::array<bool, 2> fade = {false, false};  // its first / last node is where the ridge fades
   };
 
   const Part& next() const { return out_.next ? *out_.next : part_; }
@@ -680,7 +679,7 @@ class PartLayerBuilder {
       // A chain of one edge that fades (its other end a corner, a plane or a fade too) is no
       // fan: a fan must open over a node before it closes. (On the published ONERA M6 the remeshed
       // rounded tip has three such creases off the trailing edge's last node, fading within one
-      // edge of 0.018 c each; their sectors, collapsing over a corner patch 1e-5 wide, made
+      // edge of 0.02 to 0.03 c each; their sectors, collapsing over a corner patch 1e-5 wide, made
       // second-layer prisms of aspect 1e4 that no height could make valid. Without them the
       // trailing edge's own fan fades at that node.)
       auto short_fade = [&](const std::pair<int, int>& ab) {
@@ -930,7 +929,6 @@ class PartLayerBuilder {
         }
         fe.plane[0] = on_rim(a) ? p.plane[static_cast<std::size_t>(a)][0] : -1;
         fe.plane[1] = on_rim(b) ? p.plane[static_cast<std::size_t>(b)][0] : -1;
-        fe.fade = {fades(a), fades(b)};
         list.push_back(fe);
       }
       // Kites per node: k, but in a fade zone as many as its distance from the fade (none at the
@@ -1101,7 +1099,7 @@ class PartLayerBuilder {
     nw->keep.assign(dirs_.size(), Vec::Zero());
     nw->plane.resize(dirs_.size());
     for (std::size_t d = 0; d < dirs_.size(); ++d) nw->plane[d] = p.plane[static_cast<std::size_t>(dirs_[d].base)];
-    for (const FanEdge& fe : fan_edges_) fades_ += (fe.fade[0] ? 1 : 0) + (fe.fade[1] ? 1 : 0);
+    for (const auto& [l, level] : zone_level_) fades_ += level == 0 ? 1 : 0;
     finish_part(*nw, q_);
     out_.next = nw;
   }

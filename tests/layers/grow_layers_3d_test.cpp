@@ -1511,6 +1511,14 @@ CurvedFront<3> fading_roof(int n, int q, double (*slope)(double) = roof_slope, d
   });
 }
 
+// A wall law over a roof of the given slope (fading_roof): h0 1e-5, growth 1.2, size 0.05 along
+// the wall, the distance measured up from the roof.
+TestWallMetric roof_metric(double (*slope)(double)) {
+  return TestWallMetric(
+      1e-5, 1.2, 0.05, [slope](const Vector3d& x) { return std::max(0.0, x.z() + slope(x.y()) * std::abs(x.x() - 0.5)); },
+      [](const Vector3d&) { return Vector3d(Vector3d::UnitZ()); });
+}
+
 // A roof whose ridge starts square on the plane y = 0 (s = 1, level along y there) and fades
 // within 0.15: s(y) = cos^2(pi y / 0.3), then 0.
 double plane_roof_slope(double y) { return y < 0.15 ? std::pow(std::cos(M_PI * y / 0.3), 2) : 0.0; }
@@ -1532,10 +1540,7 @@ TEST_CASE("layers 3D: a fan whose ridge fades narrows and closes to the node's o
     CAPTURE(q);
     const int n = 20;
     const CurvedFront<3> f = fading_roof(n, q);
-    const TestWallMetric m(
-        1e-5, 1.2, 0.05,
-        [](const Vector3d& x) { return std::max(0.0, x.z() + roof_slope(x.y()) * std::abs(x.x() - 0.5)); },
-        [](const Vector3d&) { return Vector3d(Vector3d::UnitZ()); });
+    const TestWallMetric m = roof_metric(roof_slope);
     LayerParams p;
     p.max_layers = 12;
     p.fan_fades = true;
@@ -1564,10 +1569,7 @@ TEST_CASE("layers 3D: a fan from a symmetry plane that fades within k edges clos
   for (int q : {1, 2, 3}) {
     CAPTURE(q);
     const CurvedFront<3> f = fading_roof(20, q, plane_roof_slope, plane_roof_slope_dy);
-    const TestWallMetric m(
-        1e-5, 1.2, 0.05,
-        [](const Vector3d& x) { return std::max(0.0, x.z() + plane_roof_slope(x.y()) * std::abs(x.x() - 0.5)); },
-        [](const Vector3d&) { return Vector3d(Vector3d::UnitZ()); });
+    const TestWallMetric m = roof_metric(plane_roof_slope);
     LayerParams p;
     p.max_layers = 8;
     p.fan_fades = true;
