@@ -105,12 +105,6 @@ std::vector<double> graded_room(const std::vector<Eigen::Matrix<double, Dim, 1>>
 
 namespace {
 
-template <int Dim>
-std::string point_text(const Eigen::Matrix<double, Dim, 1>& x) {
-  std::string s;
-  for (int d = 0; d < Dim; ++d) s += (d ? ", " : "") + std::to_string(x[d]);
-  return s;
-}
 
 // Steps 2-3 of layer_core.h for one part and one layer: build, certify, test collisions, shrink
 // and retry.
@@ -182,8 +176,8 @@ class LayerAttempts {
       const bool stuck = scale == previous;
       st.shrinks += failures.size();
       r_.events.push_back("layer " + std::to_string(layer) + ", " + part_name(part) + ": " +
-                          std::to_string(failures.size()) + " " + why + " (first at " + point_text<Dim>(where) +
-                          "), heights " +
+                          std::to_string(failures.size()) + " " + why + ", first at " + point_text(where) +
+                          ": heights " +
                           (stuck ? std::string("already at 1/16 of the metric's there")
                                  : (factor < 1 ? "halved" : "raised x" + num(factor)) + " around them"));
       if (stuck) return false;
@@ -496,8 +490,8 @@ class Growth {
       if (added == 0) return false;
       const std::string line = "layer " + std::to_string(layer) + ", " + attempts_.part_name(part) + ": " +
                                std::to_string(added) + " columns stopped where no valid cell could be grown at 1/16 of " +
-                               "the metric's height (wall " + num(area) + ", first at " +
-                               point_text<Dim>(points[first]) + ")";
+                               "the metric's height: wall " + num(area) + ", first at " +
+                               point_text(points[first]);
       r_.events.push_back(line);
       r_.coverage.stopped_early.push_back(line);
       add_site(points[nearest_centre(points, now)], area, layer);
@@ -644,7 +638,7 @@ class Growth {
                           " columns stopped where their stacks fill their share of the gap to a facing wall "
                           "(or symmetry plane) or of the distance to a concave front's focus (layers.proximity " + num(p_.proximity) +
                           "; wall " + num(area) + ", first at " +
-                          point_text<Dim>(points[now.front()]) + ")");
+                          point_text(points[now.front()]) + ")");
     return std::all_of(held_[part].begin(), held_[part].end(), [](std::uint8_t h) { return h; });
   }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "modules/base/error.h"
+#include "modules/base/format.h"
 #include "modules/elements/lagrange.h"
 #include "modules/metric/metric.h"
 
@@ -24,10 +25,6 @@ using HalfedgeHandle = TriMesh::HalfedgeHandle;
 
 // The fractions of a node's displacement (from its flat position) kept by the straightening steps.
 constexpr double pullback_steps[] = {0.75, 0.5, 0.25, 0.0};
-
-std::string point_text(const Eigen::Vector3d& p) {
-  return "(" + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ", " + std::to_string(p.z()) + ")";
-}
 
 // The three half-edges of face f in the order of its vertices (v0 -> v1, v1 -> v2, v2 -> v0),
 // which is Gmsh's edge order of the triangle.

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "modules/base/error.h"
+#include "modules/base/format.h"
 #include "modules/geometry/predicates.h"
 #include "volume/delaunay_apex.h"
 #include "volume/occurrence_front.h"

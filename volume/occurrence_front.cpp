@@ -7,11 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include <Eigen/Eigenvalues>
 
 #include "modules/base/error.h"
+#include "modules/base/format.h"
 #include "modules/geometry/predicates.h"
 
 namespace plaf::volume {
@@ -61,13 +61,6 @@ bool in_sector(const Vec& v, const Vec& n, const Vec& p, const Vec& q) {
   if ((n - v).dot(p - v) < 0) return left_of_n;  // a straight angle: the half-plane
   // n and p on one ray: the full turn but that ray.
   return !(orient2d(v, n, q) == 0 && (q - v).dot(n - v) > 0);
-}
-
-std::string point_text(const Vec& p) {
-  std::ostringstream s;
-  s.precision(9);
-  s << "(" << p.x() << ", " << p.y() << ")";
-  return s.str();
 }
 
 OccurrenceFront::OccurrenceFront(const LinearFront<2>& front, const MetricField<2>& metric)

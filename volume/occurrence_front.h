@@ -40,9 +40,6 @@ double cross(const Eigen::Vector2d& u, const Eigen::Vector2d& w);
 // that ray.)
 bool in_sector(const Eigen::Vector2d& v, const Eigen::Vector2d& n, const Eigen::Vector2d& p, const Eigen::Vector2d& q);
 
-// "(x, y)" with 9 digits, for messages.
-std::string point_text(const Eigen::Vector2d& p);
-
 // A triangle's third corner: an existing front node (occ >= 0) or a new point.
 struct Apex {
   NodeId node = -1;

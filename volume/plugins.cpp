@@ -18,19 +18,12 @@ namespace plaf::volume {
 
 namespace {
 
-// A point's coordinates written by `format` between `open` and `close`: "(x, y, z)" for the text
-// summary, "[x, y, z]" for the report.
-template <class Format>
-std::string point_text(const Eigen::Vector3d& x, const Format& format, const char* open = "(", const char* close = ")") {
-  std::string s = open;
-  for (int k = 0; k < 3; ++k) {
-    if (k > 0) s += ", ";
-    s += format(x[k]);
-  }
-  s += close;
-  return s;
+// A point for the report: "[x, y, z]" (the text summary writes "(x, y, z)", format.h).
+std::string json_point(const Eigen::Vector3d& x) {
+  std::string s = "[";
+  for (int k = 0; k < 3; ++k) (s += k ? ", " : "") += json_number(x[k]);
+  return s += "]";
 }
-std::string point_text(const Eigen::Vector3d& x) { return point_text(x, [](double v) { return num(v); }); }
 
 HybridFillParams parse_tetgen(const ConfigNode& section) {
   HybridFillParams p;
@@ -153,9 +146,8 @@ void register_plugins() {
           rep.add(k + "metric_min_dihedral_inner_deg", f->metric_min_dihedral_inner_deg);
           rep.add(k + "metric_below_5deg", f->metric_below_5deg);
           rep.add(k + "metric_below_10deg", f->metric_below_10deg);
-          auto point = [](const Eigen::Vector3d& x) { return point_text(x, [](double v) { return json_number(v); }, "[", "]"); };
-          rep.add_json(k + "metric_min_dihedral_at", point(f->metric_min_dihedral_at));
-          rep.add_json(k + "length_max_at", point(f->length_max_at));
+          rep.add_json(k + "metric_min_dihedral_at", json_point(f->metric_min_dihedral_at));
+          rep.add_json(k + "length_max_at", json_point(f->length_max_at));
           rep.add(k + "stretched.tets", f->stretched.tets);
           rep.add(k + "stretched.metric_p50", f->stretched.metric_p50);
           rep.add(k + "stretched.stretch_p10", f->stretched.stretch_p10);
@@ -177,7 +169,7 @@ void register_plugins() {
                  std::to_string(o.before.tets) + " -> " +
                  std::to_string(o.after.tets) + ", unit edges " + num(100 * o.before.unit_fraction) + " % -> " +
                  num(100 * o.after.unit_fraction) + " %, longest " + num(o.before.length_max) + " -> " +
-                 num(o.after.length_max) + " at " + point_text(o.after.length_max_at) + " (" + num(o.before.length_max_free) + " -> " + num(o.after.length_max_free) +
+                 num(o.after.length_max) + " at " + point_text(o.after.length_max_at, 6) + " (" + num(o.before.length_max_free) + " -> " + num(o.after.length_max_free) +
                  " with a free end), least quality " + num(o.before.quality_min) + " -> " +
                  num(o.after.quality_min) + " (" + num(o.before.quality_min_inner) + " -> " +
                  num(o.after.quality_min_inner) + " off the fronts), min dihedral " + num(o.before.min_dihedral_deg) + " -> " +
@@ -185,7 +177,7 @@ void register_plugins() {
                  num(o.after.min_dihedral_inner_deg) + " off the fronts), under 10 deg " +
                  std::to_string(o.before.below_10deg) + " -> " + std::to_string(o.after.below_10deg) +
                  "; in the metric: min dihedral " + num(o.before.metric_min_dihedral_deg) + " -> " +
-                 num(o.after.metric_min_dihedral_deg) + " deg at " + point_text(o.after.metric_min_dihedral_at) + " (" + num(o.before.metric_min_dihedral_inner_deg) + " -> " +
+                 num(o.after.metric_min_dihedral_deg) + " deg at " + point_text(o.after.metric_min_dihedral_at, 6) + " (" + num(o.before.metric_min_dihedral_inner_deg) + " -> " +
                  num(o.after.metric_min_dihedral_inner_deg) + " off the fronts), under 10 deg " +
                  std::to_string(o.before.metric_below_10deg) + " -> " + std::to_string(o.after.metric_below_10deg) + "; flat " +
                  std::to_string(o.before.flat) + " -> " + std::to_string(o.after.flat) +

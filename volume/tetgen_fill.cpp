@@ -22,6 +22,7 @@
 #include <unistd.h>
 
 #include "modules/base/error.h"
+#include "modules/base/format.h"
 #include "modules/geometry/predicates.h"
 
 namespace plaf::volume {
@@ -48,13 +49,6 @@ using FaceIndex = std::unordered_map<Face, std::size_t, FaceHash>;  // front tri
 
 std::string ids_text(const std::array<NodeId, 3>& t) {
   return "(" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ")";
-}
-
-std::string point_text(const Eigen::Vector3d& p) {
-  std::ostringstream s;
-  s.precision(9);
-  s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return s.str();
 }
 
 // Entry checks of linear_front.h that need no meshing; returns the front's triangles by sorted face.
