@@ -2409,7 +2409,7 @@ OuterStraightening straighten_outer_front(LayerResult<3>& r, std::size_t wall_no
           coords.resize(3 * nn);
           for (std::size_t j = 0; j < nn; ++j)
             for (int d = 0; d < 3; ++d) coords[3 * j + static_cast<std::size_t>(d)] = x[static_cast<std::size_t>(blk.cell(bc.second)[j])][d];
-          if (!certifier.certify(blk.type, blk.order, coords.data()).valid) failing.insert(bc);
+          if (!cell_valid<3>(certifier, blk.type, blk.order, coords.data())) failing.insert(bc);
         }
     }
     if (failing.empty()) break;

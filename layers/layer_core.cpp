@@ -142,7 +142,7 @@ class LayerAttempts {
           for (std::size_t c = begin; c < end; ++c) {
             for (std::size_t k = 0; k < npc; ++k)
               for (int d = 0; d < Dim; ++d) coords[Dim * k + static_cast<std::size_t>(d)] = r_.mesh.nodes[cells[c * npc + k]][d];
-            valid_[c] = certifiers_[w]->certify(type, q_, coords.data()).valid ? 1 : 0;
+            valid_[c] = cell_valid<Dim>(*certifiers_[w], type, q_, coords.data()) ? 1 : 0;
           }
         });
         for (std::size_t c = 0; c < n; ++c) {

@@ -85,6 +85,21 @@ bool surface_quad_plane_coords(int order, const Eigen::Vector3d* nodes, double* 
 // is invalid (proven, all bounds 0). Throws InputError for a non-finite node.
 JacobianBounds certify_surface_quad(JacobianCertifier& certifier, int order, const Eigen::Vector3d* nodes);
 
+// True when the corners of a simplex cell (its first Dim + 1 nodes, coordinates xs row-major in
+// Dim dimensions) span a positive area (2D) or volume (3D), by the exact predicates; true for
+// every other cell type. A curved cell can be certified (det J > 0 everywhere) with its corner
+// simplex inverted, which `gmsh -check` and solvers that measure cells by their vertices reject:
+// every stage that accepts cells asks both (cell_valid below).
+template <int Dim>
+bool simplex_corners_positive(CellType type, const double* xs);
+
+// The verdict every stage uses: certified det J > 0 (certifier.certify) and, for a simplex, its
+// corners positive. coords as for certify, in Dim = ref_dim(type) dimensions.
+template <int Dim>
+bool cell_valid(JacobianCertifier& certifier, CellType type, int order, const double* coords) {
+  return certifier.certify(type, order, coords).valid && simplex_corners_positive<Dim>(type, coords);
+}
+
 // det J of the cell's mapping at reference point xi (for sampling and tests).
 double jacobian_determinant(CellType type, int order, const double* coords, const double* xi);
 

@@ -196,7 +196,7 @@ std::size_t split_quads(HybridMesh<2>& mesh) {
           }
           for (int k = 0; k < tri.size(); ++k)
             for (int x = 0; x < 2; ++x) coords[2 * k + x] = mesh.nodes[cand[h][k]][x];
-          if (!certifier.certify(CellType::Triangle, q, coords.data()).valid) valid = false;
+          if (!cell_valid<2>(certifier, CellType::Triangle, q, coords.data())) valid = false;
         }
         if (valid) break;
       }

@@ -277,21 +277,6 @@ std::string json_string(const std::string& x) {
 }
 
 template <int Dim>
-bool simplex_corners_positive(CellType type, const double* xs) {
-  if constexpr (Dim == 2) {
-    if (type != CellType::Triangle) return true;
-    const Eigen::Vector2d a(xs[0], xs[1]), b(xs[2], xs[3]), c(xs[4], xs[5]);
-    return sign_orient2d(a, b, c) > 0;
-  } else {
-    if (type != CellType::Tetrahedron) return true;
-    const Eigen::Vector3d a(xs[0], xs[1], xs[2]), b(xs[3], xs[4], xs[5]), c(xs[6], xs[7], xs[8]), d(xs[9], xs[10], xs[11]);
-    return positive_tet(a, b, c, d);
-  }
-}
-template bool simplex_corners_positive<2>(CellType, const double*);
-template bool simplex_corners_positive<3>(CellType, const double*);
-
-template <int Dim>
 QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>* metric, const QualityOptions& options,
                              CellQuality* per_cell) {
   QualityReport r;

@@ -97,12 +97,6 @@ struct QualityOptions {
   int histogram_bins = 12;
 };
 
-// True when the corners of a simplex cell (its first Dim + 1 nodes, coordinates xs as
-// gather_coords lays them out) span a positive area (2D) or volume (3D), by the exact predicates;
-// true for every other cell type.
-template <int Dim>
-bool simplex_corners_positive(CellType type, const double* xs);
-
 // Metric conformity: every distinct linear edge of the cells is measured as the curved Lagrange
 // edge it is; the edges of triangle cells are counted once more in triangle_metric.
 // metric may be null (no metric section, e.g. for `plaf check`).

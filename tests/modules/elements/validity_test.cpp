@@ -687,3 +687,28 @@ TEST_CASE("validity: surface quadrilaterals are certified in the plane of their 
   bad[1].y() = std::numeric_limits<double>::infinity();
   CHECK_THROWS_AS(certify_surface_quad(certifier, 1, bad.data()), InputError);
 }
+
+TEST_CASE("validity: cell_valid refuses a curved tetrahedron certified positive whose corners are inverted") {
+  // Corners: the apex (0.25, 0.25, -0.05) lies below the base triangle's plane, so the corner
+  // tetrahedron is inverted; the base's edges 0-1 and 2-0 bow down by 0.15 under it (and edge 1-2
+  // bulges out by 0.05), which turns the curved cell right side up: det J > 0 everywhere, proven.
+  // (Found by a search over midnode offsets; the layer stage met such cells on a published
+  // capsule at h0 1e-5 L, accepted them, and the quality stage then failed the run.)
+  const Coords x = {0,     0,     0,     1,     0,     0,      0,     1,     0,      0.25, 0.25, -0.05,
+                    0.5,   0,     -0.15, 0.55,  0.5,   0,      0,     0.5,   -0.15,  0.125, 0.125, -0.075,
+                    0.125, 0.625, -0.025, 0.625, 0.125, -0.025};
+  JacobianCertifier certifier;
+  const JacobianBounds jb = certifier.certify(CellType::Tetrahedron, 2, x.data());
+  CHECK(jb.valid);
+  CHECK(jb.proven);
+  CHECK_FALSE(simplex_corners_positive<3>(CellType::Tetrahedron, x.data()));
+  CHECK_FALSE(cell_valid<3>(certifier, CellType::Tetrahedron, 2, x.data()));
+  // The apex above the plane (and the midnodes on the straight edges): both verdicts agree.
+  Coords up = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0.25, 0.25, 0.5};
+  const int edges[6][2] = {{0, 1}, {1, 2}, {2, 0}, {3, 0}, {3, 2}, {3, 1}};
+  for (const auto& e : edges)
+    for (int d = 0; d < 3; ++d) up.push_back(0.5 * (up[3 * e[0] + d] + up[3 * e[1] + d]));
+  CHECK(cell_valid<3>(certifier, CellType::Tetrahedron, 2, up.data()));
+  // Prisms have no corner simplex: the certificate alone decides.
+  CHECK(simplex_corners_positive<3>(CellType::Prism, x.data()));
+}
