@@ -432,14 +432,19 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
     for (const char* f : {"report", "png"})
       if (std::find(formats.begin(), formats.end(), f) == formats.end()) formats.push_back(f);
   }
+  WriteJob<Dim> job{mesh, per_cell, report, c, base};
+  if (s.layers) {
+    job.coverage = &s.layers->coverage;
+    job.layers = static_cast<int>(s.layers->layers.size());
+  }
   for (const std::string& format : formats)
     if (format != "report")
       writer_registry<Dim>().create(format, c.file.string() + ": output.formats",
-                                    WriteJob<Dim>{mesh, per_cell, report, c, base});
+                                    job);
   clock.done("write", outputs.final_base().string() + ".*");
   report.timings_s = timings;
   if (std::find(formats.begin(), formats.end(), "report") != formats.end())
-    writer_registry<Dim>().create("report", "", WriteJob<Dim>{mesh, per_cell, report, c, base});
+    writer_registry<Dim>().create("report", "", job);
   outputs.commit();
   out << report_summary(report);
   for (const std::string& f : outcome.failures) std::cerr << "plaf: error: " << config_path.string() << ": " << f << '\n';

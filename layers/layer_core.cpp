@@ -339,10 +339,10 @@ class Growth {
           // Its site: the failing stop point nearest their centre, standing for the wall the part
           // loses (every column that had not stopped yet).
           const std::vector<std::size_t> at = g_.failure_stop_points(part, attempts_.last_failures());
-          if (!at.empty()) {
-            const std::vector<typename FrontGrower<Dim>::Vec> points = g_.stop_points(part);
-            add_site(points[nearest_centre(points, at)], growing_measure(part, held_[part]), layer);
-          }
+          const std::vector<typename FrontGrower<Dim>::Vec> points = g_.stop_points(part);
+          if (!at.empty()) add_site(points[nearest_centre(points, at)], growing_measure(part, held_[part]), layer);
+          for (std::size_t k = 0; k < points.size(); ++k)
+            if (k >= held_[part].size() || !held_[part][k]) add_short_column(points[k], layer);
           r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
                               ": stopped, cells still invalid or colliding after " +
                               std::to_string(p_.shrink_attempts) + " shrinks");
@@ -488,6 +488,7 @@ class Growth {
       // coverage of 0; without it all 40 layers grow on 70.6 % of its wall, in 192 s instead of
       // 110 s.)
       if (added == 0) return false;
+      for (std::size_t k : now) add_short_column(points[k], layer);
       const std::string line = "layer " + std::to_string(layer) + ", " + attempts_.part_name(part) + ": " +
                                std::to_string(added) + " columns stopped where no valid cell could be grown at 1/16 of " +
                                "the metric's height: wall " + num(area) + ", first at " +
@@ -563,6 +564,12 @@ class Growth {
   }
 
   // A site of the last build's failures (LayerCoverage::Site).
+  void add_short_column(const typename FrontGrower<Dim>::Vec& x, int layer) {
+    LayerCoverage::Column c;
+    for (int i = 0; i < Dim; ++i) c.point[static_cast<std::size_t>(i)] = x[i];
+    c.layer = layer;
+    r_.coverage.short_columns.push_back(c);
+  }
   void add_site(const typename FrontGrower<Dim>::Vec& x, double measure, int layer) {
     LayerCoverage::Site s;
     for (int i = 0; i < Dim; ++i) s.point[static_cast<std::size_t>(i)] = x[i];

@@ -9,11 +9,13 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <unordered_map>
 
 #include <Eigen/Geometry>
 
 #include "modules/base/error.h"
 #include "modules/elements/lagrange.h"
+#include "modules/geometry/aabb_tree.h"
 #include "modules/io/atomic_file.h"
 #include "modules/io/picture_canvas.h"
 
@@ -254,12 +256,57 @@ void draw_cut(cairo_t* cr, const View& v, const Cut& cut, double lw) {
     }
 }
 
-// The shaded outer front (or wall) in the panel (ox, oy, w, h).
+bool is_wall(const HybridMesh<3>& mesh, const CellBlock& b) {
+  return b.tag >= 0 && (b.type == CellType::Triangle || b.type == CellType::Quadrilateral) &&
+         mesh.tags[static_cast<std::size_t>(b.tag)].kind == BoundaryKind::Wall;
+}
+
+// Per wall corner node, the fewest layers its column grew (Picture3Options::short_columns): each
+// short column goes to the corner nearest its point (the largest barycentric weight of its
+// closest point on the wall's corner triangles). Corners absent grew o.layers.
+std::unordered_map<NodeId, int> corner_layers(const HybridMesh<3>& mesh, const Picture3Options& o) {
+  std::unordered_map<NodeId, int> out;
+  if (o.short_columns.empty()) return out;
+  std::vector<std::array<int, 3>> tris;
+  for (const CellBlock& b : mesh.boundary) {
+    if (!is_wall(mesh, b)) continue;
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      const NodeId* c = b.cell(i);
+      tris.push_back({static_cast<int>(c[0]), static_cast<int>(c[1]), static_cast<int>(c[2])});
+      if (b.type == CellType::Quadrilateral) tris.push_back({static_cast<int>(c[0]), static_cast<int>(c[2]), static_cast<int>(c[3])});
+    }
+  }
+  if (tris.empty()) return out;
+  const TriangleTree tree(mesh.nodes, tris);
+  for (const Picture3Options::ShortColumn& s : o.short_columns) {
+    const TriangleTree::Closest c = tree.closest(s.point);
+    if (c.triangle < 0) continue;
+    int k = 0;
+    c.barycentric.maxCoeff(&k);
+    const NodeId id = static_cast<NodeId>(tris[static_cast<std::size_t>(c.triangle)][static_cast<std::size_t>(k)]);
+    const int grown = std::max(0, s.layer - 1);
+    const auto [it, added] = out.emplace(id, grown);
+    if (!added) it->second = std::min(it->second, grown);
+  }
+  return out;
+}
+
+// The colour of a wall facet whose columns grew `fraction` of the stack (1: the outer front's
+// blue; below it yellow at 0.9 through orange to red at none).
+std::array<double, 3> coverage_colour(double fraction) {
+  if (fraction >= 1) return {0.55, 0.7, 0.9};
+  const double t = std::clamp(fraction / 0.9, 0.0, 1.0);
+  return {0.95, 0.15 + 0.75 * t, 0.1 + 0.1 * t};
+}
+
+// The shaded outer front (or wall, then coloured by the layers grown when `grown` holds any
+// corner) in the panel (ox, oy, w, h).
 void draw_shaded(cairo_t* cr, const HybridMesh<3>& mesh, const Vec& view, double ox, double oy, double w, double h,
-                 double lw, const std::optional<Vec>& focus) {
+                 double lw, const std::optional<Vec>& focus, const std::unordered_map<NodeId, int>& grown, int layers) {
   int outer = -1;
-  for (std::size_t t = 0; t < mesh.tags.size(); ++t)
-    if (mesh.tags[t].name == "layers_outer") outer = static_cast<int>(t);
+  if (grown.empty())
+    for (std::size_t t = 0; t < mesh.tags.size(); ++t)
+      if (mesh.tags[t].name == "layers_outer") outer = static_cast<int>(t);
   const Vec d = view.normalized();
   Vec up = Vec::UnitZ();
   if (std::abs(up.dot(d)) > 0.95) up = Vec::UnitY();
@@ -269,6 +316,7 @@ void draw_shaded(cairo_t* cr, const HybridMesh<3>& mesh, const Vec& view, double
   struct Tri {
     std::array<Vec2, 3> p;
     double depth, shade;
+    std::array<double, 3> colour;
   };
   std::vector<Tri> tris;
   Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
@@ -281,7 +329,15 @@ void draw_shaded(cairo_t* cr, const HybridMesh<3>& mesh, const Vec& view, double
     if (b.tag < 0 || (b.type != CellType::Triangle && b.type != CellType::Quadrilateral)) continue;
     const bool take = outer >= 0 ? b.tag == outer : mesh.tags[static_cast<std::size_t>(b.tag)].kind == BoundaryKind::Wall;
     if (!take) continue;
+    const int corners = b.type == CellType::Triangle ? 3 : 4;
     for (std::size_t i = 0; i < b.size(); ++i) {
+      int fewest = layers;
+      for (int k = 0; k < corners && !grown.empty(); ++k) {
+        const auto it = grown.find(b.cell(i)[k]);
+        if (it != grown.end()) fewest = std::min(fewest, it->second);
+      }
+      const std::array<double, 3> colour =
+          grown.empty() ? coverage_colour(1) : coverage_colour(layers > 0 ? static_cast<double>(fewest) / layers : 1.0);
       Facet f{b.type, b.order, {}};
       for (int k = 0; k < b.nodes_per_cell(); ++k) f.x.push_back(mesh.nodes[static_cast<std::size_t>(b.cell(i)[k])]);
       const Sampled s = sample(f, coarse ? 1 : b.order);
@@ -292,7 +348,7 @@ void draw_shaded(cairo_t* cr, const HybridMesh<3>& mesh, const Vec& view, double
         const Vec nrm = (bb - a).cross(c - a);
         const double len = nrm.norm();
         const double shade = len > 0 ? 0.3 + 0.7 * std::abs(nrm.dot(light)) / len : 0.3;
-        tris.push_back({{to2(a), to2(bb), to2(c)}, (a + bb + c).dot(d) / 3, shade});
+        tris.push_back({{to2(a), to2(bb), to2(c)}, (a + bb + c).dot(d) / 3, shade, colour});
       }
       for (int k : s.outline) {
         lo = lo.cwiseMin(to2(s.p[static_cast<std::size_t>(k)]));
@@ -309,7 +365,7 @@ void draw_shaded(cairo_t* cr, const HybridMesh<3>& mesh, const Vec& view, double
     cairo_line_to(cr, v.px(t.p[1].x()), v.py(t.p[1].y()));
     cairo_line_to(cr, v.px(t.p[2].x()), v.py(t.p[2].y()));
     cairo_close_path(cr);
-    cairo_set_source_rgb(cr, 0.55 * t.shade, 0.7 * t.shade, 0.9 * t.shade);
+    cairo_set_source_rgb(cr, t.colour[0] * t.shade, t.colour[1] * t.shade, t.colour[2] * t.shade);
     cairo_fill_preserve(cr);
     cairo_set_line_width(cr, 0.3 * lw);
     cairo_stroke(cr);  // hides the seams between sub-triangles
@@ -388,14 +444,20 @@ void write_png(const HybridMesh<3>& mesh, const std::vector<std::uint8_t>& valid
   cairo_save(cr);
   cairo_rectangle(cr, cut_w, 0, w - cut_w, main_h);
   cairo_clip(cr);
-  draw_shaded(cr, mesh, options.view, cut_w, 0, w - cut_w, main_h, lw, options.focus);
+  const std::unordered_map<NodeId, int> grown = corner_layers(mesh, options);
+  draw_shaded(cr, mesh, options.view, cut_w, 0, w - cut_w, main_h, lw, options.focus, grown, options.layers);
   cairo_restore(cr);
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_set_font_size(cr, 16);
   cairo_move_to(cr, cut_w + 8, 48);
   // With a fill the layers' outer front is interior (no layers_outer facets): the wall is shaded.
   const bool outer = std::any_of(mesh.tags.begin(), mesh.tags.end(), [](const BoundaryTag& t) { return t.name == "layers_outer"; });
-  cairo_show_text(cr, outer ? "outer front, shaded" : "wall, shaded");
+  if (!grown.empty()) {
+    const std::string legend = "wall by layers grown: blue all " + std::to_string(options.layers) + ", yellow to red fewer";
+    cairo_show_text(cr, legend.c_str());
+  } else {
+    cairo_show_text(cr, outer ? "outer front, shaded" : "wall, shaded");
+  }
   const std::string plane = "cut: plane through (" + std::to_string(fr.p.x()) + ", " + std::to_string(fr.p.y()) + ", " +
                             std::to_string(fr.p.z()) + "), normal (" + std::to_string(fr.n.x()) + ", " +
                             std::to_string(fr.n.y()) + ", " + std::to_string(fr.n.z()) + ")";

@@ -9,7 +9,10 @@
 //  - a shaded view of the outer front (the facets tagged `layers_outer`; else, as with a fill, the
 //    wall's, labelled so): an
 //    orthographic view along `view`, each curved facet split into sub-triangles, painted back to
-//    front with Lambert shading, facet outlines drawn thin.
+//    front with Lambert shading, facet outlines drawn thin. Where some columns of the layers ended
+//    short (Picture3Options::short_columns) the view shows the wall instead, each facet coloured
+//    by the fewest layers any of its corners' columns grew: blue all of them, yellow to red fewer,
+//    red none (the coverage, seen).
 // The plane's axes u, v: the two of x, y, z least aligned with its normal, in that order, made
 // orthonormal in the plane (the plane z = 0: u = x, v = y; y = 0: u = x, v = z).
 #pragma once
@@ -42,6 +45,16 @@ struct Picture3Options {
   std::optional<Eigen::Vector3d> focus;
   double focus_radius = 0;
   std::string focus_label;
+  // The columns of the layers that ended short (LayerCoverage::short_columns): where each stop
+  // point stood and the layer it ended in; `layers` the stack the others grew. Each is given to
+  // the wall corner nearest its point (its own wall node, wherever its stack is lower than half
+  // the wall's edges).
+  struct ShortColumn {
+    Eigen::Vector3d point;
+    int layer = 0;
+  };
+  std::vector<ShortColumn> short_columns;
+  int layers = 0;
 };
 
 // The default cut of a mesh: the plane of its first symmetry facet, if any, else the plane through

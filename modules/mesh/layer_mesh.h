@@ -81,6 +81,15 @@ struct LayerCoverage {
     bool crossing = false;  // the failures included front crossings (else invalid cells only)
   };
   std::vector<Site> sites;
+  // Every column that ended short of its stop rule, one by one: where its stop point stood when
+  // it ended (on the front, its stack's height above its wall node) and the layer it ended in
+  // (it has layer - 1 layers); a part that failed whole ends each of its growing columns so. The
+  // 3D picture colours the wall by them (picture3d.h).
+  struct Column {
+    std::array<double, 3> point{};
+    int layer = 0;
+  };
+  std::vector<Column> short_columns;
 };
 
 // The stops of a coverage grouped by region: each site joins the first region (largest first)

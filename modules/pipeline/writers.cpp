@@ -81,6 +81,11 @@ void write_picture_3d(const WriteJob<3>& j) {
     po.cut_point = *po.focus;
   }
   po.view = Eigen::Vector3d(o.view[0], o.view[1], o.view[2]);
+  if (j.coverage) {
+    for (const LayerCoverage::Column& c : j.coverage->short_columns)
+      po.short_columns.push_back({Eigen::Vector3d(c.point[0], c.point[1], c.point[2]), c.layer});
+    po.layers = j.layers;
+  }
   // A surface run's flags are its facets' (no cells): the picture draws them all valid.
   const bool cells = j.per_cell.valid.size() == j.mesh.num_cells();
   write_png(j.mesh, cells ? j.per_cell.valid : std::vector<std::uint8_t>{}, j.base.string() + ".png", po);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "modules/mesh/hybrid_mesh.h"
+#include "modules/mesh/layer_mesh.h"
 #include "modules/mesh/quality.h"
 #include "modules/pipeline/registry.h"
 #include "modules/pipeline/run_config.h"
@@ -21,6 +22,9 @@ struct WriteJob {
   const QualityReport& report;
   const RunConfig& config;
   std::filesystem::path base;  // output path without extension
+  // The layer stage's coverage and its layer count (null, 0: no layers), for the 3D picture.
+  const LayerCoverage* coverage = nullptr;
+  int layers = 0;
 };
 
 template <int Dim>

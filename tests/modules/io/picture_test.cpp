@@ -283,6 +283,59 @@ TEST_CASE("picture 3D: a plane across the closed shell cuts its cells into lines
   CHECK_FALSE(fs::exists(bad));
 }
 
+TEST_CASE("picture 3D: columns that ended short colour the wall from yellow to red, in place of the outer front") {
+  plaf::test::ShellOptions o;
+  o.order = 2;
+  const plaf::test::SphericalShell s = plaf::test::spherical_shell(o);
+  TempDir dir("picture3d_coverage");
+  Picture3Options po;
+  po.width = 400;
+  po.height = 300;
+  default_cut(s.mesh, po.cut_point, po.cut_normal);
+  po.layers = 4;
+  // The wall's corner nodes, each a column's base.
+  std::vector<NodeId> corners;
+  for (const CellBlock& b : s.mesh.boundary)
+    if (s.mesh.tags[static_cast<std::size_t>(b.tag)].kind == BoundaryKind::Wall)
+      for (std::size_t i = 0; i < b.size(); ++i) corners.insert(corners.end(), b.cell(i), b.cell(i) + 3);
+  REQUIRE_FALSE(corners.empty());
+  // Count the shaded panel's (x >= 220) warm pixels (red to yellow: red high, blue low) and blue ones.
+  auto panel = [&](const char* name) {
+    const fs::path path = dir.path / name;
+    write_png(s.mesh, {}, path, po);
+    const Image image(path);
+    std::array<std::size_t, 2> n{0, 0};
+    for (int y = 40; y < 300; ++y)
+      for (int x = 220; x < 400; ++x) {
+        const Rgb c = image.at(x, y);
+        if (white(c)) continue;
+        if (c.r > 100 && c.r > c.b + 60) ++n[0];
+        if (c.b > c.r + 20) ++n[1];
+      }
+    return n;
+  };
+  const std::array<std::size_t, 2> none = panel("none.png");  // the outer front, blue
+  CHECK(none[0] == 0);
+  CHECK(none[1] > 1000);
+  // Every column ended in layer 1, its point a little above its wall node: all red.
+  for (NodeId id : corners) po.short_columns.push_back({1.001 * s.mesh.nodes[static_cast<std::size_t>(id)], 1});
+  const std::array<std::size_t, 2> all = panel("all.png");
+  MESSAGE("warm, blue pixels: " << all[0] << ", " << all[1]);
+  CHECK(all[0] > 1000);
+  CHECK(all[1] == 0);
+  // One column ended in layer 3 (2 of 4 layers): its facets orange, the rest of the wall blue.
+  // (The column nearest the viewer, who looks along po.view: the smallest depth x . view.)
+  const NodeId front = *std::min_element(corners.begin(), corners.end(), [&](NodeId a, NodeId b) {
+    return s.mesh.nodes[static_cast<std::size_t>(a)].dot(po.view) < s.mesh.nodes[static_cast<std::size_t>(b)].dot(po.view);
+  });
+  po.short_columns = {{1.001 * s.mesh.nodes[static_cast<std::size_t>(front)], 3}};
+  const std::array<std::size_t, 2> one = panel("one.png");
+  MESSAGE("warm, blue pixels: " << one[0] << ", " << one[1]);
+  CHECK(one[1] > 1000);
+  CHECK(one[0] > 20);
+  CHECK(one[0] < all[0] / 2);  // one corner of a coarse shell: its few facets
+}
+
 TEST_CASE("chart: series drawn in their palette colours on linear and log axes, and side by side keeps both panels") {
   TempDir d("chart");
   std::vector<ChartSeries> series(2);
