@@ -7,6 +7,7 @@
 
 #include "modules/pipeline/config.h"
 #include "modules/base/error.h"
+#include "modules/base/format.h"
 #include "modules/elements/lagrange.h"
 #include "modules/pipeline/stages.h"
 #include "modules/pipeline/writers.h"
@@ -40,6 +41,17 @@ void parse_output(const ConfigNode& o, RunConfig& r) {
       r.output.has_cut = true;
       r.output.cut_point = vector3(c, "point", r.output.cut_point, false);
       r.output.cut_normal = vector3(c, "normal", r.output.cut_normal, true);
+    }
+    for (const ConfigNode& c : o.child_list("cuts")) {
+      OutputParams::Cut cut;
+      if (!c.has("point") || !c.has("normal")) throw ConfigError(c.where() + ": a cut needs its point and normal");
+      cut.point = vector3(c, "point", cut.point, false);
+      cut.normal = vector3(c, "normal", cut.normal, true);
+      cut.radius = c.get_double("radius", 0);
+      if (!(cut.radius >= 0) || !std::isfinite(cut.radius))
+        throw ConfigError(c.where("radius") + ": must be a finite size >= 0 (0: no zoom panel), got " + num(cut.radius));
+      cut.label = c.get_string("label", "");
+      r.output.cuts.push_back(cut);
     }
     r.output.view = vector3(o, "view", r.output.view, true);
   }

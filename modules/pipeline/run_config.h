@@ -115,6 +115,15 @@ struct OutputParams {
   // shaded view's direction.
   bool has_cut = false;
   std::array<double, 3> cut_point{0, 0, 0}, cut_normal{0, 0, 1};
+  // More cuts (`output.cuts`), each a picture of its own, NAME.cut<k>.png (k from 1): its plane,
+  // and with a radius a zoom panel of that half-width around the point (marked on the shaded
+  // view), e.g. stations across a trailing edge.
+  struct Cut {
+    std::array<double, 3> point{0, 0, 0}, normal{0, 0, 1};
+    double radius = 0;  // 0: no zoom panel
+    std::string label;
+  };
+  std::vector<Cut> cuts;
   std::array<double, 3> view{-1, -0.6, -0.8};
   // A failed run (exit 2) writes its report and picture to DIR/NAME.failed/; its mesh too only
   // with this (the CLI's --keep-invalid, not a config key).

@@ -88,7 +88,26 @@ void write_picture_3d(const WriteJob<3>& j) {
   }
   // A surface run's flags are its facets' (no cells): the picture draws them all valid.
   const bool cells = j.per_cell.valid.size() == j.mesh.num_cells();
-  write_png(j.mesh, cells ? j.per_cell.valid : std::vector<std::uint8_t>{}, j.base.string() + ".png", po);
+  static const std::vector<std::uint8_t> none;
+  const std::vector<std::uint8_t>& valid = cells ? j.per_cell.valid : none;
+  write_png(j.mesh, valid, j.base.string() + ".png", po);
+  // output.cuts: a picture each, its plane through its point, zoomed on the point with a radius
+  // (the failure's focus is the main picture's).
+  for (std::size_t k = 0; k < o.cuts.size(); ++k) {
+    const OutputParams::Cut& c = o.cuts[k];
+    Picture3Options pk = po;
+    pk.title = po.title + ", cut " + std::to_string(k + 1) + (c.label.empty() ? "" : ": " + c.label);
+    pk.cut_point = Eigen::Vector3d(c.point[0], c.point[1], c.point[2]);
+    pk.cut_normal = Eigen::Vector3d(c.normal[0], c.normal[1], c.normal[2]);
+    pk.focus.reset();
+    pk.zooms.clear();  // output.zooms are boxes in the main cut's plane
+    if (c.radius > 0) {
+      pk.focus = pk.cut_point;
+      pk.focus_radius = c.radius;
+      pk.focus_label = c.label.empty() ? "around the cut's point" : c.label;
+    }
+    write_png(j.mesh, valid, j.base.string() + ".cut" + std::to_string(k + 1) + ".png", pk);
+  }
 }
 
 template <int Dim>

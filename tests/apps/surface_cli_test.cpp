@@ -444,7 +444,10 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
     CAPTURE(keep);
     const TempDir d("surface_cli_cover_fail");
     write_text(d / "case.stl", ascii_stl(two));
-    const fs::path cfg = write_text(d / "case.yaml", yaml + "layers: {max: 8, min_coverage: 1, proximity: 0}\n");
+    // A cut across the gap (output.cuts): a picture of its own, NAME.cut1.png, zoomed on the gap.
+    const fs::path cfg = write_text(d / "case.yaml", yaml + "layers: {max: 8, min_coverage: 1, proximity: 0}\n"
+                                                            "output: {cuts: [{point: [1.0025, 0, 0], normal: [0, 1, 0], "
+                                                            "radius: 0.05, label: the gap}]}\n");
     const PlafResult r = plaf::test::run_plaf(
         "run " + cfg.string() + " --out " + (d / "out").string() + (keep ? " --keep-invalid" : ""), d);
     INFO(r.err);
@@ -454,6 +457,7 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
     const fs::path failed = d / "out" / "case.failed";
     CHECK(fs::exists(failed / "case.report.json"));
     CHECK(fs::exists(failed / "case.png"));
+    CHECK(fs::exists(failed / "case.cut1.png"));
     CHECK(fs::exists(failed / "case.msh") == keep);
     CHECK_FALSE(fs::exists(d / "out" / "case.msh"));
     const std::string report = read_text(failed / "case.report.json");

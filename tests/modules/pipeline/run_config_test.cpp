@@ -335,6 +335,15 @@ TEST_CASE("run config: 3D geometries make a 3D run with its surface section, a 3
   CHECK(sp.curvature_h_min == 0);
   CHECK(s.output.formats == std::vector<std::string>{"msh", "vtu", "report", "png"});
   CHECK_FALSE(s.output.has_cut);
+  CHECK(s.output.cuts.empty());
+  const RunConfig cuts = parse_run_config(sphere + "output: {cuts: [{point: [1, 2, 3], normal: [0, 1, 0], radius: 0.5, label: tip}, "
+                                                   "{point: [0, 0, 0], normal: [0, 0, 1]}]}\n", "c.yaml");
+  REQUIRE(cuts.output.cuts.size() == 2);
+  CHECK(cuts.output.cuts[0].point[2] == 3);
+  CHECK(cuts.output.cuts[0].normal[1] == 1);
+  CHECK(cuts.output.cuts[0].radius == 0.5);
+  CHECK(cuts.output.cuts[0].label == "tip");
+  CHECK(cuts.output.cuts[1].radius == 0);
 
   const std::string wing = "geometry: {type: wing, file: e387.dat, span: 3, root: rounded, tip: symmetry}\n"
                            "metric: {type: uniform, sizes: [0.1, 0.2, 0.3]}\n";
@@ -387,6 +396,13 @@ TEST_CASE("run config: 3D keys are checked like the 2D ones") {
   CHECK(err("geometry: {type: sphere}\noutput: {cut: {normal: [0, 0, 0]}}\n") ==
         doctest::Contains("output.cut.normal: expected [x, y, z], not all zero"));
   CHECK(err("geometry: {type: sphere}\noutput: {view: [1, 2]}\n") == doctest::Contains("output.view: expected [x, y, z]"));
+  CHECK(err("geometry: {type: sphere}\noutput: {cuts: [{point: [0, 0, 0]}]}\n") ==
+        doctest::Contains("output.cuts[0]: a cut needs its point and normal"));
+  CHECK(err("geometry: {type: sphere}\noutput: {cuts: [{point: [0, 0, 0], normal: [1, 0, 0], radius: -1}]}\n") ==
+        doctest::Contains("output.cuts[0].radius: must be a finite size >= 0"));
+  CHECK(err("geometry: {type: sphere}\noutput: {cuts: [{point: [0, 0, 0], normal: [1, 0, 0], zoom: 1}]}\n") ==
+        doctest::Contains("output.cuts[0].zoom"));
+  CHECK(err("output: {cuts: [{point: [0, 0, 0], normal: [1, 0, 0]}]}\n") == doctest::Contains("output.cuts"));  // 2D: unknown
   CHECK(err("geometry: {type: sphere}\noutput: {cut: {point: [0, 0, 0], nromal: [0, 0, 1]}}\n") ==
         doctest::Contains("nromal"));
   CHECK(err("output: {view: [1, 0, 0]}\n") == doctest::Contains("output.view"));  // 2D: unknown
