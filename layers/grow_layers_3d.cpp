@@ -339,6 +339,35 @@ struct PartLayer {
   std::vector<int> sym_quad_tag, sym_tri_tag;
 };
 
+// The metric's layer heights (layer_height) asked for since the part's front last moved, keyed by
+// point and direction bit for bit: the shrink, attenuation and stop rounds of a layer rebuild it
+// from the same front, up to dozens of times (the published Orion capsule at h0 1e-5 L, Q2: about
+// 900 builds in 40 layers), and the wall law's distance to the wall, a closest-point search, was
+// a quarter of each build. A key not met before is evaluated; the result is the same either way.
+class HeightMemo {
+ public:
+  double operator()(const MetricField<3>& metric, const Vec& x, const Vec& d, bool integrate) {
+    const Key k{x.x(), x.y(), x.z(), d.x(), d.y(), d.z(), integrate ? 1.0 : 0.0};
+    const auto it = map_.find(k);
+    if (it != map_.end()) return it->second;
+    const double h = layer_height<3>(metric, x, d, integrate);
+    map_.emplace(k, h);
+    return h;
+  }
+  void clear() { map_.clear(); }
+
+ private:
+  using Key = std::array<double, 7>;
+  struct Hash {
+    std::size_t operator()(const Key& k) const {
+      std::size_t h = 0;
+      for (double v : k) h = h * 1000003u ^ std::hash<double>()(v);
+      return h;
+    }
+  };
+  std::unordered_map<Key, double, Hash> map_;
+};
+
 // Builds one layer on one part (steps 2-6).
 class PartLayerBuilder {
  public:
@@ -346,10 +375,10 @@ class PartLayerBuilder {
                    const CurvedFront<3>& front0, const Part& part, const std::vector<Plane>& planes, bool first_layer,
                    const std::vector<double>& scale, const std::vector<std::uint8_t>& stopped,
                    const std::vector<std::uint8_t>& held, double f_atten,
-                   std::vector<std::pair<std::string, std::size_t>>* counts)
+                   std::vector<std::pair<std::string, std::size_t>>* counts, HeightMemo& heights)
       : mesh_(mesh), metric_(metric), p_(p), q_(q), np_(num_nodes(CellType::Triangle, q)),
         front0_(front0), part_(part), planes_(planes), first_(first_layer),
-        scale_(scale), stopped_(stopped), held_(held), f_atten_(f_atten), counts_(counts) {}
+        scale_(scale), stopped_(stopped), held_(held), f_atten_(f_atten), counts_(counts), heights_(heights) {}
 
   PartLayer build() {
     const std::size_t n = part_.size();
@@ -1337,12 +1366,12 @@ class PartLayerBuilder {
     // the front's sag grew from 0.005 to 0.012 in 30 layers instead of vanishing).
     for (std::size_t l = 0; l < n; ++l)
       if (part_.is_vertex[l]) h_[l] = fanned_ && fan_node_[l] ? std::numeric_limits<double>::infinity()
-                                                            : layer_height<3>(metric_, x_[l], nn_[l].n, p_.integrate_height);
+                                                            : heights_(metric_, x_[l], nn_[l].n, p_.integrate_height);
     if (fanned_)
       for (const Dir& r : dirs_) {
         const std::size_t l = static_cast<std::size_t>(r.base);
         if (part_.is_vertex[l] && fan_node_[l] && r.normal)
-          h_[l] = std::min(h_[l], layer_height<3>(metric_, x_[l], r.d, p_.integrate_height));
+          h_[l] = std::min(h_[l], heights_(metric_, x_[l], r.d, p_.integrate_height));
       }
     // The shrinks' scales (layer_core.h, step 3) apply to the vertices before a high-order node
     // interpolates them: scaling the nodes one by one raised a bump on the faces just outside a
@@ -1383,7 +1412,7 @@ class PartLayerBuilder {
     const bool own = p_.high_order_heights == HighOrderHeights::Own;
     for (std::size_t l = 0; l < n; ++l)
       if (!part_.is_vertex[l] && own && !(fanned_ && fan_node_[l])) {
-        h_[l] = layer_height<3>(metric_, x_[l], nn_[l].n, p_.integrate_height) * scale_[l];
+        h_[l] = heights_(metric_, x_[l], nn_[l].n, p_.integrate_height) * scale_[l];
       } else if (!part_.is_vertex[l]) {
         double h = 0;
         for (int k = 0; k < 4; ++k) h += part_.tw[l][static_cast<std::size_t>(k)] * h_[static_cast<std::size_t>(part_.tv[l][static_cast<std::size_t>(k)])];
@@ -1959,6 +1988,7 @@ class PartLayerBuilder {
   const std::vector<std::uint8_t>& held_;     // per stop point: stopped before this layer (empty: none)
   const double f_atten_;
   std::vector<std::pair<std::string, std::size_t>>* counts_;
+  HeightMemo& heights_;
   std::vector<Vec> x_, top_;
   std::vector<double> h_, dh_;
   std::vector<NodeNormal> nn_;
@@ -2013,6 +2043,7 @@ class SurfaceFronts final : public FrontGrower<3> {
     parts_ = PartBuilder(front0).parts(planes_);
     grown_.assign(parts_.size(), 0);
     held_.assign(parts_.size(), {});
+    heights_.resize(parts_.size());
     // The wall's linear triangles, for the proximity rule's rays.
     std::vector<std::array<int, 3>> tris;
     Eigen::AlignedBox3d box;
@@ -2051,7 +2082,7 @@ class SurfaceFronts final : public FrontGrower<3> {
     std::vector<std::pair<std::string, std::size_t>> counts;
     pending_stopped_ = stopped;
     pending_ = PartLayerBuilder(mesh_, metric_, p_, q_, front0_, parts_[part], planes_, first, scale, stopped,
-                                held_[part], f_atten, first ? &counts : nullptr)
+                                held_[part], f_atten, first ? &counts : nullptr, heights_[part])
                    .build();
     pending_counts_ = first ? counts : std::vector<std::pair<std::string, std::size_t>>{};
     return std::move(pending_.built);
@@ -2267,6 +2298,7 @@ class SurfaceFronts final : public FrontGrower<3> {
   }
   void accept(std::size_t part) override {
     grown_[part] = 1;
+    heights_[part].clear();  // the front moved
     // The stop points stopped from now on (a front that fans changed has new stop points).
     held_[part] = pending_.next ? std::vector<std::uint8_t>{} : pending_stopped_;
     if (pending_.next) parts_[part] = std::move(*pending_.next);
@@ -2304,6 +2336,7 @@ class SurfaceFronts final : public FrontGrower<3> {
   std::vector<Plane> planes_;
   std::vector<Part> parts_;
   std::vector<std::uint8_t> grown_;  // per part: a layer was accepted
+  std::vector<HeightMemo> heights_;  // per part: the metric's heights on its current front
   std::vector<std::vector<std::uint8_t>> held_;  // per part: its stop points stopped in an accepted layer
   std::vector<std::uint8_t> pending_stopped_;    // the stopped stop points of the pending build
   TriangleTree wall_;                // the wall's linear triangles (every part's)

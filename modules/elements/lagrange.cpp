@@ -340,6 +340,14 @@ std::vector<Lattice> vtk_lattice(CellType type, int p) {
 LagrangeElement::LagrangeElement(CellType type, int order)
     : type_(type), order_(order), dim_(ref_dim(type)), lattice_(gmsh_lattice(type, order)) {
   const int p = order;
+  // find() by table: the layers look up a node per cell node (every tetrahedron cut from a prism).
+  const std::size_t side = static_cast<std::size_t>(p + 1);
+  index_.assign(side * side * side, -1);
+  for (std::size_t i = 0; i < lattice_.size(); ++i) {
+    const Lattice& l = lattice_[i];
+    index_[(static_cast<std::size_t>(l[0]) * side + static_cast<std::size_t>(l[1])) * side + static_cast<std::size_t>(l[2])] =
+        static_cast<int>(i);
+  }
   const CellTopology& topo = topology(type);
   auto index_all = [&](const Points& pts) {
     std::vector<int> idx;
@@ -373,9 +381,10 @@ LagrangeElement::LagrangeElement(CellType type, int order)
 }
 
 int LagrangeElement::find(const Lattice& l) const {
-  for (int i = 0; i < size(); ++i)
-    if (lattice_[i] == l) return i;
-  return -1;
+  const int side = order_ + 1;
+  for (int d = 0; d < 3; ++d)
+    if (l[static_cast<std::size_t>(d)] < 0 || l[static_cast<std::size_t>(d)] >= side) return -1;
+  return index_[static_cast<std::size_t>((l[0] * side + l[1]) * side + l[2])];
 }
 
 std::array<double, 3> LagrangeElement::ref_node(int i) const {

@@ -73,6 +73,7 @@ class LagrangeElement {
   int order_;
   int dim_;
   std::vector<Lattice> lattice_;
+  std::vector<int> index_;  // node of lattice point (a, b, c) at (a (Q + 1) + b) (Q + 1) + c, or -1
   std::vector<std::vector<int>> edge_nodes_;
   std::vector<std::vector<int>> facet_nodes_;
 };
