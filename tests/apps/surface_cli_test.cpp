@@ -483,7 +483,7 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
 TEST_CASE("surface cli: a machined post (a CAD-tessellated cylinder with flat ends) grows every layer along its circular ridges") {
   // A cylinder of radius 0.5 and height 1 as CAD exports it: 64 strips the whole height, each end
   // a fan about its centre. The fans along its two circles leave sector strips 1e-4 as wide as
-  // they are long; without the lean cap on the high-order tops (grow_layers_3d.cpp, tops()) 98
+  // they are long; without the lean cap on the high-order tops (layer_tops_3d.cpp, tops()) 98
   // columns stopped along the circles in layers 8-9 at Q2 (99.3 % coverage; a Gmsh-meshed STL of
   // the same cylinder 94.6 %), and at Q3 with the Q2 cap 473 (97.1 %). Now every column reaches
   // its stop rule at Q2, all but 5 at Q3.

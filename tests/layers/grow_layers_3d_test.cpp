@@ -780,7 +780,7 @@ TEST_CASE("layers 3D: where two spheres' gap is used up their columns stop, the 
     CHECK(r.coverage.complete > 0.95);
     CHECK(r.layers.back().coverage < 1);
     CHECK(r.coverage.first_max == doctest::Approx(1.0));
-    // A layer with stops attenuates its tops by 0.05 of the height (grow_layers_3d.cpp, tops()):
+    // A layer with stops attenuates its tops by 0.05 of the height (layer_tops_3d.cpp, tops()):
     // no f_atten to halve, and at Q > 1 its front still counts as curved over these 10 layers.
     for (const std::string& e : r.events) CHECK(e.find("rebuilt with f_atten") == std::string::npos);
     for (std::size_t k = 0; k < r.layers.size(); ++k) {
@@ -804,7 +804,7 @@ TEST_CASE("layers 3D: where two spheres' gap is used up their columns stop, the 
 TEST_CASE("layers 3D: beside a stopped column a layer grows half the height, sloping into the stop") {
   // The two spheres' facing columns stop (the gap used up); in every later layer their
   // neighbours grow 0.005 (half the metric's 0.01) and the rest 0.01: the front slopes down into
-  // the stop instead of rising a full layer beside it (grow_layers_3d.cpp, tops()).
+  // the stop instead of rising a full layer beside it (layer_tops_3d.cpp, tops()).
   for (int q : {1, 2}) {
     CAPTURE(q);
     const LayerResult<3> r = ten_layers_on_two_spheres(q, 0);
@@ -828,7 +828,7 @@ TEST_CASE("layers 3D: around stopped columns the front slopes gently: neighbours
   // Two spheres 0.05 apart, layers of 0.03 (as tall as a fifth of the faces are wide), no
   // proximity rule: the facing columns fail and stop in the first layers and the rest grow on.
   // Beside the stops the heights are cut (the half height, the slope from the stops, the
-  // shrinks), and no column grows more than twice a neighbour's height (grow_layers_3d.cpp,
+  // shrinks), and no column grows more than twice a neighbour's height (layer_tops_3d.cpp,
   // limit_height_jumps), so the outer front rises from the stop as a slope, not a wall: its
   // steepest edge (the stacks' difference over the edge's length) stays near the bound of
   // slope_from_stops (0.5; a quarter height may creep above it): measured 0.548 and 94.3 %
@@ -1412,7 +1412,7 @@ TEST_CASE("layers 3D: isotropic_stop node ends each column where its metric turn
 TEST_CASE("layers 3D: a layer with stopped columns attenuates its base's curvature gently, valid at Q2 and Q3") {
   // Two coarse spheres 0.05 apart, layers of 0.01 without the proximity rule: the facing columns
   // stop in layer 4 and every later layer is cut into tetrahedra. Their tops move toward their
-  // chords by 0.05 of the height a layer (grow_layers_3d.cpp, tops(), kStopAtten): the sag each
+  // chords by 0.05 of the height a layer (layer_tops_3d.cpp, tops(), kStopAtten): the sag each
   // layer would need attenuated drops by exactly that (the heights uniform, beside the stops
   // halved from the layer after them on), no f_atten is
   // halved, and every cut cell is certified. This pins the policy; the inversions it avoids (the
@@ -1451,7 +1451,7 @@ TEST_CASE("layers 3D: a layer with stopped columns attenuates its base's curvatu
 TEST_CASE("layers 3D: fans along a curved ridge keep their sector strips valid: a cylinder's flat ends grow every layer") {
   // The fans along a circle's ridge leave strips a sector wide and an edge long: at h0 = 1e-5 of
   // an edge 0.065 long, split into two triangles 1e-4 as wide as they are long, whose high-order
-  // tops must keep the sliver's sharp corner (the lean cap, grow_layers_3d.cpp, tops()). On this
+  // tops must keep the sliver's sharp corner (the lean cap, layer_tops_3d.cpp, tops()). On this
   // exact cylinder (unevenly spaced along its circles) the high-order nodes' own directions
   // agree with their faces' blend and every layer grows at Q2 and Q3, with the cap or without:
   // a guard of fans along curved ridges. The cap's case, a CAD-tessellated STL of the same body
