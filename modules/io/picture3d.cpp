@@ -232,6 +232,29 @@ Cut cut_mesh(const HybridMesh<3>& mesh, const std::vector<std::uint8_t>& valid, 
   return cut;
 }
 
+// The main panel's frame in (u, v): where the cut crosses the wall (or, on a symmetry plane,
+// holds curved facets: the layers') and reaches more than three times their extent (a fill out to
+// a farfield), that crossing widened by a quarter of its extent on each side, so that the body
+// and its layers fill the panel; else the whole cut.
+std::array<Vec2, 2> cut_frame(const Cut& cut) {
+  Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Cut::Segment& s : cut.segments)
+    if (s.wall) {
+      lo = lo.cwiseMin(s.a).cwiseMin(s.b);
+      hi = hi.cwiseMax(s.a).cwiseMax(s.b);
+    }
+  for (const Cut::Polygon& poly : cut.polygons)
+    if (poly.colour == 1)
+      for (const Vec2& x : poly.p) {
+        lo = lo.cwiseMin(x);
+        hi = hi.cwiseMax(x);
+      }
+  const double wall = (hi - lo).maxCoeff(), all = (cut.hi - cut.lo).maxCoeff();
+  if (!(wall > 0) || !(all > 3 * wall)) return {cut.lo, cut.hi};
+  const Vec2 margin = Vec2::Constant(0.25 * wall);
+  return {(lo - margin).cwiseMax(cut.lo), (hi + margin).cwiseMin(cut.hi)};
+}
+
 void draw_cut(cairo_t* cr, const View& v, const Cut& cut, double lw) {
   for (const Cut::Polygon& poly : cut.polygons) {
     for (std::size_t k = 0; k < poly.p.size(); ++k)
@@ -438,7 +461,8 @@ void write_png(const HybridMesh<3>& mesh, const std::vector<std::uint8_t>& valid
     cairo_save(cr);
     cairo_rectangle(cr, 0, 0, cut_w, main_h);
     cairo_clip(cr);
-    draw_cut(cr, fit(cut.lo.x(), cut.hi.x(), cut.lo.y(), cut.hi.y(), 0, 0, cut_w, main_h), cut, lw);
+    const std::array<Vec2, 2> frame = cut_frame(cut);
+    draw_cut(cr, fit(frame[0].x(), frame[1].x(), frame[0].y(), frame[1].y(), 0, 0, cut_w, main_h), cut, lw);
     cairo_restore(cr);
   }
   cairo_save(cr);

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // PNG pictures of 3D meshes (cairo), drawn like the 2D pictures (picture.h):
-//  - the cut: the mesh cut by a plane, in the plane's coordinates (u, v). Facets lying in the
+//  - the cut: the mesh cut by a plane, in the plane's coordinates (u, v), framed on the wall's
+//    crossing and the curved facets in the plane (and a quarter of their extent around them) where
+//    the cut reaches a farfield beyond. Facets lying in the
 //    plane (a symmetry plane's) are drawn as the 2D pictures draw cells: curved outlines, filled
 //    light blue (straight), light orange (curved) or red (their cell invalid); every other facet
 //    crossing the plane is cut along its curved surface (sampled on a fine sub-lattice), so the

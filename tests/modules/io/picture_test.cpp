@@ -336,6 +336,43 @@ TEST_CASE("picture 3D: columns that ended short colour the wall from yellow to r
   CHECK(one[0] < all[0] / 2);  // one corner of a coarse shell: its few facets
 }
 
+TEST_CASE("picture 3D: a cut that reaches a farfield is framed on the wall and its layers") {
+  // The closed shell cut by z = 0 draws a ring of cut lines; one more tetrahedron 40 across
+  // (a farfield's) crossing the plane widens the cut twentyfold, and the frame keeps the ring's
+  // size: about as many dark pixels as without it (unframed, the ring would shrink to a dot).
+  plaf::test::ShellOptions o;
+  plaf::test::SphericalShell s = plaf::test::spherical_shell(o);
+  TempDir dir("picture3d_frame");
+  Picture3Options po;
+  po.width = 400;
+  po.height = 300;
+  po.cut_point = Eigen::Vector3d::Zero();
+  po.cut_normal = Eigen::Vector3d::UnitZ();
+  auto dark = [&](const HybridMesh<3>& mesh, const char* name) {
+    const fs::path path = dir.path / name;
+    write_png(mesh, {}, path, po);
+    const Image image(path);
+    std::size_t n = 0;
+    for (int y = 40; y < 300; ++y)
+      for (int x = 0; x < 220; ++x) {
+        const Rgb c = image.at(x, y);
+        n += c.r < 100 && c.g < 100 && c.b < 120 ? 1 : 0;
+      }
+    return n;
+  };
+  const std::size_t alone = dark(s.mesh, "alone.png");
+  HybridMesh<3> far = s.mesh;
+  const NodeId base = static_cast<NodeId>(far.nodes.size());
+  for (const Eigen::Vector3d& x : {Eigen::Vector3d(-20, -20, -20), Eigen::Vector3d(20, -20, -20), Eigen::Vector3d(0, 20, -20),
+                                   Eigen::Vector3d(0, 0, 20)})
+    far.nodes.push_back(x);
+  far.cells.push_back(CellBlock{CellType::Tetrahedron, 1, -1, {base, base + 1, base + 2, base + 3}});
+  const std::size_t framed = dark(far, "far.png");
+  MESSAGE("dark pixels of the ring: " << alone << " alone, " << framed << " with the farfield cell");
+  CHECK(alone > 200);
+  CHECK(framed > alone / 2);
+}
+
 TEST_CASE("chart: series drawn in their palette colours on linear and log axes, and side by side keeps both panels") {
   TempDir d("chart");
   std::vector<ChartSeries> series(2);
