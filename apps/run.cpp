@@ -403,6 +403,8 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
         (report.first_invalid.empty() ? "" : " (first: " + report.first_invalid + ")") +
         (report.conformity.ok ? "" : ", " + report.conformity.first_problem));
   const bool failed = !outcome.failures.empty();
+  report.exit_code = failed ? 2 : 0;
+  report.run_failures = outcome.failures;
   if (failed) {
     const bool layers_failed = std::any_of(reports.begin(), reports.end(), [](const StageReport& r) {
       return r.section() == stage_kind_name(StageKind::Layers) && !r.failure().empty();
@@ -498,7 +500,8 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
     const std::string hint = mesher_hint(e.what(), c.dim);
     OutputSet outputs(c.output.dir / (c.name + ".failed"), c.name);
     AtomicFile f(outputs.staged_base().string() + ".report.json");
-    f.write("{\n  \"name\": " + json_string(c.name) + ",\n  \"ok\": false,\n  \"failure\": {\"error\": " +
+    f.write("{\n  \"name\": " + json_string(c.name) + ",\n  \"ok\": false,\n  \"exit_code\": 2,\n  \"failures\": [" +
+            json_string(e.what()) + "],\n  \"failure\": {\"error\": " +
             json_string(e.what()) + ", \"hint\": " + json_string(hint.empty() ? "" : hint.substr(2)) +
             ", \"mesh\": false}\n}\n");
     f.commit();

@@ -399,7 +399,12 @@ struct JsonTree {
 std::string report_json(const QualityReport& r) {
   std::ostringstream s;
   s << "{\n  \"name\": " << json_string(r.name) << ",\n";
-  s << "  \"ok\": " << (r.ok() ? "true" : "false") << ",\n";
+  s << "  \"ok\": " << (r.ok() && r.run_failures.empty() ? "true" : "false") << ",\n";
+  if (r.exit_code >= 0) {
+    s << "  \"exit_code\": " << r.exit_code << ",\n  \"failures\": [";
+    for (std::size_t i = 0; i < r.run_failures.size(); ++i) s << (i ? ", " : "") << json_string(r.run_failures[i]);
+    s << "],\n";
+  }
   s << "  \"cells\": {\n    \"total\": " << r.cells_total << ",\n    \"surface\": " << (r.surface ? "true" : "false")
     << ",\n    \"by_type\": {";
   bool first = true;

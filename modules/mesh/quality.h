@@ -61,6 +61,11 @@ struct CellQuality {
 
 struct QualityReport {
   std::string name;
+  // The run's verdict, when a run wrote the report (plaf run; -1 for plaf check): its exit code
+  // (0 or 2) and the failures behind a 2 (a stage's, e.g. the layers' coverage, or the mesh's).
+  // The report's "ok" is ok() and no failure, so that a script reading it agrees with the exit code.
+  int exit_code = -1;
+  std::vector<std::string> run_failures;
   bool surface = false;  // a 3D surface mesh: the cells are its boundary triangles
   std::size_t cells_total = 0;
   std::map<std::string, std::size_t> cells_by_type;  // "quadrilateral_Q3": n

@@ -212,6 +212,7 @@ TEST_CASE("cli: a mesher failure on valid keys fails the run (exit 2), naming th
   CHECK(count_files(d / "out") == 1);
   const std::string report = read_text(d / "out" / "nofan.failed" / "nofan.report.json");
   CHECK(report.find("\"ok\": false") != std::string::npos);
+  CHECK(report.find("\"exit_code\": 2,\n  \"failures\": [\"layers: not even the first layer could be grown") != std::string::npos);
   CHECK(report.find("\"error\": \"layers: not even the first layer could be grown") != std::string::npos);
   CHECK(report.find("\"hint\": \"try a thinner first layer") != std::string::npos);
 }

@@ -380,7 +380,11 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
     INFO(r.err);
     REQUIRE(r.code == 0);
     CHECK(fs::exists(d / "out" / "case.msh"));
-    return read_text(d / "out" / "case.report.json");
+    const std::string report = read_text(d / "out" / "case.report.json");
+    // The report's verdict is the exit code's (its first "ok" is the top level's).
+    CHECK(report.substr(report.find("\"ok\": "), 10) == "\"ok\": true");
+    CHECK(report.find("\"exit_code\": 0,\n  \"failures\": []") != std::string::npos);
+    return report;
   };
   {  // the proximity rule: no failure, the stack that fits, and the report says where
     const std::string report = passing_report("surface_cli_cover_near", "layers: {max: 8}\n");
@@ -461,7 +465,12 @@ TEST_CASE("surface cli: columns that cannot grow stop locally, and below layers.
     CHECK(fs::exists(failed / "case.msh") == keep);
     CHECK_FALSE(fs::exists(d / "out" / "case.msh"));
     const std::string report = read_text(failed / "case.report.json");
-    CHECK(report.find("\"ok\": false") != std::string::npos);
+    // Every cell is valid, but the run failed: the report says so as the exit code does (it said
+    // "ok": true, which a script reading it trusted).
+    CHECK(report.substr(report.find("\"ok\": "), 11) == "\"ok\": false");
+    CHECK(report.find("\"invalid\": 0,") != std::string::npos);
+    CHECK(report.find("\"exit_code\": 2,\n  \"failures\": [\"layers: the boundary layer asked for is NOT there") !=
+          std::string::npos);
     // The picture looks where the columns stopped: in the gap (x = 1.0025), at a stopped column's
     // top (within the 8 layers' 0.2 of a sphere).
     const std::size_t at = report.find("\"focus\": {\"point\": [");
