@@ -424,6 +424,7 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
   //    together; a failure or a stop signal leaves none); the report last, with every stage's time.
   OutputSet outputs(failed ? c.output.dir / (c.name + ".failed") : c.output.dir, c.name);
   if (c.output.wants("vtu")) outputs.own("_boundary.vtu");  // not written without a boundary
+  outputs.own_numbered(".cut", ".png");                     // output.cuts: as many as this run asks
   const std::filesystem::path base = outputs.staged_base();
   std::vector<std::string> formats = c.output.formats;
   if (failed) {
@@ -437,7 +438,9 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
   WriteJob<Dim> job{mesh, per_cell, report, c, base};
   if (s.layers) {
     job.coverage = &s.layers->coverage;
-    job.layers = static_cast<int>(s.layers->layers.size());
+    // The layers grown along the metric, not the closing layer (its f_atten is infinite).
+    job.layers = static_cast<int>(std::count_if(s.layers->layers.begin(), s.layers->layers.end(),
+                                                [](const LayerStats& st) { return std::isfinite(st.f_atten); }));
   }
   for (const std::string& format : formats)
     if (format != "report")

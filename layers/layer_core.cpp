@@ -248,6 +248,7 @@ class Growth {
         first_taken_(parts_, false), attempts_(g, p, q, r) {
     for (std::size_t part = 0; part < parts_; ++part) {
       measure_.push_back(g_.stop_point_measure(part));
+      base_.push_back(g_.stop_points(part));
       held_.emplace_back(measure_.back().size(), 0);
       near_.emplace_back(measure_.back().size(), 0);
       for (double m : measure_.back()) r_.coverage.wall += m;
@@ -342,7 +343,7 @@ class Growth {
           const std::vector<typename FrontGrower<Dim>::Vec> points = g_.stop_points(part);
           if (!at.empty()) add_site(points[nearest_centre(points, at)], growing_measure(part, held_[part]), layer);
           for (std::size_t k = 0; k < points.size(); ++k)
-            if (k >= held_[part].size() || !held_[part][k]) add_short_column(points[k], layer);
+            if (k >= held_[part].size() || !held_[part][k]) add_short_column(part, k, layer);
           r_.events.push_back("layer " + std::to_string(layer) + ", " + attempts_.part_name(part) +
                               ": stopped, cells still invalid or colliding after " +
                               std::to_string(p_.shrink_attempts) + " shrinks");
@@ -488,7 +489,7 @@ class Growth {
       // coverage of 0; without it all 40 layers grow on 70.6 % of its wall, in 192 s instead of
       // 110 s.)
       if (added == 0) return false;
-      for (std::size_t k : now) add_short_column(points[k], layer);
+      for (std::size_t k : now) add_short_column(part, k, layer);
       const std::string line = "layer " + std::to_string(layer) + ", " + attempts_.part_name(part) + ": " +
                                std::to_string(added) + " columns stopped where no valid cell could be grown at 1/16 of " +
                                "the metric's height: wall " + num(area) + ", first at " +
@@ -564,8 +565,11 @@ class Growth {
   }
 
   // A site of the last build's failures (LayerCoverage::Site).
-  void add_short_column(const typename FrontGrower<Dim>::Vec& x, int layer) {
+  // A column that ended short of its stop rule, at its wall point (base_): its stack's top may lie
+  // nearer a facing wall across a gap, where columns stop most.
+  void add_short_column(std::size_t part, std::size_t k, int layer) {
     LayerCoverage::Column c;
+    const typename FrontGrower<Dim>::Vec& x = base_[part][k];
     for (int i = 0; i < Dim; ++i) c.point[static_cast<std::size_t>(i)] = x[i];
     c.layer = layer;
     r_.coverage.short_columns.push_back(c);
@@ -588,6 +592,7 @@ class Growth {
     double wall = 0, now = 0;
     for (double m : measure_[part]) wall += m;
     measure_[part] = g_.stop_point_measure(part);
+    base_[part] = g_.stop_points(part);
     for (double m : measure_[part]) now += m;
     if (now > 0)
       for (double& m : measure_[part]) m *= wall / now;
@@ -697,6 +702,9 @@ class Growth {
   std::vector<bool> failed_;       // per part: growth ended on a failure, not a stop rule
   std::vector<bool> first_taken_;  // per part: its first layer's columns are counted
   std::vector<std::vector<double>> measure_;       // per part and stop point: its wall measure
+  // Per part and stop point: where its column stands on the wall (the stop points before the first
+  // layer; those of the first layer where its fans changed them, one wall spacing off the wall).
+  std::vector<std::vector<typename FrontGrower<Dim>::Vec>> base_;
   std::vector<std::vector<std::uint8_t>> held_;    // per part and stop point: stopped locally
   std::vector<std::vector<std::uint8_t>> near_;    // of them, those the proximity rule stopped
   LayerAttempts<Dim> attempts_;

@@ -89,7 +89,8 @@ JacobianBounds certify_surface_quad(JacobianCertifier& certifier, int order, con
 // Dim dimensions) span a positive area (2D) or volume (3D), by the exact predicates; true for
 // every other cell type. A curved cell can be certified (det J > 0 everywhere) with its corner
 // simplex inverted, which `gmsh -check` and solvers that measure cells by their vertices reject:
-// every stage that accepts cells asks both (cell_valid below).
+// the layers and the quality stage ask both (cell_valid below); the fill's bend and untangler
+// (bend_fill3d.h, untangle3d.h) check the corners by their own rules.
 template <int Dim>
 bool simplex_corners_positive(CellType type, const double* xs);
 

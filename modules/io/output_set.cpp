@@ -57,6 +57,22 @@ void OutputSet::commit() {
                                      [&](const std::filesystem::path& p) { return p.filename() == old.filename(); });
     if (!written) std::filesystem::remove(old, ec);
   }
+  // The numbered ones (NAME.cut<k>.png): every k this run did not write.
+  for (const auto& [prefix, suffix] : owned_numbered_) {
+    const std::string head = name_ + prefix;
+    std::vector<std::filesystem::path> present;  // listed first: removing while iterating is unspecified
+    for (const std::filesystem::directory_entry& e : std::filesystem::directory_iterator(dir_, ec)) present.push_back(e.path());
+    for (const std::filesystem::path& path : present) {
+      const std::string f = path.filename().string();
+      if (f.size() <= head.size() + suffix.size() || f.compare(0, head.size(), head) != 0 ||
+          f.compare(f.size() - suffix.size(), suffix.size(), suffix) != 0)
+        continue;
+      const std::string k = f.substr(head.size(), f.size() - head.size() - suffix.size());
+      if (!std::all_of(k.begin(), k.end(), [](char c) { return c >= '0' && c <= '9'; })) continue;
+      const bool written = std::any_of(staged.begin(), staged.end(), [&](const std::filesystem::path& p) { return p.filename() == f; });
+      if (!written) std::filesystem::remove(path, ec);
+    }
+  }
   committed_ = true;
   remove_stage();
 }

@@ -8,6 +8,8 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 #include <vector>
 
 namespace plaf {
@@ -33,6 +35,8 @@ class OutputSet {
   // NAME + suffix is a file of this set that a run may or may not write (NAME_boundary.vtu):
   // commit removes an earlier run's one that this run did not write.
   void own(const std::string& suffix) { owned_.push_back(suffix); }
+  // The same for the files NAME + prefix + <digits> + suffix (NAME.cut1.png, NAME.cut2.png, ...).
+  void own_numbered(const std::string& prefix, const std::string& suffix) { owned_numbered_.emplace_back(prefix, suffix); }
 
  private:
   void remove_stage() noexcept;
@@ -43,6 +47,7 @@ class OutputSet {
   int slot_ = -1;
   bool committed_ = false;
   std::vector<std::string> owned_;
+  std::vector<std::pair<std::string, std::string>> owned_numbered_;
 };
 
 }  // namespace io

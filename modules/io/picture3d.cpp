@@ -233,9 +233,9 @@ Cut cut_mesh(const HybridMesh<3>& mesh, const std::vector<std::uint8_t>& valid, 
 }
 
 // The main panel's frame in (u, v): where the cut crosses the wall (or, on a symmetry plane,
-// holds curved facets: the layers') and reaches more than three times their extent (a fill out to
-// a farfield), that crossing widened by a quarter of its extent on each side, so that the body
-// and its layers fill the panel; else the whole cut.
+// holds curved facets: the layers'; and invalid cells) and reaches more than three times their
+// extent (a fill out to a farfield), that crossing widened by a quarter of its extent on each
+// side, so that the body and its layers fill the panel; else the whole cut.
 std::array<Vec2, 2> cut_frame(const Cut& cut) {
   Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (const Cut::Segment& s : cut.segments)
@@ -244,15 +244,25 @@ std::array<Vec2, 2> cut_frame(const Cut& cut) {
       hi = hi.cwiseMax(s.a).cwiseMax(s.b);
     }
   for (const Cut::Polygon& poly : cut.polygons)
-    if (poly.colour == 1)
+    if (poly.colour >= 1)  // curved, or invalid (a failed run's red cells stay in view)
       for (const Vec2& x : poly.p) {
         lo = lo.cwiseMin(x);
         hi = hi.cwiseMax(x);
       }
-  const double wall = (hi - lo).maxCoeff(), all = (cut.hi - cut.lo).maxCoeff();
-  if (!(wall > 0) || !(all > 3 * wall)) return {cut.lo, cut.hi};
-  const Vec2 margin = Vec2::Constant(0.25 * wall);
-  return {(lo - margin).cwiseMax(cut.lo), (hi + margin).cwiseMin(cut.hi)};
+  for (const Cut::Segment& s : cut.segments)
+    if (s.invalid) {
+      lo = lo.cwiseMin(s.a).cwiseMin(s.b);
+      hi = hi.cwiseMax(s.a).cwiseMax(s.b);
+    }
+  const double all = (cut.hi - cut.lo).maxCoeff();
+  double wall = (hi - lo).maxCoeff();
+  if (!(wall >= 0) || !(all > 3 * wall)) return {cut.lo, cut.hi};  // nothing to frame on, or no farfield
+  // A plane that grazes the wall (a tip's station) crosses it over a sliver: the frame is at least
+  // a twentieth of the whole cut across.
+  const Vec2 mid = 0.5 * (lo + hi);
+  wall = std::max(wall, all / 20);
+  const Vec2 half = Vec2::Constant(0.75 * wall);
+  return {(mid - half).cwiseMax(cut.lo), (mid + half).cwiseMin(cut.hi)};
 }
 
 void draw_cut(cairo_t* cr, const View& v, const Cut& cut, double lw) {
@@ -360,7 +370,7 @@ void draw_shaded(cairo_t* cr, const HybridMesh<3>& mesh, const Vec& view, double
         if (it != grown.end()) fewest = std::min(fewest, it->second);
       }
       const std::array<double, 3> colour =
-          grown.empty() ? coverage_colour(1) : coverage_colour(layers > 0 ? static_cast<double>(fewest) / layers : 1.0);
+          grown.empty() ? coverage_colour(1) : coverage_colour(layers > 0 ? static_cast<double>(fewest) / layers : 0.0);
       Facet f{b.type, b.order, {}};
       for (int k = 0; k < b.nodes_per_cell(); ++k) f.x.push_back(mesh.nodes[static_cast<std::size_t>(b.cell(i)[k])]);
       const Sampled s = sample(f, coarse ? 1 : b.order);

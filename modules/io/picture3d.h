@@ -47,10 +47,9 @@ struct Picture3Options {
   std::optional<Eigen::Vector3d> focus;
   double focus_radius = 0;
   std::string focus_label;
-  // The columns of the layers that ended short (LayerCoverage::short_columns): where each stop
-  // point stood and the layer it ended in; `layers` the stack the others grew. Each is given to
-  // the wall corner nearest its point (its own wall node, wherever its stack is lower than half
-  // the wall's edges).
+  // The columns of the layers that ended short (LayerCoverage::short_columns): each one's wall
+  // point and the layer it ended in; `layers` the stack the others grew (0: every column counts
+  // as having grown none). Each is given to the wall corner nearest its point.
   struct ShortColumn {
     Eigen::Vector3d point;
     int layer = 0;

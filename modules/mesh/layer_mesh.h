@@ -81,10 +81,11 @@ struct LayerCoverage {
     bool crossing = false;  // the failures included front crossings (else invalid cells only)
   };
   std::vector<Site> sites;
-  // Every column that ended short of its stop rule, one by one: where its stop point stood when
-  // it ended (on the front, its stack's height above its wall node) and the layer it ended in
-  // (it has layer - 1 layers); a part that failed whole ends each of its growing columns so. The
-  // 3D picture colours the wall by them (picture3d.h).
+  // Every column that ended short of its stop rule, one by one: where it stands on the wall (its
+  // stop point before the first layer; where the first layer's fans changed the stop points, that
+  // layer's, one wall spacing off the wall) and the layer it ended in (it has layer - 1 layers);
+  // a part that failed whole ends each of its growing columns so. The 3D picture colours the wall
+  // by them (picture3d.h).
   struct Column {
     std::array<double, 3> point{};
     int layer = 0;

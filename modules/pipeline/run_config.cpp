@@ -53,6 +53,8 @@ void parse_output(const ConfigNode& o, RunConfig& r) {
       cut.label = c.get_string("label", "");
       r.output.cuts.push_back(cut);
     }
+    if (!r.output.cuts.empty() && std::find(r.output.formats.begin(), r.output.formats.end(), "png") == r.output.formats.end())
+      throw ConfigError(o.where("cuts") + ": the cut pictures are PNG files: add png to output.formats");
     r.output.view = vector3(o, "view", r.output.view, true);
   }
   {

@@ -290,6 +290,28 @@ TEST_CASE("cli: a run beyond its size budget stops before meshing, naming the es
   }
 }
 
+TEST_CASE("cli: output.cuts writes a picture per plane, and a rerun with fewer leaves none of the earlier run's") {
+  const TempDir d("cli_cuts");
+  const std::string sphere = "name: s\norder: 2\ngeometry: {type: sphere}\nmetric: {type: uniform, h: 0.5}\n";
+  const std::string two = "output: {formats: [report, png], cuts: [{point: [0, 0, 0], normal: [1, 0, 0], radius: 0.3, "
+                          "label: x = 0}, {point: [0, 0, 0.5], normal: [0, 0, 1]}]}\n";
+  const fs::path a = write_text(d / "a.yaml", sphere + two);
+  REQUIRE(run_plaf("run " + a.string() + " --out " + (d / "out").string(), d).code == 0);
+  CHECK(fs::is_regular_file(d / "out" / "s.png"));
+  CHECK(fs::is_regular_file(d / "out" / "s.cut1.png"));
+  CHECK(fs::is_regular_file(d / "out" / "s.cut2.png"));
+  const fs::path b = write_text(d / "b.yaml", sphere + "output: {formats: [report, png], cuts: [{point: [0, 0, 0], normal: [0, 1, 0]}]}\n");
+  REQUIRE(run_plaf("run " + b.string() + " --out " + (d / "out").string(), d).code == 0);
+  CHECK(fs::is_regular_file(d / "out" / "s.cut1.png"));
+  CHECK_FALSE(fs::exists(d / "out" / "s.cut2.png"));
+  CHECK(count_files(d / "out") == 3);  // s.report.json, s.png, s.cut1.png
+  // Cuts without png among the formats: refused, naming the key.
+  const fs::path c = write_text(d / "c.yaml", sphere + "output: {formats: [report], cuts: [{point: [0, 0, 0], normal: [0, 1, 0]}]}\n");
+  const PlafResult r = run_plaf("run " + c.string() + " --out " + (d / "out2").string(), d);
+  CHECK(r.code == 1);
+  CHECK(r.err.find("output.cuts: the cut pictures are PNG files: add png to output.formats") != std::string::npos);
+}
+
 TEST_CASE("cli: the outputs are one set: a writer that fails half-way, or a stop signal, leaves none of them") {
   const TempDir d("cli_output_set");
   // A name the file system takes for the .msh and .vtu but not with the boundary file's longer

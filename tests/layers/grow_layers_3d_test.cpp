@@ -780,6 +780,18 @@ TEST_CASE("layers 3D: where two spheres' gap is used up their columns stop, the 
     CHECK(r.coverage.complete > 0.95);
     CHECK(r.layers.back().coverage < 1);
     CHECK(r.coverage.first_max == doctest::Approx(1.0));
+    // Each column that ended short is listed at its own wall point (on its own sphere, though its
+    // stack's top may lie nearer the other) with the layer it ended in, where the gap is.
+    CHECK(r.coverage.short_columns.size() == r.coverage.columns - r.coverage.columns_complete);
+    for (const LayerCoverage::Column& c : r.coverage.short_columns) {
+      const Vector3d x(c.point[0], c.point[1], c.point[2]);
+      const bool on_a = x.x() < 1.025;
+      CAPTURE(x.transpose());
+      CHECK(std::abs((x - (on_a ? Vector3d::Zero() : Vector3d(2.05, 0, 0))).norm() - 1) < 1e-9);
+      CHECK(std::abs(x.x() - 1.025) < 0.3);
+      CHECK(c.layer >= 1);
+      CHECK(c.layer <= 10);
+    }
     // A layer with stops attenuates its tops by 0.05 of the height (layer_tops_3d.cpp, tops()):
     // no f_atten to halve, and at Q > 1 its front still counts as curved over these 10 layers.
     for (const std::string& e : r.events) CHECK(e.find("rebuilt with f_atten") == std::string::npos);

@@ -132,3 +132,16 @@ TEST_CASE("lagrange: an order outside 1..4 is a ConfigError naming the order") {
   CHECK_THROWS_AS(lagrange_element(CellType::Triangle, 0), ConfigError);
   CHECK_THROWS_WITH_AS(lagrange_element(CellType::Quadrilateral, 7), "geometry order 7 is outside 1..4", ConfigError);
 }
+
+TEST_CASE("lagrange: find gives every node back from its lattice point, and -1 off the lattice") {
+  for (CellType t : {CellType::Line, CellType::Triangle, CellType::Quadrilateral, CellType::Tetrahedron, CellType::Prism})
+    for (int q = 1; q <= max_order; ++q) {
+      CAPTURE(q);
+      const LagrangeElement& e = lagrange_element(t, q);
+      for (int i = 0; i < e.size(); ++i) CHECK(e.find(e.lattice()[static_cast<std::size_t>(i)]) == i);
+      CHECK(e.find({-1, 0, 0}) == -1);
+      CHECK(e.find({0, q + 1, 0}) == -1);
+      CHECK(e.find({0, 0, 99}) == -1);
+      if (t == CellType::Triangle || t == CellType::Tetrahedron) CHECK(e.find({q, q, 0}) == -1);  // outside the simplex
+    }
+}
