@@ -19,11 +19,7 @@ namespace plaf::volume {
 namespace {
 
 // A point for the report: "[x, y, z]" (the text summary writes "(x, y, z)", format.h).
-std::string json_point(const Eigen::Vector3d& x) {
-  std::string s = "[";
-  for (int k = 0; k < 3; ++k) (s += k ? ", " : "") += json_number(x[k]);
-  return s += "]";
-}
+std::string json_point(const Eigen::Vector3d& x) { return json_array({json_number(x[0]), json_number(x[1]), json_number(x[2])}); }
 
 HybridFillParams parse_tetgen(const ConfigNode& section) {
   HybridFillParams p;

@@ -94,11 +94,11 @@ JacobianBounds certify_surface_quad(JacobianCertifier& certifier, int order, con
 template <int Dim>
 bool simplex_corners_positive(CellType type, const double* xs);
 
-// The verdict every stage uses: certified det J > 0 (certifier.certify) and, for a simplex, its
-// corners positive. coords as for certify, in Dim = ref_dim(type) dimensions.
+// The verdict the layers use: for a simplex its corners positive (exact, cheap: asked first) and
+// certified det J > 0 (certifier.certify). coords as for certify, in Dim = ref_dim(type) dimensions.
 template <int Dim>
 bool cell_valid(JacobianCertifier& certifier, CellType type, int order, const double* coords) {
-  return certifier.certify(type, order, coords).valid && simplex_corners_positive<Dim>(type, coords);
+  return simplex_corners_positive<Dim>(type, coords) && certifier.certify(type, order, coords).valid;
 }
 
 // det J of the cell's mapping at reference point xi (for sampling and tests).

@@ -14,7 +14,6 @@
 #include <unordered_map>
 
 #include "modules/elements/mapping.h"
-#include "modules/geometry/predicates.h"
 
 namespace plaf {
 inline namespace mesh {
