@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -25,6 +27,8 @@ struct ConfigNode::State {
   YAML::Mark mark;
   std::set<std::string> asked;
   std::vector<std::shared_ptr<State>> children;
+  std::shared_ptr<std::vector<KeyAsk>> recording;  // set when loaded under a KeyRecording
+  std::set<std::string> tested;                     // keys whose presence was asked (has, is_map)
 };
 
 namespace {
@@ -57,7 +61,100 @@ std::string format_double(double x) {
   return s.str();
 }
 
+// ---- recording (KeyRecording) ----
+
+thread_local std::shared_ptr<std::vector<KeyAsk>> active_recording;
+
+// A number as one writes it in YAML: 6 significant digits, plain unless the exponent form is
+// shorter by two or more, exponents without padding (0.25, 0.005, 500000 -> 5e5, 1e-9).
+std::string yaml_number(double x) {
+  char plain[40], sci[40];
+  std::snprintf(plain, sizeof plain, "%.6g", x);
+  std::snprintf(sci, sizeof sci, "%.5e", x);
+  std::string out = sci;  // d.ddddde[+-]XX
+  const std::size_t e = out.find('e');
+  std::string mantissa = out.substr(0, e), exponent = out.substr(e + 1);
+  if (mantissa.find('.') != std::string::npos) {
+    mantissa.erase(mantissa.find_last_not_of('0') + 1);
+    if (mantissa.back() == '.') mantissa.pop_back();
+  }
+  const bool negative = exponent[0] == '-';
+  exponent = exponent.substr(1);
+  exponent.erase(0, std::min(exponent.find_first_not_of('0'), exponent.size() - 1));
+  std::string shortest = plain;
+  if (shortest.find('e') != std::string::npos || exponent != "0") {
+    const std::string e_form = mantissa + "e" + (negative ? "-" : "") + exponent;
+    if (e_form.size() + 2 <= shortest.size() || shortest.find('e') != std::string::npos) shortest = e_form;
+  }
+  return shortest;
+}
+
+template <class T, class Format>
+std::string yaml_list(const std::vector<T>& items, Format format) {
+  std::string out;
+  for (const T& x : items) out += (out.empty() ? "" : ", ") + format(x);
+  return "[" + out + "]";
+}
+
+// A range's upper end at the largest double is no bound: "[lo, max]" reads ">= lo".
+std::string closed_range(double lo, double hi) {
+  std::string out = hi >= std::numeric_limits<double>::max() ? ">= " : "[";
+  out += yaml_number(lo);
+  if (out[0] == '[') out += ", " + yaml_number(hi) + "]";
+  return out;
+}
+
+// "bodies[2].file" -> "bodies[].file": a key of any item of a list.
+std::string item_pattern(const std::string& path) {
+  std::string out;
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    out += path[i];
+    if (path[i] == '[')
+      while (i + 1 < path.size() && path[i + 1] != ']') ++i;
+  }
+  return out;
+}
+
 }  // namespace
+
+const char* kind_name(KeyAsk::Kind kind) {
+  switch (kind) {
+    case KeyAsk::Kind::Presence: return "any";
+    case KeyAsk::Kind::Number: return "number";
+    case KeyAsk::Kind::Integer: return "integer";
+    case KeyAsk::Kind::Bool: return "bool";
+    case KeyAsk::Kind::Text: return "text";
+    case KeyAsk::Kind::Choice: return "word";
+    case KeyAsk::Kind::WordList: return "list of words";
+    case KeyAsk::Kind::NumberList: return "list of numbers";
+    case KeyAsk::Kind::PointList: return "list of [x, y]";
+    case KeyAsk::Kind::Path: return "path";
+    case KeyAsk::Kind::Section: return "section";
+    case KeyAsk::Kind::SectionList: return "list of sections";
+    case KeyAsk::Kind::Raw: return "YAML, passed on";
+  }
+  return "?";
+}
+
+KeyRecording::KeyRecording() : asks_(std::make_shared<std::vector<KeyAsk>>()), previous_(active_recording) {
+  active_recording = asks_;
+}
+
+KeyRecording::~KeyRecording() { active_recording = previous_; }
+
+void ConfigNode::note(const std::string& key, KeyAsk::Kind kind, std::string fallback, std::string range,
+                      std::vector<std::string> choices) const {
+  if (kind == KeyAsk::Kind::Presence) s_->tested.insert(key);
+  if (!s_->recording) return;
+  KeyAsk a;
+  a.path = item_pattern(dotted(s_->path, key));
+  a.kind = kind;
+  a.fallback = std::move(fallback);
+  a.range = std::move(range);
+  a.choices = std::move(choices);
+  a.after_presence_test = kind != KeyAsk::Kind::Presence && s_->tested.count(key) > 0;
+  s_->recording->push_back(std::move(a));
+}
 
 ConfigNode::ConfigNode(std::shared_ptr<State> s) : s_(std::move(s)) {}
 ConfigNode::~ConfigNode() = default;
@@ -96,6 +193,7 @@ void reject_duplicate_keys(const YAML::Node& n, const std::string& file, const s
 ConfigNode ConfigNode::load_string(const std::string& text, const std::string& name) {
   auto s = std::make_shared<State>();
   s->file = name;
+  s->recording = active_recording;
   try {
     s->node = YAML::Load(text);
   } catch (const YAML::Exception& e) {
@@ -135,12 +233,14 @@ std::string ConfigNode::where(const std::string& key) const {
 
 bool ConfigNode::has(const std::string& key) const {
   s_->asked.insert(key);
+  note(key, KeyAsk::Kind::Presence);
   const YAML::Node n = lookup(s_->node, key);
   return n.IsDefined() && !n.IsNull();
 }
 
 bool ConfigNode::is_map(const std::string& key) const {
   s_->asked.insert(key);
+  note(key, KeyAsk::Kind::Presence);
   return lookup(s_->node, key).IsMap();
 }
 
@@ -154,6 +254,11 @@ const YAML::Node* ConfigNode::value(const std::string& key) const {
 }
 
 double ConfigNode::get_double(const std::string& key, double fallback) const {
+  note(key, KeyAsk::Kind::Number, yaml_number(fallback));
+  return number(key, fallback);
+}
+
+double ConfigNode::number(const std::string& key, double fallback) const {
   const YAML::Node* n = value(key);
   if (!n) return fallback;
   double x = 0;
@@ -169,13 +274,15 @@ double ConfigNode::get_double(const std::string& key, double fallback) const {
 }
 
 double ConfigNode::get_positive(const std::string& key, double fallback) const {
-  const double x = get_double(key, fallback);
+  note(key, KeyAsk::Kind::Number, yaml_number(fallback), "> 0");
+  const double x = number(key, fallback);
   if (!(x > 0)) throw ConfigError(where(key) + ": must be positive, got " + format_double(x));
   return x;
 }
 
 double ConfigNode::get_in_range(const std::string& key, double fallback, double lo, double hi) const {
-  const double x = get_double(key, fallback);
+  note(key, KeyAsk::Kind::Number, yaml_number(fallback), closed_range(lo, hi));
+  const double x = number(key, fallback);
   if (x < lo || x > hi)
     throw ConfigError(where(key) + ": " + format_double(x) + " is outside [" + format_double(lo) + ", " +
                       format_double(hi) + "]");
@@ -183,6 +290,7 @@ double ConfigNode::get_in_range(const std::string& key, double fallback, double 
 }
 
 int ConfigNode::get_int(const std::string& key, int fallback, int lo, int hi) const {
+  note(key, KeyAsk::Kind::Integer, std::to_string(fallback), std::to_string(lo) + ".." + std::to_string(hi));
   const YAML::Node* n = value(key);
   if (!n) return fallback;
   long long x = 0;
@@ -200,6 +308,7 @@ int ConfigNode::get_int(const std::string& key, int fallback, int lo, int hi) co
 }
 
 bool ConfigNode::get_bool(const std::string& key, bool fallback) const {
+  note(key, KeyAsk::Kind::Bool, fallback ? "true" : "false");
   const YAML::Node* n = value(key);
   if (!n) return fallback;
   try {
@@ -212,6 +321,11 @@ bool ConfigNode::get_bool(const std::string& key, bool fallback) const {
 }
 
 std::string ConfigNode::get_string(const std::string& key, const std::string& fallback) const {
+  note(key, KeyAsk::Kind::Text, fallback);
+  return word(key, fallback);
+}
+
+std::string ConfigNode::word(const std::string& key, const std::string& fallback) const {
   const YAML::Node* n = value(key);
   if (!n) return fallback;
   if (!n->IsScalar()) throw ConfigError(where(key) + ": expected a word, got a list or map");
@@ -220,7 +334,8 @@ std::string ConfigNode::get_string(const std::string& key, const std::string& fa
 
 std::string ConfigNode::get_choice(const std::string& key, const std::string& fallback,
                                    const std::vector<std::string>& allowed) const {
-  const std::string v = get_string(key, fallback);
+  note(key, KeyAsk::Kind::Choice, fallback, "", allowed);
+  const std::string v = word(key, fallback);
   if (std::find(allowed.begin(), allowed.end(), v) == allowed.end())
     throw ConfigError(where(key) + ": unknown value '" + v + "' (known: " + join(allowed) + ")");
   return v;
@@ -228,6 +343,7 @@ std::string ConfigNode::get_choice(const std::string& key, const std::string& fa
 
 std::vector<std::string> ConfigNode::get_string_list(const std::string& key, const std::vector<std::string>& fallback,
                                                      const std::vector<std::string>& allowed) const {
+  note(key, KeyAsk::Kind::WordList, yaml_list(fallback, [](const std::string& w) { return w; }), "", allowed);
   const YAML::Node* n = value(key);
   if (!n) return fallback;
   if (!n->IsSequence()) throw ConfigError(where(key) + ": expected a list like [a, b]");
@@ -244,6 +360,7 @@ std::vector<std::string> ConfigNode::get_string_list(const std::string& key, con
 }
 
 std::vector<double> ConfigNode::get_double_list(const std::string& key, const std::vector<double>& fallback) const {
+  note(key, KeyAsk::Kind::NumberList, yaml_list(fallback, yaml_number));
   const YAML::Node* n = value(key);
   if (!n) return fallback;
   if (!n->IsSequence()) throw ConfigError(where(key) + ": expected a list of numbers like [1, 2]");
@@ -260,6 +377,7 @@ std::vector<double> ConfigNode::get_double_list(const std::string& key, const st
 }
 
 std::vector<std::array<double, 2>> ConfigNode::get_point_list(const std::string& key) const {
+  note(key, KeyAsk::Kind::PointList, "[]");
   const YAML::Node* n = value(key);
   std::vector<std::array<double, 2>> out;
   if (!n) return out;
@@ -280,8 +398,10 @@ std::vector<std::array<double, 2>> ConfigNode::get_point_list(const std::string&
 
 ConfigNode ConfigNode::child(const std::string& key) const {
   s_->asked.insert(key);
+  note(key, KeyAsk::Kind::Section);
   auto c = std::make_shared<State>();
   c->file = s_->file;
+  c->recording = s_->recording;
   c->path = dotted(s_->path, key);
   const YAML::Node n = lookup(s_->node, key);
   if (!n.IsDefined() || n.IsNull()) {
@@ -299,6 +419,7 @@ ConfigNode ConfigNode::child(const std::string& key) const {
 
 std::vector<ConfigNode> ConfigNode::child_list(const std::string& key) const {
   s_->asked.insert(key);
+  note(key, KeyAsk::Kind::SectionList);
   std::vector<ConfigNode> out;
   const YAML::Node n = lookup(s_->node, key);
   if (!n.IsDefined() || n.IsNull()) return out;
@@ -309,6 +430,7 @@ std::vector<ConfigNode> ConfigNode::child_list(const std::string& key) const {
     auto c = std::make_shared<State>();
     c->file = s_->file;
     c->path = dotted(s_->path, key) + "[" + std::to_string(i) + "]";
+    c->recording = s_->recording;
     if (!item.IsMap()) throw ConfigError(position(s_->file, item.Mark()) + ": " + c->path + ": expected a map of keys");
     c->node = item;
     c->mark = item.Mark();
@@ -319,7 +441,8 @@ std::vector<ConfigNode> ConfigNode::child_list(const std::string& key) const {
 }
 
 std::string ConfigNode::get_path(const std::string& key, const std::string& fallback) const {
-  const std::string v = get_string(key, fallback);
+  note(key, KeyAsk::Kind::Path, fallback);
+  const std::string v = word(key, fallback);
   if (v.empty()) return v;
   if (v.rfind(kDataPrefix, 0) == 0) return resolve_data_path(v, where(key));  // data_root.h
   const std::filesystem::path p(v);
@@ -329,6 +452,7 @@ std::string ConfigNode::get_path(const std::string& key, const std::string& fall
 
 YAML::Node ConfigNode::raw(const std::string& key) const {
   s_->asked.insert(key);
+  note(key, KeyAsk::Kind::Raw);
   return lookup(s_->node, key);
 }
 

@@ -3,6 +3,11 @@
 // keys asked for; finish() rejects any key nobody asked for, and loading rejects a key given twice
 // in one map (yaml-cpp would keep the first and never check the second). Every error is a ConfigError
 // "file:line:column: key.path: reason" (lines and columns 1-based).
+//
+// Recording mode (KeyRecording): every getter already knows its key, its default and its range or
+// allowed words; while a recording is on, each call is kept, so the keys a parser accepts can be
+// listed from the parser itself (the key reference, `plaf keys`, apps/keys.h) instead of from a
+// copy that would go stale.
 #pragma once
 
 #include <array>
@@ -17,6 +22,51 @@ class Node;
 
 namespace plaf {
 inline namespace pipeline {
+
+// One key a getter was asked for, with what the getter knows of it.
+struct KeyAsk {
+  enum class Kind {
+    Presence,    // has() or is_map(): only whether it is given
+    Number,      // get_double, get_positive, get_in_range
+    Integer,     // get_int
+    Bool,        // get_bool
+    Text,        // get_string
+    Choice,      // get_choice: one of `choices`
+    WordList,    // get_string_list (from `choices` when given)
+    NumberList,  // get_double_list
+    PointList,   // get_point_list
+    Path,        // get_path
+    Section,     // child
+    SectionList, // child_list
+    Raw,         // raw: passed on unread
+  };
+  std::string path;  // dotted from the top, list items as "[]": "geometry.bodies[].file"
+  Kind kind = Kind::Presence;
+  std::string fallback;  // the default as written in YAML ("" when the getter has none)
+  std::string range;     // "> 0", "[0, 1]", "1..100" ("" when any value of the kind is taken)
+  std::vector<std::string> choices;
+  // The key's presence was tested on its map before this read: it is read only when given (or
+  // is required), so `fallback` is a placeholder, not a default.
+  bool after_presence_test = false;
+};
+
+const char* kind_name(KeyAsk::Kind kind);  // "number", "list of sections", ...
+
+// While an instance lives, every ConfigNode loaded on this thread records its getters' calls
+// into it (and so do the nodes taken from it: child, child_list). Recordings nest; the inner one
+// records until it ends. Parsing with a recording on behaves exactly as without.
+class KeyRecording {
+ public:
+  KeyRecording();
+  ~KeyRecording();
+  KeyRecording(const KeyRecording&) = delete;
+  KeyRecording& operator=(const KeyRecording&) = delete;
+  const std::vector<KeyAsk>& asks() const { return *asks_; }
+
+ private:
+  std::shared_ptr<std::vector<KeyAsk>> asks_;
+  std::shared_ptr<std::vector<KeyAsk>> previous_;
+};
 
 class ConfigNode {
  public:
@@ -70,6 +120,12 @@ class ConfigNode {
   explicit ConfigNode(std::shared_ptr<State> s);
   std::shared_ptr<State> s_;
   const YAML::Node* value(const std::string& key) const;  // marks the key used; null if absent
+  // The unrecorded readers behind the getters (a getter built on another records once).
+  double number(const std::string& key, double fallback) const;
+  std::string word(const std::string& key, const std::string& fallback) const;
+  // Records an ask of `key` when a recording was on at load time.
+  void note(const std::string& key, KeyAsk::Kind kind, std::string fallback = "", std::string range = "",
+            std::vector<std::string> choices = {}) const;
 };
 
 }  // namespace pipeline

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <sys/stat.h>
+#include <yaml-cpp/yaml.h>
 
 #include <filesystem>
 #include <memory>
@@ -117,4 +118,57 @@ TEST_CASE("config: nested aliases (a billion laughs) are read in linear time") {
   }
   const plaf::ConfigNode c = plaf::ConfigNode::load_string(yaml, "laughs.yaml");
   CHECK_THROWS_WITH_AS(c.finish(), doctest::Contains("unknown key 'a0'"), plaf::ConfigError);
+}
+
+TEST_CASE("config: a recording keeps every key asked with its type, default and range, list items as []") {
+  const std::string yaml = "a: 2\nlist: [{w: x}, {w: y}]\nsub: {flag: true}\n";
+  {
+    // Without a recording nothing is kept, and a recording started later does not see old nodes.
+    const ConfigNode before = ConfigNode::load_string(yaml, "r.yaml");
+    KeyRecording late;
+    before.get_double("a", 1);
+    CHECK(late.asks().empty());
+  }
+  KeyRecording rec;
+  const ConfigNode c = ConfigNode::load_string(yaml, "r.yaml");
+  CHECK(c.get_in_range("a", 0.5, 0, 10) == 2);  // recording changes no value
+  c.get_positive("p", 1e-9);
+  c.get_int("n", 24, 0, 10000);
+  c.get_choice("shape", "sphere", {"sphere", "box"});
+  c.get_double_list("size", {0, 20000000});
+  CHECK(c.child("sub").get_bool("flag", false));
+  for (const ConfigNode& item : c.child_list("list")) item.get_string("w", "");
+  const bool given = c.has("opt");
+  if (!given) c.get_path("opt", "");
+  c.raw("pass");
+  CHECK_NOTHROW(c.finish());
+  const std::vector<KeyAsk>& a = rec.asks();
+  REQUIRE(a.size() == 13);
+  auto check = [&](std::size_t i, const std::string& path, KeyAsk::Kind kind, const std::string& fallback,
+                   const std::string& range) {
+    INFO(i << " " << a[i].path);
+    CHECK(a[i].path == path);
+    CHECK(a[i].kind == kind);
+    CHECK(a[i].fallback == fallback);
+    CHECK(a[i].range == range);
+  };
+  // One record per getter, the outer one: get_positive is a number > 0, not also a plain number.
+  check(0, "a", KeyAsk::Kind::Number, "0.5", "[0, 10]");
+  check(1, "p", KeyAsk::Kind::Number, "1e-9", "> 0");
+  check(2, "n", KeyAsk::Kind::Integer, "24", "0..10000");
+  check(3, "shape", KeyAsk::Kind::Choice, "sphere", "");
+  CHECK(a[3].choices == std::vector<std::string>{"sphere", "box"});
+  check(4, "size", KeyAsk::Kind::NumberList, "[0, 2e7]", "");
+  check(5, "sub", KeyAsk::Kind::Section, "", "");
+  check(6, "sub.flag", KeyAsk::Kind::Bool, "false", "");
+  check(7, "list", KeyAsk::Kind::SectionList, "", "");
+  check(8, "list[].w", KeyAsk::Kind::Text, "", "");
+  check(9, "list[].w", KeyAsk::Kind::Text, "", "");
+  check(10, "opt", KeyAsk::Kind::Presence, "", "");
+  check(11, "opt", KeyAsk::Kind::Path, "", "");
+  check(12, "pass", KeyAsk::Kind::Raw, "", "");
+  // A key read after its presence was tested is read only when given: its fallback is no default.
+  CHECK(a[11].after_presence_test);
+  CHECK_FALSE(a[4].after_presence_test);
+  CHECK(std::string(kind_name(KeyAsk::Kind::SectionList)) == "list of sections");
 }
