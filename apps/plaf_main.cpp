@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "apps/exit_codes.h"
+#include "apps/keys.h"
 #include "apps/run.h"
 #include "apps/study.h"
 #include "modules/base/error.h"
@@ -32,6 +33,8 @@ constexpr const char* usage =
     "                                          or the path of each data:REL file (exit 1 naming a missing one)\n"
     "       plaf plugins                        list the registered type of every stage (geometry, metric,\n"
     "                                          surface, layers, fill) and the output formats\n"
+    "       plaf keys [SECTION] [--markdown]   every configuration key: type, default, range or choices,\n"
+    "                                          the types that read it, what it does (docs/config.md)\n"
     "       plaf --help | --version\n"
     "--data DIR: the data root, where a config's data:REL paths (published geometry) are found; then\n"
     "the environment's PLAF_DATA, then ../shared/data beside the source tree (docs/data.md).\n"
@@ -106,6 +109,22 @@ int main(int argc, char** argv) {
     if (args[0] == "plugins") {
       if (args.size() > 1) return fail_usage("plugins takes no argument");
       return plaf::plugins_command();
+    }
+    if (args[0] == "keys") {
+      std::optional<std::string> section;
+      bool markdown = false;
+      for (std::size_t i = 1; i < args.size(); ++i) {
+        if (args[i] == "--markdown") {
+          markdown = true;
+        } else if (!args[i].empty() && args[i][0] == '-') {
+          return fail_usage("unknown option '" + args[i] + "'");
+        } else if (section) {
+          return fail_usage("keys takes one section, got '" + *section + "' and '" + args[i] + "'");
+        } else {
+          section = args[i];
+        }
+      }
+      return plaf::keys_command(section, markdown);
     }
     if (args[0] == "check") {
       std::optional<std::string> mesh, metric, report;

@@ -105,8 +105,8 @@ void absolutize_files(YAML::Node node, const fs::path& dir) {
   }
 }
 
-Study load_study(const fs::path& path) {
-  const ConfigNode c = ConfigNode::load_file(path);
+// The study of file `path`, read from c (its parsed text).
+Study load_study(const ConfigNode& c, const fs::path& path) {
   Study s;
   s.file = path;
   s.name = c.get_string("name", path.stem().string());
@@ -194,6 +194,8 @@ Study load_study(const fs::path& path) {
   c.finish();
   return s;
 }
+
+Study load_study(const fs::path& path) { return load_study(ConfigNode::load_file(path), path); }
 
 // ---- the runs -------------------------------------------------------------------------------
 
@@ -747,6 +749,10 @@ void write_charts(const Study& st, const std::vector<StudyRun>& runs, const std:
 }
 
 }  // namespace
+
+void check_study(const std::string& yaml_text, const fs::path& file) {
+  load_study(ConfigNode::load_string(yaml_text, file.string()), file);
+}
 
 int compare_attenuation_command(const fs::path& study_path, const std::optional<fs::path>& out_dir) {
   register_all_plugins();

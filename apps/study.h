@@ -17,20 +17,10 @@
 // too (extrusion: the mid-span wall nodes are the section's; sphere: the same radius, and no
 // 2D-only metric key may change the sizes of one side).
 //
-// Study keys (strict, as run configurations):
-//   name: <word>                 output base name                   default: the file's stem
-//   order: <1..4>                the runs' order Q                   default: 3
-//   f_atten: [..]                f_atten sweep, each in (0, 1]       default: [0.05, 0.1, 0.2, 0.4, 1]
-//   h0_factors: [..]             h0 sweep: factors of the case's h0  default: [1, 0.1, 0.01, 0.001]
-//   cases:                       a list of maps:
-//     - name: <word>             (required)
-//       geometry: {...}          the 2D section: a run config's geometry section, type airfoils
-//       metric: {...}            a run config's metric section, type wall_power_law (h0 is swept)
-//       layers: {...}            a run config's layers section (f_atten is swept)
-//       extrude: {span, rows, hz}  the extrusion partner (a run config's extrude section)
-//       sphere: <bool>           the sphere partner (one circle body)    default: false
-//       h0_factors: [..]         this case's h0 sweep                    default: the study's
-//       output: {zooms: [...]}   the pictures' zoom boxes, in (x, y) (the 3D cut's (u, v))
+// Study keys (strict, as run configurations): name, order, the sweeps f_atten and h0_factors, and
+// cases, each a name, the run sections geometry (type airfoils), metric (type wall_power_law) and
+// layers, its partners (extrude, sphere), its own h0_factors and output.zooms. Types, defaults and
+// descriptions: `plaf keys study` (docs/config.md; the lines in apps/key_notes.cpp).
 //
 // Outputs in OUT (the --out folder, default out/<name>):
 //   <name>.md           the runs' table, the pairs' table and, per case, the per-layer table of
@@ -47,8 +37,13 @@
 
 #include <filesystem>
 #include <optional>
+#include <string>
 
 namespace plaf {
+
+// Reads and checks a study file's text as compare-attenuation does, running nothing (ConfigError
+// naming the key); `file` places its relative paths. For the key reference (apps/keys.h).
+void check_study(const std::string& yaml_text, const std::filesystem::path& file);
 
 int compare_attenuation_command(const std::filesystem::path& study, const std::optional<std::filesystem::path>& out_dir);
 
