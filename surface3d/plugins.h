@@ -1,54 +1,13 @@
 // SPDX-License-Identifier: MIT
 // The 3D surface stages' plugins (modules/pipeline/stages.h), registered by
-// register_surface3d_plugins(); each parses its own section:
-//   geometry:               3D surfaces (the run is 3D)
-//     type: sphere          center: [x, y, z] (default origin), radius: <>0> (default 1)
-//     type: ellipsoid       center, semi_axes: [a, b, c] along x, y, z   default: [1.5, 1.2, 1]
-//     type: box             lo: [x, y, z], hi: [x, y, z]          default: [-1,-1,-1], [1,1,1]
-//     type: wing            a straight wing along +z from z = 0 to span (analytic.h)
-//       file: <path>        airfoil section (Selig or Lednicer; data:REL in the data root), or
-//       naca: "0012"        a generated NACA section (modules/pipeline/naca_config.h); one of them
-//       chord: <>0>         default: 1        span: <>0>          default: 1
-//       root: flat|rounded|symmetry   the end at z = 0            default: symmetry
-//       tip: flat|rounded|symmetry    the end at z = span         default: flat
-//       corner_angle_deg: <(0, 180)>  section corners             default: 30
-//     type: surface_file    a triangulated or Plot3D surface (read_surface.h), validated
-//                           (validate.h), its features detected (features.h); its own reference
-//       file: <path>        .stl .obj .off .ply .fmt .p3d, or data:REL  (required)
-//       reference: smooth|facets  what nodes are projected onto: smooth, cubic patches through the
-//                           vertices with the feature curves kept sharp (smooth_reference.h), or
-//                           the flat facets themselves (discrete_reference.h)   default: facets
-//                           (smooth is not yet the default: on the pyHyp BWB its surface stage
-//                           takes 737 s and folds 44 triangles)
-//       weld_rel: <0..0.1>  merge points closer than this x bbox diagonal   default: 1e-9
-//       symmetry_planes:    open boundaries allowed on these planes, tagged symmetry:
-//         - normal: [nx, ny, nz]   (required)   offset: <d>   (the plane normal . x = d, default 0)
-//       self_intersections: repair|check|skip  repair: folded sliver caps behind intersecting
-//                         pairs, or back to back with the surface all around, get their long
-//                         edge flipped (repair lines), then check;
-//                         check: any pair is an error; skip: not tested    default: repair
-//       inner_components: drop|error  bodies nested inside another (the flow never meets them):
-//                         dropped with a repair line, or an error     default: drop
-//   surface:                the `remesh` surface stage: features, remeshing (features.h, remesh.h),
-//                           order-Q nodes on the reference, every triangle certified (high_order.h)
-//     ridge_angle_deg: <0..180>   dihedral deviation of a ridge   default: 30
-//     corner_defect_deg: <0..360> angle defect of a cone corner   default: 60
-//     curve_turn_deg: <0..180>    turn of a feature curve making a corner   default: 45
-//     remesh: <bool>        remesh to the metric                  default: true
-//     iterations: <1..100>  remeshing rounds                      default: 8
-//     curvature_factor: <0..100>  sizes at most this x radius of curvature (0: off), and at most
-//                           the size whose order-Q chord error is half of fidelity_tol
-//                           (curvature_metric.h, ChordCap)   default: 0
-//     curvature_h_min: <>0, < the metric's size>  the smallest size curvature asks for   default: the metric's size / 20
-//     gradation: <0 or >1> how fast curvature sizes may grow between neighbours (graded_metric.h:
-//                           beta; sizes change by at most 1 + ln beta per unit edge); 0: off   default: 1.5
-//     min_scaled_jacobian: <0..0.9>  a curved triangle below it has its high-order nodes pulled
-//                           toward its flat triangle until it reaches it (high_order.h)   default: 0.1
-//     max_triangles: <n>    give up (an error) beyond this many triangles   default: 20000000
-//     fidelity_tol: <>0>    the run fails when the surface's two-sided distance to the body
-//                           (fidelity.h) exceeds this x the body's bounding-box diagonal   default: 1e-3
-//     fidelity_rounds: <0..10>  while over fidelity_tol, remesh at finer sizes around the samples
-//                           farther than half of it, at most this many times (plugins.cpp)   default: 3
+// register_surface3d_plugins(); each parses its own section: the 3D geometries (sphere,
+// ellipsoid, box, wing: analytic.h; surface_file: a triangulated or Plot3D surface, read_surface.h,
+// validated, validate.h, its features detected, features.h, projected onto its facets,
+// discrete_reference.h, or onto smooth patches, smooth_reference.h) and the `remesh` surface stage
+// (features, remeshing, features.h and remesh.h; order-Q nodes on the reference, every triangle
+// certified, high_order.h; curvature sizes, curvature_metric.h, graded, graded_metric.h; the
+// fidelity loop, fidelity.h). Their keys, types, defaults and descriptions: `plaf keys geometry`
+// and `plaf keys surface` (docs/config.md; the lines in apps/key_notes.cpp).
 // An analytic body gives its exact reference at the geometry stage and its initial
 // triangulation at the surface stage, at 1.5 times the metric's largest size there. The surface
 // follows the metric's sizes; a wall_power_law metric's sizes along the wall, its size normal to

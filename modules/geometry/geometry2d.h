@@ -18,24 +18,11 @@
 namespace plaf {
 inline namespace geometry {
 
-// The `airfoils` geometry (its plugin: modules/pipeline/stages.h):
-//   geometry:
-//     type: airfoils        bodies from coordinate files (airfoil_io.h), splines with corners
-//     bodies:               a list, one map per body:
-//       - file: <path>      Selig or Lednicer file, relative to the config file, or data:REL
-//                           in the data root (modules/pipeline/data_root.h)
-//         naca: "0012"      or a generated NACA 4/5-digit section (modules/pipeline/naca_config.h)
-//         circle:           or a circle instead of a file (a periodic spline through 256 points,
-//           center: [x, y]  no corner; the circle of the attenuation study)   default: [0, 0]
-//           radius: <>0>                                                        (required)
-//         name: <word>      boundary tag of the body                  default: wall, wall_2, ...
-//         corners: [[x, y], ...]  extra corners: the nearest contour points   default: none
-//     corner_angle_deg: <0..180>  turning angle above which a point is a corner   default: 30
-//     farfield:
-//       shape: circle|rectangle                                   default: circle
-//       radius: <>0>        circle radius                         default: 20
-//       size: [w, h]        rectangle width and height            default: [40, 40]
-//       center: [x, y]      default: the centre of the bodies' bounding box
+// The `airfoils` geometry (its plugin: modules/pipeline/stages.h): bodies from coordinate files
+// (airfoil_io.h; data:REL in the data root, modules/pipeline/data_root.h), generated NACA sections
+// (modules/pipeline/naca_config.h) or circles, splines with corners, and a circle or rectangle
+// farfield. Its keys, types, defaults and descriptions: `plaf keys geometry` (docs/config.md;
+// the lines in apps/key_notes.cpp).
 struct BodyParams {
   std::string file;  // empty for a circle or a NACA section
   std::string name;

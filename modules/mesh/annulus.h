@@ -7,13 +7,9 @@
 // Boundary tags: "wall" (inner circle, Wall), "farfield" (outer circle, Farfield) and, for a
 // sector, "side" (the two radial lines, Symmetry). Loops run with the domain on their left.
 //
-// Its geometry section (the `annulus` geometry plugin, modules/pipeline/stages.h):
-//   geometry:
-//     type: annulus
-//     r_inner: <>0>         inner radius                          default: 1
-//     r_outer: <>r_inner>   outer radius                          default: 2
-//     angle_deg: <0..360]   sector angle (360 = full annulus)     default: 360
-//     cells: quad|tri       quads, or each quad split in two tris default: quad
+// Its geometry section (`type: annulus`, the plugin in modules/pipeline/stages.h): r_inner,
+// r_outer, angle_deg, cells; types, defaults and descriptions: `plaf keys geometry`
+// (docs/config.md; the lines in apps/key_notes.cpp).
 #pragma once
 
 #include "modules/mesh/hybrid_mesh.h"

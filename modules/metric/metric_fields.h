@@ -1,19 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The metric plugins' options, each parsed from its own `metric:` section (the plugins are
-// registered in modules/pipeline/stages.cpp), and the fields they make:
-//   metric:
-//     type: uniform         one metric everywhere
-//     h: <>0>               isotropic size                        default: 0.25
-//     sizes: [h1, h2]       anisotropic sizes (instead of h); 3D: [hx, hy, hz]   default: none
-//     angle_deg: <deg>      direction of h1 from the x axis (2D)  default: 0
-//   metric:
-//     type: background      metric at the nodes of a background mesh of the run's dimension,
-//                           2D triangles or 3D tetrahedra (background_metric.h: the field and
-//                           the file formats)
-//     file: <path>          Gmsh .msh with a tensor $NodeData view, or a libMeshb .mesh  (required)
-//     sol: <path>           the .sol of a .mesh file (required with a .mesh)  default: none
-//     mean: log_euclidean|affine_invariant                        default: log_euclidean
-// The wall_power_law options live beside its field in wall_metric.h (3D: wall_metric_3d.h).
+// registered in modules/pipeline/stages.cpp), and the fields they make: `uniform` (one metric
+// everywhere) and `background` (the metric at the nodes of a background mesh of the run's
+// dimension, 2D triangles or 3D tetrahedra; background_metric.h: the field and the file formats).
+// The wall_power_law options live beside its field in wall_metric.h (3D: wall_metric_3d.h). The
+// keys, types, defaults and descriptions: `plaf keys metric` (docs/config.md; the lines in
+// apps/key_notes.cpp).
 #pragma once
 
 #include <memory>

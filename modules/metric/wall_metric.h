@@ -30,19 +30,11 @@
 namespace plaf {
 inline namespace metric {
 
-// Its section (the `wall_power_law` metric plugin, modules/pipeline/stages.h):
-//   metric:
-//     type: wall_power_law  boundary-layer metric of the paper's eq. (6) (wall_metric.h)
-//     h0: <>0>              first layer height                    default: 0.005
-//     growth: <>1>          layer growth factor g                 default: 1.2
-//     law: linear|exponential   h_perp = h0 + (g-1) d, or h0 g^(d/delta)   default: linear
-//     delta: <>0>           growth distance of the exponential law    default: h0
-//     h_max: <>0>           isotropic size far from the walls     default: 1
-//     h_wall_max: <>0>      largest size along a wall             default: 0.05
-//     curvature_factor: <>0>  size along a wall = factor x radius of curvature   default: 0.25
-//     h_corner: <>0>        size along a wall at a corner (grows by g away)   default: 0.01
-//     (3D: the same keys but curvature_factor and h_corner, an error there: curvature sizes come
-//     from the surface section's curvature_factor, see wall_metric_3d.h)
+// Its section (`type: wall_power_law`, the plugin in modules/pipeline/stages.h): h0, growth,
+// law, delta, h_max, h_wall_max, curvature_factor, h_corner (3D: all but the last two, an error
+// there: curvature sizes come from the surface section's curvature_factor, wall_metric_3d.h).
+// Types, defaults and descriptions: `plaf keys metric` (docs/config.md; the lines in
+// apps/key_notes.cpp).
 struct WallLawParams {
   double h0 = 0.005;
   double growth = 1.2;

@@ -1,11 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The `naca:` key, accepted wherever an airfoil section file is (a 2D body, a 3D wing), in place
-// of `file:` (modules/io/naca_section.h):
-//   naca: "2412"                  the designation (quoted, so YAML keeps its leading zeros)
-//   naca:                         or a map:
-//     digits: "23012"             4 or 5 digits                                  (required)
-//     trailing_edge: sharp|blunt  closed (a4 = -0.1036) or the standard open one  default: sharp
-//     intervals: <4..100000>      cosine-spaced intervals per surface            default: 100
+// of `file:` (modules/io/naca_section.h): a designation (`naca: "2412"`, quoted so YAML keeps its
+// leading zeros) or a map of digits, trailing_edge and intervals. Types, defaults and
+// descriptions: `plaf keys geometry` (docs/config.md; the lines in apps/key_notes.cpp).
 #pragma once
 
 #include <optional>
