@@ -249,6 +249,9 @@ StudyRun make_run(const Study& st, const StudyCase& sc, const std::string& partn
   // pair would no longer compare layer by layer), and its coverage is reported, not enforced.
   if (!layers["local_stops"].IsDefined()) layers["local_stops"] = false;
   if (!layers["min_coverage"].IsDefined()) layers["min_coverage"] = 0.0;
+  // The same normals in both (the 3D default relaxes them, layers/plugins.cpp; 2D's does not):
+  // 2D's default, so an extrusion's columns stay the section's.
+  if (!layers["smooth_normals"].IsDefined()) layers["smooth_normals"] = false;
   // The same isotropic stop in both (the 3D default is node, layers/plugins.cpp): 2D's default.
   if (!layers["isotropic_stop"].IsDefined()) {
     bool linear = false;  // (a bad value is the run's own error, named by its config check)

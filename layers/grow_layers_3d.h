@@ -10,7 +10,7 @@
 //     the first layer at smooth nodes; otherwise the angle-weighted average of the normals of the
 //     front's linear sub-triangles around the node (the 2D panel average), and at ridges and
 //     corners the normal that sees every face, stretched at concave ones (the 3D concave merge);
-//     after the first layer, with smooth_normals (not yet the default, plugins.cpp), the smooth
+//     after the first layer, with smooth_normals (the 3D default, plugins.cpp), the smooth
 //     nodes' normals are relaxed toward their neighbours' (two Jacobi passes, halfway each, kept
 //     in their symmetry planes and seeing every face around at cos 75 degrees or as well as
 //     before): the columns bend with their neighbours instead of converging at concave bends and

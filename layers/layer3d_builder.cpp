@@ -201,7 +201,7 @@ void PartLayerBuilder::relax_normals() {
       const Vec mid = nn_[l].n + sum / count;
       if (!(mid.norm() > 1e-12)) continue;
       // In its symmetry planes (skipped where the projection is too short to trust: in_plane
-      // would end the run there, and the relaxation is optional).
+      // would end the run there, and the node keeps its own normal).
       const Vec planar = in_planes(mid.normalized(), part_.plane[l], planes_);
       if (!(planar.norm() > 1e-3)) continue;
       const Vec c = planar.normalized();

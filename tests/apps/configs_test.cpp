@@ -597,9 +597,12 @@ TEST_CASE("configs: 3D prism layers are certified, conforming and attenuate to a
       const std::size_t fill = report.find("\"fill\": {");
       CHECK(json_number(report, "tets", fill) > 1000);
       CHECK(json_number(report, "tetrahedron_Q2", report.find("\"by_type\"")) >= json_number(report, "tets", fill));
-      // The optimised fill: no flat tet, none under 1 degree in the metric (the M6's least: 1.4).
+      // The optimised fill: no flat tet, none under 0.9 degrees in the metric. The M6's least is
+      // 0.99 (1.39 before the relaxed normals became the 3D default: its layers' outer front moved
+      // at the root trailing edge, where a tet of two front nodes and a symmetry-plane node stays a
+      // sliver that no repair of optimize_3d.h betters; issue 32).
       CHECK(plaf::test::report_value(report, {"fill", "optimize", "after", "flat"}) == 0);
-      CHECK(plaf::test::report_value(report, {"fill", "optimize", "after", "metric_min_dihedral_deg"}) > 1);
+      CHECK(plaf::test::report_value(report, {"fill", "optimize", "after", "metric_min_dihedral_deg"}) > 0.9);
       CHECK(json_number(report, "open_facets", report.find("\"conformity\": {")) == 0);
       CHECK(json_number(report, "edges", report.find("\"tetrahedra\": {")) > 0);  // the tets' metric lengths
       CHECK(read_text(r.out / (r.name + ".msh")).find("\"farfield\"") != std::string::npos);
