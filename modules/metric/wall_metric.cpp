@@ -29,8 +29,10 @@ WallLawParams parse_wall_law_params(const ConfigNode& m, int dim) {
   w.delta = m.get_positive("delta", w.h0);
   w.h_max = m.get_positive("h_max", w.h_max);
   w.h_wall_max = m.get_positive("h_wall_max", w.h_wall_max);
-  w.curvature_factor = m.get_positive("curvature_factor", w.curvature_factor);
-  w.h_corner = m.get_positive("h_corner", w.h_corner);
+  if (dim == 2) {  // 3D refuses them above
+    w.curvature_factor = m.get_positive("curvature_factor", w.curvature_factor);
+    w.h_corner = m.get_positive("h_corner", w.h_corner);
+  }
   if (w.h0 > w.h_max) throw ConfigError(m.where("h0") + ": must not exceed h_max");
   return w;
 }
