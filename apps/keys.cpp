@@ -501,8 +501,9 @@ void add_entries(const std::string& document, const Explored& ex, KeyReference& 
         all.insert(values.begin(), values.end());
         one_per_dim = one_per_dim && values.size() == 1;
       }
-      auto shown = [](const std::string& v) { return v.empty() ? std::string("none") : v; };
-      if (container || all.empty()) {
+      // An empty default (an empty text or path) is no value: shown as — like an absent one.
+      auto shown = [](const std::string& v) { return v.empty() ? std::string("—") : v; };
+      if (container || all.empty() || (all.size() == 1 && all.begin()->empty())) {
         e.fallback = "—";
         e.fallback_is_value = false;
       } else if (all.size() == 1) {
