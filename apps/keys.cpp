@@ -581,7 +581,7 @@ std::string value_text(const KeyEntry& e) {
   if (e.range.empty()) return e.type;
   const char c = e.range[0];
   if (c == '>' || c == '<') return e.type + " " + e.range;
-  if (c == '[' || (c >= '0' && c <= '9') || c == '-') return e.type + " in " + e.range;
+  if (c == '[' || c == '(' || (c >= '0' && c <= '9') || c == '-') return e.type + " in " + e.range;
   return e.type + ": " + e.range;
 }
 

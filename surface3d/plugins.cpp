@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "modules/base/error.h"
@@ -30,8 +31,12 @@ namespace plaf {
 
 namespace {
 
-std::array<double, 3> get_triple(const ConfigNode& n, const std::string& key, std::array<double, 3> fallback) {
-  const std::vector<double> v = n.get_double_list(key, {fallback[0], fallback[1], fallback[2]});
+// Three numbers; with `positive`, each > 0.
+std::array<double, 3> get_triple(const ConfigNode& n, const std::string& key, std::array<double, 3> fallback,
+                                 std::optional<Bounds> positive = std::nullopt) {
+  const std::vector<double> v =
+      positive ? n.get_double_list(key, {fallback[0], fallback[1], fallback[2]}, 0.0, std::numeric_limits<double>::max(), *positive)
+               : n.get_double_list(key, {fallback[0], fallback[1], fallback[2]});
   if (v.size() != 3) throw ConfigError(n.where(key) + ": expected three numbers [x, y, z]");
   return {v[0], v[1], v[2]};
 }
@@ -43,9 +48,7 @@ Geometry3Params parse_geometry3_params(const ConfigNode& g, const std::string& t
   if (type == "sphere" || type == "ellipsoid") s.center = get_triple(g, "center", s.center);
   if (type == "sphere") s.radius = g.get_positive("radius", s.radius);
   if (type == "ellipsoid") {
-    s.semi_axes = get_triple(g, "semi_axes", s.semi_axes);
-    for (double a : s.semi_axes)
-      if (!(a > 0)) throw ConfigError(g.where("semi_axes") + ": semi-axes must be positive");
+    s.semi_axes = get_triple(g, "semi_axes", s.semi_axes, Bounds::OpenLow);  // positive
   }
   if (type == "box") {
     s.lo = get_triple(g, "lo", s.lo);
@@ -62,9 +65,7 @@ Geometry3Params parse_geometry3_params(const ConfigNode& g, const std::string& t
     s.span = g.get_positive("span", s.span);
     s.root = g.get_choice("root", s.root, {"flat", "rounded", "symmetry"});
     s.tip = g.get_choice("tip", s.tip, {"flat", "rounded", "symmetry"});
-    s.corner_angle_deg = g.get_in_range("corner_angle_deg", s.corner_angle_deg, 0.0, 180.0);
-    if (!(s.corner_angle_deg > 0 && s.corner_angle_deg < 180))
-      throw ConfigError(g.where("corner_angle_deg") + ": must lie strictly between 0 and 180");
+    s.corner_angle_deg = g.get_in_range("corner_angle_deg", s.corner_angle_deg, 0.0, 180.0, Bounds::Open);
   }
   if (type == "surface_file") {
     s.file = g.get_path("file", "");
@@ -102,11 +103,9 @@ SurfaceParams parse_surface_params(const ConfigNode& sf) {
   sp.max_triangles = sf.get_int("max_triangles", sp.max_triangles, 1, 2000000000);
   sp.fidelity_tol = sf.get_positive("fidelity_tol", sp.fidelity_tol);
   sp.fidelity_rounds = sf.get_int("fidelity_rounds", sp.fidelity_rounds, 0, 10);
-  sp.gradation = sf.get_in_range("gradation", sp.gradation, 0.0, 100.0);
+  // The growth of sizes between neighbours (> 1), or 0: off.
+  sp.gradation = sf.get_zero_or_in_range("gradation", sp.gradation, 1.0, 100.0, Bounds::OpenLow);
   sp.min_scaled_jacobian = sf.get_in_range("min_scaled_jacobian", sp.min_scaled_jacobian, 0.0, 0.9);
-  if (sp.gradation != 0 && !(sp.gradation > 1))
-    throw ConfigError(sf.where("gradation") + ": " + std::to_string(sp.gradation) +
-                      " must exceed 1 (the growth of sizes between neighbours) or be 0 (off)");
   sp.curvature_h_min_where = sf.where("curvature_h_min");
   return sp;
 }

@@ -23,9 +23,8 @@ std::string json_point(const Eigen::Vector3d& x) { return json_array({json_numbe
 
 HybridFillParams parse_tetgen(const ConfigNode& section) {
   HybridFillParams p;
-  p.tet.max_radius_edge = section.get_in_range("max_radius_edge", p.tet.max_radius_edge, 0.0, 100.0);
-  if (p.tet.max_radius_edge > 0 && p.tet.max_radius_edge < 1.1)
-    throw ConfigError(section.where("max_radius_edge") + ": TetGen's quality bound must be 0 (off) or at least 1.1");
+  // TetGen's quality bound: 0 (off) or at least 1.1.
+  p.tet.max_radius_edge = section.get_zero_or_in_range("max_radius_edge", p.tet.max_radius_edge, 1.1, 100.0);
   p.tet.max_volume = section.get_in_range("max_volume", 0.0, 0.0, std::numeric_limits<double>::max());
   p.optimize.passes = section.get_int("optimize_passes", p.optimize.passes, 0, 50);
   const ConfigNode f = section.child("farfield");

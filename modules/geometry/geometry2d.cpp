@@ -72,9 +72,7 @@ AirfoilsParams parse_airfoils_params(const ConfigNode& g) {
   FarfieldParams& ff = a.farfield;
   ff.shape = f.get_choice("shape", ff.shape, {"circle", "rectangle"});
   // Within the readers' coordinate range (modules/base/coordinates.h), so plaf reads back what it writes.
-  ff.radius = f.get_positive("radius", ff.radius);
-  if (ff.radius > kMaxCoordinate / 2)
-    throw ConfigError(f.where("radius") + ": at most " + num(kMaxCoordinate / 2) + ", got " + num(ff.radius));
+  ff.radius = f.get_in_range("radius", ff.radius, 0.0, kMaxCoordinate / 2, Bounds::OpenLow);
   ff.size = get_pair(f, "size", ff.size);
   if (!(ff.size[0] > 0 && ff.size[1] > 0 && ff.size[0] <= kMaxCoordinate && ff.size[1] <= kMaxCoordinate))
     throw ConfigError(f.where("size") + ": sizes must be positive and at most " + num(kMaxCoordinate));

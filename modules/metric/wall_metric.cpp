@@ -23,8 +23,7 @@ WallLawParams parse_wall_law_params(const ConfigNode& m, int dim) {
   }
   WallLawParams w;
   w.h0 = m.get_positive("h0", w.h0);
-  w.growth = m.get_in_range("growth", w.growth, 1.0, 10.0);
-  if (!(w.growth > 1)) throw ConfigError(m.where("growth") + ": must be larger than 1 (layers grow)");
+  w.growth = m.get_in_range("growth", w.growth, 1.0, 10.0, Bounds::OpenLow);  // > 1: layers grow
   w.exponential = m.get_choice("law", "linear", {"linear", "exponential"}) == "exponential";
   w.delta = m.get_positive("delta", w.h0);
   w.h_max = m.get_positive("h_max", w.h_max);

@@ -96,12 +96,29 @@ std::string yaml_list(const std::vector<T>& items, Format format) {
   return "[" + out + "]";
 }
 
-// A range's upper end at the largest double is no bound: "[lo, max]" reads ">= lo".
-std::string closed_range(double lo, double hi) {
-  std::string out = hi >= std::numeric_limits<double>::max() ? ">= " : "[";
+// A range as the reference and the messages write it: "[0, 1]", "(1, 10]"; an upper end at the
+// largest double is no bound: "[lo, max]" reads ">= lo", "(lo, max]" "> lo".
+std::string range_text(double lo, double hi, Bounds bounds) {
+  const bool open_lo = bounds == Bounds::OpenLow || bounds == Bounds::Open;
+  const bool open_hi = bounds == Bounds::OpenHigh || bounds == Bounds::Open;
+  std::string out;
+  if (hi >= std::numeric_limits<double>::max()) {
+    out = open_lo ? "> " : ">= ";
+    out += yaml_number(lo);
+    return out;
+  }
+  out = open_lo ? "(" : "[";
   out += yaml_number(lo);
-  if (out[0] == '[') out += ", " + yaml_number(hi) + "]";
+  out += ", ";
+  out += yaml_number(hi);
+  out += open_hi ? ")" : "]";
   return out;
+}
+
+bool in_range(double x, double lo, double hi, Bounds bounds) {
+  const bool open_lo = bounds == Bounds::OpenLow || bounds == Bounds::Open;
+  const bool open_hi = bounds == Bounds::OpenHigh || bounds == Bounds::Open;
+  return (open_lo ? x > lo : x >= lo) && (open_hi ? x < hi : x <= hi);
 }
 
 // "bodies[2].file" -> "bodies[].file": a key of any item of a list.
@@ -144,8 +161,8 @@ KeyRecording::~KeyRecording() { active_recording = previous_; }
 
 void ConfigNode::note(const std::string& key, KeyAsk::Kind kind, std::string fallback, std::string range,
                       std::vector<std::string> choices) const {
+  if (!s_->recording) return;  // no recording: no bookkeeping
   if (kind == KeyAsk::Kind::Presence) s_->tested.insert(key);
-  if (!s_->recording) return;
   KeyAsk a;
   a.path = item_pattern(dotted(s_->path, key));
   a.kind = kind;
@@ -280,12 +297,21 @@ double ConfigNode::get_positive(const std::string& key, double fallback) const {
   return x;
 }
 
-double ConfigNode::get_in_range(const std::string& key, double fallback, double lo, double hi) const {
-  note(key, KeyAsk::Kind::Number, yaml_number(fallback), closed_range(lo, hi));
+double ConfigNode::get_in_range(const std::string& key, double fallback, double lo, double hi, Bounds bounds) const {
+  const std::string range = range_text(lo, hi, bounds);
+  note(key, KeyAsk::Kind::Number, yaml_number(fallback), range);
   const double x = number(key, fallback);
-  if (x < lo || x > hi)
-    throw ConfigError(where(key) + ": " + format_double(x) + " is outside [" + format_double(lo) + ", " +
-                      format_double(hi) + "]");
+  if (!in_range(x, lo, hi, bounds)) throw ConfigError(where(key) + ": " + format_double(x) + " is outside " + range);
+  return x;
+}
+
+double ConfigNode::get_zero_or_in_range(const std::string& key, double fallback, double lo, double hi,
+                                        Bounds bounds) const {
+  const std::string range = "0 or " + range_text(lo, hi, bounds);
+  note(key, KeyAsk::Kind::Number, yaml_number(fallback), range);
+  const double x = number(key, fallback);
+  if (x != 0 && !in_range(x, lo, hi, bounds))
+    throw ConfigError(where(key) + ": " + format_double(x) + " is outside " + range);
   return x;
 }
 
@@ -359,8 +385,23 @@ std::vector<std::string> ConfigNode::get_string_list(const std::string& key, con
   return out;
 }
 
+std::vector<double> ConfigNode::get_double_list(const std::string& key, const std::vector<double>& fallback, double lo,
+                                                double hi, Bounds bounds) const {
+  const std::string range = range_text(lo, hi, bounds);
+  note(key, KeyAsk::Kind::NumberList, yaml_list(fallback, yaml_number), range);
+  const std::vector<double> out = numbers(key, fallback);
+  for (double x : out)
+    if (!in_range(x, lo, hi, bounds))
+      throw ConfigError(where(key) + ": " + format_double(x) + " is outside " + range);
+  return out;
+}
+
 std::vector<double> ConfigNode::get_double_list(const std::string& key, const std::vector<double>& fallback) const {
   note(key, KeyAsk::Kind::NumberList, yaml_list(fallback, yaml_number));
+  return numbers(key, fallback);
+}
+
+std::vector<double> ConfigNode::numbers(const std::string& key, const std::vector<double>& fallback) const {
   const YAML::Node* n = value(key);
   if (!n) return fallback;
   if (!n->IsSequence()) throw ConfigError(where(key) + ": expected a list of numbers like [1, 2]");

@@ -52,6 +52,9 @@ struct KeyAsk {
 
 const char* kind_name(KeyAsk::Kind kind);  // "number", "list of sections", ...
 
+// Which ends of a range lo..hi belong to it: [lo, hi], (lo, hi], [lo, hi), (lo, hi).
+enum class Bounds { Closed, OpenLow, OpenHigh, Open };
+
 // While an instance lives, every ConfigNode loaded on this thread records its getters' calls
 // into it (and so do the nodes taken from it: child, child_list). Recordings nest; the inner one
 // records until it ends. Parsing with a recording on behaves exactly as without.
@@ -80,10 +83,16 @@ class ConfigNode {
   bool has(const std::string& key) const;
   // The key holds a map (a section), not a scalar or a list.
   bool is_map(const std::string& key) const;
-  // Values with defaults used when the key is absent; ranges are inclusive unless *_exclusive.
+  // Values with defaults used when the key is absent; a range's ends are in it unless `bounds`
+  // says otherwise (hi at the largest double: no upper bound). A value outside is an error
+  // "file:line:col: key: VALUE is outside RANGE".
   double get_double(const std::string& key, double fallback) const;
   double get_positive(const std::string& key, double fallback) const;  // > 0
-  double get_in_range(const std::string& key, double fallback, double lo, double hi) const;
+  double get_in_range(const std::string& key, double fallback, double lo, double hi,
+                      Bounds bounds = Bounds::Closed) const;
+  // 0 (off) or a value in the range: "0 or (1, 100]".
+  double get_zero_or_in_range(const std::string& key, double fallback, double lo, double hi,
+                              Bounds bounds = Bounds::Closed) const;
   int get_int(const std::string& key, int fallback, int lo, int hi) const;
   bool get_bool(const std::string& key, bool fallback) const;
   std::string get_string(const std::string& key, const std::string& fallback) const;
@@ -93,6 +102,9 @@ class ConfigNode {
   std::vector<std::string> get_string_list(const std::string& key, const std::vector<std::string>& fallback,
                                            const std::vector<std::string>& allowed) const;
   std::vector<double> get_double_list(const std::string& key, const std::vector<double>& fallback) const;
+  // Every item in the range (as get_in_range).
+  std::vector<double> get_double_list(const std::string& key, const std::vector<double>& fallback, double lo,
+                                      double hi, Bounds bounds = Bounds::Closed) const;
   // A list of points [[x, y], ...] (empty when absent).
   std::vector<std::array<double, 2>> get_point_list(const std::string& key) const;
   // A nested map (empty when absent: every key takes its default).
@@ -123,6 +135,7 @@ class ConfigNode {
   // The unrecorded readers behind the getters (a getter built on another records once).
   double number(const std::string& key, double fallback) const;
   std::string word(const std::string& key, const std::string& fallback) const;
+  std::vector<double> numbers(const std::string& key, const std::vector<double>& fallback) const;
   // Records an ask of `key` when a recording was on at load time.
   void note(const std::string& key, KeyAsk::Kind kind, std::string fallback = "", std::string range = "",
             std::vector<std::string> choices = {}) const;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "modules/pipeline/config.h"
 #include "modules/base/error.h"
@@ -47,9 +48,7 @@ void parse_output(const ConfigNode& o, RunConfig& r) {
       if (!c.has("point") || !c.has("normal")) throw ConfigError(c.where() + ": a cut needs its point and normal");
       cut.point = vector3(c, "point", cut.point, false);
       cut.normal = vector3(c, "normal", cut.normal, true);
-      cut.radius = c.get_double("radius", 0);
-      if (!(cut.radius >= 0) || !std::isfinite(cut.radius))
-        throw ConfigError(c.where("radius") + ": must be a finite size >= 0 (0: no zoom panel), got " + num(cut.radius));
+      cut.radius = c.get_in_range("radius", 0.0, 0.0, std::numeric_limits<double>::max());  // 0: no zoom panel
       cut.label = c.get_string("label", "");
       r.output.cuts.push_back(cut);
     }
