@@ -11,20 +11,19 @@ namespace plaf {
 const std::vector<KeyNote>& key_notes() {
   static const std::vector<KeyNote> notes = {
       // ---- the run's own values (modules/pipeline/run_config.h)
-      {"name", "output base name: NAME.msh, NAME.vtu, NAME.report.json, NAME.png", "the config file's stem"},
+      {"name", "output base name: NAME.msh, NAME.vtu, NAME.report.json, NAME.png", "the config file's stem", true},
       {"order", "geometry order Q of the curved cells (surface, layers; the fill too with output.uniform_order)"},
 
       // ---- geometry: what to mesh (the type decides the run's dimension)
       {"geometry", "what to mesh; `type:` chooses the plugin, a 3D type makes a 3D run"},
-      {"geometry.type", "the geometry plugin: 2D annulus or airfoils (spline loops), 3D analytic bodies or a surface file",
-       "annulus"},
+      {"geometry.type", "the geometry plugin: 2D annulus or airfoils (spline loops), 3D analytic bodies or a surface file"},
       // annulus (modules/mesh/annulus.h)
       {"geometry.r_inner", "annulus: inner radius (the wall)"},
       {"geometry.r_outer", "annulus: outer radius (the farfield), larger than r_inner"},
       {"geometry.angle_deg", "annulus: sector angle in degrees (360: the full annulus; a sector's sides are tagged side)"},
       {"geometry.cells", "annulus: quadrilaterals, or each split into two triangles"},
       // airfoils (modules/geometry/geometry2d.h)
-      {"geometry.bodies", "airfoils: the bodies, one map each: file, naca or circle; name, corners"},
+      {"geometry.bodies", "airfoils: the bodies, one map each: file, naca or circle; name, corners", "required"},
       {"geometry.bodies[].file", "a Selig or Lednicer coordinate file (airfoil_io.h); sharp or blunt trailing edges",
        "one of file, naca, circle"},
       {"geometry.bodies[].circle", "a circle instead of a file: a periodic spline through 256 points, no corner"},
@@ -91,7 +90,7 @@ const std::vector<KeyNote>& key_notes() {
       {"metric.h0", "wall_power_law: the first layer's height at the wall"},
       {"metric.growth", "wall_power_law: the layers' growth factor g (> 1): layer k is h0 g^k thick"},
       {"metric.law", "wall_power_law: h_perp = h0 + (g - 1) d (geometric layers), or h0 g^(d/delta) (eq. 6 as printed)"},
-      {"metric.delta", "wall_power_law: the exponential law's growth distance", "h0"},
+      {"metric.delta", "wall_power_law: the exponential law's growth distance", "h0", true},
       {"metric.h_max", "wall_power_law: the isotropic size far from the walls; every size is capped by it"},
       {"metric.h_wall_max", "wall_power_law: the largest size along a wall"},
       {"metric.curvature_factor",
@@ -226,18 +225,18 @@ const std::vector<KeyNote>& key_notes() {
       {"output.zooms[].box", "[x_min, x_max, y_min, y_max] (3D: in the cut plane's (u, v), picture3d.h)", "required"},
 
       // ---- a study file (apps/study.h)
-      {"study:name", "output base name", "the file's stem"},
+      {"study:name", "output base name", "the file's stem", true},
       {"study:order", "the runs' order Q"},
       {"study:f_atten", "the f_atten sweep, each in (0, 1]"},
       {"study:h0_factors", "the h0 sweep: factors of each case's h0"},
-      {"study:cases", "the cases, each a 2D section with its 3D partners"},
+      {"study:cases", "the cases, each a 2D section with its 3D partners", "required"},
       {"study:cases[].name", "the case's name", "required"},
       {"study:cases[].geometry", "the 2D section: a run configuration's geometry section of type airfoils", "required"},
       {"study:cases[].metric", "a run configuration's metric section of type wall_power_law (h0 is swept)", "required"},
       {"study:cases[].layers", "a run configuration's layers section (f_atten is swept)", "required"},
       {"study:cases[].extrude", "the extrusion partner: a run configuration's extrude section"},
       {"study:cases[].sphere", "the sphere partner (a section of one circle body)"},
-      {"study:cases[].h0_factors", "this case's h0 sweep", "the study's h0_factors"},
+      {"study:cases[].h0_factors", "this case's h0 sweep", "the study's h0_factors", true},
       {"study:cases[].output", "the case's pictures"},
       {"study:cases[].output.zooms", "zoom boxes as output.zooms, in (x, y) (the 3D cut's (u, v))"},
   };

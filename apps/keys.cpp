@@ -478,20 +478,9 @@ void add_entries(const std::string& document, const Explored& ex, KeyReference& 
       e.range = join(parts, "; ");
     }
     e.read_by = readers_text(document, path, g.readers);
-    auto note = notes.find(path);
-    for (const auto& [from, to] : note_aliases)
-      if (note == notes.end() && path.rfind(from, 0) == 0) note = notes.find(to + path.substr(std::string(from).size()));
-    if (note == notes.end()) {
-      ref.problems.push_back(where + path + " has no description in apps/key_notes.cpp");
-    } else {
-      e.description = note->second->text;
-      if (note->second->fallback) {
-        e.fallback = note->second->fallback;
-        e.fallback_is_value = false;
-      }
-      described.insert(note->first);
-    }
-    if (e.fallback.empty()) {
+    // The default recorded: one value, one per dimension, or none (a section, an empty text).
+    bool concrete = false;  // a single value the getters gave
+    {
       const bool container = std::all_of(g.kinds.begin(), g.kinds.end(), [](KeyAsk::Kind k) {
         return k == KeyAsk::Kind::Section || k == KeyAsk::Kind::SectionList || k == KeyAsk::Kind::Raw;
       });
@@ -501,23 +490,43 @@ void add_entries(const std::string& document, const Explored& ex, KeyReference& 
         all.insert(values.begin(), values.end());
         one_per_dim = one_per_dim && values.size() == 1;
       }
-      // An empty default (an empty text or path) is no value: shown as — like an absent one.
+      // An empty default (an empty text, path or list) is no value: shown as — like an absent one.
       auto shown = [](const std::string& v) { return v.empty() ? std::string("—") : v; };
-      if (container || all.empty() || (all.size() == 1 && all.begin()->empty())) {
+      if (container || all.empty() || (all.size() == 1 && (all.begin()->empty() || *all.begin() == "[]"))) {
         e.fallback = "—";
         e.fallback_is_value = false;
       } else if (all.size() == 1) {
-        e.fallback = shown(*all.begin());
+        e.fallback = *all.begin();
+        concrete = true;
       } else if (one_per_dim) {
-        std::vector<std::string> parts;
-        for (const auto& [dim, values] : g.fallbacks) parts.push_back(std::to_string(dim) + "D: " + shown(*values.begin()));
-        e.fallback = join(parts, "; ");
+        std::vector<std::string> parts;  // "2D 10, 3D 6": "; " separates the terminal's fields
+        for (const auto& [dim, values] : g.fallbacks) parts.push_back(std::to_string(dim) + "D " + shown(*values.begin()));
+        e.fallback = join(parts, ", ");
         e.fallback_is_value = false;
       } else {
-        ref.problems.push_back(where + path + " has several defaults (" + join(std::vector<std::string>(all.begin(), all.end()), ", ") +
-                               "): say which in apps/key_notes.cpp");
         e.fallback = join(std::vector<std::string>(all.begin(), all.end()), " or ");
       }
+    }
+    auto note = notes.find(path);
+    for (const auto& [from, to] : note_aliases)
+      if (note == notes.end() && path.rfind(from, 0) == 0) note = notes.find(to + path.substr(std::string(from).size()));
+    const bool several = !concrete && e.fallback_is_value && e.fallback != "—";
+    if (note == notes.end()) {
+      ref.problems.push_back(where + path + " has no description in apps/key_notes.cpp");
+    } else {
+      e.description = note->second->text;
+      if (note->second->fallback) {
+        // A note says what a recorded default cannot (computed, required, several): it must not
+        // contradict a single value the parser gives.
+        if (concrete && !note->second->computed && e.fallback != note->second->fallback)
+          ref.problems.push_back(where + path + ": the default in apps/key_notes.cpp ('" + note->second->fallback +
+                                 "') is not the parser's (" + e.fallback + ")");
+        e.fallback = note->second->fallback;
+        e.fallback_is_value = false;
+      } else if (several) {
+        ref.problems.push_back(where + path + " has several defaults (" + e.fallback + "): say which in apps/key_notes.cpp");
+      }
+      described.insert(note->first);
     }
     ref.entries.push_back(e);
   }

@@ -40,6 +40,10 @@ struct KeyNote {
   const char* key;   // a run configuration's key path, or "study:" and a study file's key path
   const char* text;
   const char* fallback = nullptr;
+  // The parser computes the default from other values (another key, the file's name): the value
+  // recorded is one instance of it, so `fallback` may differ from it. Otherwise a `fallback` that
+  // differs from a single recorded value is a problem of the reference.
+  bool computed = false;
 };
 const std::vector<KeyNote>& key_notes();
 

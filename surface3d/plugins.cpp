@@ -474,8 +474,8 @@ void register_surface3d_plugins() {
   static const bool once = [] {
     StageRegistry<3>& geometry = stage_registry<3>(StageKind::Geometry);
     for (const char* name : {"sphere", "ellipsoid", "box", "wing"})
-      geometry.add(name, [](const ConfigNode& section) -> Stage<3> {
-        const std::string type = section.get_string("type", "");
+      geometry.add(name, [name](const ConfigNode& section) -> Stage<3> {
+        const std::string type = name;  // the registry's name for it: `type:` is read by the run's parse
         const Geometry3Params g = parse_geometry3_params(section, type);
         return [type, g](RunState<3>& s, StageReport& rep) {
           // The exact reference now (the metric may measure distances to it); the triangulation the
