@@ -157,6 +157,7 @@ struct Context {
 };
 
 struct Parse {
+  std::string text;  // the configuration parsed
   bool ok = false;
   std::string error;
   std::vector<KeyAsk> asks;
@@ -282,6 +283,7 @@ Explored explore(const std::vector<Seed>& seeds, const Parser& parse) {
     queue.pop_front();
     if (!done.insert(item.text).second) continue;
     Parse p = parse(item.text);
+    p.text = item.text;
     if (!p.ok) {
       if (item.seed) out.problems.push_back("the configuration for " + item.label + " does not parse: " + p.error);
       out.parses.push_back(std::move(p));
@@ -680,11 +682,39 @@ std::string key_reference_markdown(const KeyReference& r) {
   return out.str();
 }
 
+std::string key_probes_yaml() {
+  std::set<std::tuple<std::string, std::string, int>> selected;
+  const Explored run = explore(run_seeds(), [&](const std::string& text) { return parse_run(text, selected); });
+  // (key, range or words) -> the configurations that read it so, in the order parsed.
+  std::map<std::pair<std::string, std::string>, std::vector<std::string>> probes;
+  for (const Parse& p : run.parses) {
+    if (!p.ok) continue;
+    for (const KeyAsk& a : p.asks) {
+      if (is_type_key(a.path) || (a.range.empty() && a.kind != KeyAsk::Kind::Choice)) continue;
+      const std::string range = a.kind == KeyAsk::Kind::Choice ? "words: " + join(a.choices, ", ") : a.range;
+      std::vector<std::string>& configs = probes[{a.path, range}];
+      if (configs.size() < 6 && std::find(configs.begin(), configs.end(), p.text) == configs.end())
+        configs.push_back(p.text);
+    }
+  }
+  YAML::Emitter e;
+  e << YAML::BeginSeq;
+  for (const auto& [key, configs] : probes) {
+    e << YAML::BeginMap << YAML::Key << "key" << YAML::Value << key.first << YAML::Key << "range" << YAML::Value
+      << key.second << YAML::Key << "configs" << YAML::Value << YAML::BeginSeq;
+    for (const std::string& c : configs) e << YAML::Literal << c;
+    e << YAML::EndSeq << YAML::EndMap;
+  }
+  e << YAML::EndSeq;
+  return std::string(e.c_str()) + "\n";
+}
+
 int keys_command(const std::optional<std::string>& section, bool markdown) {
   register_all_plugins();
   const KeyReference r = collect_key_reference();
   for (const std::string& p : r.problems) std::cerr << "plaf: warning: key reference: " << p << '\n';
-  if (markdown && section) throw ConfigError("keys --markdown prints the whole reference (docs/config.md), not one section");
+  if (section && section->empty())
+    throw ConfigError("unknown section '' (known: " + join(r.sections, ", ") + ")");
   std::cout << (markdown ? key_reference_markdown(r) : key_reference_text(r, section.value_or("")));
   return 0;
 }

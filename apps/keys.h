@@ -56,7 +56,14 @@ std::string key_reference_text(const KeyReference& reference, const std::string&
 std::string key_reference_markdown(const KeyReference& reference);
 
 // `plaf keys [SECTION] [--markdown]`: prints the reference (problems, if any, as warnings on
-// stderr); returns 0.
+// stderr); an empty SECTION is unknown (ConfigError); returns 0.
 int keys_command(const std::optional<std::string>& section, bool markdown);
+
+// `plaf keys --probes` (for the reference's test, tests/apps/keys_test.cpp, not for users): every
+// run configuration key read with a range or allowed words, each with the configurations of the
+// collection that read it so, as YAML [{key, range ("words: a, b" for words), configs: [text]}],
+// so the test can set the key inside and outside the range and check the parse accepts and
+// refuses as the reference says.
+std::string key_probes_yaml();
 
 }  // namespace plaf

@@ -112,10 +112,12 @@ int main(int argc, char** argv) {
     }
     if (args[0] == "keys") {
       std::optional<std::string> section;
-      bool markdown = false;
+      bool markdown = false, probes = false;
       for (std::size_t i = 1; i < args.size(); ++i) {
         if (args[i] == "--markdown") {
           markdown = true;
+        } else if (args[i] == "--probes") {  // for tests/apps/keys_test.cpp (keys.h)
+          probes = true;
         } else if (!args[i].empty() && args[i][0] == '-') {
           return fail_usage("unknown option '" + args[i] + "'");
         } else if (section) {
@@ -123,6 +125,14 @@ int main(int argc, char** argv) {
         } else {
           section = args[i];
         }
+      }
+      if (markdown && section)
+        return fail_usage("keys --markdown prints the whole reference (docs/config.md), not one section");
+      if (probes) {
+        if (markdown || section) return fail_usage("keys --probes takes no other argument");
+        plaf::register_all_plugins();
+        std::cout << plaf::key_probes_yaml();
+        return 0;
       }
       return plaf::keys_command(section, markdown);
     }

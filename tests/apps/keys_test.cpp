@@ -1,14 +1,18 @@
 // SPDX-License-Identifier: MIT
 // The key reference (apps/keys.h): docs/config.md is exactly what `plaf keys --markdown` prints
 // now and the reference is complete (no warning); every key a shipped configuration uses is in
-// it; a key outside it is refused with one line naming it.
+// it; a key outside it is refused with one line naming it; the reference is true: the parse
+// accepts inside each range and choice it prints and refuses just outside (plaf keys --probes).
 #include <doctest/doctest.h>
 #include <sys/wait.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -179,6 +183,16 @@ TEST_CASE("keys: plaf keys SECTION prints that section, an unknown one is one er
   CHECK(bad.err.find("study)") != std::string::npos);
   CHECK(std::count(bad.err.begin(), bad.err.end(), '\n') == 1);
   CHECK(plaf_output("--help", dir).out.find("plaf keys [SECTION]") != std::string::npos);
+  const Output empty = plaf_output("keys ''", dir);
+  CHECK(empty.code == plaf::exit_code::bad_input);
+  CHECK(empty.out.empty());
+  CHECK(empty.err.find("unknown section '' (known: top,") != std::string::npos);
+  // One section in Markdown: a usage error (the usage printed), before any collecting.
+  const Output markdown = plaf_output("keys layers --markdown", dir);
+  CHECK(markdown.code == plaf::exit_code::bad_input);
+  CHECK(markdown.out.empty());
+  CHECK(markdown.err.find("keys --markdown prints the whole reference") != std::string::npos);
+  CHECK(markdown.err.find("usage: plaf run") != std::string::npos);
 }
 
 TEST_CASE("keys: every key a shipped config uses is in the reference, and a key outside it is refused naming it") {
@@ -262,4 +276,187 @@ TEST_CASE("keys: plaf run and compare-attenuation refuse a key outside the refer
     ++checked;
   }
   CHECK(checked >= 2);
+}
+
+namespace {
+
+// The reference's range column by run configuration key, read from its Markdown.
+std::map<std::string, std::string> reference_ranges(const std::string& markdown, std::map<std::string, std::string>* read_by) {
+  std::map<std::string, std::string> out;
+  std::istringstream in(markdown);
+  bool study = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("## ", 0) == 0) study = line == "## Study files";
+    if (study || line.rfind("| `", 0) != 0) continue;
+    std::vector<std::string> cells;
+    for (std::size_t from = 2;;) {
+      const std::size_t bar = line.find(" | ", from);
+      if (bar == std::string::npos) break;
+      cells.push_back(line.substr(from, bar - from));
+      from = bar + 3;
+    }
+    if (cells.size() < 5) continue;
+    const std::string key = cells[0].substr(1, cells[0].size() - 2);
+    out[key] = cells[3];
+    if (read_by) (*read_by)[key] = cells[4];
+  }
+  return out;
+}
+
+// text with the key at path ("a.b[].c": in the first item of list b) set to value.
+std::string set_key(const std::string& text, const std::string& path, const YAML::Node& value) {
+  YAML::Node document = YAML::Load(text);
+  YAML::Node cur = document;
+  std::vector<std::string> names;
+  std::stringstream parts(path);
+  for (std::string part; std::getline(parts, part, '.');) names.push_back(part);
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const bool item = names[i].size() > 2 && names[i].compare(names[i].size() - 2, 2, "[]") == 0;
+    const std::string name = item ? names[i].substr(0, names[i].size() - 2) : names[i];
+    if (i + 1 == names.size()) {
+      cur[name] = value;
+      break;
+    }
+    if (!cur[name].IsDefined() || cur[name].IsNull()) cur[name] = YAML::Node(YAML::NodeType::Map);
+    YAML::Node next = cur[name];
+    if (item) {  // the first item holding the next key, or the first
+      std::size_t k = 0;
+      const std::string inner = names[i + 1].substr(0, names[i + 1].find('['));
+      while (k + 1 < next.size() && !next[k][inner]) ++k;
+      next.reset(next[k]);
+    }
+    cur.reset(next);
+  }
+  YAML::Emitter e;
+  e << document;
+  return std::string(e.c_str()) + "\n";
+}
+
+std::string number_text(double x) {
+  std::ostringstream s;
+  s.precision(17);
+  s << x;
+  return s.str();
+}
+
+// "" when the configuration parses, else the error (a ConfigError's message, or "other: ...").
+std::string parse_error(const std::string& text) {
+  try {
+    plaf::parse_run_config(text, "probe.yaml");
+    return "";
+  } catch (const plaf::ConfigError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    return std::string("other: ") + e.what();
+  }
+}
+
+}  // namespace
+
+TEST_CASE("keys: the reference is true: each range and choice it prints is what the parse accepts and refuses") {
+  TempDir dir("keys_true");
+  const Output probes = plaf_output("keys --probes", dir);
+  REQUIRE(probes.code == 0);
+  const Output doc = plaf_output("keys --markdown", dir);
+  REQUIRE(doc.code == 0);
+  std::map<std::string, std::string> read_by;
+  const auto ranges = reference_ranges(doc.out, &read_by);
+  const std::map<std::string, std::string> types = [&] {
+    std::map<std::string, std::string> out;
+    for (const auto& [key, type] : reference_keys(doc.out))
+      if (key.first == "run") out[key.second] = type;
+    return out;
+  }();
+  const YAML::Node list = YAML::Load(probes.out);
+  REQUIRE(list.IsSequence());
+  int numeric = 0, words = 0;
+  for (const YAML::Node& probe : list) {
+    const std::string key = probe["key"].as<std::string>(), range = probe["range"].as<std::string>();
+    INFO("key " << key << ", range " << range);
+    REQUIRE(ranges.count(key) == 1);
+    std::vector<std::string> configs;
+    for (const YAML::Node& c : probe["configs"]) configs.push_back(c.as<std::string>());
+    REQUIRE(!configs.empty());
+    const std::string named = key + ": ";  // in the message with its items' indices as []
+    const bool list_value = types.at(key).find("list of numbers") != std::string::npos;
+    auto node = [&](const std::string& v) { return list_value ? YAML::Load("[" + v + ", " + v + ", " + v + "]") : YAML::Node(v); };
+    // The first configuration that accepts one of `inside` (tried in order: another key may bound
+    // it, r_outer above r_inner): the one the bounds are tried on.
+    auto accepting = [&](const std::vector<std::string>& inside) -> std::optional<std::string> {
+      std::string errors;
+      for (const std::string& v : inside)
+        for (const std::string& c : configs) {
+          const std::string e = parse_error(set_key(c, key, node(v)));
+          if (e.empty()) return c;
+          errors += "\n  " + v + ": " + e;
+        }
+      FAIL_CHECK("no configuration accepts the values inside:" << errors);
+      return std::nullopt;
+    };
+    auto refused = [&](const std::string& config, const std::string& outside) {
+      const std::string e = parse_error(set_key(config, key, node(outside)));
+      INFO("outside value " << outside << ": " << (e.empty() ? "accepted" : e));
+      CHECK(std::regex_replace(e, std::regex("\\[[0-9]+\\]"), "[]").find(named) != std::string::npos);
+      CHECK(e.rfind("other: ", 0) != 0);
+    };
+    if (range.rfind("words: ", 0) == 0) {
+      // The reference lists these words, each is accepted, another word is refused naming the key.
+      std::stringstream in(range.substr(7));
+      std::optional<std::string> config;
+      for (std::string w; std::getline(in, w, ',');) {
+        w.erase(0, w.find_first_not_of(' '));
+        CHECK(ranges.at(key).find(w) != std::string::npos);
+        config = accepting({w});
+      }
+      if (config) refused(*config, "plaf_no_such_word");
+      ++words;
+      continue;
+    }
+    // The reference prints the range the getters check (in its cell, among other types' ranges).
+    CHECK(ranges.at(key).find(range) != std::string::npos);
+    std::string r = range;
+    const bool zero_too = r.rfind("0 or ", 0) == 0;
+    if (zero_too) r = r.substr(5);
+    const bool integer = r.find("..") != std::string::npos && r[0] != '[' && r[0] != '(';
+    double lo = 0, hi = 0;
+    bool open_lo = false, open_hi = false, has_hi = true;
+    if (integer) {
+      lo = std::stod(r.substr(0, r.find(".."))), hi = std::stod(r.substr(r.find("..") + 2));
+    } else if (r[0] == '>') {
+      open_lo = r[1] != '=';
+      lo = std::stod(r.substr(open_lo ? 2 : 3));
+      has_hi = false;
+    } else {
+      REQUIRE((r[0] == '[' || r[0] == '('));
+      open_lo = r[0] == '(', open_hi = r.back() == ')';
+      lo = std::stod(r.substr(1, r.find(',') - 1)), hi = std::stod(r.substr(r.find(',') + 2));
+    }
+    std::vector<std::string> inside;
+    if (has_hi)
+      inside.push_back(number_text(integer ? std::floor((lo + hi) / 2) : (lo + hi) / 2));
+    else
+      for (double above : {1.0, 100.0}) inside.push_back(number_text(lo + std::max(std::abs(lo), 1.0) * above));
+    const std::optional<std::string> config = accepting(inside);
+    if (!config) continue;
+    if (zero_too) CHECK(parse_error(set_key(*config, key, node("0"))) == "");
+    // A closed end is in (metric.growth's 1 was refused after a reference saying [1, 10]).
+    if (!open_lo) accepting({number_text(lo)});
+    if (has_hi && !open_hi) accepting({number_text(hi)});
+    // Just outside each end: the open end itself, or a step beyond the closed one.
+    const double below = open_lo ? lo : lo - (integer ? 1 : (lo == 0 ? 1e-3 : std::abs(lo) * 1e-3));
+    if (!(zero_too && below == 0)) refused(*config, number_text(below));
+    if (has_hi) refused(*config, number_text(open_hi ? hi : hi + (integer ? 1 : std::max(std::abs(hi), 1.0) * 1e-3)));
+    ++numeric;
+  }
+  CHECK(numeric > 50);
+  CHECK(words > 15);
+  // A key the reference gives to 2D only is refused in a 3D configuration.
+  for (const char* key : {"curvature_factor", "h_corner"}) {
+    INFO(key);
+    CHECK(read_by.at(std::string("metric.") + key) == "wall_power_law (2D)");
+    CHECK(parse_error("geometry: {type: airfoils, bodies: [{file: a.dat}]}\nmetric: {type: wall_power_law, " +
+                      std::string(key) + ": 0.3}\n") == "");
+    const std::string e = parse_error("geometry: {type: sphere}\nmetric: {type: wall_power_law, " + std::string(key) + ": 0.3}\n");
+    CHECK(e.find("metric." + std::string(key) + ": not a 3D wall_power_law key") != std::string::npos);
+  }
 }
