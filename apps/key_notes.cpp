@@ -199,7 +199,7 @@ const std::vector<KeyNote>& key_notes() {
 
       // ---- output (modules/pipeline/run_config.h, modules/io/picture3d.h)
       {"output", "what is written, and the pictures"},
-      {"output.dir", "the output folder (plaf run --out wins)"},
+      {"output.dir", "the output folder, relative to the working directory, not the config's folder (plaf run --out wins)"},
       {"output.formats", "the files written: NAME.msh (Gmsh 4.1), NAME.vtu (VTK Lagrange cells), NAME.report.json, NAME.png"},
       {"output.histogram_bins", "bins of the report's metric edge-length histogram"},
       {"output.picture_width", "the PNG's width in pixels"},

@@ -192,7 +192,8 @@ Parse parse_run(const std::string& text, std::set<std::tuple<std::string, std::s
     const RunConfig r = parse_run_config(text, "config.yaml");
     const YAML::Node yaml = YAML::Load(text);
     p.ok = true;
-    for (const KeyAsk& a : recording.asks()) p.contexts.push_back(run_context(a.path, r, yaml));
+    p.asks = recording.asks();  // the asks and their contexts from one copy
+    for (const KeyAsk& a : p.asks) p.contexts.push_back(run_context(a.path, r, yaml));
     const int section_dim = r.extrude ? 2 : r.dim;
     types.insert({"geometry", r.geometry.type, section_dim});
     types.insert({"metric", r.metric.type, section_dim});
@@ -201,8 +202,8 @@ Parse parse_run(const std::string& text, std::set<std::tuple<std::string, std::s
     types.insert({"fill", r.fill.type, r.dim});
   } catch (const Error& e) {
     p.error = e.what();
+    p.asks = recording.asks();
   }
-  p.asks = recording.asks();
   return p;
 }
 
@@ -212,11 +213,12 @@ Parse parse_study(const std::string& text) {
   try {
     check_study(text, "study.yaml");
     p.ok = true;
-    p.contexts.assign(recording.asks().size(), Context{});
+    p.asks = recording.asks();  // the asks and their contexts from one copy
+    p.contexts.assign(p.asks.size(), Context{});
   } catch (const Error& e) {
     p.error = e.what();
+    p.asks = recording.asks();
   }
-  p.asks = recording.asks();
   return p;
 }
 
@@ -642,8 +644,9 @@ its range stops the run before anything is written, with one line naming the fil
 and key (`config.yaml:7:3: unknown key 'layers.hieght' (known here: ...)`, exit code 1). A key
 valid for one type is unknown to another: the column *read by* says which types (or, for a
 section without types, which dimensions) read it; a key read by all types of its section says
-*all types*. Paths are relative to the configuration's folder, or `data:REL` in the data root
-(docs/data.md). In key paths, `[]` stands for every item of a list: `geometry.bodies[].file` is
+*all types*. The keys of type *path* are relative to the configuration's folder, or `data:REL` in
+the data root (docs/data.md); `output.dir` is text, used as given (relative to the working
+directory). In key paths, `[]` stands for every item of a list: `geometry.bodies[].file` is
 the `file` of each map in `bodies`. A default of — means that an absent key gives nothing (or
 what its description says).
 )";
