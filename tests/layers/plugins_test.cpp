@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The layers section's defaults (layers/plugins.h) that differ between 2D and 3D.
+// The layers section's defaults (layers/plugins.cpp) that differ between 2D and 3D.
 #include "layers/plugins.h"
 
 #include <doctest/doctest.h>
@@ -34,4 +34,16 @@ TEST_CASE("layers section: fan_fades is a 3D option, off by default") {
   CHECK(layers::parse_layer_params(ConfigNode::load_string("fan_fades: true"), 3).fan_fades);
   // 2D does not read it (a 2D section naming it is refused as an unknown key by the run's check).
   CHECK_FALSE(layers::parse_layer_params(ConfigNode::load_string("fan_fades: true"), 2).fan_fades);
+}
+
+TEST_CASE("layers section: smooth_normals defaults to on in 3D, off in 2D, and is kept when given") {
+  auto smooth = [](const std::string& yaml, int dim) {
+    return layers::parse_layer_params(ConfigNode::load_string(yaml), dim).smooth_normals;
+  };
+  CHECK(smooth("max: 40", 3));
+  CHECK_FALSE(smooth("max: 40", 2));
+  for (const int dim : {2, 3}) {
+    CHECK(smooth("smooth_normals: true", dim));
+    CHECK_FALSE(smooth("smooth_normals: false", dim));
+  }
 }
