@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -48,6 +49,26 @@ TEST_CASE("config: wrong types and out-of-range values name the key and the valu
   CHECK_THROWS_WITH_AS(c.get_int("q", 3, 1, 4), "bad.yaml:5:4: q: -1 is outside 1..4", ConfigError);
   CHECK_THROWS_WITH_AS(c.get_choice("mode", "slow", {"slow", "exact"}),
                        "bad.yaml:6:7: mode: unknown value 'fast' (known: slow, exact)", ConfigError);
+}
+
+TEST_CASE("config: ranges with open ends, 0 or a range, and ranged lists name the value and the range, and are recorded") {
+  KeyRecording rec;
+  const ConfigNode c = ConfigNode::load_string("g: 1\nq: 0.5\nr: 0\ns: 1.05\nt: 180\naxes: [1, 0, 2]\nu: 1e12\n", "r.yaml");
+  CHECK_THROWS_WITH_AS(c.get_in_range("g", 1.2, 1, 10, Bounds::OpenLow), "r.yaml:1:4: g: 1 is outside (1, 10]", ConfigError);
+  CHECK(c.get_in_range("q", 0.2, 0, 1, Bounds::Open) == 0.5);
+  CHECK(c.get_zero_or_in_range("r", 1.5, 1.1, 100) == 0);
+  CHECK_THROWS_WITH_AS(c.get_zero_or_in_range("s", 1.5, 1.1, 100), "r.yaml:4:4: s: 1.05 is outside 0 or [1.1, 100]",
+                       ConfigError);
+  CHECK_THROWS_WITH_AS(c.get_in_range("t", 30, 0, 180, Bounds::Open), "r.yaml:5:4: t: 180 is outside (0, 180)", ConfigError);
+  CHECK_THROWS_WITH_AS(c.get_double_list("axes", {1, 1, 1}, 0, std::numeric_limits<double>::max(), Bounds::OpenLow),
+                       "r.yaml:6:7: axes: 0 is outside > 0", ConfigError);
+  CHECK_THROWS_WITH_AS(c.get_in_range("u", 20, 0, 5e11, Bounds::OpenLow), "r.yaml:7:4: u: 1e+12 is outside (0, 5e11]",
+                       ConfigError);
+  CHECK(c.get_in_range("absent", 0, 0, std::numeric_limits<double>::max()) == 0);
+  std::vector<std::string> ranges;
+  for (const KeyAsk& a : rec.asks()) ranges.push_back(a.range);
+  CHECK(ranges == std::vector<std::string>{"(1, 10]", "(0, 1)", "0 or [1.1, 100]", "0 or [1.1, 100]", "(0, 180)", "> 0",
+                                           "(0, 5e11]", ">= 0"});
 }
 
 TEST_CASE("config: syntax errors, non-map documents and missing files") {
