@@ -91,6 +91,18 @@ inline PlafResult run_plaf(const std::string& args, const std::filesystem::path&
 
 inline PlafResult run_plaf(const std::string& args, const TempDir& dir) { return run_plaf(args, dir.path); }
 
+// The same run with its stdout too (dir/stdout.txt), for commands whose output is the result.
+struct PlafOutput {
+  int code = -1;
+  std::string out, err;
+};
+inline PlafOutput run_plaf_output(const std::string& args, const TempDir& dir) {
+  const std::filesystem::path out = dir.path / "stdout.txt", err = dir.path / "stderr.txt";
+  const std::string cmd = std::string(PLAF_EXE) + " " + args + " > " + out.string() + " 2> " + err.string();
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(out), read_text(err)};
+}
+
 // The regular files below dir (0 if it does not exist).
 inline int count_files(const std::filesystem::path& dir) {
   if (!std::filesystem::exists(dir)) return 0;

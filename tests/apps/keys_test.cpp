@@ -26,26 +26,15 @@
 #include "tests/test_support.h"
 
 namespace fs = std::filesystem;
+using plaf::test::PlafOutput;
 using plaf::test::read_text;
+using plaf::test::run_plaf_output;
 using plaf::test::TempDir;
 using plaf::test::write_text;
 
 namespace {
 
 const fs::path root = fs::path(PLAF_CONFIGS).parent_path();
-
-struct Output {
-  int code = -1;
-  std::string out, err;
-};
-
-// `plaf args` with its stdout and stderr.
-Output plaf_output(const std::string& args, const TempDir& dir) {
-  const std::string cmd = std::string(PLAF_EXE) + " " + args + " > " + (dir / "out.txt").string() + " 2> " +
-                          (dir / "err.txt").string();
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(dir / "out.txt"), read_text(dir / "err.txt")};
-}
 
 // The first line where a and b differ, for the message of a stale docs/config.md.
 std::string first_difference(const std::string& a, const std::string& b) {
@@ -139,7 +128,7 @@ bool is_study(const YAML::Node& config) { return static_cast<bool>(config["cases
 
 TEST_CASE("keys: docs/config.md is what plaf keys --markdown prints, and the reference is complete") {
   TempDir dir("keys_doc");
-  const Output o = plaf_output("keys --markdown", dir);
+  const PlafOutput o = run_plaf_output("keys --markdown", dir);
   REQUIRE(o.code == 0);
   // A warning is a hole in the reference: a registered type no configuration selects, a key only
   // tested for presence, a key without a description (apps/keys.cpp says how each is found).
@@ -171,24 +160,24 @@ TEST_CASE("keys: the example configuration of docs/config.md parses") {
 
 TEST_CASE("keys: plaf keys SECTION prints that section, an unknown one is one error line and exit 1") {
   TempDir dir("keys_section");
-  const Output layers = plaf_output("keys layers", dir);
+  const PlafOutput layers = run_plaf_output("keys layers", dir);
   REQUIRE(layers.code == 0);
   CHECK(layers.out.rfind("layers: ", 0) == 0);
   CHECK(layers.out.find("  layers.f_atten  (number in [0, 1]; default 0.2; read by extrude)") != std::string::npos);
   CHECK(layers.out.find("geometry.") == std::string::npos);
-  const Output bad = plaf_output("keys nosuch", dir);
+  const PlafOutput bad = run_plaf_output("keys nosuch", dir);
   CHECK(bad.code == plaf::exit_code::bad_input);
   CHECK(bad.out.empty());
   CHECK(bad.err.find("unknown section 'nosuch' (known: top, geometry, metric,") != std::string::npos);
   CHECK(bad.err.find("study)") != std::string::npos);
   CHECK(std::count(bad.err.begin(), bad.err.end(), '\n') == 1);
-  CHECK(plaf_output("--help", dir).out.find("plaf keys [SECTION]") != std::string::npos);
-  const Output empty = plaf_output("keys ''", dir);
+  CHECK(run_plaf_output("--help", dir).out.find("plaf keys [SECTION]") != std::string::npos);
+  const PlafOutput empty = run_plaf_output("keys ''", dir);
   CHECK(empty.code == plaf::exit_code::bad_input);
   CHECK(empty.out.empty());
   CHECK(empty.err.find("unknown section '' (known: top,") != std::string::npos);
   // One section in Markdown: a usage error (the usage printed), before any collecting.
-  const Output markdown = plaf_output("keys layers --markdown", dir);
+  const PlafOutput markdown = run_plaf_output("keys layers --markdown", dir);
   CHECK(markdown.code == plaf::exit_code::bad_input);
   CHECK(markdown.out.empty());
   CHECK(markdown.err.find("keys --markdown prints the whole reference") != std::string::npos);
@@ -197,7 +186,7 @@ TEST_CASE("keys: plaf keys SECTION prints that section, an unknown one is one er
 
 TEST_CASE("keys: every key a shipped config uses is in the reference, and a key outside it is refused naming it") {
   TempDir dir("keys_configs");
-  const Output o = plaf_output("keys --markdown", dir);
+  const PlafOutput o = run_plaf_output("keys --markdown", dir);
   REQUIRE(o.code == 0);
   const auto ref = reference_keys(o.out);
   int used = 0, refused = 0;
@@ -241,7 +230,7 @@ TEST_CASE("keys: every key a shipped config uses is in the reference, and a key 
 TEST_CASE("keys: plaf run and compare-attenuation refuse a key outside the reference with one line, exit 1, nothing written") {
   TempDir dir("keys_unknown");
   const fs::path run = write_text(dir / "run.yaml", "order: 2\ngeometry: {type: annulus}\nlayers: {type: extrude, f_aten: 0.3}\n");
-  const Output r = plaf_output("run " + run.string() + " --out " + (dir / "out").string(), dir);
+  const PlafOutput r = run_plaf_output("run " + run.string() + " --out " + (dir / "out").string(), dir);
   CHECK(r.code == plaf::exit_code::bad_input);
   CHECK(r.err.find("unknown key 'layers.f_aten' (known here: ") != std::string::npos);
   CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
@@ -250,7 +239,7 @@ TEST_CASE("keys: plaf run and compare-attenuation refuse a key outside the refer
   // are checked by the runs' parse, above).
   const fs::path study = fs::path(PLAF_CONFIGS) / "attenuation_study.yaml";
   const YAML::Node config = YAML::LoadFile(study.string());
-  const auto ref = reference_keys(plaf_output("keys --markdown", dir).out);
+  const auto ref = reference_keys(run_plaf_output("keys --markdown", dir).out);
   std::vector<std::string> maps;
   collect_maps(config, "", maps);
   int checked = 0;
@@ -268,7 +257,7 @@ TEST_CASE("keys: plaf run and compare-attenuation refuse a key outside the refer
     const std::string key = (m.empty() ? "" : m + ".") + "plaf_unknown_key";
     INFO("added " << key);
     const fs::path bad = write_text(dir / "study.yaml", with_key(read_text(study), m, "plaf_unknown_key"));
-    const Output s = plaf_output("compare-attenuation " + bad.string() + " --out " + (dir / "study_out").string(), dir);
+    const PlafOutput s = run_plaf_output("compare-attenuation " + bad.string() + " --out " + (dir / "study_out").string(), dir);
     CHECK(s.code == plaf::exit_code::bad_input);
     CHECK(s.err.find("unknown key '" + key + "'") != std::string::npos);
     CHECK(std::count(s.err.begin(), s.err.end(), '\n') == 1);
@@ -355,9 +344,9 @@ std::string parse_error(const std::string& text) {
 
 TEST_CASE("keys: the reference is true: each range and choice it prints is what the parse accepts and refuses") {
   TempDir dir("keys_true");
-  const Output probes = plaf_output("keys --probes", dir);
+  const PlafOutput probes = run_plaf_output("keys --probes", dir);
   REQUIRE(probes.code == 0);
-  const Output doc = plaf_output("keys --markdown", dir);
+  const PlafOutput doc = run_plaf_output("keys --markdown", dir);
   REQUIRE(doc.code == 0);
   std::map<std::string, std::string> read_by;
   const auto ranges = reference_ranges(doc.out, &read_by);
