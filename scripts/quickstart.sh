@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # One command on a fresh Debian 12 machine: install what is missing, build (Release) and run the
-# default job (configs/annulus.yaml) into out/.
+# default job (configs/naca0012_hybrid.yaml: the NACA 0012 hybrid mesh, on a section plaf generates,
+# so it needs no published data) into out/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
