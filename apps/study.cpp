@@ -87,7 +87,7 @@ void check_sweep(const ConfigNode& n, const std::string& key, const std::vector<
 }
 
 // Relative path values (`file`: a body's contour, a background metric; `sol`) made absolute
-// against the study's folder: the generated configurations live elsewhere. A data-root path
+// against the study's folder (dir, absolute): the generated configurations live elsewhere. A data-root path
 // (`data:REL`, data_root.h) is found from anywhere and stays as written.
 void absolutize_files(YAML::Node node, const fs::path& dir) {
   if (node.IsMap()) {
@@ -117,7 +117,9 @@ Study load_study(const ConfigNode& c, const fs::path& path) {
   check_sweep(c, "f_atten", s.f_atten, 1.0);
   s.h0_factors = c.get_double_list("h0_factors", s.h0_factors);
   check_sweep(c, "h0_factors", s.h0_factors, std::numeric_limits<double>::infinity());
-  const fs::path dir = path.parent_path();
+  // Absolute: a study named by a relative path (`configs/x.yaml`) writes its configurations into
+  // OUT/configs/, where a path relative to the study's folder would be read from that folder.
+  const fs::path dir = fs::absolute(path).parent_path();
   std::set<std::string> names;
   for (const ConfigNode& k : c.child_list("cases")) {
     StudyCase sc;

@@ -276,9 +276,59 @@ TEST_CASE("study: bad study files fail with one line naming the file and key, be
   CHECK(run_plaf("compare-attenuation a.yaml b.yaml", d).code == 1);
 }
 
+TEST_CASE("study: named by a relative path, its contour file beside it, written into a folder outside the repository") {
+  // The study's `file:` paths are relative to its folder; its generated configurations live in
+  // OUT/configs/. Run from the study's folder with a relative study path (as `plaf
+  // compare-attenuation configs/attenuation_study.yaml --out /tmp/x` is), once into a folder
+  // elsewhere and once into the default out/<name>: each run must find the contour.
+  TempDir d("study_relative");
+  fs::create_directories(d / "studies");
+  {
+    std::ostringstream dat;  // a thin ellipse, chord 1, closed
+    dat << "ellipse\n";
+    for (int i = 0; i <= 64; ++i) {
+      const double t = 2 * M_PI * i / 64;
+      dat << 0.5 + 0.5 * std::cos(t) << " " << 0.1 * std::sin(t) << "\n";
+    }
+    write_text(d / "studies/ellipse.dat", dat.str());
+  }
+  write_text(d / "studies/tiny.yaml",
+             "name: tiny\n"
+             "order: 2\n"
+             "f_atten: [0.2]\n"
+             "h0_factors: [1]\n"
+             "cases:\n"
+             "  - name: ellipse\n"
+             "    geometry: {type: airfoils, bodies: [{file: ellipse.dat}]}\n"
+             "    metric: {type: wall_power_law, h0: 0.01, growth: 1.3, h_max: 10.0, h_wall_max: 0.1}\n"
+             "    layers: {max: 6, f_atten: 0.2}\n"
+             "    extrude: {span: 0.2}\n");
+  TempDir elsewhere("study_relative_out");
+  const fs::path outside = elsewhere / "x";
+  struct Case {
+    std::string args;
+    fs::path out;
+  };
+  for (const Case& c : {Case{"--out " + outside.string(), outside}, Case{"", d / "out/tiny"}}) {
+    const std::string cmd = "cd " + d.path.string() + " && " + PLAF_EXE + " compare-attenuation studies/tiny.yaml " +
+                            c.args + " > /dev/null 2> stderr.txt";
+    const int status = std::system(cmd.c_str());
+    INFO(cmd << "\n" << read_text(d / "stderr.txt"));
+    REQUIRE((WIFEXITED(status) && WEXITSTATUS(status) == 0));
+    const auto runs = read_csv(c.out / "tiny_runs.csv");
+    CHECK(runs.size() == 2);
+    for (const auto& row : runs) CHECK(row.at("exit_code") == "0");
+    // The generated configurations name the contour by its absolute path.
+    const YAML::Node g = YAML::LoadFile((c.out / "configs" / "ellipse_2d_f0.2_h0.01.yaml").string());
+    const fs::path contour = g["geometry"]["bodies"][0]["file"].as<std::string>();
+    CHECK(contour.is_absolute());
+    CHECK(fs::equivalent(contour, d / "studies/ellipse.dat"));
+  }
+}
+
 TEST_CASE("study: the shipped attenuation study: every run valid, the E387 wing and the cylinder reproduce their sections") {
   PLAF_NEEDS_PUBLISHED("airfoils/e387.dat");
-  // configs/attenuation_study.yaml in one command (the README's table comes from it).
+  // configs/attenuation_study.yaml in one command (docs/attenuation_study.md's table comes from it).
   const fs::path out = fs::path(PLAF_CONFIG_RUNS).parent_path() / "attenuation_study";
   fs::remove_all(out);
   TempDir d("study_shipped");
