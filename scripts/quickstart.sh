@@ -6,5 +6,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
-cmake --build build -j2
+cmake --build build -j2 --target plaf  # the tool only; scripts/test.sh builds the tests
 ./build/apps/plaf run configs/naca0012_hybrid.yaml --out out
