@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: MIT
 // plaf — curved high-order hybrid meshes by prismatic layers and advancing fronts.
+#include <algorithm>
+#include <cstdlib>
 #include <exception>
 #include <new>
 #include <iostream>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -14,11 +17,12 @@
 #include "modules/base/error.h"
 #include "modules/io/atomic_file.h"
 #include "modules/pipeline/data_root.h"
+#include "modules/pipeline/progress.h"
 
 namespace {
 
 constexpr const char* usage =
-    "usage: plaf run CONFIG.yaml [--out DIR] [--data DIR] [--keep-invalid]\n"
+    "usage: plaf run CONFIG.yaml [--out DIR] [--data DIR] [--keep-invalid] [--quiet | --progress=json]\n"
     "                                          mesh a configured case into DIR (default: output.dir); a\n"
     "                                          failed run writes its report and picture to DIR/NAME.failed/\n"
     "                                          (its mesh too with --keep-invalid)\n"
@@ -36,6 +40,10 @@ constexpr const char* usage =
     "       plaf keys [SECTION] [--markdown]   every configuration key: type, default, range or choices,\n"
     "                                          the types that read it, what it does (docs/config.md)\n"
     "       plaf --help | --version\n"
+    "Progress of run, on stderr: a line as each stage ends, and while a long one runs at most one a second\n"
+    "(remesh round k of n, each layer with its row of the layer table, quality's and the fill's share\n"
+    "done). --quiet: only errors, and the verdict on stdout; --progress=json: one JSON object per line\n"
+    "(docs/outputs.md), --progress=text the default.\n"
     "--data DIR: the data root, where a config's data:REL paths (published geometry) are found; then\n"
     "the environment's PLAF_DATA, then ../shared/data beside the source tree (docs/data.md).\n"
     "Outputs of run: <name>.msh (Gmsh 4.1), <name>.vtu (VTK Lagrange cells), <name>.report.json, <name>.png.\n"
@@ -43,6 +51,19 @@ constexpr const char* usage =
     "conforming cells, the boundary layer asked for is not there (layers.min_coverage), or a stage\n"
     "could not finish; its report (and picture, given a mesh) are in DIR/NAME.failed/; 3 a bug in\n"
     "plaf (nothing written; please report it).\n";
+
+// An unexpected exception (exit_code::report_bug): its lines on stderr, or with JSON progress
+// one error object holding them.
+int bug(const std::string& what, std::optional<plaf::Progress>& progress) {
+  if (!progress || progress->mode() != plaf::ProgressMode::Json) return plaf::exit_code::report_bug(std::cerr, what);
+  std::ostringstream lines;
+  const int code = plaf::exit_code::report_bug(lines, what);
+  std::string text = lines.str();
+  while (!text.empty() && text.back() == '\n') text.pop_back();
+  progress->error(text);
+  progress->verdict(false, code, "internal error: " + what);
+  return code;
+}
 
 int fail_usage(const std::string& why) {
   std::cerr << "plaf: error: " << why << "\n" << usage;
@@ -54,6 +75,18 @@ int fail_usage(const std::string& why) {
 int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   plaf::install_signal_cleanup();  // SIGINT/SIGTERM remove the temporaries and an incomplete output set
+  // A run's progress (--quiet, --progress=json): its errors go there too, so that with JSON every
+  // line on stderr is JSON; every other command's are text.
+  std::optional<plaf::Progress> progress;
+  const auto error = [&](const std::string& what, int code) {
+    if (!progress) {
+      std::cerr << "plaf: error: " << what << '\n';
+      return code;
+    }
+    progress->error(what);
+    progress->verdict(false, code, what);
+    return code;
+  };
   try {
     if (args.empty()) return fail_usage("no command given");
     if (args[0] == "--help" || args[0] == "-h") {
@@ -70,9 +103,24 @@ int main(int argc, char** argv) {
       const std::string what = run ? "config file" : "study file";
       std::optional<std::string> file, out;
       bool keep_invalid = false;
+      std::optional<plaf::ProgressMode> mode;
+      const auto set_mode = [&](plaf::ProgressMode m) {  // false: another one was given
+        if (mode && *mode != m) return false;
+        mode = m;
+        return true;
+      };
       for (std::size_t i = 1; i < args.size(); ++i) {
         if (args[i] == "--keep-invalid" && run) {
           keep_invalid = true;
+        } else if (run && (args[i] == "--quiet" || args[i] == "-q")) {
+          if (!set_mode(plaf::ProgressMode::Quiet)) return fail_usage("--quiet and --progress=json: choose one");
+        } else if (run && args[i].rfind("--progress", 0) == 0) {
+          const std::string v = args[i] == "--progress" && i + 1 < args.size() ? args[++i]
+                                : args[i].rfind("--progress=", 0) == 0 ? args[i].substr(11)
+                                                                        : "";
+          if (v != "json" && v != "text") return fail_usage("--progress takes json or text, got '" + v + "'");
+          if (!set_mode(v == "json" ? plaf::ProgressMode::Json : plaf::ProgressMode::Text))
+            return fail_usage("--quiet and --progress=json: choose one");
         } else if (args[i] == "--out") {
           if (i + 1 >= args.size()) return fail_usage("--out needs a directory");
           out = args[++i];
@@ -90,7 +138,11 @@ int main(int argc, char** argv) {
       if (!file) return fail_usage(args[0] + " needs a " + what);
       std::optional<std::filesystem::path> out_dir;
       if (out) out_dir = *out;
-      return run ? plaf::run_command(*file, out_dir, keep_invalid) : plaf::compare_attenuation_command(*file, out_dir);
+      if (!run) return plaf::compare_attenuation_command(*file, out_dir);
+      double interval_s = plaf::Progress::kMinInterval_s;  // (tests: every step, PLAF_PROGRESS_INTERVAL_S=0)
+      if (const char* env = std::getenv("PLAF_PROGRESS_INTERVAL_S")) interval_s = std::max(0.0, std::atof(env));
+      progress.emplace(mode.value_or(plaf::ProgressMode::Text), std::cerr, plaf::Progress::Clock{}, interval_s);
+      return plaf::run_command(*file, out_dir, keep_invalid, &*progress);
     }
     if (args[0] == "data") {
       std::vector<std::string> files;
@@ -162,17 +214,16 @@ int main(int argc, char** argv) {
     }
     return fail_usage("unknown command '" + args[0] + "'");
   } catch (const plaf::Error& e) {
-    std::cerr << "plaf: error: " << e.what() << '\n';
-    return plaf::exit_code::bad_input;
+    return error(e.what(), plaf::exit_code::bad_input);
   } catch (const std::bad_alloc&) {
     // Not a bug: an input or a run larger than this machine's memory (a run's limits: raised too
     // far, a huge mesh to check).
-    std::cerr << "plaf: error: out of memory (std::bad_alloc): the input or the run is too large for this "
-                 "machine; coarsen the metric or lower the limits: section\n";
-    return plaf::exit_code::bad_input;
+    return error("out of memory (std::bad_alloc): the input or the run is too large for this machine; coarsen the "
+                 "metric or lower the limits: section",
+                 plaf::exit_code::bad_input);
   } catch (const std::exception& e) {
-    return plaf::exit_code::report_bug(std::cerr, e.what());
+    return bug(e.what(), progress);
   } catch (...) {
-    return plaf::exit_code::report_bug(std::cerr, "an exception of unknown type");
+    return bug("an exception of unknown type", progress);
   }
 }

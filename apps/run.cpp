@@ -289,18 +289,21 @@ void set_failure_focus(const HybridMesh<Dim>& mesh, const CellQuality& per_cell,
                        std::to_string(g.first_layer) + "-" + std::to_string(g.last_layer) + ")";
 }
 
+// verdict_line: in the progress's Quiet mode, one line on stdout with the verdict (else nothing).
 template <int Dim>
-RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
+RunOutcome run_pipeline(const RunConfig& c, Progress& progress, bool verdict_line) {
   const std::filesystem::path& config_path = c.file;
+  const bool quiet = progress.mode() == ProgressMode::Quiet;
   std::ostringstream muted;
   std::ostream& out = quiet ? muted : std::cout;
   std::vector<std::pair<std::string, double>> timings;
-  StageClock clock(timings, quiet);
+  StageClock clock(timings, progress);
   clock.done("config", config_path.string());
   // An extruded run's 2D section: declared before the run's state, whose extruded metric refers
   // to the section's metric, so that it outlives it.
   std::optional<RunState<2>> section;
   RunState<Dim> s(c);
+  s.progress = &progress;
   std::vector<StageReport> reports;
   auto step = [&](auto& state, StageKind kind, const std::string& what) {
     reports.emplace_back(stage_kind_name(kind));
@@ -315,6 +318,7 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
   if constexpr (Dim == 3) {
     if (c.extrude) {
       section.emplace(c);
+      section->progress = &progress;
       step(*section, StageKind::Geometry, c.geometry.type);
       step(*section, StageKind::Metric, c.metric.type);
       check_section_budget(*section, c.extrude->rows);
@@ -374,6 +378,7 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
   qo.validity.rel_tol = c.validity.rel_tol;
   qo.validity.max_depth = c.validity.max_depth;
   qo.histogram_bins = c.output.histogram_bins;
+  qo.progress = [&progress](double fraction, const std::string& what) { progress.step("quality", fraction, what); };
   CellQuality per_cell;
   QualityReport report = assess_quality<Dim>(mesh, s.measure(), qo, &per_cell);
   report.name = c.name;
@@ -452,12 +457,23 @@ RunOutcome run_pipeline(const RunConfig& c, bool quiet) {
     writer_registry<Dim>().create("report", "", job);
   outputs.commit();
   out << report_summary(report);
-  for (const std::string& f : outcome.failures) std::cerr << "plaf: error: " << config_path.string() << ": " << f << '\n';
+  for (const std::string& f : outcome.failures) progress.error(config_path.string() + ": " + f);
   if (failed)
-    std::cerr << "plaf: error: " << config_path.string() << ": the run FAILED; its report and picture are in "
-              << outputs.final_base().parent_path().string() << "/"
-              << (c.output.keep_invalid ? " with the mesh" : " (the mesh too with --keep-invalid)") << '\n';
+    progress.error(config_path.string() + ": the run FAILED; its report and picture are in " +
+                   outputs.final_base().parent_path().string() + "/" +
+                   (c.output.keep_invalid ? " with the mesh" : " (the mesh too with --keep-invalid)"));
   outcome.code = outcome.failures.empty() ? 0 : 2;
+  // The verdict: one line (Quiet: on stdout; Json: the last object on stderr).
+  std::ostringstream verdict;
+  verdict << c.name << ": " << (failed ? "FAILED" : "valid") << ", " << report.cells_total << " cells, "
+          << report.cells_invalid << " invalid, min scaled Jacobian " << num(report.scaled_jacobian_min) << "; "
+          << outputs.final_base().string() << ".*";
+  if (quiet && verdict_line) std::cout << verdict.str() << '\n';
+  progress.verdict(!failed, outcome.code, verdict.str(),
+                   "\"cells\": " + std::to_string(report.cells_total) + ", \"invalid_cells\": " +
+                       std::to_string(report.cells_invalid) + ", \"min_scaled_jacobian\": " +
+                       json_number(report.scaled_jacobian_min) + ", \"output\": " +
+                       json_string(outputs.final_base().string()));
   outcome.report = std::move(report);
   outcome.base = outputs.final_base();
   return outcome;
@@ -488,14 +504,16 @@ void register_all_plugins() {
 }
 
 int run_command(const std::filesystem::path& config_path, const std::optional<std::filesystem::path>& out_dir,
-                bool keep_invalid) {
+                bool keep_invalid, Progress* progress) {
   register_all_plugins();
+  std::optional<Progress> text;
+  if (!progress) progress = &text.emplace(ProgressMode::Text, std::cerr);
   // Everything is validated before anything is written.
   RunConfig c = load_run_config(config_path);
   if (out_dir) c.output.dir = *out_dir;
   c.output.keep_invalid = keep_invalid;
   try {
-    return run_config(c).code;
+    return run_config(c, *progress).code;
   } catch (const MesherError& e) {
     // A mesher failure on valid keys (a stage that could not finish: no mesh to write): the run
     // failed, exit 2 as for an invalid mesh, its report (the error and the key most likely to
@@ -509,9 +527,13 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
             ", \"mesh\": false}\n}\n");
     f.commit();
     outputs.commit();
-    std::cerr << "plaf: error: " << config_path.string() << ": " << e.what() << hint << '\n'
-              << "plaf: error: " << config_path.string() << ": the run FAILED before it had a mesh; its report is in "
-              << outputs.final_base().parent_path().string() << "/\n";
+    progress->error(config_path.string() + ": " + e.what() + hint);
+    progress->error(config_path.string() + ": the run FAILED before it had a mesh; its report is in " +
+                    outputs.final_base().parent_path().string() + "/");
+    const std::string verdict = c.name + ": FAILED before it had a mesh; " + outputs.final_base().string() + ".report.json";
+    if (progress->mode() == ProgressMode::Quiet) std::cout << verdict << '\n';
+    progress->verdict(false, exit_code::invalid_mesh, verdict,
+                      "\"output\": " + json_string(outputs.final_base().string()));
     return exit_code::invalid_mesh;
   } catch (const ConfigError& e) {
     // A key found wrong only once the mesh exists (a farfield that does not enclose the layers):
@@ -523,15 +545,22 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
 }
 
 RunOutcome run_config(const RunConfig& c, bool quiet) {
+  Progress progress(quiet ? ProgressMode::Quiet : ProgressMode::Text, std::cerr);
   register_all_plugins();
-  return c.dim == 3 ? run_pipeline<3>(c, quiet) : run_pipeline<2>(c, quiet);
+  return c.dim == 3 ? run_pipeline<3>(c, progress, false) : run_pipeline<2>(c, progress, false);
+}
+
+RunOutcome run_config(const RunConfig& c, Progress& progress) {
+  register_all_plugins();
+  return c.dim == 3 ? run_pipeline<3>(c, progress, true) : run_pipeline<2>(c, progress, true);
 }
 
 int check_command(const std::filesystem::path& path, const std::optional<std::filesystem::path>& metric_config,
                   const std::optional<std::filesystem::path>& report_path) {
   register_all_plugins();
   std::vector<std::pair<std::string, double>> timings;
-  StageClock clock(timings);
+  Progress progress(ProgressMode::Text, std::cerr);
+  StageClock clock(timings, progress);
   // The metric first: a bad config fails before the (possibly long) read.
   std::optional<RunConfig> c;
   std::unique_ptr<MetricField<2>> metric2;
@@ -561,6 +590,7 @@ int check_command(const std::filesystem::path& path, const std::optional<std::fi
   if (metric_config && m.dim != c->dim)
     throw InputError(path.string() + ": a " + std::to_string(m.dim) + "D mesh measured in the metric of a " +
                      std::to_string(c->dim) + "D configuration (" + metric_config->string() + ")");
+  qo.progress = [&progress](double fraction, const std::string& what) { progress.step("quality", fraction, what); };
   if (m.dim == 2)
     report = assess_quality<2>(m.mesh2, metric2.get(), qo);
   else

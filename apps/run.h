@@ -11,6 +11,7 @@
 
 #include "modules/mesh/quality.h"
 #include "modules/pipeline/layer_table.h"
+#include "modules/pipeline/progress.h"
 #include "modules/pipeline/run_config.h"
 
 namespace plaf {
@@ -37,13 +38,18 @@ struct RunOutcome {
 // Runs a validated configuration and writes its outputs; quiet: no stage lines on stdout and no
 // progress on stderr (failures are still printed). Throws plaf::Error on bad input.
 RunOutcome run_config(const RunConfig& config, bool quiet = false);
+// The same, its stages reporting to `progress` (modules/pipeline/progress.h): in its Quiet mode
+// stdout has only the verdict line (no stage lines, no summary); in Json mode the verdict is the
+// last JSON line on stderr too.
+RunOutcome run_config(const RunConfig& config, Progress& progress);
 
 // Runs a configuration; returns the process exit code (0: a valid, conforming mesh was written;
 // 2: the mesh was written but a stage failed, e.g. a folded surface, or it has invalid cells or
 // is not conforming). Throws plaf::Error on bad input before any output is written.
 // keep_invalid: a failed run's mesh is written too (into DIR/NAME.failed/, with its report).
+// progress: where the stages report (`--quiet`, `--progress=json`; null: text on stderr).
 int run_command(const std::filesystem::path& config, const std::optional<std::filesystem::path>& out_dir,
-                bool keep_invalid = false);
+                bool keep_invalid = false, Progress* progress = nullptr);
 
 // Registers every library's stage plugins (idempotent).
 void register_all_plugins();

@@ -373,6 +373,7 @@ class Growth {
       // regrowth that closes it, grow_layers_2d.h).
       st.linear = all_linear && std::all_of(linear_.begin(), linear_.end(), [](bool b) { return b; });
       r_.layers.push_back(st);
+      if (p_.on_layer) p_.on_layer(st);
       if (st.linear && r_.linear_after < 0) r_.linear_after = layer;
       if (st.linear && p_.stop_when_linear) break;
     }
@@ -433,6 +434,7 @@ class Growth {
     st.cells = blocks_[0].size() - st.first_cell;
     st.linear = std::all_of(linear_.begin(), linear_.end(), [](bool b) { return b; });
     r_.layers.push_back(st);
+    if (p_.on_layer) p_.on_layer(st);
     if (st.linear && r_.linear_after < 0) r_.linear_after = st.layer;
   }
 

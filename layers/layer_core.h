@@ -111,6 +111,9 @@ struct LayerParams {
   // Where the table's layer heights are measured (LayerStats::height_*): the columns whose base
   // this accepts (empty: every column). An extruded section's run measures at mid-span.
   std::function<bool(const Eigen::Vector3d& base)> height_probe;
+  // Told each layer as it is accepted, its row of the table (the quality columns not yet
+  // measured): the run's progress (modules/pipeline/layer_table.h, layer_progress). May be empty.
+  std::function<void(const LayerStats& accepted)> on_layer;
 };
 
 // The layer's height along unit normal n at x (Sec. II.B): the metric size h = 1/sqrt(n^T M n),

@@ -10,6 +10,7 @@
 #include "layers/grow_layers_3d.h"
 #include "modules/base/error.h"
 #include "modules/pipeline/budget.h"
+#include "modules/pipeline/layer_table.h"
 #include "modules/pipeline/run_state.h"
 #include "modules/pipeline/stages.h"
 
@@ -170,7 +171,9 @@ void register_plugins() {
         std::size_t elements = 0;  // every loop's (the farfield's too: an upper bound)
         for (const FrontLoop& l : s.front->loops) elements += l.size();
         check_layer_budget(s.config, static_cast<double>(elements), p.max_layers, 2);
-        s.layers = grow_layers(*s.front, *s.metric, p);
+        LayerParams run = p;  // (p outlives the run: no reference to its state in it)
+        run.on_layer = [&s, max = p.max_layers](const LayerStats& st) { layer_progress(st, max, *s.progress); };
+        s.layers = grow_layers(*s.front, *s.metric, run);
         if (s.layers->layers.empty())
           throw MesherError("layers: not even the first layer could be grown (" +
                             (s.layers->events.empty() ? std::string("no wall loop") : s.layers->events.back()) +
@@ -190,7 +193,9 @@ void register_plugins() {
           rep.add("heights_at_z", z);
         }
         check_layer_budget(s.config, static_cast<double>(s.front->num_triangles()), p.max_layers, 3);
-        s.layers = grow_layers(*s.front, *s.metric, p);
+        LayerParams run = p;  // (p outlives the run: no reference to its state in it)
+        run.on_layer = [&s, max = p.max_layers](const LayerStats& st) { layer_progress(st, max, *s.progress); };
+        s.layers = grow_layers(*s.front, *s.metric, run);
         for (const auto& [key, value] : s.layers->counts) rep.add(key, value);
         if (s.layers->layers.empty()) {
           const auto& ev = s.layers->events;

@@ -184,7 +184,7 @@ void surface_file(const Geometry3Params& g, RunState<3>& s, StageReport& rep) {
   so.drop_inner_components = g.drop_inner_components;
   SurfaceCheckReport k;
   s.surface = validate_surface(soup, so, &k);
-  for (const std::string& r : k.repairs) std::cerr << "[plaf] repaired: " << r << '\n';
+  for (const std::string& r : k.repairs) s.progress->note("geometry", "repaired: " + r);
   // Its own reference, with the features of the default options (the surface stage detects them
   // again when its section asks for other angles).
   const FeatureReport features = detect_features(s.surface, feature_options(SurfaceParams{}));
@@ -330,6 +330,17 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
   RemeshOptions ro;
   ro.iterations = sp.iterations;
   ro.max_triangles = static_cast<std::size_t>(sp.max_triangles);
+  // The progress: each pass of the remesher (the first, the graded one, a fidelity refinement's)
+  // an equal share of the stage, its rounds within it.
+  const int passes = 1 + (s.surface_metric && sp.gradation > 1 ? 1 : 0) + sp.fidelity_rounds;
+  int pass = 0;
+  ro.on_round = [&s, &pass, passes](int round, int rounds) {
+    s.progress->step("surface", (pass + static_cast<double>(round) / rounds) / passes,
+                     "remesh round " + std::to_string(round) + " of " + std::to_string(rounds) +
+                         (pass > 0 ? " (pass " + std::to_string(pass + 1) + ")" : std::string()),
+                     "\"round\": " + std::to_string(round) + ", \"rounds\": " + std::to_string(rounds) +
+                         ", \"pass\": " + std::to_string(pass + 1));
+  };
   const TriSurface input = sp.remesh ? surface : TriSurface();  // what a remesh starts from
   if (sp.remesh) {
     const bool grade = s.surface_metric && sp.gradation > 1;
@@ -360,6 +371,7 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
                " of " + std::to_string(points.size()) + " sizes made finer; remeshed again");
       s.surface_metric = std::move(graded);
       surface = input;
+      ++pass;
       rr = remesh_surface(surface, *s.reference, *s.surface_metric, ro);
     }
   }
@@ -395,6 +407,7 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
     else
       s.surface_metric = std::make_unique<FidelityRefinedField>(s.surface_base(), spots);
     surface = input;
+    ++pass;
     rr = remesh_surface(surface, *s.reference, *s.surface_metric, ro);
     cr = curve_surface(surface, *s.reference, c.order, vo, sp.min_scaled_jacobian);
     fr = measure_fidelity(surface, *s.reference, body, target);

@@ -480,6 +480,7 @@ RemeshReport Remesher::run() {
     flip_edges();
     for (int k = 0; k < 2; ++k) relax();
     ++rep_.rounds;
+    if (opt_.on_round) opt_.on_round(round + 1, opt_.iterations);
     // Converged: a round that split and collapsed nothing and flipped under 0.5 % of the edges
     // only relaxes further; the rounds stop (the final passes still run).
     if (rep_.splits + rep_.collapses == changes && rep_.flips - flips < m_.n_edges() / 200) break;

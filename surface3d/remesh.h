@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 
 #include "modules/metric/metric.h"
@@ -29,6 +30,7 @@ namespace plaf {
 struct RemeshOptions {
   int iterations = 8;  // rounds at most (they stop early once a round splits and collapses nothing)
   std::size_t max_triangles = 20000000;  // more than this: MesherError (sizes too small for the surface)
+  std::function<void(int round, int rounds)> on_round;  // after each round (the run's progress); may be empty
 };
 
 struct RemeshReport {

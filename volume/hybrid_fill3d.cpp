@@ -21,6 +21,10 @@ namespace {
 
 using Vec = Eigen::Vector3d;
 
+// The progress's share of the fill done when TetGen returns (the planes and TetGen), the rest for
+// the optimisation's passes (HybridFillParams::progress).
+constexpr double kTetGenShare = 0.3;
+
 
 // One point inside the layers of every connected part of their outer front (TetGen's holes:
 // the bodies and their layers are not filled): the centroid of the vertices of a last-layer cell
@@ -452,12 +456,19 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
   r.stats = tets.stats;
   r.fill.nodes = std::move(tets.nodes);
   r.fill.simplices = std::move(tets.simplices);
+  if (params.progress)
+    params.progress(kTetGenShare, "TetGen: " + std::to_string(r.fill.simplices.size()) + " tetrahedra");
 
   // 5. The metric optimisation, every front node fixed but the planes' own (sliding in them).
   const FrontHeights below = layer_heights(lr, outer_tag);
   r.front_ratio_before = front_ratio(below, r.fill);
   Optimize3Params op = params.optimize;
   op.in_plane = std::move(in_plane);
+  if (params.progress)
+    op.on_pass = [&params](int pass, int passes) {
+      params.progress(kTetGenShare + (1 - kTetGenShare) * pass / passes,
+                      "optimisation pass " + std::to_string(pass) + " of " + std::to_string(passes));
+    };
   r.optimize = optimize_fill_3d(r.fill, front.nodes.size(), metric, op);
   r.front_ratio_after = front_ratio(below, r.fill);
   r.farfield = fp;

@@ -53,6 +53,9 @@ struct HybridFillParams {
   // largest size: TetGen's tetrahedra are isotropic; the bodies' and layers' volume is not taken
   // out, so an upper estimate); may throw to stop the run (the size budget, budget.h).
   std::function<void(double tetrahedra)> size_check;
+  // Told the share of the fill done and what, after TetGen and after each optimisation pass (the
+  // run's progress; the shares measured on the sphere and wing configs). May be empty.
+  std::function<void(double fraction, const std::string& what)> progress;
 };
 
 // The size ratio across the layers' outer front: per outer triangle, the height of the fill's

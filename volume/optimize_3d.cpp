@@ -278,7 +278,7 @@ class Optimizer3 {
 
   FillShape3 shape() const { return measure(x_, t_, &dead_, m_, fixed_); }
 
-  Optimize3Stats run(int passes) {
+  Optimize3Stats run(int passes, const std::function<void(int, int)>& on_pass) {
     Optimize3Stats st;
     st.before = shape();
     for (int pass = 0; pass < passes; ++pass) {
@@ -293,6 +293,7 @@ class Optimizer3 {
       st.swaps += swap_sweep();
       const std::size_t changes = st.splits + st.collapses + st.swaps + st.moves + st.repairs - changes_before;
       drop_dead_tets();
+      if (on_pass) on_pass(pass + 1, passes);
       if (pass >= passes - kPlacePasses && changes * 1000 < alive_tets()) break;
     }
     compact();
@@ -878,7 +879,7 @@ Optimize3Stats optimize_fill_3d(FillResult<3>& fill, std::size_t fixed_nodes, co
     st.before = st.after = opt.shape();
     return st;
   }
-  Optimize3Stats st = opt.run(params.passes);
+  Optimize3Stats st = opt.run(params.passes, params.on_pass);
   st.after = measure(fill.nodes, fill.simplices, nullptr, opt.metrics(), fixed_nodes);
   return st;
 }

@@ -53,6 +53,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 
 #include "modules/mesh/linear_front.h"
 #include "modules/metric/metric.h"
@@ -67,6 +68,7 @@ struct Optimize3Params {
   // at such a node must lie in its plane (InputError otherwise: sliding would dent the other
   // surface).
   std::vector<std::pair<NodeId, int>> in_plane;
+  std::function<void(int pass, int passes)> on_pass;  // after each pass (the run's progress); may be empty
 };
 
 // The fill's shape, measured (measure_fill_3d).

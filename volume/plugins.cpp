@@ -102,6 +102,7 @@ void register_plugins() {
           check_limit(c, "nodes", layer_nodes + tets * c.order * c.order * c.order / 6.0,
                       what + " of order " + std::to_string(c.order));
         };
+        params.progress = [&s](double fraction, const std::string& what) { s.progress->step("fill", fraction, what); };
         HybridFill fill = fill_around_layers(*s.layers, *s.metric, params);
         const TetFillStats& st = fill.stats;
         rep.add("farfield.shape", fill.farfield.shape);

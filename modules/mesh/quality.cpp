@@ -6,6 +6,7 @@
 #include "modules/base/parallel.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -19,6 +20,10 @@ namespace plaf {
 inline namespace mesh {
 
 namespace {
+
+// The progress's share of the quality stage for the cells' certification, the rest for the
+// metric lengths of their edges (assess_quality, step 2).
+constexpr double kCellsShareOfWork = 0.8;
 
 // Reference-to-regular maps W (columns: edge vectors of the regular cell from vertex 0).
 Eigen::Matrix3d regular_cell_map(CellType t) {
@@ -114,7 +119,8 @@ class EdgeLengthAccumulator {
 // (triangles in 2D, tetrahedra in 3D) into simplices too.
 template <int Dim>
 void measure_edges(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& blocks, const MetricField<Dim>& metric,
-                   int bins, EdgeLengthStats& all, EdgeLengthStats* simplices) {
+                   int bins, EdgeLengthStats& all, EdgeLengthStats* simplices,
+                   const std::function<void(std::size_t done, std::size_t total)>& progress) {
   const CellType simplex = Dim == 2 ? CellType::Triangle : CellType::Tetrahedron;
   EdgeLengthAccumulator acc_all(all, bins);
   std::optional<EdgeLengthAccumulator> acc_simplex;
@@ -149,6 +155,7 @@ void measure_edges(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& bl
     }
   }
   std::vector<double> length(refs.size());
+  std::atomic<std::size_t> measured{0};
   parallel_chunks(refs.size(), 1024, [&](unsigned, std::size_t begin, std::size_t end) {
     std::vector<double> edge;
     for (std::size_t r = begin; r < end; ++r) {
@@ -166,6 +173,7 @@ void measure_edges(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& bl
         for (int d = 0; d < Dim; ++d) edge[(s + 1) * Dim + d] = mesh.nodes[c[en[s]]][d];
       length[r] = metric_length_curved<Dim>(metric, edge.data(), b.order);
     }
+    if (progress) progress(measured.fetch_add(end - begin) + (end - begin), refs.size());
   });
   // The midpoint of an edge's end nodes, for the report's max_at.
   const auto midpoint = [&](std::size_t r) {
@@ -290,6 +298,12 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
   // cells, certified in their planes (validity.h).
   r.surface = Dim == 3 && mesh.cells.empty() && !mesh.boundary.empty();
   if (r.surface) assess_surface(mesh, certifier, r, per_cell);
+  // The progress: the cells' share of the work, then the edges' (measured: the certification of
+  // curved cells costs several times the metric lengths of their edges).
+  const double cells_share = metric && !r.surface ? kCellsShareOfWork : 1.0;
+  std::size_t cells_all = 0;
+  for (const CellBlock& b : mesh.cells) cells_all += b.size();
+  std::atomic<std::size_t> certified{0};
   for (const CellBlock& b : mesh.cells) {
     const LagrangeElement& e = lagrange_element(b.type, b.order);
     r.cells_by_type[type_key(b)] += b.size();
@@ -306,6 +320,11 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
         bounds[i] = cert.certify(b.type, b.order, xs.data());
         ratios[i] = aspect_ratio<Dim>(e, xs.data(), gs.data());
         corners[i] = simplex_corners_positive<Dim>(b.type, xs.data()) ? 1 : 0;
+      }
+      if (options.progress) {
+        const std::size_t n = certified.fetch_add(end - begin) + (end - begin);
+        options.progress(cells_share * static_cast<double>(n) / static_cast<double>(cells_all),
+                         std::to_string(n) + " of " + std::to_string(cells_all) + " cells certified");
       }
     });
     for (std::size_t i = 0; i < b.size(); ++i) {
@@ -327,8 +346,14 @@ QualityReport assess_quality(const HybridMesh<Dim>& mesh, const MetricField<Dim>
   // (2D triangles, with their shape in the metric; 3D tetrahedra).
   if (metric) {
     r.has_metric = true;
+    std::function<void(std::size_t, std::size_t)> edges_progress;
+    if (options.progress)
+      edges_progress = [&](std::size_t done, std::size_t total) {
+        options.progress(cells_share + (1 - cells_share) * static_cast<double>(done) / static_cast<double>(total),
+                         std::to_string(done) + " of " + std::to_string(total) + " edges measured in the metric");
+      };
     measure_edges<Dim>(mesh, r.surface ? mesh.boundary : mesh.cells, *metric, options.histogram_bins, r.metric,
-                       Dim == 2 ? &r.triangle_metric.edges : r.surface ? nullptr : &r.tetrahedron_edges);
+                       Dim == 2 ? &r.triangle_metric.edges : r.surface ? nullptr : &r.tetrahedron_edges, edges_progress);
     if constexpr (Dim == 2) {
       TriangleMetricStats& t = r.triangle_metric;
       t.quality_histogram.assign(10, 0);

@@ -21,6 +21,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <utility>
@@ -100,6 +101,9 @@ struct QualityReport {
 struct QualityOptions {
   ValidityOptions validity;
   int histogram_bins = 12;
+  // Told the share of the work done (cells certified, then edges measured) and what, as it goes
+  // (the run's progress, modules/pipeline/progress.h); called from worker threads. May be empty.
+  std::function<void(double fraction, const std::string& what)> progress;
 };
 
 // Metric conformity: every distinct linear edge of the cells is measured as the curved Lagrange

@@ -2,6 +2,7 @@
 #include "modules/pipeline/layer_table.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -91,6 +92,25 @@ void report_layer_table(const LayerResult<Dim>& lr, const std::vector<LayerRow>&
   report.add_json("events", json_array(events));
   report.line("layers: " + std::to_string(lr.layers.size()) + ", front linear after layer " +
               std::to_string(lr.linear_after));
+}
+
+void layer_progress(const LayerStats& st, int max_layers, Progress& progress) {
+  // The table's columns (report_layer_table), under the report's key names in the JSON.
+  const bool closing = !std::isfinite(st.f_atten);
+  std::ostringstream o;
+  o << std::setprecision(3) << (closing ? "closing layer " : "layer ") << st.layer << " of " << max_layers
+    << " accepted: " << st.cells << " cells, " << st.transition_cells << " trans, max_clip/h " << st.max_clipped_rel
+    << ", height " << st.min_height() << " - " << st.max_height() << ", coverage " << std::fixed
+    << std::setprecision(1) << 100 * st.coverage << " %";
+  const std::string fields =
+      "\"layer\": " + std::to_string(st.layer) + ", \"max_layers\": " + std::to_string(max_layers) +
+      ", \"cells\": " + std::to_string(st.cells) + ", \"transition_cells\": " + std::to_string(st.transition_cells) +
+      ", \"max_clipped_over_height\": " + json_number(st.max_clipped_rel) + ", \"f_atten\": " +
+      json_number(st.f_atten) + ", \"linear\": " + (st.linear ? "true" : "false") +
+      ", \"shrinks\": " + std::to_string(st.shrinks) + ", \"height_min\": " + json_number(st.min_height()) +
+      ", \"height_mean\": " + json_number(st.mean_height()) + ", \"height_max\": " + json_number(st.max_height()) +
+      ", \"coverage\": " + json_number(st.coverage);
+  progress.step("layers", max_layers > 0 ? static_cast<double>(st.layer) / max_layers : 1.0, o.str(), fields);
 }
 
 template std::vector<LayerRow> layer_rows<2>(const LayerResult<2>&, const HybridMesh<2>&, const CellQuality&);

@@ -12,6 +12,7 @@
 #include "modules/mesh/hybrid_mesh.h"
 #include "modules/mesh/layer_mesh.h"
 #include "modules/mesh/quality.h"
+#include "modules/pipeline/progress.h"
 #include "modules/pipeline/stage_report.h"
 
 namespace plaf {
@@ -38,6 +39,11 @@ std::vector<LayerRow> layer_rows(const LayerResult<Dim>& layers, const HybridMes
 // The rows (layer_rows) and the layer result's events and counts as the report's section.
 template <int Dim>
 void report_layer_table(const LayerResult<Dim>& layers, const std::vector<LayerRow>& rows, StageReport& report);
+
+// A layer accepted by the layer stage, as a step of the run's progress: its row of the table as
+// far as it is known then (cells, transition cells, max_clip/h, heights, coverage; the quality
+// columns come with the table), its fraction layer / max_layers.
+void layer_progress(const LayerStats& accepted, int max_layers, Progress& progress);
 
 }  // namespace pipeline
 }  // namespace plaf

@@ -18,6 +18,7 @@
 #include "modules/mesh/layer_mesh.h"
 #include "modules/mesh/linear_front.h"
 #include "modules/metric/metric.h"
+#include "modules/pipeline/progress.h"
 #include "modules/pipeline/run_config.h"
 
 namespace plaf {
@@ -31,6 +32,7 @@ struct RunState<2> {
   static constexpr int dim = 2;
   explicit RunState(const RunConfig& c) : config(c) {}
   const RunConfig& config;
+  Progress* progress = &silent_progress();  // where long stages report as they go (never null)
   Geometry2D geometry;                      // geometry: the spline loops (none for the annulus)
   std::optional<AnnulusParams> annulus;     // geometry: the annulus (its surface stage meshes it)
   std::unique_ptr<MetricField<2>> metric;   // metric
@@ -47,6 +49,7 @@ struct RunState<3> {
   static constexpr int dim = 3;
   explicit RunState(const RunConfig& c) : config(c) {}
   const RunConfig& config;
+  Progress* progress = &silent_progress();  // where long stages report as they go (never null)
   TriSurface surface;                               // geometry: the input; surface: remeshed and curved
   // geometry: what the surface lives on (shared: a metric may keep it to measure distances to the
   // body, wall_metric_3d.h, while the surface stage replaces it with an equal one built with the
