@@ -33,7 +33,7 @@ time and the child's CPU time (the machine may be shared); layers.coverage.compl
 count (layers.count); invalid cells (cells.invalid + cells.unproven); the certified min scaled
 Jacobian; the first layer's height over the metric's (coverage.first_height_over_metric.max);
 and, for a failed run, the first line of plaf's stderr that is not a stage progress line
-("[plaf] STAGE: ... (T s)") or a repair, without "plaf: error: CONFIG: ", trimmed to 120
+("[plaf] STAGE: ... (T s)", or a step "[plaf] STAGE ... N %: ... (T s)") or a repair, without "plaf: error: CONFIG: ", trimmed to 120
 characters (the whole output is in OUT/runs/NAME.log). A failed run's report is read from
 OUT/runs/NAME/NAME.failed/ (where plaf writes it).
 
@@ -122,7 +122,7 @@ SUBSET_FILL = [
 COLUMNS = ["run", "body", "h0", "order", "exit", "seconds", "cpu_s", "coverage", "layers", "invalid",
            "min_sj", "first_over_metric_max", "note"]
 
-PROGRESS = re.compile(r"^\[plaf\] [a-z_ ]+: .*\([0-9.e+-]+ s\)$")
+PROGRESS = re.compile(r"^\[plaf\] [a-z_ ]+(?: \.\.\. [0-9.]+ %)?: .*\([0-9.e+-]+ s\)$")
 
 
 # ---- bounding boxes, read from the files themselves ----
