@@ -323,7 +323,9 @@ void validate_detail::check_self_intersections(Work& w, const TriangleTree& tree
   if (si.count > 0)
     throw InputError(w.source() + ": " + plural(si.count, "self-intersecting triangle pair") + "; first: triangles " +
                      std::to_string(w.input_index[idx(si.first_a)]) + " and " +
-                     std::to_string(w.input_index[idx(si.first_b)]) + " near " + fmt_point(si.point));
+                     std::to_string(w.input_index[idx(si.first_b)]) + " near " + fmt_point(si.point) +
+                     ": mend the surface there in the tool that wrote it, or set geometry.self_intersections: skip"
+                     " to mesh it as it is");
 }
 
 namespace {
