@@ -154,9 +154,19 @@ Eigen::Vector3d body_center(const std::string& type, const Geometry3Params& g) {
 
 // An analytic body (analytic.h) at size h: its exact reference and initial triangulation.
 AnalyticBody make_body(const std::string& type, const Geometry3Params& g, double h) {
+  // The initial lattice resolves the body's smallest extent (a cube lattice with fewer divisions
+  // would not be the body), but never at more than 1/16 (box: 1/32, wing: 1/64) of its largest:
+  // a thin box 1 x 1 x 0.001 at half its thickness is a 2000 x 2000 lattice, 16M triangles for a
+  // final mesh of 200 nodes (issue 37, item 1). Bodies within those aspect ratios are built as before.
   if (type == "sphere") return make_sphere(vec(g.center), g.radius, std::min(h, g.radius));
-  if (type == "ellipsoid") return make_ellipsoid(vec(g.center), vec(g.semi_axes), std::min(h, vec(g.semi_axes).minCoeff()));
-  if (type == "box") return make_box(vec(g.lo), vec(g.hi), std::min(h, (vec(g.hi) - vec(g.lo)).minCoeff() / 2));
+  if (type == "ellipsoid") {
+    const Eigen::Vector3d a = vec(g.semi_axes);
+    return make_ellipsoid(vec(g.center), a, std::min(h, std::max(a.minCoeff(), a.maxCoeff() / 16)));
+  }
+  if (type == "box") {
+    const Eigen::Vector3d e = vec(g.hi) - vec(g.lo);
+    return make_box(vec(g.lo), vec(g.hi), std::min(h, std::max(e.minCoeff() / 2, e.maxCoeff() / 32)));
+  }
   WingParams w;
   w.file = g.file;
   w.naca = g.naca;
@@ -165,7 +175,7 @@ AnalyticBody make_body(const std::string& type, const Geometry3Params& g, double
   w.root = wing_end(g.root);
   w.tip = wing_end(g.tip);
   w.corner_angle_deg = g.corner_angle_deg;
-  return make_wing(w, std::min(h, std::min(g.chord, g.span) / 4));
+  return make_wing(w, std::min(h, std::max(std::min(g.chord, g.span) / 4, std::max(g.chord, g.span) / 64)));
 }
 
 // A surface file's reference: smooth patches on it or its flat facets (plugins.h: reference).

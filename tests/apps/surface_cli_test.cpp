@@ -580,3 +580,25 @@ TEST_CASE("surface cli: a flange with bores (Gmsh's OpenCASCADE tessellation) ke
   MESSAGE("first layer with proximity stops: " << earliest);
   CHECK(earliest >= 10);
 }
+
+TEST_CASE("surface cli: a thin analytic body starts from a lattice sized by its largest extent, not its thickness") {
+  // Issue 37, item 1: a box 1 x 1 x 0.001 was first triangulated at half its thickness, a
+  // 2000 x 2000 lattice (16M triangles, 6 GB, minutes) for a final mesh of a few hundred nodes;
+  // a wing of span 0.001 was refused, blaming an h of 0.00025 the configuration never set.
+  struct Case {
+    std::string label, geometry;
+  };
+  for (const Case& c : {Case{"flat box", "{type: box, lo: [0, 0, 0], hi: [1, 1, 0.001]}"},
+                        Case{"thin box", "{type: box, lo: [0, 0, 0], hi: [1, 0.002, 1]}"},
+                        Case{"short wing", "{type: wing, naca: \"0012\", chord: 1, span: 0.001}"}}) {
+    CAPTURE(c.label);
+    const TempDir d("surface_cli_thin");
+    const PlafResult r = run_config(d, "geometry: " + c.geometry + "\nmetric: {type: uniform, h: 0.1}\norder: 2\n");
+    REQUIRE(r.code == 0);
+    const std::string report = read_text(d / "out" / "case.report.json");
+    const double first = report_number(report, "surface", "input_triangles");
+    CHECK(first > 0);
+    CHECK(first < 2e4);
+    CHECK(report_number(report, "cells", "invalid") == 0);
+  }
+}
