@@ -174,7 +174,7 @@ const std::vector<KeyNote>& key_notes() {
       {"fill.max_triangles", "advancing_front: give up (an error) beyond this many triangles"},
       {"fill.optimize_passes", "rounds of metric optimisation after the fill, the fronts kept (0: none)"},
       {"fill.max_radius_edge", "tetgen: TetGen's quality bound q, 0 (off) or at least 1.1"},
-      {"fill.max_volume", "tetgen: TetGen's volume bound a (0: none)"},
+      {"fill.max_volume", "tetgen: no tetrahedron larger (TetGen's switch a, kept by the optimiser; 0: none)"},
       {"fill.farfield", "tetgen: the farfield around the layers (a box when there are symmetry planes)"},
       {"fill.farfield.shape", "a sphere or an axis-aligned box"},
       {"fill.farfield.radius", "the sphere's radius (0: 10 x the layers' bounding-box diagonal)"},

@@ -337,6 +337,9 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
     while (free_axis < 2 && std::any_of(fp.cuts.begin(), fp.cuts.end(), [free_axis](const FarfieldParams3::Cut& k) { return k.axis == free_axis; }))
       ++free_axis;
     fp.h = std::min(metric.evaluate(c + extent * Vec::Unit(free_axis)).max_size(), extent / 4);
+    // Within fill.max_volume, with room for the farfield's triangles above h (TetGen keeps them):
+    // at the full edge, the sphere hybrid's largest tetrahedron was 1.43 for a bound of 1.
+    if (params.tet.max_volume > 0) fp.h = std::min(fp.h, 0.8 * largest_edge_within(params.tet.max_volume));
   }
   const FarfieldMesh3 far = make_farfield(fp, lo, hi);
   const NodeId base = static_cast<NodeId>(front.nodes.size());
@@ -361,10 +364,27 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
     const Vec centre = 0.5 * (flo + fhi);
     const double radius = 0.5 * (fhi - flo).maxCoeff();
     const bool sphere = fp.shape == "sphere";
-    const double volume = region_integral<3>(
+    // TetGen's sizes inside are interpolated from the boundary's edge lengths (its nodes' sizes,
+    // step 4), so nowhere coarser than the longest of them -- the farfield's h, given or not --
+    // and no tetrahedron is larger than fill.max_volume: those bound the count from below where
+    // the metric's sizes are coarser (issue 37, item 2: a farfield h of 0.6 on the sphere hybrid
+    // made 1.5M tetrahedra that no budget saw; TetGen's tets are counted here, before the
+    // optimiser coarsens them toward the metric).
+    double longest = 0;
+    for (const auto& t : front.triangles)
+      for (int k = 0; k < 3; ++k)
+        longest = std::max(longest, (front.nodes[static_cast<std::size_t>(t[static_cast<std::size_t>(k)])] -
+                                     front.nodes[static_cast<std::size_t>(t[static_cast<std::size_t>((k + 1) % 3)])])
+                                        .norm());
+    const double floor_density = std::max(kTetrahedraPerMetricVolume * std::pow(longest, -3.0),
+                                          params.tet.max_volume > 0 ? 1 / params.tet.max_volume : 0.0);
+    const double tets = region_integral<3>(
         flo, fhi, [&](const Vec& x) { return !sphere || (x - centre).norm() <= radius; },
-        [&](const Vec& x) { return std::pow(metric.evaluate(x).max_size(), -3.0); }, 20000);
-    params.size_check(kTetrahedraPerMetricVolume * volume);
+        [&](const Vec& x) {
+          return std::max(kTetrahedraPerMetricVolume * std::pow(metric.evaluate(x).max_size(), -3.0), floor_density);
+        },
+        20000);
+    params.size_check(tets);
   }
 
   // 3. Each plane's region: the farfield's cut loop and the rim loops, by the 2D advancing front.
@@ -464,6 +484,7 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
   r.front_ratio_before = front_ratio(below, r.fill);
   Optimize3Params op = params.optimize;
   op.in_plane = std::move(in_plane);
+  op.max_volume = params.tet.max_volume;
   if (params.progress)
     op.on_pass = [&params](int pass, int passes) {
       params.progress(kTetGenShare + (1 - kTetGenShare) * pass / passes,

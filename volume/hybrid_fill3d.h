@@ -30,6 +30,7 @@
 //     symmetry planes' own nodes (inside their loops), which slide within their plane.
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
@@ -43,6 +44,10 @@
 
 namespace plaf::volume {
 
+// The edge of a regular tetrahedron of this volume: the longest farfield edge (fill.farfield.h)
+// whose tetrahedra can stay within fill.max_volume.
+inline double largest_edge_within(double volume) { return std::cbrt(6 * std::sqrt(2.0) * volume); }
+
 struct HybridFillParams {
   FarfieldParams3 farfield;  // h = 0: the metric's largest size at the farfield, at most a quarter of its extent
   TetFillParams tet;         // node_sizes are set here
@@ -50,8 +55,9 @@ struct HybridFillParams {
   double grading = 0.25;     // growth of the symmetry planes' sizes per unit distance from their loops
   // Called once the farfield is built, before the planes and TetGen mesh anything, with the
   // tetrahedra predicted inside it (6 sqrt 2 per unit of the integral of 1/h^3, h the metric's
-  // largest size: TetGen's tetrahedra are isotropic; the bodies' and layers' volume is not taken
-  // out, so an upper estimate); may throw to stop the run (the size budget, budget.h).
+  // largest size, at most the longest boundary edge and within tet.max_volume: TetGen's
+  // tetrahedra are isotropic and sized from the boundary's edges; the bodies' and layers' volume
+  // is not taken out, so an upper estimate); may throw to stop the run (the size budget, budget.h).
   std::function<void(double tetrahedra)> size_check;
   // Told the share of the fill done and what, after TetGen and after each optimisation pass (the
   // run's progress; the shares measured on the sphere and wing configs). May be empty.

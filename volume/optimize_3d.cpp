@@ -166,6 +166,7 @@ FillShape3 measure(const std::vector<Vec>& x, const std::vector<Tet>& tets, cons
     s.metric_below_5deg += mdeg < 5 ? 1 : 0;
     s.metric_below_10deg += mdeg < 10 ? 1 : 0;
     s.flat += positive_tet(x[t[0]], x[t[1]], x[t[2]], x[t[3]]) ? 0 : 1;
+    s.volume_max = std::max(s.volume_max, (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]).dot(x[t[3]] - x[t[0]]) / 6);
     for (int k = 0; k < 4; ++k)
       for (int l = k + 1; l < 4; ++l) edges.push_back(edge_key(t[k], t[l]));
   }
@@ -218,8 +219,8 @@ std::vector<Mat> node_metrics(const std::vector<Vec>& x, const MetricField<3>& m
 class Optimizer3 {
  public:
   Optimizer3(FillResult<3>& fill, std::size_t fixed, const MetricField<3>& metric,
-             const std::vector<std::pair<NodeId, int>>& in_plane = {})
-      : fill_(fill), x_(fill.nodes), t_(fill.simplices), fixed_(fixed), metric_(metric) {
+             const std::vector<std::pair<NodeId, int>>& in_plane = {}, double max_volume = 0)
+      : fill_(fill), x_(fill.nodes), t_(fill.simplices), fixed_(fixed), metric_(metric), max_volume_(max_volume) {
     // x_ and t_ are copies: the fill is written back only at the end (compact), so an exception
     // (a metric that throws) leaves it as it was.
     for (const Tet& t : t_)
@@ -303,7 +304,12 @@ class Optimizer3 {
  private:
   // --- The mesh -------------------------------------------------------------------------------
   std::size_t alive_tets() const { return static_cast<std::size_t>(std::count(dead_.begin(), dead_.end(), 0)); }
-  bool positive(const Tet& t) const { return positive_tet(x_[t[0]], x_[t[1]], x_[t[2]], x_[t[3]]); }
+  // A tetrahedron a step may make: positive (exact orient3d) and within fill.max_volume.
+  bool admissible(const Tet& t) const {
+    if (!positive_tet(x_[t[0]], x_[t[1]], x_[t[2]], x_[t[3]])) return false;
+    return !(max_volume_ > 0) ||
+           (x_[t[1]] - x_[t[0]]).cross(x_[t[2]] - x_[t[0]]).dot(x_[t[3]] - x_[t[0]]) <= 6 * max_volume_;
+  }
   double quality(const Tet& t) const {
     return mean_ratio((m_[t[0]] + m_[t[1]] + m_[t[2]] + m_[t[3]]) / 4, x_[t[0]], x_[t[1]], x_[t[2]], x_[t[3]]);
   }
@@ -425,7 +431,7 @@ class Optimizer3 {
       ok = to.has_value();
       if (ok) x_[mid] = *to, m_at_[mid] = *to;
     }
-    for (std::size_t j = 0; j < made_.size() && ok; ++j) ok = positive(made_[j]) && quality(made_[j]) >= floor;
+    for (std::size_t j = 0; j < made_.size() && ok; ++j) ok = admissible(made_[j]) && quality(made_[j]) >= floor;
     if (!ok) {
       x_.pop_back(), m_.pop_back(), m_at_.pop_back(), ball_.pop_back(), gone_.pop_back(), frozen_.pop_back();
       plane_axis_.pop_back();
@@ -485,7 +491,7 @@ class Optimizer3 {
       if (has_tet(b, o[0], o[1], o[2])) return false;  // a triangle in both links
       Tet nt = t;
       std::replace(nt.begin(), nt.end(), a, b);
-      if (!positive(nt) || quality(nt) < floor) return false;
+      if (!admissible(nt) || quality(nt) < floor) return false;
       for (NodeId v : o)
         if (length(b, v) > max_length) return false;
       made_.push_back(nt);
@@ -573,7 +579,7 @@ class Optimizer3 {
     x_[v] = *to;
     double q_min = std::numeric_limits<double>::infinity();
     for (const Tet& t : made_) {
-      if (!positive(t)) {
+      if (!admissible(t)) {
         x_[v] = from;
         return false;
       }
@@ -651,7 +657,7 @@ class Optimizer3 {
       if (p == k) continue;
       Tet nt = t;
       nt[p] = e;
-      if (!positive(nt)) return false;
+      if (!admissible(nt)) return false;
       q = std::min(q, quality(nt));
       made_.push_back(nt);
     }
@@ -707,7 +713,7 @@ class Optimizer3 {
           NodeId p = u[apex], s = u[(apex + k) % n], r = u[(apex + k + 1) % n];
           if (dir) std::swap(s, r);
           const Tet ta{p, s, r, a}, tb{s, p, r, b};
-          ok = positive(ta) && positive(tb);
+          ok = admissible(ta) && admissible(tb);
           if (ok) {
             q = std::min({q, quality(ta), quality(tb)});
             made_.push_back(ta), made_.push_back(tb);
@@ -768,7 +774,7 @@ class Optimizer3 {
       x_[v] = to;
       double q_min = std::numeric_limits<double>::infinity(), q_sum = 0;
       for (std::uint32_t i : ball) {
-        if (!positive(t_[i])) return false;
+        if (!admissible(t_[i])) return false;
         const double q = quality(t_[i]);
         q_min = std::min(q_min, q), q_sum += q;
       }
@@ -852,6 +858,7 @@ class Optimizer3 {
   std::vector<int> plane_axis_;  // per node: the axis of the plane it may move in (step 5), or -1
   std::size_t fixed_;
   const MetricField<3>& metric_;
+  double max_volume_ = 0;  // Optimize3Params::max_volume
   std::vector<Mat> m_;
   std::vector<Vec> m_at_;  // where each node's metric was evaluated
   std::vector<std::vector<std::uint32_t>> ball_;
@@ -873,7 +880,7 @@ FillShape3 measure_fill_3d(const FillResult<3>& fill, std::size_t fixed_nodes, c
 
 Optimize3Stats optimize_fill_3d(FillResult<3>& fill, std::size_t fixed_nodes, const MetricField<3>& metric,
                                 const Optimize3Params& params) {
-  Optimizer3 opt(fill, fixed_nodes, metric, params.in_plane);
+  Optimizer3 opt(fill, fixed_nodes, metric, params.in_plane, params.max_volume);
   if (params.passes <= 0) {
     Optimize3Stats st;
     st.before = st.after = opt.shape();

@@ -69,6 +69,9 @@ struct Optimize3Params {
   // surface).
   std::vector<std::pair<NodeId, int>> in_plane;
   std::function<void(int pass, int passes)> on_pass;  // after each pass (the run's progress); may be empty
+  // fill.max_volume: no step makes a tetrahedron larger than this (0: no bound). TetGen meets it
+  // (switch a); without it here the collapses toward the metric's sizes undid it (issue 37, item 3).
+  double max_volume = 0;
 };
 
 // The fill's shape, measured (measure_fill_3d).
@@ -88,6 +91,7 @@ struct FillShape3 {
   double metric_min_dihedral_deg = 0, metric_min_dihedral_inner_deg = 0;
   std::size_t metric_below_5deg = 0, metric_below_10deg = 0;
   std::size_t flat = 0;                  // tets whose exact orient3d is not positive
+  double volume_max = 0;                 // the largest tetrahedron's volume
   // Where: the centroid of the tet with the smallest dihedral angle in the metric, and the
   // midpoint of the longest edge (in the metric).
   Eigen::Vector3d metric_min_dihedral_at = Eigen::Vector3d::Zero(), length_max_at = Eigen::Vector3d::Zero();

@@ -43,6 +43,12 @@ HybridFillParams parse_tetgen(const ConfigNode& section) {
     throw ConfigError(f.where("center") + ": three coordinates within +-" + num(kMaxCoordinate / 2));
   ff.center = Eigen::Vector3d(c[0], c[1], c[2]);
   ff.h = f.get_in_range("h", 0.0, 0.0, std::numeric_limits<double>::max());
+  // TetGen keeps the farfield's triangles (-Y), so its tetrahedra there are about as large as
+  // regular ones on them: an h whose regular tetrahedron exceeds max_volume cannot meet it.
+  if (ff.h > 0 && p.tet.max_volume > 0 && ff.h > largest_edge_within(p.tet.max_volume))
+    throw ConfigError(f.where("h") + ": " + num(ff.h) + " is too coarse for fill.max_volume " + num(p.tet.max_volume) +
+                      " (a regular tetrahedron on the farfield's triangles would be larger); give h at most " +
+                      num(largest_edge_within(p.tet.max_volume)) + " or leave it out");
   return p;
 }
 
@@ -138,6 +144,7 @@ void register_plugins() {
           rep.add(k + "below_5deg", f->below_5deg);
           rep.add(k + "below_10deg", f->below_10deg);
           rep.add(k + "flat", f->flat);
+          rep.add(k + "volume_max", f->volume_max);
           rep.add(k + "metric_min_dihedral_deg", f->metric_min_dihedral_deg);
           rep.add(k + "metric_min_dihedral_inner_deg", f->metric_min_dihedral_inner_deg);
           rep.add(k + "metric_below_5deg", f->metric_below_5deg);
@@ -159,6 +166,12 @@ void register_plugins() {
           rep.add(k + "p95", f->p95);
           rep.add(k + "max", f->max);
         }
+        if (parsed.tet.max_volume > 0 && o.after.volume_max > parsed.tet.max_volume * (1 + 1e-9))
+          rep.fail("fill.max_volume " + num(parsed.tet.max_volume) + " is not met: the largest tetrahedron's volume is " +
+                   num(o.after.volume_max) + " (TetGen keeps the fronts' triangles; coarse ones cannot hold small tetrahedra)");
+        if (parsed.tet.max_volume > 0 && o.after.volume_max > parsed.tet.max_volume * (1 + 1e-9))
+          rep.fail("fill.max_volume " + num(parsed.tet.max_volume) + " is not met: the largest tetrahedron's volume is " +
+                   num(o.after.volume_max) + " (TetGen keeps the fronts' triangles; coarse ones cannot hold small tetrahedra)");
         rep.line("fill: optimised in the metric: " + std::to_string(o.splits) + " splits, " +
                  std::to_string(o.collapses) + " collapses, " + std::to_string(o.swaps) + " swaps, " +
                  std::to_string(o.moves) + " moves, " + std::to_string(o.repairs) + " sliver repairs; tets " +

@@ -247,3 +247,44 @@ TEST_CASE("hybrid 3D: the fill is optimised in the metric and hands off smoothly
   CHECK(ratio("after", "p95") < ratio("before", "p95"));
   CHECK(report.find("\"invalid\": 0") != std::string::npos);
 }
+
+TEST_CASE("hybrid 3D: fill.max_volume holds after the optimiser, and the budget counts the farfield's h and max_volume") {
+  // Issue 37, items 2 and 3: the optimiser's collapses toward the metric's sizes undid TetGen's
+  // volume bound (9.46 for a bound of 1), and the budget saw neither the farfield's h nor the bound.
+  const std::string body =
+      "name: case\norder: 2\ngeometry: {type: box, lo: [0, 0, 0], hi: [2, 1, 0.5]}\n"
+      "metric: {type: wall_power_law, h0: 0.001, growth: 1.2, h_max: 2.0, h_wall_max: 0.2}\n"
+      "layers: {max: 12}\noutput: {formats: [report]}\n";
+  using plaf::test::report_value;
+  {
+    const TempDir d("hybrid_fill_max_volume");
+    const std::string cfg = body + "fill: {type: tetgen, max_volume: 0.5, farfield: {shape: box, size: [8, 8, 8]}}\n";
+    const PlafResult r = run_plaf("run " + write_text(d / "case.yaml", cfg).string() + " --out " + (d / "out").string(), d);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string report = plaf::test::read_text(d / "out" / "case.report.json");
+    const double largest = report_value(report, {"fill", "optimize", "after", "volume_max"});
+    MESSAGE("largest tetrahedron " << largest << ", tets " << report_value(report, {"fill", "optimize", "after", "tets"}));
+    CHECK(largest > 0.05);
+    CHECK(largest <= 0.5);
+  }
+  {
+    // A farfield h whose regular tetrahedron is larger than the bound: refused before any work.
+    const TempDir d("hybrid_fill_max_volume_h");
+    const std::string cfg = body + "fill: {type: tetgen, max_volume: 0.5, farfield: {shape: box, size: [8, 8, 8], h: 3}}\n";
+    const PlafResult r = run_plaf("run " + write_text(d / "case.yaml", cfg).string() + " --out " + (d / "out").string(), d);
+    CHECK(r.code == 1);
+    CHECK(r.err.find("fill.farfield.h: 3 is too coarse for fill.max_volume 0.5") != std::string::npos);
+    CHECK(plaf::test::count_files(d / "out") == 0);
+  }
+  for (const std::string fill : {"farfield: {shape: box, size: [8, 8, 8], h: 0.3}", "max_volume: 0.002, farfield: {shape: box, size: [8, 8, 8]}"}) {
+    // 512 units of volume at h 0.3 (or 0.002 a tetrahedron): about 160k (256k) tetrahedra, over the budget.
+    CAPTURE(fill);
+    const TempDir d("hybrid_fill_budget");
+    const std::string cfg = body + "fill: {type: tetgen, " + fill + "}\nlimits: {cells: 50000}\n";
+    const PlafResult r = run_plaf("run " + write_text(d / "case.yaml", cfg).string() + " --out " + (d / "out").string(), d);
+    CHECK(r.code == 1);
+    CHECK(r.err.find("limits.cells") != std::string::npos);
+    CHECK(plaf::test::count_files(d / "out") == 0);
+  }
+}
