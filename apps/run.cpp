@@ -512,6 +512,7 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
   RunConfig c = load_run_config(config_path);
   if (out_dir) c.output.dir = *out_dir;
   c.output.keep_invalid = keep_invalid;
+  prepare_output_dir(c.output.dir, c.name);  // an unwritable folder refused now, not after the meshing
   try {
     return run_config(c, *progress).code;
   } catch (const MesherError& e) {

@@ -17,6 +17,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -234,6 +235,7 @@ TetGenOutput run_tetgen(tetgenio& in, const std::string& switches) {
   if (::pipe(fds) != 0) throw MesherError(failed + "; no pipe to its process: " + std::strerror(errno) + ")");
   std::fflush(stdout);  // or the child would print our pending output a second time
   std::fflush(stderr);
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     const int err = errno;
@@ -242,6 +244,11 @@ TetGenOutput run_tetgen(tetgenio& in, const std::string& switches) {
     throw MesherError(failed + "; could not start its process: " + std::strerror(err) + ")");
   }
   if (pid == 0) {
+    // The child dies with the process that waits for it: a SIGTERM or SIGKILL of plaf left
+    // TetGen running and allocating for seconds (issue 37, item 4). The parent may have died
+    // before the request: then the child is already an orphan and ends now.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(exit_other_exception);
     ::close(fds[0]);
     tetgen_child(in, switches, fds[1], log.get());
   }

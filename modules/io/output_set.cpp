@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "modules/io/output_set.h"
 
-#include <algorithm>
-
+#include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
+#include <string>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -14,6 +16,41 @@
 
 namespace plaf {
 inline namespace io {
+
+namespace {
+
+// The staging folders (DIR/.plaf-stage-PID) in `dir` whose process is gone, removed.
+void remove_stale_stages(const std::filesystem::path& dir) {
+  std::error_code ec;
+  const std::string marker = kStagingMarker;
+  std::vector<std::filesystem::path> stale;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string f = e.path().filename().string();
+    if (f.rfind(marker, 0) != 0 || !e.is_directory(ec)) continue;
+    const std::string digits = f.substr(marker.size());
+    if (digits.empty() || digits.size() > 9 || !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      continue;
+    const auto pid = static_cast<pid_t>(std::stol(digits));
+    // Alive (or not ours to signal) unless the system says there is no such process.
+    if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) stale.push_back(e.path());
+  }
+  for (const std::filesystem::path& p : stale) std::filesystem::remove_all(p, ec);
+}
+
+}  // namespace
+
+void prepare_output_dir(const std::filesystem::path& dir, const std::string& name) {
+  std::error_code ec;
+  if (dir.empty()) throw InputError("output.dir '': cannot create the folder (an empty path)");
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError("output.dir '" + dir.string() + "': cannot create the folder (" + ec.message() + ")");
+  remove_stale_stages(dir);
+  if (std::filesystem::is_directory(dir / (name + ".failed"), ec)) remove_stale_stages(dir / (name + ".failed"));
+  const std::filesystem::path probe = dir / (kStagingMarker + std::to_string(static_cast<long long>(::getpid())));
+  std::filesystem::create_directory(probe, ec);
+  if (ec) throw InputError("output.dir '" + dir.string() + "': cannot write in it (" + ec.message() + ")");
+  std::filesystem::remove(probe, ec);
+}
 
 OutputSet::OutputSet(std::filesystem::path dir, std::string name) : dir_(std::move(dir)), name_(std::move(name)) {
   stage_ = dir_ / (kStagingMarker + std::to_string(static_cast<long long>(::getpid())));

@@ -10,10 +10,15 @@
 #include <string>
 #include <utility>
 #include <vector>
-#include <vector>
 
 namespace plaf {
 inline namespace io {
+
+// Before a run's work: creates DIR (if needed) and proves it writable by making and removing a
+// staging folder of this process in it (InputError naming DIR when it cannot: an unwritable
+// --out was found only after the meshing), and removes the staging folders that processes no
+// longer alive left in DIR and in DIR/NAME.failed (a run killed by SIGKILL cannot remove its own).
+void prepare_output_dir(const std::filesystem::path& dir, const std::string& name);
 
 class OutputSet {
  public:

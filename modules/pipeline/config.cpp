@@ -212,7 +212,11 @@ ConfigNode ConfigNode::load_string(const std::string& text, const std::string& n
   s->file = name;
   s->recording = active_recording;
   try {
-    s->node = YAML::Load(text);
+    // One document: a second one (after ---) would be dropped without a word.
+    const std::vector<YAML::Node> documents = YAML::LoadAll(text);
+    if (documents.size() > 1)
+      throw ConfigError(position(name, documents[1].Mark()) + ": a second YAML document (after ---); a config is one document");
+    s->node = documents.empty() ? YAML::Node() : documents.front();
   } catch (const YAML::Exception& e) {
     throw ConfigError(position(name, e.mark) + ": YAML syntax error: " + e.msg);
   }

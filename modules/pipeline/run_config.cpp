@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "modules/pipeline/config.h"
@@ -22,10 +23,39 @@ bool OutputParams::wants(const std::string& f) const {
 
 namespace {
 
+// Zoom panels and cut pictures a run draws at most (each is a picture's work: unbounded, a
+// config of a million zooms ran for hours; issue 37, item 5).
+constexpr std::size_t kMaxPictures = 64;
+// The longest run name: every output is NAME + an extension (NAME_boundary.vtu, NAME.cut64.png),
+// and a file name holds 255 bytes on the common file systems.
+constexpr std::size_t kMaxNameBytes = 200;
+
+// The name as an error quotes it: control characters escaped, at most 60 characters.
+std::string quoted_name(const std::string& name) {
+  std::string q;
+  for (const char ch : name) {
+    if (q.size() >= 60) return "'" + q + "...' (" + std::to_string(name.size()) + " bytes)";
+    const auto u = static_cast<unsigned char>(ch);
+    if (u < 0x20 || u == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", u);
+      q += buf;
+    } else {
+      q += ch;
+    }
+  }
+  return "'" + q + "'";
+}
+
 // The output section (formats, pictures, histogram bins, and the 2D mesh options).
 void parse_output(const ConfigNode& o, RunConfig& r) {
   r.output.dir = o.get_string("dir", r.output.dir.string());
   r.output.formats = o.get_string_list("formats", r.output.formats, writer_registry<2>().names());
+  if (r.output.formats.empty()) {
+    std::string known;
+    for (const std::string& f : writer_registry<2>().names()) known += (known.empty() ? "" : ", ") + f;
+    throw ConfigError(o.where("formats") + ": an empty list writes nothing; give at least one of " + known);
+  }
   r.output.histogram_bins = o.get_int("histogram_bins", r.output.histogram_bins, 2, 1000);
   r.output.picture_width = o.get_int("picture_width", r.output.picture_width, 64, 16384);
   r.output.picture_height = o.get_int("picture_height", r.output.picture_height, 64, 16384);
@@ -43,7 +73,11 @@ void parse_output(const ConfigNode& o, RunConfig& r) {
       r.output.cut_point = vector3(c, "point", r.output.cut_point, false);
       r.output.cut_normal = vector3(c, "normal", r.output.cut_normal, true);
     }
-    for (const ConfigNode& c : o.child_list("cuts")) {
+    const std::vector<ConfigNode> cuts = o.child_list("cuts");
+    if (cuts.size() > kMaxPictures)
+      throw ConfigError(o.where("cuts") + ": " + std::to_string(cuts.size()) + " cuts; at most " +
+                        std::to_string(kMaxPictures) + " (a picture each)");
+    for (const ConfigNode& c : cuts) {
       OutputParams::Cut cut;
       if (!c.has("point") || !c.has("normal")) throw ConfigError(c.where() + ": a cut needs its point and normal");
       cut.point = vector3(c, "point", cut.point, false);
@@ -61,7 +95,11 @@ void parse_output(const ConfigNode& o, RunConfig& r) {
       r.output.uniform_order = o.get_bool("uniform_order", r.output.uniform_order);
       r.output.split_quads = o.get_bool("split_quads", r.output.split_quads);
     }
-    for (const ConfigNode& z : o.child_list("zooms")) {
+    const std::vector<ConfigNode> zooms = o.child_list("zooms");
+    if (zooms.size() > kMaxPictures)
+      throw ConfigError(o.where("zooms") + ": " + std::to_string(zooms.size()) + " zooms; at most " +
+                        std::to_string(kMaxPictures) + " panels");
+    for (const ConfigNode& z : zooms) {
       OutputParams::Zoom zoom;
       zoom.label = z.get_string("label", "");
       const std::vector<double> box = z.get_double_list("box", {});
@@ -77,8 +115,16 @@ void parse_output(const ConfigNode& o, RunConfig& r) {
 RunConfig parse(const ConfigNode& c, const std::string& stem) {
   RunConfig r;
   r.name = c.get_string("name", stem);
-  if (r.name.empty() || r.name.find('/') != std::string::npos)
-    throw ConfigError(c.where("name") + ": must be a plain file name, got '" + r.name + "'");
+  // A plain file name: printable, not hidden, no folder in it, short enough for every extension
+  // (issue 37, items 5 and 8: names with a newline or a leading dot were accepted, and a 50 MB
+  // one was found too long only after meshing).
+  const bool printable = std::none_of(r.name.begin(), r.name.end(), [](char ch) {
+    const auto u = static_cast<unsigned char>(ch);
+    return u < 0x20 || u == 0x7f || ch == '/' || ch == '\\';
+  });
+  if (r.name.empty() || !printable || r.name.front() == '.' || r.name.size() > kMaxNameBytes)
+    throw ConfigError(c.where("name") + ": must be a plain file name (printable, no / or \\, not starting with '.', at most " +
+                      std::to_string(kMaxNameBytes) + " bytes), got " + quoted_name(r.name));
   r.order = c.get_int("order", r.order, 1, max_order);
 
   // The geometry's type decides the run's dimension; its plugin parses the section (stages.h).
