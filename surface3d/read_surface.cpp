@@ -25,6 +25,7 @@
 #include "modules/base/format.h"
 #include "modules/io/text_cursor.h"
 #include "surface3d/read_surface_detail.h"
+#include "surface3d/triangulate_polygon.h"
 
 namespace plaf {
 namespace {
@@ -139,6 +140,45 @@ class SoupImporter final : public OpenMesh::IO::BaseImporter {
 
 // Reads `text` (the contents of `path`) with OpenMesh's reader for `ext` and checks the result
 // against the scan: counts, then indices and coordinates.
+// A polygon's triangles, in its orientation: a fan from its first vertex where every fan
+// triangle turns the polygon's way in its plane (convex polygons, and every triangle and quad as
+// the files give them), else ear clipping in the polygon's plane (a concave polygon's fan would
+// cross itself: an L-shaped face of an OBJ was 12 self-intersecting pairs, issue 37 item 7).
+void triangulate_face(TriangleSoup& soup, const std::vector<int>& poly) {
+  const std::size_t n = poly.size();
+  auto fan = [&] {
+    for (std::size_t k = 1; k + 1 < n; ++k) soup.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+  };
+  if (n == 3) return fan();
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // Newell's: the polygon's area vector
+  for (std::size_t k = 0; k < n; ++k) {
+    const Eigen::Vector3d& a = soup.points[static_cast<std::size_t>(poly[k])];
+    const Eigen::Vector3d& b = soup.points[static_cast<std::size_t>(poly[(k + 1) % n])];
+    normal += a.cross(b);
+  }
+  if (!(normal.norm() > 0)) return fan();
+  const Eigen::Vector3d& o = soup.points[static_cast<std::size_t>(poly[0])];
+  bool convex = true;
+  for (std::size_t k = 1; k + 1 < n && convex; ++k)
+    convex = (soup.points[static_cast<std::size_t>(poly[k])] - o).cross(soup.points[static_cast<std::size_t>(poly[k + 1])] - o).dot(normal) > 0;
+  if (convex) return fan();
+  // The plane's frame (u, v) with u x v along the normal: the polygon is counter-clockwise in it.
+  const Eigen::Vector3d w = normal.normalized();
+  const Eigen::Vector3d u = (std::abs(w.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).cross(w).normalized();
+  const Eigen::Vector3d v = w.cross(u);
+  std::vector<Eigen::Vector2d> flat;
+  for (const int id : poly) {
+    const Eigen::Vector3d d = soup.points[static_cast<std::size_t>(id)] - o;
+    flat.emplace_back(d.dot(u), d.dot(v));
+  }
+  try {
+    for (const auto& t : analytic_detail::triangulate_polygon(flat, soup.source))
+      soup.triangles.push_back({poly[static_cast<std::size_t>(t[0])], poly[static_cast<std::size_t>(t[1])], poly[static_cast<std::size_t>(t[2])]});
+  } catch (const MesherError&) {
+    fan();  // not simple in its plane (a warped polygon): the fan, and validation judges it
+  }
+}
+
 TriangleSoup read_with_openmesh(const fs::path& path, const std::string& ext, const std::string& text,
                                 const Expected& expected) {
   SoupImporter importer;
@@ -184,9 +224,11 @@ TriangleSoup read_with_openmesh(const fs::path& path, const std::string& ext, co
       if (v < 0 || static_cast<std::size_t>(v) >= nv)
         fail(path,
              "face " + std::to_string(f) + " refers to vertex " + std::to_string(v) + " of " + std::to_string(nv));
-    // A fan from the polygon's first vertex keeps its orientation.
-    for (std::size_t k = 1; k + 1 < poly.size(); ++k) soup.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+    triangulate_face(soup, poly);
   }
+  if (expected.max_faces >= 0 && nf < static_cast<std::size_t>(expected.max_faces))
+    soup.repairs.push_back(path.string() + ": dropped " + std::to_string(expected.max_faces - static_cast<std::int64_t>(nf)) +
+                           " face(s) with a repeated vertex (the reader skips them)");
   return soup;
 }
 
@@ -214,7 +256,17 @@ TriangleSoup read_surface_file(const fs::path& path, const ReadSurfaceOptions& o
   }
   if (ext == ".ply") expected = read_detail::check_ply(path, text);
   TriangleSoup soup = read_with_openmesh(path, ext.substr(1), text, expected);
-  if (soup.triangles.empty()) fail(path, "no triangles");
+  if (soup.triangles.empty()) {
+    const std::int64_t given = std::max(expected.faces, expected.max_faces);
+    double largest = 0;
+    for (const Eigen::Vector3d& x : soup.points) largest = std::max(largest, x.cwiseAbs().maxCoeff());
+    // A body at the scale 1e-40 is read as floats in STL: every facet collapses to a point.
+    if (given > 0)
+      fail(path, "no triangles: all " + std::to_string(given) + " of the file's faces collapsed to a point or an edge as read " +
+                     "(the largest coordinate is " + num(largest) + (ext == ".stl" ? "; STL holds single precision" : "") +
+                     "): check the file's units and scale");
+    fail(path, "no triangles");
+  }
   if (ext == ".stl") {
     // OpenMesh has merged exactly equal points already; close ones are merged here.
     weld_points(soup, options.weld_rel * read_detail::bbox_diagonal(soup.points));

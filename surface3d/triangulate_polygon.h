@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Internal to the analytic bodies (analytic.h): triangulation of a simple planar polygon, for the
-// flat ends of wings and the half disc closing a blunt trailing edge under a rounded end. Ear
+// Internal to surface3d: triangulation of a simple planar polygon, for the flat ends of wings and
+// the half disc closing a blunt trailing edge under a rounded end (analytic.h), and for the
+// concave polygons of OBJ, OFF and PLY files in their plane (read_surface.cpp). Ear
 // clipping with exact orientation tests (predicates.h), then Lawson flips until every interior
 // edge is locally Delaunay: the constrained Delaunay triangulation of the polygon, with no small
 // angles that the polygon does not force.

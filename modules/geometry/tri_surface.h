@@ -54,6 +54,7 @@ struct TriangleSoup {
   std::vector<Eigen::Vector3d> points;
   std::vector<std::array<int, 3>> triangles;  // indices into points
   std::vector<int> patch;                     // per triangle, e.g. the Plot3D block; empty: none
+  std::vector<std::string> repairs;           // what the reader mended (validation reports them with its own)
 };
 
 enum class EdgeFeature : std::uint8_t { Smooth = 0, ConvexRidge, ConcaveRidge, Boundary };

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "modules/base/error.h"
+#include "surface3d/validate.h"
 #include "tests/surface3d/test_surfaces.h"
 #include "tests/test_support.h"
 #include "tests/published_data.h"
@@ -676,6 +677,41 @@ TEST_CASE("read_surface: mutated files give a soup or an InputError, never a cra
   MESSAGE("mutated files: " << read_ok << " read, " << rejected << " rejected");
   CHECK(read_ok > 0);
   CHECK(rejected > 0);
+}
+
+TEST_CASE("read_surface: a concave polygon is triangulated in its plane, a repeated-vertex face is reported, a collapsed file says why") {
+  // Issue 37, item 7. An L-shaped prism whose two ends are single concave hexagons: their fans
+  // crossed each other (12 "self-intersecting" pairs the file does not contain).
+  const test::TempDir dir("read_concave");
+  const std::vector<std::array<double, 2>> l = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  std::string obj;
+  for (const double z : {0.0, 1.0})
+    for (const auto& p : l) obj += "v " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(z) + "\n";
+  obj += "f 6 5 4 3 2 1\nf 7 8 9 10 11 12\n";  // bottom (seen from below), top
+  for (int i = 0; i < 6; ++i) {
+    const int j = (i + 1) % 6;
+    obj += "f " + std::to_string(i + 1) + " " + std::to_string(j + 1) + " " + std::to_string(j + 7) + " " + std::to_string(i + 7) + "\n";
+  }
+  obj += "f 1 1 2\n";  // a face with a repeated vertex: skipped by the reader, and said so
+  const TriangleSoup s = read_surface_file(test::write_text(dir / "lprism.obj", obj));
+  CHECK(s.triangles.size() == 2 * 4 + 6 * 2);
+  REQUIRE(s.repairs.size() == 1);
+  CHECK(s.repairs[0].find("dropped 1 face(s) with a repeated vertex") != std::string::npos);
+  SurfaceCheckReport rep;
+  const TriSurface checked = validate_surface(s, {}, &rep);  // self-intersections checked: none
+  CHECK(rep.volume == doctest::Approx(3));
+  CHECK(rep.repairs.front() == s.repairs.front());
+  // Each end's triangles turn the end's way: their normals along -z (bottom) and +z (top).
+  for (const auto& t : s.triangles) {
+    const Vec3 n = (s.points[t[1]] - s.points[t[0]]).cross(s.points[t[2]] - s.points[t[0]]);
+    if (std::abs(n.z()) > 0) CHECK(n.z() * (s.points[t[0]].z() - 0.5) > 0);
+  }
+  // A body at a scale single precision cannot hold: every facet collapses, and the error says so.
+  const double tiny = 1e-40;
+  const Vec3 a(0, 0, 0), b(tiny, 0, 0), c(0, tiny, 0), d(0, 0, tiny);
+  CHECK_THROWS_WITH_AS(read_surface_file(test::write_text(dir / "tiny.stl", ascii_stl({{a, c, b}, {a, b, d}, {a, d, c}, {b, c, d}}))),
+                       doctest::Contains("tiny.stl: no triangles: all 4 of the file's faces collapsed to a point or an edge as read"),
+                       InputError);
 }
 
 }  // namespace plaf

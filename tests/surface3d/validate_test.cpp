@@ -186,6 +186,24 @@ TEST_CASE("validate: a flipped triangle is turned back and an inward surface is 
   CHECK(outward_from(out, Vector3d::Zero()));
 }
 
+TEST_CASE("validate: a symmetry plane must hold the cut of a half model that lies on one side of it") {
+  // Issue 37, item 8: a plane crossing or missing a closed body was accepted without a word.
+  SurfaceCheckOptions opt;
+  opt.symmetry_planes = {{Vector3d(0, 0, 1), 3.5}};  // through the closed cube [3, 4]^3
+  CHECK_THROWS_WITH_AS(validate_surface(cube(Vector3d::Constant(3)), opt),
+                       doctest::Contains("symmetry plane 0 (geometry.symmetry_planes[0]: normal (0, 0, 1), offset 3.5) "
+                                         "holds none of the surface's open edges (the surface is closed)"),
+                       InputError);
+  opt.symmetry_planes = {{Vector3d(0, 0, 1), 9}};  // beside it
+  CHECK_THROWS_WITH_AS(validate_surface(cube(Vector3d::Constant(3)), opt), doctest::Contains("holds none"), InputError);
+  // The cube open at x = 3 on its plane, and a second plane through the hole's edge at y = 3 that
+  // cuts the cube diagonally: y = x holds that edge, the cube reaches 1 beyond it on both sides.
+  const TriangleSoup open = without(cube(Vector3d::Constant(3)), {0, 1});
+  opt.symmetry_planes = {{Vector3d(-1, 0, 0), -3}, {Vector3d(-1, 1, 0), 0}};
+  CHECK_THROWS_WITH_AS(validate_surface(open, opt), doctest::Contains("the surface lies on both sides of symmetry plane 1"),
+                       InputError);
+}
+
 TEST_CASE("validate: an open cube needs a symmetry plane, and the half model comes out outward") {
   // The face x = 3 of the cube [3, 4]^3 removed (triangles 0, 1).
   const TriangleSoup open = without(cube(Vector3d::Constant(3)), {0, 1});
