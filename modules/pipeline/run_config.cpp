@@ -211,10 +211,13 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     const bool there = other == 2 ? stage_registry<2>(kind).contains(type) : stage_registry<3>(kind).contains(type);
     if (!here && there) throw ConfigError(s.where() + ": " + needs);
     plan(kind, type, s, out);
+    return s;
   };
-  plan_section(StageKind::Layers, "extrude", "layers need a spline geometry (type airfoils)", r.layers);
+  const ConfigNode layers_section = plan_section(StageKind::Layers, "extrude", "layers need a spline geometry (type airfoils)", r.layers);
   plan_section(StageKind::Fill, r.dim == 3 ? "tetgen" : "advancing_front",
                r.dim == 3 ? "a 3D fill is type tetgen" : "the fill needs a spline geometry (type airfoils)", r.fill);
+  // layers.max: 0 is a surface-only run (the layers' plugin checks the key's range).
+  const bool no_layer = layers_section.has("max") && layers_section.get_int("max", 1, 0, std::numeric_limits<int>::max()) == 0;
 
   const ConfigNode v = c.child("validity");
   r.validity.rel_tol = v.get_in_range("rel_tol", r.validity.rel_tol, 1e-6, 1.0);
@@ -242,6 +245,10 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
     throw ConfigError(r.fill.section + ": the fill needs a spline geometry (type airfoils)");
   if (r.fill.enabled() && r.dim == 3 && !r.layers.enabled())
     throw ConfigError(r.fill.section + ": the TetGen fill starts from the layers' outer front; add a layers section");
+  // ... nor from none of them (it failed after the surface stage, hinting "fewer layers"; issue 37 item 7).
+  if (r.fill.enabled() && no_layer)
+    throw ConfigError(layers_section.where("max") + ": 0 grows no layer, and the fill starts from the layers' outer front; "
+                      "give at least 1, or leave the fill out");
   return r;
 }
 

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "modules/base/error.h"
+#include "modules/base/format.h"
 #include "modules/pipeline/writers.h"
 #include "modules/mesh/annulus.h"
 #include "modules/mesh/curve_mesh.h"
@@ -63,6 +64,16 @@ void report_curves(const CurvedFront<2>& front, const Geometry2D& geometry, cons
   rep.add("short_corner_segments", s.short_segments);
 }
 
+// A first layer double precision can place on the body: coordinates of size L are spaced about
+// 2.2e-16 L apart, so a height under 1e-12 L has no distinct nodes (h0 = 1e-200 stopped a run
+// with "node 12 of an order-2 prism has a non-finite coordinate", naming no key; issue 37 item 7).
+void check_h0_resolvable(double h0, double scale, const std::string& h0_where) {
+  constexpr double kSmallest = 1e-12;
+  if (scale > 0 && h0 < kSmallest * scale)
+    throw ConfigError(h0_where + ": " + num(h0) + " is below what double precision places on a body of size " + num(scale) +
+                      " (at least " + num(kSmallest * scale) + ", 1e-12 of it)");
+}
+
 void register_2d() {
   StageRegistry<2>& geometry = stage_registry<2>(StageKind::Geometry);
   geometry.add("annulus", [](const ConfigNode& section) -> Stage<2> {
@@ -80,8 +91,12 @@ void register_2d() {
   });
   metric.add("wall_power_law", [](const ConfigNode& section) -> Stage<2> {
     const WallLawParams p = parse_wall_law_params(section, 2);
-    const std::string where = section.where("type");
-    return [p, where](RunState<2>& s, StageReport&) { s.metric = make_wall_law_field(p, s.geometry, where); };
+    const std::string where = section.where("type"), h0_where = section.where("h0");
+    return [p, where, h0_where](RunState<2>& s, StageReport&) {
+      const double bodies = (s.geometry.body_max - s.geometry.body_min).norm();
+      check_h0_resolvable(p.h0, bodies > 0 ? bodies : s.geometry.scale(), h0_where);
+      s.metric = make_wall_law_field(p, s.geometry, where);
+    };
   });
   metric.add("background", [](const ConfigNode& section) -> Stage<2> {
     const BackgroundParams p = parse_background_params(section);
@@ -113,12 +128,13 @@ void register_3d() {
   // The wall law from the geometry stage's reference; the surface follows its sizes along the wall.
   metric.add("wall_power_law", [](const ConfigNode& section) -> Stage<3> {
     const WallLawParams p = parse_wall_law_params(section, 3);
-    const std::string where = section.where("type");
-    return [p, where](RunState<3>& s, StageReport&) {
+    const std::string where = section.where("type"), h0_where = section.where("h0");
+    return [p, where, h0_where](RunState<3>& s, StageReport&) {
       if (!s.reference)
         throw MesherError(where +
                           ": the wall_power_law metric measures distances to the body, but the geometry stage gave "
                           "no reference geometry");
+      check_h0_resolvable(p.h0, s.reference->scale(), h0_where);
       WallPowerLawField3 field(s.reference, p);
       s.surface_sizes = std::make_unique<WallSizesAlongWall3>(field);
       s.metric = std::make_unique<WallPowerLawField3>(std::move(field));

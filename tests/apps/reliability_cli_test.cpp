@@ -184,3 +184,30 @@ TEST_CASE("reliability cli: TetGen's process ends with plaf when plaf is stopped
   CHECK(left == 0);
   CHECK(plaf::test::count_files(d / "out") == 0);
 }
+
+TEST_CASE("reliability cli: a first layer below double precision and a fill with no layer are refused naming their key") {
+  // Issue 37, item 7: h0 = 1e-200 stopped with "node 12 of an order-2 prism has a non-finite
+  // coordinate" (no file, no key); layers.max: 0 with a fill failed after the surface stage,
+  // hinting at fewer layers.
+  struct Case {
+    std::string yaml, message;
+  };
+  const std::string wall = "metric: {type: wall_power_law, h0: 1.0e-200, growth: 1.2, h_wall_max: 0.3, h_max: 2}\n";
+  for (const Case& c :
+       {Case{"order: 2\ngeometry: {type: sphere}\n" + wall + "layers: {max: 5}\n",
+             ":3:36: metric.h0: 1e-200 is below what double precision places on a body of size 3.4641"},
+        Case{"order: 2\ngeometry: {type: airfoils, bodies: [{naca: \"0012\"}]}\n"
+             "metric: {type: wall_power_law, h0: 1.0e-200, growth: 1.2, h_max: 2}\nlayers: {max: 3}\n",
+             "metric.h0: 1e-200 is below what double precision places on a body of size"},
+        Case{"order: 2\ngeometry: {type: sphere}\nmetric: {type: wall_power_law, h0: 1.0e-3, growth: 1.2, h_wall_max: 0.3, h_max: 2}\n"
+             "layers: {max: 0}\nfill: {type: tetgen}\n",
+             ":4:15: layers.max: 0 grows no layer, and the fill starts from the layers' outer front"}}) {
+    CAPTURE(c.message);
+    const TempDir d("reliability_keys");
+    const PlafResult r = run_yaml(d, c.yaml);
+    CHECK(r.code == 1);
+    CHECK(last_line(r.err).find(c.message) != std::string::npos);
+    CHECK(r.err.find("[plaf] layers") == std::string::npos);
+    CHECK(plaf::test::count_files(d / "out") == 0);
+  }
+}
