@@ -12,9 +12,12 @@
 //     farfield and outside the bodies (or of the annulus);
 //   - 3D surface (surface3d/plugins.cpp): an analytic body's metric area on a coarse copy before
 //     its initial triangulation is built, then the input or initial triangulation's, with the
-//     curvature sizes;
+//     curvature sizes; each of these also checks the layers' cells on the triangles to come when
+//     layers.max is given (RunConfig::layers_max), so a metric too fine for the layers is refused
+//     before the surface is meshed;
 //   - 3D layers (layers/plugins.cpp): the wall triangles times the layers' maximum count;
-//   - 3D fill (volume/plugins.cpp): the metric volume inside the farfield, plus the layers' cells.
+//   - 3D fill (volume/plugins.cpp): the metric volume inside the farfield (sizes no coarser than
+//     the farfield's h, tets no larger than fill.max_volume: what TetGen makes), plus the layers' cells.
 // An estimate that comes out NaN (a metric without a value somewhere) is not checked.
 // Nodes are counted with the high-order ones, per cell of order q: q^2/2 per triangle, q^2 per
 // quadrilateral, q^3/6 per tetrahedron, q^3/2 per prism, q per curve element.

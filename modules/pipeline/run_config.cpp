@@ -217,7 +217,8 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   plan_section(StageKind::Fill, r.dim == 3 ? "tetgen" : "advancing_front",
                r.dim == 3 ? "a 3D fill is type tetgen" : "the fill needs a spline geometry (type airfoils)", r.fill);
   // layers.max: 0 is a surface-only run (the layers' plugin checks the key's range).
-  const bool no_layer = layers_section.has("max") && layers_section.get_int("max", 1, 0, std::numeric_limits<int>::max()) == 0;
+  if (layers_section.has("max")) r.layers_max = layers_section.get_int("max", 1, 0, std::numeric_limits<int>::max());
+  const bool no_layer = r.layers_max == 0;
 
   const ConfigNode v = c.child("validity");
   r.validity.rel_tol = v.get_in_range("rel_tol", r.validity.rel_tol, 1e-6, 1.0);

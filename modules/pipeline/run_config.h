@@ -107,6 +107,9 @@ struct RunConfig {
   PlannedStage metric;    // type: its section's `type:` (default uniform)
   PlannedStage surface;   // type: annulus | curves (2D, by the geometry), remesh (3D)
   PlannedStage layers;
+  // layers.max as the config gives it (-1: not given, the layers' plugin default), so the 3D
+  // surface stage can check the layers' budget before it triangulates (budget.h).
+  int layers_max = -1;
   PlannedStage fill;
   ValidityParams validity;
   OutputParams output;

@@ -211,3 +211,16 @@ TEST_CASE("reliability cli: a first layer below double precision and a fill with
     CHECK(plaf::test::count_files(d / "out") == 0);
   }
 }
+
+TEST_CASE("reliability cli: the layers' budget is checked on the surface's estimate, before the surface is meshed") {
+  // Issue 37, item 6: metric.h_max 0.01 on the sphere hybrid meshed 420k wall triangles for 77 s
+  // (855 MB) before the layer stage found 60 layers on them over limits.cells.
+  const TempDir d("reliability_early_budget");
+  const PlafResult r = run_yaml(d, "order: 2\ngeometry: {type: sphere}\n"
+                                   "metric: {type: wall_power_law, h0: 1.0e-3, growth: 1.25, h_max: 0.01, h_wall_max: 0.15}\n"
+                                   "layers: {max: 60}\nfill: {type: tetgen}\n");
+  CHECK(r.code == 1);
+  CHECK(last_line(r.err).find("limits.cells: up to 60 layers (layers.max) on about") != std::string::npos);
+  CHECK(r.err.find("[plaf] surface") == std::string::npos);  // refused before the surface stage ended
+  CHECK(plaf::test::count_files(d / "out") == 0);
+}
