@@ -364,19 +364,13 @@ HybridFill fill_around_layers(const LayerResult<3>& lr, const MetricField<3>& me
     const Vec centre = 0.5 * (flo + fhi);
     const double radius = 0.5 * (fhi - flo).maxCoeff();
     const bool sphere = fp.shape == "sphere";
-    // TetGen's sizes inside are interpolated from the boundary's edge lengths (its nodes' sizes,
-    // step 4), so nowhere coarser than the longest of them -- the farfield's h, given or not --
-    // and no tetrahedron is larger than fill.max_volume: those bound the count from below where
-    // the metric's sizes are coarser (issue 37, item 2: a farfield h of 0.6 on the sphere hybrid
-    // made 1.5M tetrahedra that no budget saw; TetGen's tets are counted here, before the
-    // optimiser coarsens them toward the metric).
-    double longest = 0;
-    for (const auto& t : front.triangles)
-      for (int k = 0; k < 3; ++k)
-        longest = std::max(longest, (front.nodes[static_cast<std::size_t>(t[static_cast<std::size_t>(k)])] -
-                                     front.nodes[static_cast<std::size_t>(t[static_cast<std::size_t>((k + 1) % 3)])])
-                                        .norm());
-    const double floor_density = std::max(kTetrahedraPerMetricVolume * std::pow(longest, -3.0),
+    // TetGen's sizes inside are interpolated from its boundary nodes' sizes (their edges' lengths,
+    // step 4); far from the bodies, where most of the volume is, from the farfield's: so no
+    // coarser there than the farfield's h, given or not. And no tetrahedron is larger than
+    // fill.max_volume. Those bound the count from below where the metric's sizes are coarser
+    // (issue 37, item 2: a farfield h of 0.6 on the sphere hybrid, 1.5M tetrahedra by TetGen,
+    // about 1.3M by this, saw no budget; they are counted before the optimiser coarsens them).
+    const double floor_density = std::max(kTetrahedraPerMetricVolume * std::pow(fp.h, -3.0),
                                           params.tet.max_volume > 0 ? 1 / params.tet.max_volume : 0.0);
     const double tets = region_integral<3>(
         flo, fhi, [&](const Vec& x) { return !sphere || (x - centre).norm() <= radius; },

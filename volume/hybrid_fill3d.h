@@ -55,7 +55,7 @@ struct HybridFillParams {
   double grading = 0.25;     // growth of the symmetry planes' sizes per unit distance from their loops
   // Called once the farfield is built, before the planes and TetGen mesh anything, with the
   // tetrahedra predicted inside it (6 sqrt 2 per unit of the integral of 1/h^3, h the metric's
-  // largest size, at most the longest boundary edge and within tet.max_volume: TetGen's
+  // largest size, at most the farfield's h and within tet.max_volume: TetGen's
   // tetrahedra are isotropic and sized from the boundary's edges; the bodies' and layers' volume
   // is not taken out, so an upper estimate); may throw to stop the run (the size budget, budget.h).
   std::function<void(double tetrahedra)> size_check;
