@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Gmsh MSH 4.1 ASCII reader and writer for HybridMesh (format: Gmsh reference manual,
+// Gmsh MSH 4.1 reader (ASCII and binary) and ASCII writer for HybridMesh (format: Gmsh reference manual,
 // "MSH file format", version 4.1). Implemented in msh_read.cpp, msh_write.cpp and, for the
 // element type codes, gmsh_types.cpp.
 //
@@ -36,6 +36,9 @@
 // group without a name is called "physical_<tag>"; an entity without one "entity_<tag>".
 // Sparse node tags are renumbered contiguously in file order. Unknown sections ($NodeData,
 // $Periodic, ...) are skipped. Anything malformed throws InputError "path:line: reason".
+// Binary files (file type 1, data size 8, as Gmsh writes with -bin) are read alike, in this
+// machine's byte order (the header's integer 1 must read as 1); their lines are not counted inside
+// the binary data, so a failure there names the line of its section's header.
 #pragma once
 
 #include <filesystem>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Implements read_msh41 (msh_io.h): the Gmsh MSH 4.1 ASCII reader (Gmsh reference manual, "MSH
+// Implements read_msh41 (msh_io.h): the Gmsh MSH 4.1 reader, ASCII and binary (Gmsh reference manual, "MSH
 // file format"); what it accepts and how it maps groups to tags is documented in msh_io.h.
 #include "modules/io/msh_io.h"
 
@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <string>
@@ -17,6 +18,8 @@
 #include <utility>
 #include <vector>
 
+#include "modules/base/coordinates.h"
+#include "modules/base/format.h"
 #include "modules/io/gmsh_types.h"
 #include "modules/io/text_cursor.h"
 
@@ -98,13 +101,13 @@ class MshReader {
       if (!seen_.insert({name, line}).second) in_.fail("duplicate section $" + name);
       // One reader per known section; a $NodeData reader would be added here, next to $Nodes.
       if (name == "PhysicalNames")
-        read_physical_names();
+        read_physical_names();  // text in binary files too
       else if (name == "Entities")
-        read_entities();
+        binary_ ? read_entities_binary() : read_entities();
       else if (name == "Nodes")
-        read_nodes();
+        binary_ ? read_nodes_binary() : read_nodes();
       else if (name == "Elements")
-        read_elements();
+        binary_ ? read_elements_binary() : read_elements();
       else
         in_.skip_to_line("$End" + name, line, name);
     }
@@ -120,10 +123,158 @@ class MshReader {
     if (version != "4.1")
       in_.fail("MSH version " + TextCursor::quote(version) + " is not supported (plaf reads MSH 4.1)");
     const std::int64_t file_type = in_.integer("file type");
-    if (file_type == 1) in_.fail("binary MSH files are not supported (save the mesh as ASCII MSH 4.1)");
-    if (file_type != 0) in_.fail("bad file type " + std::to_string(file_type) + " (0 is ASCII)");
-    in_.integer("data size");
+    if (file_type != 0 && file_type != 1) in_.fail("bad file type " + std::to_string(file_type) + " (0 is ASCII, 1 binary)");
+    const std::int64_t data_size = in_.integer("data size");
+    binary_ = file_type == 1;
+    if (binary_) {
+      // Gmsh's binary MSH 4.1: size_t of 8 bytes, then the integer 1 in the writer's byte order.
+      if (data_size != 8) in_.fail("binary MSH with a data size of " + std::to_string(data_size) + " (plaf reads 8)");
+      in_.start_binary();
+      const std::int32_t one = bin<std::int32_t>("the binary one");
+      if (one != 1)
+        in_.fail("binary MSH: the integer 1 after the header reads as " + std::to_string(one) +
+                 " (a file in the other byte order, big-endian, or not binary data)");
+    }
     in_.expect("$EndMeshFormat");
+  }
+
+  // --- Binary MSH 4.1 (Gmsh reference manual, "MSH file format": the same sections as ASCII,
+  // ints of 4 bytes, size_t counts and tags of 8, doubles; $PhysicalNames stays text) ------------
+  template <class T>
+  T bin(const char* what) {
+    T v;
+    std::memcpy(&v, in_.raw(sizeof(T), what).data(), sizeof(T));
+    return v;
+  }
+  // A size_t count of items of at least min_bytes each (a corrupt count fails, as count does).
+  std::int64_t bin_count(const char* what, std::size_t min_bytes) {
+    const auto v = bin<std::uint64_t>(what);
+    if (v > in_.remaining() / min_bytes + 1)
+      in_.fail(std::string(what) + " " + std::to_string(v) + " exceeds what the rest of the file can hold (truncated file?)");
+    return static_cast<std::int64_t>(v);
+  }
+
+  void read_entities_binary() {
+    in_.start_binary();
+    std::int64_t counts[4];
+    static const char* const what[4] = {"number of points", "number of curves", "number of surfaces",
+                                        "number of volumes"};
+    for (int d = 0; d < 4; ++d) counts[d] = bin_count(what[d], 4 + 24 + 8);
+    for (int d = 0; d < 4; ++d) {
+      for (std::int64_t i = 0; i < counts[d]; ++i) {
+        const std::int64_t tag = bin<std::int32_t>("entity tag");
+        for (int k = 0; k < (d == 0 ? 3 : 6); ++k) bin<double>(d == 0 ? "point coordinate" : "bounding box coordinate");
+        const std::int64_t num_physicals = bin_count("number of physical tags", 4);
+        std::int64_t first = 0;
+        for (std::int64_t k = 0; k < num_physicals; ++k) {
+          const std::int64_t p = bin<std::int32_t>("physical tag");
+          if (k == 0) first = p;
+        }
+        if (d > 0) {
+          const std::int64_t num_bounding = bin_count("number of bounding entities", 4);
+          for (std::int64_t k = 0; k < num_bounding; ++k) bin<std::int32_t>("bounding entity tag");
+        }
+        entity_physical_[{d, tag}] = first;
+      }
+    }
+    declares_volume_ = declares_volume_ || counts[3] > 0;
+    in_.expect("$EndEntities");
+  }
+
+  void read_nodes_binary() {
+    if (seen_.count("Elements")) in_.fail("$Nodes must come before $Elements");
+    in_.start_binary();
+    const std::int64_t num_blocks = bin_count("number of node blocks", 20);
+    const std::int64_t num_nodes = bin_count("number of nodes", 32);
+    if (num_nodes > std::numeric_limits<NodeId>::max()) in_.fail("too many nodes: " + std::to_string(num_nodes));
+    const auto min_tag = static_cast<std::int64_t>(bin<std::uint64_t>("minimum node tag"));
+    const auto max_tag = static_cast<std::int64_t>(bin<std::uint64_t>("maximum node tag"));
+    if (num_nodes > 0 && (min_tag < 1 || max_tag < min_tag || max_tag - min_tag + 1 < num_nodes))
+      in_.fail("bad node tag range " + std::to_string(min_tag) + ".." + std::to_string(max_tag) + " for " +
+               std::to_string(num_nodes) + " nodes");
+    tags_.init(num_nodes, min_tag, max_tag);
+    coords_.reserve(static_cast<std::size_t>(num_nodes));
+    for (std::int64_t b = 0; b < num_blocks; ++b) {
+      const int entity_dim = bin<std::int32_t>("entity dimension");
+      if (entity_dim < 0 || entity_dim > 3) in_.fail("entity dimension " + std::to_string(entity_dim) + " is outside 0..3");
+      bin<std::int32_t>("entity tag");
+      const bool parametric = bin<std::int32_t>("parametric flag") == 1;
+      const std::int64_t n = bin_count("number of nodes in block", 32);
+      if (static_cast<std::int64_t>(coords_.size()) + n > num_nodes)
+        in_.fail("node blocks hold more nodes than the " + std::to_string(num_nodes) + " announced");
+      const NodeId base = static_cast<NodeId>(coords_.size());
+      for (std::int64_t i = 0; i < n; ++i) {
+        const auto tag = static_cast<std::int64_t>(bin<std::uint64_t>("node tag"));
+        if (tag < tags_.min_tag() || tag > tags_.max_tag())
+          in_.fail("node tag " + std::to_string(tag) + " is outside the range " + std::to_string(tags_.min_tag()) +
+                   ".." + std::to_string(tags_.max_tag()) + " of the $Nodes header");
+        if (!tags_.insert(tag, base + static_cast<NodeId>(i))) in_.fail("duplicate node tag " + std::to_string(tag));
+      }
+      const int num_params = parametric ? entity_dim : 0;
+      for (std::int64_t i = 0; i < n; ++i) {
+        std::array<double, 3> x;
+        for (double& c : x) {
+          c = bin<double>("node coordinate");
+          if (!(std::abs(c) <= kMaxCoordinate))
+            in_.fail("node coordinate " + std::to_string(c) + " is not finite or beyond +-" + num(kMaxCoordinate));
+        }
+        for (int k = 0; k < num_params; ++k) bin<double>("parametric coordinate");
+        if (std::abs(x[2]) > max_abs_z_) {
+          max_abs_z_ = std::abs(x[2]);
+          max_abs_z_line_ = in_.line();
+        }
+        coords_.push_back(x);
+      }
+    }
+    if (static_cast<std::int64_t>(coords_.size()) != num_nodes)
+      in_.fail("node blocks hold " + std::to_string(coords_.size()) + " nodes, the $Nodes header announced " +
+               std::to_string(num_nodes));
+    in_.expect("$EndNodes");
+  }
+
+  void read_elements_binary() {
+    if (!seen_.count("Nodes")) in_.fail("$Elements must come after $Nodes");
+    elements_line_ = in_.line();
+    in_.start_binary();
+    const std::int64_t num_blocks = bin_count("number of element blocks", 20);
+    const std::int64_t num_elements = bin_count("number of elements", 16);
+    bin<std::uint64_t>("minimum element tag");
+    bin<std::uint64_t>("maximum element tag");
+    std::int64_t total = 0;
+    for (std::int64_t b = 0; b < num_blocks; ++b) {
+      RawBlock block;
+      block.entity_dim = bin<std::int32_t>("entity dimension");
+      if (block.entity_dim < 0 || block.entity_dim > 3)
+        in_.fail("entity dimension " + std::to_string(block.entity_dim) + " is outside 0..3");
+      block.line = in_.line();
+      block.entity_tag = bin<std::int32_t>("entity tag");
+      const std::int64_t code = bin<std::int32_t>("element type");
+      block.type = find_gmsh_type(code);
+      if (!block.type) in_.fail("unsupported Gmsh element type " + std::to_string(code));
+      if (block.type->dim != block.entity_dim)
+        in_.fail("element type " + std::to_string(code) + " has dimension " + std::to_string(block.type->dim) +
+                 " but its entity has dimension " + std::to_string(block.entity_dim));
+      const int per = block.type->nodes;
+      const std::int64_t n = bin_count("number of elements in block", 8 * (static_cast<std::size_t>(per) + 1));
+      total += n;
+      if (total > num_elements)
+        in_.fail("element blocks hold more elements than the " + std::to_string(num_elements) + " announced");
+      block.nodes.reserve(static_cast<std::size_t>(n * per));
+      for (std::int64_t e = 0; e < n; ++e) {
+        bin<std::uint64_t>("element tag");
+        for (int k = 0; k < per; ++k) {
+          const auto tag = static_cast<std::int64_t>(bin<std::uint64_t>("node tag"));
+          const NodeId id = tags_.find(tag);
+          if (id < 0) in_.fail("element refers to unknown node tag " + std::to_string(tag));
+          block.nodes.push_back(id);
+        }
+      }
+      blocks_.push_back(std::move(block));
+    }
+    if (total != num_elements)
+      in_.fail("element blocks hold " + std::to_string(total) + " elements, the $Elements header announced " +
+               std::to_string(num_elements));
+    in_.expect("$EndElements");
   }
 
   void read_physical_names() {
@@ -347,6 +498,7 @@ class MshReader {
   double max_abs_z_ = 0;
   int max_abs_z_line_ = 0;
   bool declares_volume_ = false;  // a volume entity or a physical group of dimension 3
+  bool binary_ = false;           // $MeshFormat's file type 1
 };
 
 }  // namespace

@@ -63,6 +63,24 @@ std::string_view TextCursor::token(const char* what) {
   return {b, static_cast<std::size_t>(p_ - b)};
 }
 
+void TextCursor::start_binary() {
+  while (p_ != end_ && *p_ != '\n') {
+    if (!is_space(*p_)) fail("expected the end of the line before binary data, found " + quote(peek()));
+    ++p_;
+  }
+  if (p_ != end_) {
+    ++p_;
+    ++line_;
+  }
+}
+
+std::string_view TextCursor::raw(std::size_t n, const char* what) {
+  if (remaining() < n) fail(std::string("unexpected end of file (expected ") + what + ")");
+  const std::string_view v(p_, n);
+  p_ += n;
+  return v;
+}
+
 std::string_view TextCursor::peek() {
   skip_space();
   const char* e = p_;

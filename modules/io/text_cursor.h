@@ -64,6 +64,12 @@ class TextCursor {
   // fails at start_line with "section $name has no end_keyword".
   void skip_to_line(std::string_view end_keyword, int start_line, std::string_view name);
 
+  // Binary data after a text line (binary MSH): skips the rest of the current line and its '\n',
+  // once, before the first raw read; then raw() hands out the next n bytes (fails with
+  // "unexpected end of file (expected what)" when fewer are left). Lines are not counted in them.
+  void start_binary();
+  std::string_view raw(std::size_t n, const char* what);
+
   // A printable excerpt of a token for messages: quoted, one line, at most 40 characters.
   static std::string quote(std::string_view t);
 

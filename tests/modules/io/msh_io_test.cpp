@@ -580,7 +580,7 @@ TEST_CASE("io: malformed MSH files throw InputError \"path:line: reason\", never
       {"empty file", "", "unexpected end of file", 1},
       {"not an MSH file", "solid cube\nfacet normal 0 0 1\n", "expected $MeshFormat", 1},
       {"MSH 2.2", replace(m, "4.1 0 8", "2.2 0 8"), "MSH version '2.2' is not supported", 2},
-      {"binary MSH", replace(m, "4.1 0 8", "4.1 1 8"), "binary MSH files are not supported", 2},
+      {"binary MSH without its binary data", replace(m, "4.1 0 8", "4.1 1 8"), "binary MSH: the integer 1 after the header reads as", 3},
       {"bad number", replace(m, "1 0 0\n0 1 0", "1 0 0\n0 1x 0"), "bad node coordinate '1x'", 12},
       {"non-finite coordinate", replace(m, "1 0 0\n", "1 nan 0\n"), "bad node coordinate 'nan'", 11},
       {"truncated in $Nodes", m.substr(0, m.find("0 1 0\n$EndNodes")), "unexpected end of file", 12},
@@ -955,4 +955,85 @@ TEST_CASE("io: MSH node coordinates beyond +-1e12 are refused with the line") {
   CHECK_THROWS_WITH_AS(read_msh41(dir / "far.msh"), doctest::Contains("far.msh:"), InputError);
   CHECK_THROWS_WITH_AS(read_msh41(dir / "far.msh"), doctest::Contains("node coordinate '1.5e308' is beyond +-1e+12"),
                        InputError);
+}
+
+namespace {
+
+// Binary MSH 4.1 by the format's description (Gmsh reference manual, "MSH file format"): ints of
+// 4 bytes, size_t of 8, doubles, in this machine's byte order; one linear tetrahedron in volume 1.
+std::string binary_tet_msh() {
+  std::string b;
+  auto put = [&b](const auto v) { b.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  auto size = [&put](std::uint64_t v) { put(v); };
+  auto i32 = [&put](std::int32_t v) { put(v); };
+  b += "$MeshFormat\n4.1 1 8\n";
+  i32(1);
+  b += "\n$EndMeshFormat\n$Entities\n";
+  for (std::uint64_t n : {0, 0, 0, 1}) size(n);
+  i32(1);
+  for (double x : {0.0, 0.0, 0.0, 1.0, 1.0, 1.0}) put(x);
+  size(0);  // physical tags
+  size(0);  // bounding surfaces
+  b += "\n$EndEntities\n$Nodes\n";
+  for (std::uint64_t n : {1, 4, 1, 4}) size(n);
+  i32(3), i32(1), i32(0), size(4);
+  for (std::uint64_t t : {1, 2, 3, 4}) size(t);
+  for (double x : {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0}) put(x);
+  b += "\n$EndNodes\n$Elements\n";
+  for (std::uint64_t n : {1, 1, 1, 1}) size(n);
+  i32(3), i32(1), i32(4), size(1);
+  for (std::uint64_t t : {1, 1, 2, 3, 4}) size(t);
+  b += "\n$EndElements\n";
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("io: binary MSH 4.1 reads as its description says; every truncation throws InputError") {
+  // Issue 37, item 9: plaf check refused binary MSH, the norm for large meshes.
+  TempDir dir("msh_binary");
+  const std::string bytes = binary_tet_msh();
+  const MshMesh m = read_msh41(write_text(dir / "tet.msh", bytes));
+  REQUIRE(m.dim == 3);
+  REQUIRE(m.mesh3.nodes.size() == 4);
+  CHECK(m.mesh3.nodes[3] == Eigen::Vector3d(0, 0, 1));
+  REQUIRE(m.mesh3.cells.size() == 1);
+  CHECK(m.mesh3.cells[0].type == CellType::Tetrahedron);
+  CHECK(m.mesh3.cells[0].connectivity == std::vector<NodeId>{0, 1, 2, 3});
+  for (std::size_t cut = 0; cut + 1 < bytes.size(); ++cut) {
+    CAPTURE(cut);
+    CHECK_THROWS_AS(read_msh41(write_text(dir / "cut.msh", bytes.substr(0, cut))), InputError);
+  }
+}
+
+TEST_CASE("io: Gmsh's binary MSH 4.1 of a plaf mesh reads as the ASCII one: the same nodes and cells") {
+  if (std::system("command -v gmsh > /dev/null 2>&1") != 0) {
+    plaf::test::request_skip("gmsh is not on PATH: its binary files not made (scripts/setup.sh does not install it)");
+    return;
+  }
+  TempDir dir("msh_binary_gmsh");
+  const HybridMesh<3> mesh = annulus_sector<3>(2, 2, 2, 1.0, [](int, int, int) { return 2; });
+  write_msh41(mesh, dir / "ascii.msh");
+  const std::string cmd = "gmsh '" + (dir / "ascii.msh").string() + "' -0 -bin -format msh41 -o '" +
+                          (dir / "binary.msh").string() + "' > /dev/null 2>&1";
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  CHECK(read_text(dir / "binary.msh").find("4.1 1 8") != std::string::npos);
+  const MshMesh a = read_msh41(dir / "ascii.msh"), b = read_msh41(dir / "binary.msh");
+  REQUIRE(b.dim == 3);
+  REQUIRE(a.mesh3.nodes.size() == b.mesh3.nodes.size());
+  // Each cell as the coordinates of its nodes in order: the same multiset in both (Gmsh may
+  // renumber, never move a node).
+  auto cells = [](const HybridMesh<3>& h) {
+    std::vector<std::vector<double>> all;
+    for (const CellBlock& blk : h.cells)
+      for (std::size_t c = 0; c < blk.size(); ++c) {
+        std::vector<double> key = {static_cast<double>(blk.type), static_cast<double>(blk.order)};
+        for (int k = 0; k < blk.nodes_per_cell(); ++k)
+          for (int d = 0; d < 3; ++d) key.push_back(h.nodes[static_cast<std::size_t>(blk.cell(c)[k])][d]);
+        all.push_back(key);
+      }
+    std::sort(all.begin(), all.end());
+    return all;
+  };
+  CHECK(cells(a.mesh3) == cells(b.mesh3));
 }
