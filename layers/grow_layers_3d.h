@@ -73,7 +73,15 @@
 //     triangles after the first layer and every later layer is prisms (a prism layer ending on a
 //     quadrilateral could meet neither the next layer's cut nor a tetrahedral fill without
 //     pyramids, and a tetrahedral first layer is the one place the cut can start: its bottom is
-//     the wall's triangles). A corner's columns keep their
+//     the wall's triangles). Why not prisms at the wall and only the last layer cut (issue 31's
+//     proposal): with prisms and tetrahedra alone, a quadrilateral face is shared by two prisms
+//     or lies on the boundary, and a prism beside a cut quadrilateral must be cut whole (all
+//     three of its quadrilaterals). A kite prism's top is a quadrilateral, so the cell above it is
+//     a prism extruded along the ridge again, whose top is one too, up to the outer front; and
+//     cutting any layer above cuts its bottom quadrilaterals, so the cut runs down the fan's
+//     column to the first layer and along it through every prism. Prisms at the wall therefore
+//     need pyramids: on the outer front's quadrilaterals (the fill's side), or in the layer where
+//     the fan's columns turn to triangles. A corner's columns keep their
 //     direction (radial from the corner) while every face around sees it within 80 degrees;
 //     a ridge fan's nodes take the faces' average afterwards, as 2D's do. Fan heights: the
 //     smallest metric height over the node's normals (wedge directions, kite normals, a
