@@ -42,6 +42,16 @@ namespace plaf {
 
 namespace {
 
+// A stage's MesherError with the report sections of the stages that ran before it (and its own
+// part), for the failed run's report (run_command).
+struct StageFailure : MesherError {
+  StageFailure(const std::string& what, std::vector<std::pair<std::string, std::string>> done,
+               std::vector<std::string> stage_failures)
+      : MesherError(what), sections(std::move(done)), failures(std::move(stage_failures)) {}
+  std::vector<std::pair<std::string, std::string>> sections;  // QualityReport::extra entries
+  std::vector<std::string> failures;                          // the stages' own failure lines
+};
+
 // The stage a config chose for `kind`, configured by its plugin. Geometry, metric and surface
 // types come from their sections' keys (run_config.h); layers and fill were configured when the
 // config was read (their plugins parse their own sections).
@@ -308,7 +318,21 @@ RunOutcome run_pipeline(const RunConfig& c, Progress& progress, bool verdict_lin
   auto step = [&](auto& state, StageKind kind, const std::string& what) {
     reports.emplace_back(stage_kind_name(kind));
     constexpr int D = std::remove_reference_t<decltype(state)>::dim;
-    chosen<D>(c, kind)(state, reports.back());
+    try {
+      chosen<D>(c, kind)(state, reports.back());
+    } catch (const StageFailure&) {
+      throw;
+    } catch (const MesherError& e) {
+      // The stages done so far (and this one's part) go into the failed run's report, so that
+      // what the messages point to (layers.events, layers.coverage) is there (issue 37, item 7).
+      QualityReport done;
+      std::vector<std::string> failures;
+      for (const StageReport& r : reports) {
+        r.append_to(done);
+        if (!r.failure().empty()) failures.push_back(r.failure());
+      }
+      throw StageFailure(e.what(), std::move(done.extra), std::move(failures));
+    }
     reports.back().print(out);
     clock.done(stage_kind_name(kind), what);
   };
@@ -522,10 +546,20 @@ int run_command(const std::filesystem::path& config_path, const std::optional<st
     const std::string hint = mesher_hint(e.what(), c.dim);
     OutputSet outputs(c.output.dir / (c.name + ".failed"), c.name);
     AtomicFile f(outputs.staged_base().string() + ".report.json");
-    f.write("{\n  \"name\": " + json_string(c.name) + ",\n  \"ok\": false,\n  \"exit_code\": 2,\n  \"failures\": [" +
-            json_string(e.what()) + "],\n  \"failure\": {\"error\": " +
-            json_string(e.what()) + ", \"hint\": " + json_string(hint.empty() ? "" : hint.substr(2)) +
-            ", \"mesh\": false}\n}\n");
+    // The report of a run without a mesh: no cells, the failure, and the sections of the stages
+    // that ran (StageFailure; empty when the error came from outside a stage).
+    QualityReport report;
+    report.name = c.name;
+    report.exit_code = exit_code::invalid_mesh;
+    report.run_failures = {e.what()};
+    const auto* stage = dynamic_cast<const StageFailure*>(&e);
+    if (stage) {
+      report.run_failures.insert(report.run_failures.end(), stage->failures.begin(), stage->failures.end());
+      report.extra = stage->sections;
+    }
+    report.extra.emplace_back("failure", "{\"error\": " + json_string(e.what()) + ", \"hint\": " +
+                                             json_string(hint.empty() ? "" : hint.substr(2)) + ", \"mesh\": false}");
+    f.write(report_json(report));
     f.commit();
     outputs.commit();
     progress->error(config_path.string() + ": " + e.what() + hint);

@@ -215,6 +215,10 @@ TEST_CASE("cli: a mesher failure on valid keys fails the run (exit 2), naming th
   CHECK(report.find("\"exit_code\": 2,\n  \"failures\": [\"layers: not even the first layer could be grown") != std::string::npos);
   CHECK(report.find("\"error\": \"layers: not even the first layer could be grown") != std::string::npos);
   CHECK(report.find("\"hint\": \"try a thinner first layer") != std::string::npos);
+  // The stages that ran are in it (issue 37, item 7: messages pointing to the report's sections
+  // pointed to a report that held only the error): the surface's curve elements here.
+  CHECK(report.find("\"surface\": {") != std::string::npos);
+  CHECK(report.find("\"cells\": {\n    \"total\": 0,") != std::string::npos);
 }
 
 TEST_CASE("cli: a key found wrong once the mesh exists (a farfield inside the layers) names the config and the key") {
