@@ -74,6 +74,14 @@ inline std::filesystem::path write_text(const std::filesystem::path& p, const st
   return p;
 }
 
+// The last line of a text without its '\n' (a run's one-line error is the last line of stderr).
+inline std::string last_line(const std::string& text) {
+  const std::size_t end = text.find_last_not_of('\n');
+  if (end == std::string::npos) return "";
+  const std::size_t begin = text.rfind('\n', end);
+  return text.substr(begin == std::string::npos ? 0 : begin + 1, end - (begin == std::string::npos ? 0 : begin + 1) + 1);
+}
+
 // What a run of the plaf binary gave: its exit code (-1 if it did not exit) and its stderr.
 struct PlafResult {
   int code = -1;

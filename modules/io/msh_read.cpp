@@ -87,6 +87,62 @@ BoundaryKind kind_from_name(const std::string& name) {
   return BoundaryKind::Named;
 }
 
+// A section's fields as MSH 4.1 stores them: text tokens (ASCII), or Gmsh's binary layout (the
+// reference manual's "MSH file format": ints of 4 bytes, size_t counts and tags of 8, doubles,
+// in the writer's byte order, checked by the header). One reader per section serves both.
+struct TextFields {
+  TextCursor& in;
+  void begin() {}
+  std::int64_t int32(const char* what) { return in.integer(what); }
+  std::int64_t int32(const char* what, std::int64_t lo, std::int64_t hi) { return in.integer(what, lo, hi); }
+  std::int64_t size(const char* what) { return in.integer(what); }
+  // A count of items of at least text_bytes characters each (binary_bytes in a binary file).
+  std::int64_t count(const char* what, std::size_t text_bytes, std::size_t) { return in.count(what, text_bytes); }
+  double real(const char* what) { return in.real(what); }
+  double coordinate(const char* what) { return in.coordinate(what); }
+};
+
+struct BinaryFields {
+  TextCursor& in;
+  // The data starts on the line after the section's name.
+  void begin() { in.start_binary(); }
+  template <class T>
+  T get(const char* what) {
+    T v;
+    std::memcpy(&v, in.raw(sizeof(T), what).data(), sizeof(T));
+    return v;
+  }
+  std::int64_t int32(const char* what) { return get<std::int32_t>(what); }
+  std::int64_t int32(const char* what, std::int64_t lo, std::int64_t hi) {
+    const std::int64_t v = int32(what);
+    if (v < lo || v > hi)
+      in.fail(std::string(what) + " " + std::to_string(v) + " is outside " + std::to_string(lo) + ".." + std::to_string(hi));
+    return v;
+  }
+  std::int64_t size(const char* what) {
+    const auto v = get<std::uint64_t>(what);
+    if (v > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+      in.fail(std::string("bad ") + what + " " + std::to_string(v));
+    return static_cast<std::int64_t>(v);
+  }
+  std::int64_t count(const char* what, std::size_t, std::size_t binary_bytes) {
+    const std::int64_t v = size(what);
+    if (static_cast<std::uint64_t>(v) > in.remaining() / binary_bytes + 1)
+      in.fail(std::string(what) + " " + std::to_string(v) + " exceeds what the rest of the file can hold (truncated file?)");
+    return v;
+  }
+  double real(const char* what) {
+    const double v = get<double>(what);
+    if (!std::isfinite(v)) in.fail(std::string("bad ") + what + " " + std::to_string(v));
+    return v;
+  }
+  double coordinate(const char* what) {
+    const double v = real(what);
+    if (std::abs(v) > kMaxCoordinate) in.fail(std::string(what) + " " + num(v) + " is beyond +-" + num(kMaxCoordinate));
+    return v;
+  }
+};
+
 class MshReader {
  public:
   MshReader(const std::filesystem::path& path, const std::string& text) : path_(path), in_(path, text) {}
@@ -103,11 +159,11 @@ class MshReader {
       if (name == "PhysicalNames")
         read_physical_names();  // text in binary files too
       else if (name == "Entities")
-        binary_ ? read_entities_binary() : read_entities();
+        binary_ ? read_entities(BinaryFields{in_}) : read_entities(TextFields{in_});
       else if (name == "Nodes")
-        binary_ ? read_nodes_binary() : read_nodes();
+        binary_ ? read_nodes(BinaryFields{in_}) : read_nodes(TextFields{in_});
       else if (name == "Elements")
-        binary_ ? read_elements_binary() : read_elements();
+        binary_ ? read_elements(BinaryFields{in_}) : read_elements(TextFields{in_});
       else
         in_.skip_to_line("$End" + name, line, name);
     }
@@ -130,151 +186,12 @@ class MshReader {
       // Gmsh's binary MSH 4.1: size_t of 8 bytes, then the integer 1 in the writer's byte order.
       if (data_size != 8) in_.fail("binary MSH with a data size of " + std::to_string(data_size) + " (plaf reads 8)");
       in_.start_binary();
-      const std::int32_t one = bin<std::int32_t>("the binary one");
+      const auto one = BinaryFields{in_}.get<std::int32_t>("the binary one");
       if (one != 1)
         in_.fail("binary MSH: the integer 1 after the header reads as " + std::to_string(one) +
                  " (a file in the other byte order, big-endian, or not binary data)");
     }
     in_.expect("$EndMeshFormat");
-  }
-
-  // --- Binary MSH 4.1 (Gmsh reference manual, "MSH file format": the same sections as ASCII,
-  // ints of 4 bytes, size_t counts and tags of 8, doubles; $PhysicalNames stays text) ------------
-  template <class T>
-  T bin(const char* what) {
-    T v;
-    std::memcpy(&v, in_.raw(sizeof(T), what).data(), sizeof(T));
-    return v;
-  }
-  // A size_t count of items of at least min_bytes each (a corrupt count fails, as count does).
-  std::int64_t bin_count(const char* what, std::size_t min_bytes) {
-    const auto v = bin<std::uint64_t>(what);
-    if (v > in_.remaining() / min_bytes + 1)
-      in_.fail(std::string(what) + " " + std::to_string(v) + " exceeds what the rest of the file can hold (truncated file?)");
-    return static_cast<std::int64_t>(v);
-  }
-
-  void read_entities_binary() {
-    in_.start_binary();
-    std::int64_t counts[4];
-    static const char* const what[4] = {"number of points", "number of curves", "number of surfaces",
-                                        "number of volumes"};
-    for (int d = 0; d < 4; ++d) counts[d] = bin_count(what[d], 4 + 24 + 8);
-    for (int d = 0; d < 4; ++d) {
-      for (std::int64_t i = 0; i < counts[d]; ++i) {
-        const std::int64_t tag = bin<std::int32_t>("entity tag");
-        for (int k = 0; k < (d == 0 ? 3 : 6); ++k) bin<double>(d == 0 ? "point coordinate" : "bounding box coordinate");
-        const std::int64_t num_physicals = bin_count("number of physical tags", 4);
-        std::int64_t first = 0;
-        for (std::int64_t k = 0; k < num_physicals; ++k) {
-          const std::int64_t p = bin<std::int32_t>("physical tag");
-          if (k == 0) first = p;
-        }
-        if (d > 0) {
-          const std::int64_t num_bounding = bin_count("number of bounding entities", 4);
-          for (std::int64_t k = 0; k < num_bounding; ++k) bin<std::int32_t>("bounding entity tag");
-        }
-        entity_physical_[{d, tag}] = first;
-      }
-    }
-    declares_volume_ = declares_volume_ || counts[3] > 0;
-    in_.expect("$EndEntities");
-  }
-
-  void read_nodes_binary() {
-    if (seen_.count("Elements")) in_.fail("$Nodes must come before $Elements");
-    in_.start_binary();
-    const std::int64_t num_blocks = bin_count("number of node blocks", 20);
-    const std::int64_t num_nodes = bin_count("number of nodes", 32);
-    if (num_nodes > std::numeric_limits<NodeId>::max()) in_.fail("too many nodes: " + std::to_string(num_nodes));
-    const auto min_tag = static_cast<std::int64_t>(bin<std::uint64_t>("minimum node tag"));
-    const auto max_tag = static_cast<std::int64_t>(bin<std::uint64_t>("maximum node tag"));
-    if (num_nodes > 0 && (min_tag < 1 || max_tag < min_tag || max_tag - min_tag + 1 < num_nodes))
-      in_.fail("bad node tag range " + std::to_string(min_tag) + ".." + std::to_string(max_tag) + " for " +
-               std::to_string(num_nodes) + " nodes");
-    tags_.init(num_nodes, min_tag, max_tag);
-    coords_.reserve(static_cast<std::size_t>(num_nodes));
-    for (std::int64_t b = 0; b < num_blocks; ++b) {
-      const int entity_dim = bin<std::int32_t>("entity dimension");
-      if (entity_dim < 0 || entity_dim > 3) in_.fail("entity dimension " + std::to_string(entity_dim) + " is outside 0..3");
-      bin<std::int32_t>("entity tag");
-      const bool parametric = bin<std::int32_t>("parametric flag") == 1;
-      const std::int64_t n = bin_count("number of nodes in block", 32);
-      if (static_cast<std::int64_t>(coords_.size()) + n > num_nodes)
-        in_.fail("node blocks hold more nodes than the " + std::to_string(num_nodes) + " announced");
-      const NodeId base = static_cast<NodeId>(coords_.size());
-      for (std::int64_t i = 0; i < n; ++i) {
-        const auto tag = static_cast<std::int64_t>(bin<std::uint64_t>("node tag"));
-        if (tag < tags_.min_tag() || tag > tags_.max_tag())
-          in_.fail("node tag " + std::to_string(tag) + " is outside the range " + std::to_string(tags_.min_tag()) +
-                   ".." + std::to_string(tags_.max_tag()) + " of the $Nodes header");
-        if (!tags_.insert(tag, base + static_cast<NodeId>(i))) in_.fail("duplicate node tag " + std::to_string(tag));
-      }
-      const int num_params = parametric ? entity_dim : 0;
-      for (std::int64_t i = 0; i < n; ++i) {
-        std::array<double, 3> x;
-        for (double& c : x) {
-          c = bin<double>("node coordinate");
-          if (!(std::abs(c) <= kMaxCoordinate))
-            in_.fail("node coordinate " + std::to_string(c) + " is not finite or beyond +-" + num(kMaxCoordinate));
-        }
-        for (int k = 0; k < num_params; ++k) bin<double>("parametric coordinate");
-        if (std::abs(x[2]) > max_abs_z_) {
-          max_abs_z_ = std::abs(x[2]);
-          max_abs_z_line_ = in_.line();
-        }
-        coords_.push_back(x);
-      }
-    }
-    if (static_cast<std::int64_t>(coords_.size()) != num_nodes)
-      in_.fail("node blocks hold " + std::to_string(coords_.size()) + " nodes, the $Nodes header announced " +
-               std::to_string(num_nodes));
-    in_.expect("$EndNodes");
-  }
-
-  void read_elements_binary() {
-    if (!seen_.count("Nodes")) in_.fail("$Elements must come after $Nodes");
-    elements_line_ = in_.line();
-    in_.start_binary();
-    const std::int64_t num_blocks = bin_count("number of element blocks", 20);
-    const std::int64_t num_elements = bin_count("number of elements", 16);
-    bin<std::uint64_t>("minimum element tag");
-    bin<std::uint64_t>("maximum element tag");
-    std::int64_t total = 0;
-    for (std::int64_t b = 0; b < num_blocks; ++b) {
-      RawBlock block;
-      block.entity_dim = bin<std::int32_t>("entity dimension");
-      if (block.entity_dim < 0 || block.entity_dim > 3)
-        in_.fail("entity dimension " + std::to_string(block.entity_dim) + " is outside 0..3");
-      block.line = in_.line();
-      block.entity_tag = bin<std::int32_t>("entity tag");
-      const std::int64_t code = bin<std::int32_t>("element type");
-      block.type = find_gmsh_type(code);
-      if (!block.type) in_.fail("unsupported Gmsh element type " + std::to_string(code));
-      if (block.type->dim != block.entity_dim)
-        in_.fail("element type " + std::to_string(code) + " has dimension " + std::to_string(block.type->dim) +
-                 " but its entity has dimension " + std::to_string(block.entity_dim));
-      const int per = block.type->nodes;
-      const std::int64_t n = bin_count("number of elements in block", 8 * (static_cast<std::size_t>(per) + 1));
-      total += n;
-      if (total > num_elements)
-        in_.fail("element blocks hold more elements than the " + std::to_string(num_elements) + " announced");
-      block.nodes.reserve(static_cast<std::size_t>(n * per));
-      for (std::int64_t e = 0; e < n; ++e) {
-        bin<std::uint64_t>("element tag");
-        for (int k = 0; k < per; ++k) {
-          const auto tag = static_cast<std::int64_t>(bin<std::uint64_t>("node tag"));
-          const NodeId id = tags_.find(tag);
-          if (id < 0) in_.fail("element refers to unknown node tag " + std::to_string(tag));
-          block.nodes.push_back(id);
-        }
-      }
-      blocks_.push_back(std::move(block));
-    }
-    if (total != num_elements)
-      in_.fail("element blocks hold " + std::to_string(total) + " elements, the $Elements header announced " +
-               std::to_string(num_elements));
-    in_.expect("$EndElements");
   }
 
   void read_physical_names() {
@@ -292,24 +209,26 @@ class MshReader {
     in_.expect("$EndPhysicalNames");
   }
 
-  void read_entities() {
+  template <class Fields>
+  void read_entities(Fields f) {
+    f.begin();
     std::int64_t counts[4];
     static const char* const what[4] = {"number of points", "number of curves", "number of surfaces",
                                         "number of volumes"};
-    for (int d = 0; d < 4; ++d) counts[d] = in_.count(what[d], 8);
+    for (int d = 0; d < 4; ++d) counts[d] = f.count(what[d], 8, 4 + 24 + 8);
     for (int d = 0; d < 4; ++d) {
       for (std::int64_t i = 0; i < counts[d]; ++i) {
-        const std::int64_t tag = in_.integer("entity tag");
-        for (int k = 0; k < (d == 0 ? 3 : 6); ++k) in_.real(d == 0 ? "point coordinate" : "bounding box coordinate");
-        const std::int64_t num_physicals = in_.count("number of physical tags", 2);
+        const std::int64_t tag = f.int32("entity tag");
+        for (int k = 0; k < (d == 0 ? 3 : 6); ++k) f.real(d == 0 ? "point coordinate" : "bounding box coordinate");
+        const std::int64_t num_physicals = f.count("number of physical tags", 2, 4);
         std::int64_t first = 0;
         for (std::int64_t k = 0; k < num_physicals; ++k) {
-          const std::int64_t p = in_.integer("physical tag");
+          const std::int64_t p = f.int32("physical tag");
           if (k == 0) first = p;
         }
         if (d > 0) {
-          const std::int64_t num_bounding = in_.count("number of bounding entities", 2);
-          for (std::int64_t k = 0; k < num_bounding; ++k) in_.integer("bounding entity tag");
+          const std::int64_t num_bounding = f.count("number of bounding entities", 2, 4);
+          for (std::int64_t k = 0; k < num_bounding; ++k) f.int32("bounding entity tag");
         }
         entity_physical_[{d, tag}] = first;
       }
@@ -318,28 +237,30 @@ class MshReader {
     in_.expect("$EndEntities");
   }
 
-  void read_nodes() {
+  template <class Fields>
+  void read_nodes(Fields f) {
     if (seen_.count("Elements")) in_.fail("$Nodes must come before $Elements");
-    const std::int64_t num_blocks = in_.count("number of node blocks", 8);
-    const std::int64_t num_nodes = in_.count("number of nodes", 8);
+    f.begin();
+    const std::int64_t num_blocks = f.count("number of node blocks", 8, 20);
+    const std::int64_t num_nodes = f.count("number of nodes", 8, 32);
     if (num_nodes > std::numeric_limits<NodeId>::max()) in_.fail("too many nodes: " + std::to_string(num_nodes));
-    const std::int64_t min_tag = in_.integer("minimum node tag");
-    const std::int64_t max_tag = in_.integer("maximum node tag");
+    const std::int64_t min_tag = f.size("minimum node tag");
+    const std::int64_t max_tag = f.size("maximum node tag");
     if (num_nodes > 0 && (min_tag < 1 || max_tag < min_tag || max_tag - min_tag + 1 < num_nodes))
       in_.fail("bad node tag range " + std::to_string(min_tag) + ".." + std::to_string(max_tag) + " for " +
                std::to_string(num_nodes) + " nodes");
     tags_.init(num_nodes, min_tag, max_tag);
     coords_.reserve(static_cast<std::size_t>(num_nodes));
     for (std::int64_t b = 0; b < num_blocks; ++b) {
-      const int entity_dim = static_cast<int>(in_.integer("entity dimension", 0, 3));
-      in_.integer("entity tag");
-      const bool parametric = in_.integer("parametric flag", 0, 1) == 1;
-      const std::int64_t n = in_.count("number of nodes in block", 4);
+      const int entity_dim = static_cast<int>(f.int32("entity dimension", 0, 3));
+      f.int32("entity tag");
+      const bool parametric = f.int32("parametric flag", 0, 1) == 1;
+      const std::int64_t n = f.count("number of nodes in block", 4, 32);
       if (static_cast<std::int64_t>(coords_.size()) + n > num_nodes)
         in_.fail("node blocks hold more nodes than the " + std::to_string(num_nodes) + " announced");
       const NodeId base = static_cast<NodeId>(coords_.size());
       for (std::int64_t i = 0; i < n; ++i) {
-        const std::int64_t tag = in_.integer("node tag");
+        const std::int64_t tag = f.size("node tag");
         if (tag < tags_.min_tag() || tag > tags_.max_tag())
           in_.fail("node tag " + std::to_string(tag) + " is outside the range " + std::to_string(tags_.min_tag()) +
                    ".." + std::to_string(tags_.max_tag()) + " of the $Nodes header");
@@ -348,8 +269,8 @@ class MshReader {
       const int num_params = parametric ? entity_dim : 0;
       for (std::int64_t i = 0; i < n; ++i) {
         std::array<double, 3> x;
-        for (double& c : x) c = in_.coordinate("node coordinate");
-        for (int k = 0; k < num_params; ++k) in_.real("parametric coordinate");
+        for (double& c : x) c = f.coordinate("node coordinate");
+        for (int k = 0; k < num_params; ++k) f.real("parametric coordinate");
         if (std::abs(x[2]) > max_abs_z_) {
           max_abs_z_ = std::abs(x[2]);
           max_abs_z_line_ = in_.line();
@@ -363,35 +284,38 @@ class MshReader {
     in_.expect("$EndNodes");
   }
 
-  void read_elements() {
+  template <class Fields>
+  void read_elements(Fields f) {
     if (!seen_.count("Nodes")) in_.fail("$Elements must come after $Nodes");
     elements_line_ = in_.line();
-    const std::int64_t num_blocks = in_.count("number of element blocks", 8);
-    const std::int64_t num_elements = in_.count("number of elements", 4);
-    in_.integer("minimum element tag");
-    in_.integer("maximum element tag");
+    f.begin();
+    const std::int64_t num_blocks = f.count("number of element blocks", 8, 20);
+    const std::int64_t num_elements = f.count("number of elements", 4, 16);
+    f.size("minimum element tag");
+    f.size("maximum element tag");
     std::int64_t total = 0;
     for (std::int64_t b = 0; b < num_blocks; ++b) {
       RawBlock block;
-      block.entity_dim = static_cast<int>(in_.integer("entity dimension", 0, 3));
+      block.entity_dim = static_cast<int>(f.int32("entity dimension", 0, 3));
       block.line = in_.line();
-      block.entity_tag = in_.integer("entity tag");
-      const std::int64_t code = in_.integer("element type");
+      block.entity_tag = f.int32("entity tag");
+      const std::int64_t code = f.int32("element type");
       block.type = find_gmsh_type(code);
       if (!block.type) in_.fail("unsupported Gmsh element type " + std::to_string(code));
       if (block.type->dim != block.entity_dim)
         in_.fail("element type " + std::to_string(code) + " has dimension " + std::to_string(block.type->dim) +
                  " but its entity has dimension " + std::to_string(block.entity_dim));
       const int per = block.type->nodes;
-      const std::int64_t n = in_.count("number of elements in block", 2 * static_cast<std::size_t>(per) + 2);
+      const std::int64_t n = f.count("number of elements in block", 2 * static_cast<std::size_t>(per) + 2,
+                                     8 * (static_cast<std::size_t>(per) + 1));
       total += n;
       if (total > num_elements)
         in_.fail("element blocks hold more elements than the " + std::to_string(num_elements) + " announced");
       block.nodes.reserve(static_cast<std::size_t>(n * per));
       for (std::int64_t e = 0; e < n; ++e) {
-        in_.integer("element tag");
+        f.size("element tag");
         for (int k = 0; k < per; ++k) {
-          const std::int64_t tag = in_.integer("node tag");
+          const std::int64_t tag = f.size("node tag");
           const NodeId id = tags_.find(tag);
           if (id < 0) in_.fail("element refers to unknown node tag " + std::to_string(tag));
           block.nodes.push_back(id);

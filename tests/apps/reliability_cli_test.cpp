@@ -28,6 +28,7 @@ using plaf::test::read_text;
 using plaf::test::run_plaf;
 using plaf::test::TempDir;
 using plaf::test::write_text;
+using plaf::test::last_line;
 
 namespace {
 
@@ -36,13 +37,6 @@ const std::string kSphere = "geometry: {type: sphere}\nmetric: {type: uniform, h
 PlafResult run_yaml(const TempDir& d, const std::string& yaml, const std::string& out = "out") {
   const fs::path cfg = write_text(d / "case.yaml", yaml);
   return run_plaf("run " + cfg.string() + " --out " + (d / out).string(), d);
-}
-
-std::string last_line(const std::string& text) {
-  const std::size_t end = text.find_last_not_of('\n');
-  if (end == std::string::npos) return "";
-  const std::size_t begin = text.rfind('\n', end);
-  return text.substr(begin == std::string::npos ? 0 : begin + 1, end - (begin == std::string::npos ? 0 : begin + 1) + 1);
 }
 
 // The processes whose command line holds `needle` (/proc/PID/cmdline, its NULs as spaces).

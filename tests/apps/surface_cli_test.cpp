@@ -29,19 +29,13 @@ using plaf::test::PlafResult;
 using plaf::test::read_text;
 using plaf::test::TempDir;
 using plaf::test::write_text;
+using plaf::test::last_line;
 
 namespace {
 
 PlafResult run_config(const TempDir& d, const std::string& yaml) {
   const fs::path cfg = write_text(d / "case.yaml", yaml);
   return plaf::test::run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d);
-}
-
-std::string last_line(const std::string& text) {
-  const std::size_t end = text.find_last_not_of('\n');
-  if (end == std::string::npos) return "";
-  const std::size_t begin = text.rfind('\n', end);
-  return text.substr(begin == std::string::npos ? 0 : begin + 1, end - (begin == std::string::npos ? 0 : begin + 1) + 1);
 }
 
 
