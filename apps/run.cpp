@@ -320,8 +320,6 @@ RunOutcome run_pipeline(const RunConfig& c, Progress& progress, bool verdict_lin
     constexpr int D = std::remove_reference_t<decltype(state)>::dim;
     try {
       chosen<D>(c, kind)(state, reports.back());
-    } catch (const StageFailure&) {
-      throw;
     } catch (const MesherError& e) {
       // The stages done so far (and this one's part) go into the failed run's report, so that
       // what the messages point to (layers.events, layers.coverage) is there (issue 37, item 7).

@@ -144,17 +144,6 @@ void report_coverage(const LayerResult<Dim>& r, const LayerParams& p, StageRepor
   rep.fail(why.str());
 }
 
-// The size budget (modules/pipeline/budget.h): every wall element's column at most max_layers
-// high (an upper bound: most runs stop earlier, at the isotropic size), quadrilaterals of q^2
-// nodes in 2D, prisms of q^3/2 in 3D.
-void check_layer_budget(const RunConfig& c, double wall_elements, int max_layers, int dim) {
-  const double cells = wall_elements * max_layers, q = c.order;
-  const std::string what = "up to " + std::to_string(max_layers) + " layers (layers.max) on " +
-                           std::to_string(static_cast<long>(wall_elements)) + " wall elements";
-  check_limit(c, "cells", cells, what);
-  check_limit(c, "nodes", cells * (dim == 2 ? q * q : q * q * q / 2), what + " of order " + std::to_string(c.order));
-}
-
 }  // namespace
 
 void register_plugins() {

@@ -263,13 +263,7 @@ void check_surface_budget(const RunConfig& c, double triangles) {
   // The layers' budget (layers/plugins.cpp) on the triangles to come, before they are made: a
   // metric.h_max of 0.01 on the sphere hybrid meshed 420k wall triangles for 77 s before the
   // layers refused them (issue 37, item 6).
-  if (c.layers.enabled() && c.layers_max > 0) {
-    const std::string what = "up to " + std::to_string(c.layers_max) + " layers (layers.max) on about " +
-                             std::to_string(static_cast<long>(triangles)) + " wall triangles";
-    check_limit(c, "cells", triangles * c.layers_max, what);
-    check_limit(c, "nodes", triangles * c.layers_max * c.order * c.order * c.order / 2.0,
-                what + " of order " + std::to_string(c.order));
-  }
+  if (c.layers.enabled() && c.layers_max > 0) check_layer_budget(c, triangles, c.layers_max, 3, true);
 }
 
 // The surface mesh: curvature-driven sizes (optional), remeshing with features kept, the features

@@ -169,9 +169,6 @@ void register_plugins() {
         if (parsed.tet.max_volume > 0 && o.after.volume_max > parsed.tet.max_volume * (1 + 1e-9))
           rep.fail("fill.max_volume " + num(parsed.tet.max_volume) + " is not met: the largest tetrahedron's volume is " +
                    num(o.after.volume_max) + " (TetGen keeps the fronts' triangles; coarse ones cannot hold small tetrahedra)");
-        if (parsed.tet.max_volume > 0 && o.after.volume_max > parsed.tet.max_volume * (1 + 1e-9))
-          rep.fail("fill.max_volume " + num(parsed.tet.max_volume) + " is not met: the largest tetrahedron's volume is " +
-                   num(o.after.volume_max) + " (TetGen keeps the fronts' triangles; coarse ones cannot hold small tetrahedra)");
         rep.line("fill: optimised in the metric: " + std::to_string(o.splits) + " splits, " +
                  std::to_string(o.collapses) + " collapses, " + std::to_string(o.swaps) + " swaps, " +
                  std::to_string(o.moves) + " moves, " + std::to_string(o.repairs) + " sliver repairs; tets " +

@@ -27,6 +27,14 @@ void check_limit(const RunConfig& c, const std::string& key, double estimate, co
                     " (budget " + num(limit) + "); coarsen the metric or raise limits." + key);
 }
 
+void check_layer_budget(const RunConfig& c, double wall_elements, int max_layers, int dim, bool estimated) {
+  const double cells = wall_elements * max_layers, q = c.order;
+  const std::string what = "up to " + std::to_string(max_layers) + " layers (layers.max) on " + (estimated ? "about " : "") +
+                           std::to_string(static_cast<long>(wall_elements)) + " wall elements";
+  check_limit(c, "cells", cells, what);
+  check_limit(c, "nodes", cells * (dim == 2 ? q * q : q * q * q / 2), what + " of order " + std::to_string(c.order));
+}
+
 namespace {
 
 // The polygon of a loop's interpolation points: inside by the even-odd rule, with its bounding

@@ -41,5 +41,11 @@ void check_limit(const RunConfig& c, const std::string& key, double estimate, co
 // triangles and quads times rows).
 void check_section_budget(const RunState<2>& s, int rows);
 
+// The layers' estimate: every wall element's column at most max_layers high (an upper bound:
+// most runs stop earlier, at the isotropic size), quadrilaterals of q^2 nodes in 2D, prisms of
+// q^3/2 in 3D. Called by the layer stage on its wall, and by the 3D surface stage on its estimate
+// of the triangles to come (estimated: the message says "about").
+void check_layer_budget(const RunConfig& c, double wall_elements, int max_layers, int dim, bool estimated = false);
+
 }  // namespace pipeline
 }  // namespace plaf

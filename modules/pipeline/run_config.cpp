@@ -4,13 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "modules/pipeline/config.h"
 #include "modules/base/error.h"
 #include "modules/base/format.h"
 #include "modules/elements/lagrange.h"
+#include "modules/io/text_cursor.h"
 #include "modules/pipeline/stages.h"
 #include "modules/pipeline/writers.h"
 
@@ -29,23 +29,6 @@ constexpr std::size_t kMaxPictures = 64;
 // The longest run name: every output is NAME + an extension (NAME_boundary.vtu, NAME.cut64.png),
 // and a file name holds 255 bytes on the common file systems.
 constexpr std::size_t kMaxNameBytes = 200;
-
-// The name as an error quotes it: control characters escaped, at most 60 characters.
-std::string quoted_name(const std::string& name) {
-  std::string q;
-  for (const char ch : name) {
-    if (q.size() >= 60) return "'" + q + "...' (" + std::to_string(name.size()) + " bytes)";
-    const auto u = static_cast<unsigned char>(ch);
-    if (u < 0x20 || u == 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", u);
-      q += buf;
-    } else {
-      q += ch;
-    }
-  }
-  return "'" + q + "'";
-}
 
 // The output section (formats, pictures, histogram bins, and the 2D mesh options).
 void parse_output(const ConfigNode& o, RunConfig& r) {
@@ -124,7 +107,8 @@ RunConfig parse(const ConfigNode& c, const std::string& stem) {
   });
   if (r.name.empty() || !printable || r.name.front() == '.' || r.name.size() > kMaxNameBytes)
     throw ConfigError(c.where("name") + ": must be a plain file name (printable, no / or \\, not starting with '.', at most " +
-                      std::to_string(kMaxNameBytes) + " bytes), got " + quoted_name(r.name));
+                      std::to_string(kMaxNameBytes) + " bytes), got " + TextCursor::quote(r.name) +
+                      " (" + std::to_string(r.name.size()) + " bytes)");
   r.order = c.get_int("order", r.order, 1, max_order);
 
   // The geometry's type decides the run's dimension; its plugin parses the section (stages.h).
