@@ -989,7 +989,7 @@ std::string binary_tet_msh() {
 
 }  // namespace
 
-TEST_CASE("io: binary MSH 4.1 reads as its description says; every truncation throws InputError") {
+TEST_CASE("io: binary MSH 4.1 reads as its description says, and every truncation throws InputError") {
   // Issue 37, item 9: plaf check refused binary MSH, the norm for large meshes.
   TempDir dir("msh_binary");
   const std::string bytes = binary_tet_msh();
