@@ -200,7 +200,14 @@ const std::vector<KeyNote>& key_notes() {
       // ---- output (modules/pipeline/run_config.h, modules/io/picture3d.h)
       {"output", "what is written, and the pictures"},
       {"output.dir", "the output folder, relative to the working directory, not the config's folder (plaf run --out wins)"},
-      {"output.formats", "the files written: NAME.msh (Gmsh 4.1), NAME.vtu (VTK Lagrange cells), NAME.report.json, NAME.png"},
+      {"output.formats", "the files written: NAME.msh (Gmsh 4.1), NAME_msh22.msh (Gmsh 2.2: msh22), NAME.cgns (CGNS: cgns), NAME.vtu "
+       "(VTK Lagrange cells), NAME.report.json, NAME.png"},
+      {"output.msh",
+       "the .msh encoding (4.1 and 2.2): ascii, binary (several times smaller and faster), or auto: binary above "
+       "100000 nodes"},
+      {"output.vtu",
+       "the .vtu encoding: ascii, binary (zlib-compressed appended data, as ParaView writes), or auto: binary "
+       "above 100000 nodes"},
       {"output.histogram_bins", "bins of the report's metric edge-length histogram"},
       {"output.picture_width", "the PNG's width in pixels"},
       {"output.picture_height", "the PNG's height in pixels"},

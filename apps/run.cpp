@@ -6,6 +6,7 @@
 #include "apps/stage_clock.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <iostream>
@@ -21,6 +22,7 @@
 #include "modules/pipeline/budget.h"
 #include "modules/pipeline/data_root.h"
 #include "modules/elements/lagrange.h"
+#include "modules/io/cgns_io.h"
 #include "modules/io/msh_io.h"
 #include "modules/io/output_set.h"
 #include "modules/mesh/extrude_front.h"
@@ -498,6 +500,10 @@ RunOutcome run_pipeline(const RunConfig& c, Progress& progress, bool verdict_lin
                        json_string(outputs.final_base().string()));
   outcome.report = std::move(report);
   outcome.base = outputs.final_base();
+  if constexpr (Dim == 2)
+    outcome.mesh2 = std::make_shared<const HybridMesh<2>>(std::move(s.mesh));
+  else
+    outcome.mesh3 = std::make_shared<const HybridMesh<3>>(std::move(s.mesh));
   return outcome;
 }
 
@@ -617,7 +623,10 @@ int check_command(const std::filesystem::path& path, const std::optional<std::fi
     qo.histogram_bins = c->output.histogram_bins;
     clock.done("metric", c->metric.type + " from " + metric_config->string());
   }
-  const MshMesh m = read_msh41(path);
+  // A .cgns file through the CGNS reader, anything else as MSH (4.1 or 2.2, ASCII or binary).
+  std::string extension = path.extension().string();
+  for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  const MshMesh m = extension == ".cgns" ? read_cgns(path) : read_msh41(path);
   clock.done("read", path.string() + ", dimension " + std::to_string(m.dim));
   QualityReport report;
   if (metric_config && m.dim != c->dim)

@@ -3,12 +3,14 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "modules/mesh/hybrid_mesh.h"
 #include "modules/mesh/quality.h"
 #include "modules/pipeline/layer_table.h"
 #include "modules/pipeline/progress.h"
@@ -33,6 +35,10 @@ struct RunOutcome {
   // The mean length of the wall elements' edges between their vertices (2D: the elements' chords;
   // 3D: the triangles' edges, each counted per triangle): the size along the wall.
   double wall_edge_mean = 0;
+  // The mesh itself (the one of the run's dimension; null for the other), for callers that use
+  // it in memory (the Python module).
+  std::shared_ptr<const HybridMesh<2>> mesh2;
+  std::shared_ptr<const HybridMesh<3>> mesh3;
 };
 
 // Runs a validated configuration and writes its outputs; quiet: no stage lines on stdout and no

@@ -487,7 +487,7 @@ geometry:
   farfield: {{shape: circle, radius: {R}, center: [{center[0]}, {center[1]}]}}
 metric: {{type: background, file: {mesh}, sol: {sol}}}
 fill: {{}}
-output: {{dir: {out}, formats: [msh, report]}}
+output: {{dir: {out}, formats: [msh, report], msh: ascii}}
 """)
         rows = []
         rep, wall, tmesh = plaf_run(plaf, cfg, out, repeat)
@@ -629,7 +629,7 @@ geometry:
 metric: {{type: wall_power_law, h0: {h0}, growth: 1.2, h_max: 1.0, h_wall_max: {h_wall}, curvature_factor: 0.25, h_corner: {h_corner}}}
 layers: {{max: {layers}, fan_angle_deg: 20}}
 fill: {{}}
-output: {{dir: {out}, formats: [msh, report]}}
+output: {{dir: {out}, formats: [msh, report], msh: ascii}}
 """)
     rep, wall, tmesh = plaf_run(plaf, cfg, out, repeat)
     rows = []

@@ -162,7 +162,7 @@ def run_plaf(exe, stl, h, work):
     with open(cfg, "w") as f:
         f.write(f"name: bumpy\norder: 1\ngeometry:\n  type: surface_file\n  file: {stl}\n"
                 f"metric: {{type: uniform, h: {h}}}\nsurface: {{iterations: 8}}\n"
-                f"output: {{formats: [msh, report]}}\n")
+                f"output: {{formats: [msh, report], msh: ascii}}\n")
     t0 = time.perf_counter()
     r = subprocess.run([exe, "run", cfg, "--out", work], capture_output=True, text=True)
     wall = time.perf_counter() - t0

@@ -3,7 +3,8 @@
 # Runs as root (as on the project's machines) or through sudo. Does nothing when all are present.
 set -euo pipefail
 packages=(build-essential cmake libeigen3-dev libopenmesh-dev libtet1.5-dev libyaml-cpp-dev
-          doctest-dev libcairo2-dev python3)
+          doctest-dev libcairo2-dev zlib1g-dev libcgns-dev python3 python3-dev python3-numpy
+          pybind11-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -337,6 +337,89 @@ std::vector<Lattice> vtk_lattice(CellType type, int p) {
   return {};
 }
 
+namespace {
+
+// CGNS (SIDS "Unstructured Grid Element Numbering Conventions", with the cubic and quartic
+// extensions of Yu and Wang): corners, edge interiors (each from its first corner to its second),
+// face interiors, cell interior. A triangle face of order 3 holds its centroid; of order 4 the
+// points nearest its first, second and third corner in the order given. A quadrilateral face's
+// interior runs from the point next to its first corner A toward its second B, round in the
+// face's own direction (order 4: the ring of eight, then the centre).
+void cgns_triangle_interior(const Lattice& a, const Lattice& b, const Lattice& c, int p, Points& out) {
+  if (p == 3) out.push_back(div(add(add(a, b), c), 3));
+  if (p == 4)
+    for (const auto& [x, y, z] : {std::array{a, b, c}, std::array{b, a, c}, std::array{c, a, b}})
+      out.push_back(div(add(mul(x, 2), add(y, z)), 4));
+}
+
+void cgns_quad_interior(const Lattice& a, const Lattice& b, const Lattice& d, int p, Points& out) {
+  static const std::vector<std::array<int, 2>> ring[5] = {
+      {}, {}, {{1, 1}}, {{1, 1}, {2, 1}, {2, 2}, {1, 2}},
+      {{1, 1}, {2, 1}, {3, 1}, {3, 2}, {3, 3}, {2, 3}, {1, 3}, {1, 2}, {2, 2}}};
+  const Lattice u = div(sub(b, a), p), v = div(sub(d, a), p);
+  for (const auto& [i, j] : ring[p]) out.push_back(add(a, add(mul(u, i), mul(v, j))));
+}
+
+}  // namespace
+
+std::vector<Lattice> cgns_lattice(CellType type, int p) {
+  check_order(p);
+  const std::vector<Lattice> g = gmsh_lattice(type, 1);  // the corners, scaled to order p below
+  Points c;
+  for (const Lattice& x : g) c.push_back(mul(x, p));
+  Points out = c;
+  auto edges = [&](std::initializer_list<std::array<int, 2>> list) {
+    for (const auto& [a, b] : list) edge_interior(c[static_cast<std::size_t>(a)], c[static_cast<std::size_t>(b)], p, out);
+  };
+  switch (type) {
+    case CellType::Line:
+      edges({{0, 1}});
+      break;
+    case CellType::Triangle:
+      edges({{0, 1}, {1, 2}, {2, 0}});
+      cgns_triangle_interior(c[0], c[1], c[2], p, out);
+      break;
+    case CellType::Quadrilateral:
+      edges({{0, 1}, {1, 2}, {2, 3}, {3, 0}});
+      cgns_quad_interior(c[0], c[1], c[3], p, out);
+      break;
+    case CellType::Tetrahedron:
+      edges({{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}});
+      // F1 (N1, N3, N2) with its interior in the order N1, N2, N3; F2 (N1, N2, N4); F3 (N2, N3, N4);
+      // F4 (N3, N1, N4).
+      cgns_triangle_interior(c[0], c[1], c[2], p, out);
+      cgns_triangle_interior(c[0], c[1], c[3], p, out);
+      cgns_triangle_interior(c[1], c[2], c[3], p, out);
+      cgns_triangle_interior(c[2], c[0], c[3], p, out);
+      if (p == 4) out.push_back({1, 1, 1});
+      break;
+    case CellType::Prism:
+      edges({{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 4}, {2, 5}, {3, 4}, {4, 5}, {5, 3}});
+      // The bottom triangle (N1, N3, N2; interior in the order N1, N2, N3), the quadrilaterals
+      // F1 (N1, N2, N5, N4), F2 (N2, N3, N6, N5), F3 (N3, N1, N4, N6), the top (N4, N5, N6), then
+      // the interior layer by layer upward, each as a triangle interior.
+      cgns_triangle_interior(c[0], c[1], c[2], p, out);
+      cgns_quad_interior(c[0], c[1], c[3], p, out);
+      cgns_quad_interior(c[1], c[2], c[4], p, out);
+      cgns_quad_interior(c[2], c[0], c[5], p, out);
+      cgns_triangle_interior(c[3], c[4], c[5], p, out);
+      for (int k = 1; k < p; ++k)
+        cgns_triangle_interior({0, 0, k}, {p, 0, k}, {0, p, k}, p, out);
+      break;
+  }
+  return out;
+}
+
+std::vector<int> lattice_permutation(const std::vector<Lattice>& from, const std::vector<Lattice>& to) {
+  std::vector<int> perm(to.size(), -1);
+  for (std::size_t k = 0; k < to.size(); ++k)
+    for (std::size_t i = 0; i < from.size(); ++i)
+      if (from[i] == to[k]) perm[k] = static_cast<int>(i);
+  for (int p : perm)
+    if (p < 0 || from.size() != to.size()) throw Error("two node orders of different lattice points");
+  return perm;
+}
+
 LagrangeElement::LagrangeElement(CellType type, int order)
     : type_(type), order_(order), dim_(ref_dim(type)), lattice_(gmsh_lattice(type, order)) {
   const int p = order;

@@ -86,6 +86,12 @@ const LagrangeElement& lagrange_element(CellType type, int order);
 std::vector<Lattice> gmsh_lattice(CellType type, int order);
 // The same nodes in VTK's Lagrange-cell order (VTK 9, types 68-73).
 std::vector<Lattice> vtk_lattice(CellType type, int order);
+// The same nodes in CGNS's order (SIDS "Unstructured Grid Element Numbering Conventions": BAR_2..5,
+// TRI_3/6/10/15, QUAD_4/9/16/25, TETRA_4/10/20/35, PENTA_6/18/40/75).
+std::vector<Lattice> cgns_lattice(CellType type, int order);
+// perm[k] = the index in `from` of the point to[k]: the node order `to` read from a cell stored in
+// the order `from` (both the same set of lattice points; throws Error otherwise).
+std::vector<int> lattice_permutation(const std::vector<Lattice>& from, const std::vector<Lattice>& to);
 
 }  // namespace elements
 }  // namespace plaf

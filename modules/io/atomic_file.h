@@ -8,6 +8,7 @@
 // significant digits. Two AtomicFiles of one process must not target the same path at once.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -66,6 +67,12 @@ class AtomicFile {
     else
       put('0');
     put('\n');
+  }
+
+  // Raw bytes (binary formats: MSH 4.1 with file type 1, VTU's appended data), in this machine's
+  // byte order.
+  void write_bytes(const void* data, std::size_t size) {
+    write(std::string_view(static_cast<const char*>(data), size));
   }
 
   // Flushes, closes and renames the temporary onto the target (replacing an existing file).

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Gmsh MSH 4.1 reader (ASCII and binary) and ASCII writer for HybridMesh (format: Gmsh reference manual,
+// Gmsh MSH 4.1 reader and writer (ASCII and binary) for HybridMesh (format: Gmsh reference manual,
 // "MSH file format", version 4.1). Implemented in msh_read.cpp, msh_write.cpp and, for the
 // element type codes, gmsh_types.cpp.
 //
@@ -39,6 +39,10 @@
 // Binary files (file type 1, data size 8, as Gmsh writes with -bin) are read alike, in this
 // machine's byte order (the header's integer 1 must read as 1); their lines are not counted inside
 // the binary data, so a failure there names the line of its section's header.
+// MSH 2.2 files (ASCII and binary, as write_msh22 and Gmsh write them) are read alike: an element's
+// first tag is its physical group (its boundary tag, named by $PhysicalNames), elements without
+// one are tagged "entity_<elementary tag>"; a 2.2 file is 3D when it has volume elements or names
+// a physical group of dimension 3.
 #pragma once
 
 #include <filesystem>
@@ -51,10 +55,24 @@ inline namespace io {
 // Gmsh's element type number for (type, order), order 1..4 (Gmsh's GmshDefines.h).
 int gmsh_element_type(CellType type, int order);
 
+// ascii: file type 0; binary: file type 1 (Gmsh's binary MSH 4.1, as `gmsh -bin` writes: the
+// $PhysicalNames section stays text; ints of 4 bytes, counts and tags as 8-byte size_t, doubles,
+// in this machine's byte order). Both hold the same groups, entities, nodes and elements.
+enum class MshEncoding { ascii, binary };
+
 // Throws Error (naming the path) if the file cannot be written or the mesh refers to a missing
 // node or tag; never leaves a partial file behind (AtomicFile).
 template <int Dim>
-void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path);
+void write_msh41(const HybridMesh<Dim>& mesh, const std::filesystem::path& path,
+                 MshEncoding encoding = MshEncoding::ascii);
+
+// Gmsh's legacy MSH 2.2, ASCII or binary, for the solvers and converters that read it (MFEM,
+// NekMesh, HOPR): the same node order per element type, the same physical groups (names,
+// dimensions, tags) as write_msh41, each element tagged with its physical group and its 4.1
+// entity tag as elementary entity. Throws Error beyond 2^31 - 1 nodes or elements (4-byte ids).
+template <int Dim>
+void write_msh22(const HybridMesh<Dim>& mesh, const std::filesystem::path& path,
+                 MshEncoding encoding = MshEncoding::ascii);
 
 struct MshMesh {
   int dim = 0;  // 2 or 3: which of the two meshes is filled

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Implements read_msh41 (msh_io.h): the Gmsh MSH 4.1 reader, ASCII and binary (Gmsh reference manual, "MSH
+// Implements read_msh41 (msh_io.h): the Gmsh MSH 4.1 and 2.2 reader, ASCII and binary (Gmsh reference manual, "MSH
 // file format"); what it accepts and how it maps groups to tags is documented in msh_io.h.
 #include "modules/io/msh_io.h"
 
@@ -14,6 +14,7 @@
 #include <string>
 #include <string_view>
 #include <tuple>
+#include <type_traits>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -158,8 +159,12 @@ class MshReader {
       // One reader per known section; a $NodeData reader would be added here, next to $Nodes.
       if (name == "PhysicalNames")
         read_physical_names();  // text in binary files too
-      else if (name == "Entities")
+      else if (name == "Entities" && !v2_)
         binary_ ? read_entities(BinaryFields{in_}) : read_entities(TextFields{in_});
+      else if (name == "Nodes" && v2_)
+        binary_ ? read_nodes22(BinaryFields{in_}) : read_nodes22(TextFields{in_});
+      else if (name == "Elements" && v2_)
+        binary_ ? read_elements22(BinaryFields{in_}) : read_elements22(TextFields{in_});
       else if (name == "Nodes")
         binary_ ? read_nodes(BinaryFields{in_}) : read_nodes(TextFields{in_});
       else if (name == "Elements")
@@ -176,8 +181,9 @@ class MshReader {
   void read_header() {
     in_.expect("$MeshFormat");
     const std::string_view version = in_.token("the MSH version");
-    if (version != "4.1")
-      in_.fail("MSH version " + TextCursor::quote(version) + " is not supported (plaf reads MSH 4.1)");
+    if (version != "4.1" && version != "2.2")
+      in_.fail("MSH version " + TextCursor::quote(version) + " is not supported (plaf reads MSH 4.1 and 2.2)");
+    v2_ = version == "2.2";
     const std::int64_t file_type = in_.integer("file type");
     if (file_type != 0 && file_type != 1) in_.fail("bad file type " + std::to_string(file_type) + " (0 is ASCII, 1 binary)");
     const std::int64_t data_size = in_.integer("data size");
@@ -329,9 +335,96 @@ class MshReader {
     in_.expect("$EndElements");
   }
 
+  // MSH 2.2: nodes as "id x y z" (binary: an int and three doubles), their count on a text line.
+  template <class Fields>
+  void read_nodes22(Fields f) {
+    if (seen_.count("Elements")) in_.fail("$Nodes must come before $Elements");
+    const std::int64_t num_nodes = in_.count("number of nodes", 8);
+    if (num_nodes > std::numeric_limits<NodeId>::max()) in_.fail("too many nodes: " + std::to_string(num_nodes));
+    f.begin();
+    std::vector<std::int64_t> ids(static_cast<std::size_t>(num_nodes));
+    coords_.resize(static_cast<std::size_t>(num_nodes));
+    for (std::int64_t i = 0; i < num_nodes; ++i) {
+      const std::int64_t id = f.int32("node tag", 1, std::numeric_limits<std::int32_t>::max());
+      ids[static_cast<std::size_t>(i)] = id;
+      std::array<double, 3>& x = coords_[static_cast<std::size_t>(i)];
+      for (double& c : x) c = f.coordinate("node coordinate");
+      if (std::abs(x[2]) > max_abs_z_) {
+        max_abs_z_ = std::abs(x[2]);
+        max_abs_z_line_ = in_.line();
+      }
+    }
+    const auto [lo, hi] = std::minmax_element(ids.begin(), ids.end());
+    if (num_nodes > 0) tags_.init(num_nodes, *lo, *hi);
+    for (std::size_t i = 0; i < ids.size(); ++i)
+      if (!tags_.insert(ids[i], static_cast<NodeId>(i))) in_.fail("duplicate node tag " + std::to_string(ids[i]));
+    in_.expect("$EndNodes");
+  }
+
+  // MSH 2.2: elements as "id type num_tags tags... nodes..." (binary: blocks of one type, each
+  // with the header type, count, num_tags, then per element id, tags, nodes, all 4-byte ints).
+  // The first tag is the physical group, the second the elementary entity; consecutive elements
+  // of one type and group make a block, on an entity keyed by the group (entity_physical_).
+  template <class Fields>
+  void read_elements22(Fields f) {
+    if (!seen_.count("Nodes")) in_.fail("$Elements must come after $Nodes");
+    elements_line_ = in_.line();
+    const std::int64_t num_elements = in_.count("number of elements", 8);
+    f.begin();
+    constexpr bool binary = std::is_same_v<Fields, BinaryFields>;
+    auto element = [&](std::int64_t code, std::int64_t num_tags) {
+      const GmshType* type = find_gmsh_type(code);
+      if (!type) in_.fail("unsupported Gmsh element type " + std::to_string(code));
+      std::int64_t physical = 0, elementary = 0;
+      for (std::int64_t k = 0; k < num_tags; ++k) {
+        const std::int64_t t = f.int32("element tag");
+        if (k == 0) physical = t;
+        if (k == 1) elementary = t;
+      }
+      // An entity per physical group; elements without one on an entity of their own, named by
+      // their elementary tag (entity_<tag>), below every group's key.
+      const std::int64_t entity = physical > 0 ? physical : -1 - std::max<std::int64_t>(elementary, 0);
+      if (blocks_.empty() || blocks_.back().type != type || blocks_.back().entity_tag != entity) {
+        RawBlock b;
+        b.line = in_.line();
+        b.entity_dim = type->dim;
+        b.entity_tag = entity;
+        b.type = type;
+        blocks_.push_back(std::move(b));
+        entity_physical_.emplace(std::make_pair(type->dim, entity), std::max<std::int64_t>(physical, 0));
+      }
+      RawBlock& b = blocks_.back();
+      for (int k = 0; k < type->nodes; ++k) {
+        const std::int64_t tag = f.int32("node tag");
+        const NodeId id = tags_.find(tag);
+        if (id < 0) in_.fail("element refers to unknown node tag " + std::to_string(tag));
+        b.nodes.push_back(id);
+      }
+    };
+    std::int64_t done = 0;
+    while (done < num_elements) {
+      if constexpr (binary) {
+        const std::int64_t code = f.int32("element type");
+        const std::int64_t n = f.int32("number of elements in block", 1, num_elements - done);
+        const std::int64_t num_tags = f.int32("number of tags", 0, 64);
+        for (std::int64_t e = 0; e < n; ++e) {
+          f.int32("element id");
+          element(code, num_tags);
+        }
+        done += n;
+      } else {
+        f.int32("element id");
+        const std::int64_t code = f.int32("element type");
+        element(code, f.int32("number of tags", 0, 64));
+        ++done;
+      }
+    }
+    in_.expect("$EndElements");
+  }
+
   // The first physical group of a block's entity (0: none, or no $Entities section).
   std::int64_t entity_physical(const RawBlock& b) {
-    if (!seen_.count("Entities")) return 0;
+    if (!v2_ && !seen_.count("Entities")) return 0;
     auto it = entity_physical_.find({b.entity_dim, b.entity_tag});
     if (it == entity_physical_.end())
       in_.fail_at(b.line, "element block refers to entity (dimension " + std::to_string(b.entity_dim) + ", tag " +
@@ -345,7 +438,8 @@ class MshReader {
     const std::int64_t physical = entity_physical(b);
     std::string name;
     if (physical == 0) {
-      name = "entity_" + std::to_string(b.entity_tag);
+      // (MSH 2.2 keys an element without a group by -1 - its elementary tag: read_elements22.)
+      name = "entity_" + std::to_string(b.entity_tag >= 0 || !v2_ ? b.entity_tag : -1 - b.entity_tag);
     } else {
       auto it = physical_names_.find({b.entity_dim, physical});
       name = it != physical_names_.end() ? it->second : "physical_" + std::to_string(physical);
@@ -423,6 +517,7 @@ class MshReader {
   int max_abs_z_line_ = 0;
   bool declares_volume_ = false;  // a volume entity or a physical group of dimension 3
   bool binary_ = false;           // $MeshFormat's file type 1
+  bool v2_ = false;               // MSH 2.2 (nodes and elements without entities)
 };
 
 }  // namespace

@@ -3,8 +3,13 @@
 // VTK 9's Lagrange cells; see vtu_writer.h for the choices.
 #include "modules/io/vtu_writer.h"
 
+#include <zlib.h>
+
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <string_view>
+#include <type_traits>
 
 #include "modules/io/atomic_file.h"
 #include "modules/base/error.h"
@@ -39,21 +44,105 @@ std::string xml_escape(std::string_view s) {
   return out;
 }
 
-void data_array(AtomicFile& f, const char* type, const std::string& name, int components) {
-  f.write("        <DataArray type=\"");
-  f.write(type);
-  f.write("\" Name=\"");
-  f.write(xml_escape(name));
-  f.write("\"");
-  if (components > 1) {
-    f.write(" NumberOfComponents=\"");
-    f.write_int(components);
-    f.write("\"");
-  }
-  f.write(" format=\"ascii\">\n");
-}
-
 constexpr std::string_view end_data_array = "        </DataArray>\n";
+
+// The data arrays as a sink writes them. TextSink: format="ascii", each value as text, rows on
+// lines of their own, straight into the file. ZlibSink: format="appended" with an offset into the
+// <AppendedData encoding="raw"> block at the end of the file, each array as VTK's compressed
+// layout (header_type UInt64, compressor vtkZLibDataCompressor: the number of blocks, the block
+// size, the last block's size, each block's compressed size, then the zlib streams); the XML is
+// collected first (the offsets are known once the arrays before are), the data follows it.
+class TextSink {
+ public:
+  explicit TextSink(AtomicFile& f) : f_(f) {}
+  static constexpr const char* kCompressor = "";
+  void xml(std::string_view text) { f_.write(text); }
+  void begin_array(const char* type, const std::string& name, int components) {
+    open_data_array(type, name, components);
+    f_.write(" format=\"ascii\">\n");
+  }
+  template <class T>
+  void value(T v, char after) {
+    if constexpr (std::is_floating_point_v<T>)
+      f_.write_double(v);
+    else
+      f_.write_int(static_cast<std::int64_t>(v));
+    f_.put(after);
+  }
+  void end_array() { f_.write(end_data_array); }
+  void finish() {}
+
+ private:
+  void open_data_array(const char* type, const std::string& name, int components) {
+    f_.write("        <DataArray type=\"");
+    f_.write(type);
+    f_.write("\" Name=\"");
+    f_.write(xml_escape(name));
+    f_.write("\"");
+    if (components > 1) {
+      f_.write(" NumberOfComponents=\"");
+      f_.write_int(components);
+      f_.write("\"");
+    }
+  }
+  AtomicFile& f_;
+};
+
+class ZlibSink {
+ public:
+  explicit ZlibSink(AtomicFile& f) : f_(f) {}
+  static constexpr const char* kCompressor = " compressor=\"vtkZLibDataCompressor\"";
+  void xml(std::string_view text) { xml_ += text; }
+  void begin_array(const char* type, const std::string& name, int components) {
+    xml_ += "        <DataArray type=\"";
+    xml_ += type;
+    xml_ += "\" Name=\"" + xml_escape(name) + "\"";
+    if (components > 1) xml_ += " NumberOfComponents=\"" + std::to_string(components) + "\"";
+    xml_ += " format=\"appended\" offset=\"" + std::to_string(data_.size()) + "\"/>\n";
+    raw_.clear();
+  }
+  template <class T>
+  void value(T v, char) {
+    const auto* p = reinterpret_cast<const char*>(&v);
+    raw_.insert(raw_.end(), p, p + sizeof v);
+  }
+  void end_array() {
+    // Blocks of kBlock bytes, each its own zlib stream (VTK's reader inflates them one by one).
+    constexpr std::size_t kBlock = std::size_t{1} << 20;
+    const std::size_t n = raw_.size(), num_blocks = n == 0 ? 0 : (n + kBlock - 1) / kBlock;
+    // The last block's size when it is partial, 0 when it is full (vtkXMLDataParser).
+    std::vector<std::uint64_t> header{num_blocks, kBlock, n % kBlock};
+    std::vector<char> streams;
+    for (std::size_t b = 0; b < num_blocks; ++b) {
+      const std::size_t size = std::min(kBlock, n - b * kBlock);
+      uLongf bound = compressBound(static_cast<uLong>(size));
+      const std::size_t at = streams.size();
+      streams.resize(at + bound);
+      if (compress2(reinterpret_cast<Bytef*>(streams.data() + at), &bound,
+                    reinterpret_cast<const Bytef*>(raw_.data() + b * kBlock), static_cast<uLong>(size),
+                    Z_BEST_SPEED) != Z_OK)
+        throw Error("cannot write " + f_.target().string() + ": zlib failed to compress a data array");
+      streams.resize(at + bound);
+      header.push_back(bound);
+    }
+    const auto* h = reinterpret_cast<const char*>(header.data());
+    data_.insert(data_.end(), h, h + header.size() * sizeof(std::uint64_t));
+    data_.insert(data_.end(), streams.begin(), streams.end());
+  }
+  void finish() {
+    f_.write(xml_);
+    f_.write("  <AppendedData encoding=\"raw\">\n   _");
+    f_.write_bytes(data_.data(), data_.size());
+    f_.write("\n  </AppendedData>\n");
+  }
+
+ private:
+  AtomicFile& f_;
+  std::string xml_;
+  std::vector<char> raw_, data_;
+};
+
+constexpr const char* kByteOrder = std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
 
 }  // namespace
 
@@ -88,15 +177,7 @@ std::vector<int> vtk_node_permutation(CellType type, int order) {
     perm.push_back(1);
     return perm;
   }
-  const std::vector<Lattice> gmsh = gmsh_lattice(type, order);
-  const std::vector<Lattice> vtk = vtk_lattice(type, order);
-  std::vector<int> perm(vtk.size(), -1);
-  for (std::size_t k = 0; k < vtk.size(); ++k)
-    for (std::size_t i = 0; i < gmsh.size(); ++i)
-      if (gmsh[i] == vtk[k]) perm[k] = static_cast<int>(i);
-  for (int p : perm)
-    if (p < 0) throw Error(std::string("VTK and Gmsh node lattices differ for a ") + cell_name(type));
-  return perm;
+  return lattice_permutation(gmsh_lattice(type, order), vtk_lattice(type, order));
 }
 
 namespace {
@@ -143,118 +224,124 @@ VtuBlocks vtu_blocks(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& 
   return v;
 }
 
-template <int Dim>
-void write_points(AtomicFile& f, const HybridMesh<Dim>& mesh, std::size_t num_cells) {
-  f.write(
-      "<?xml version=\"1.0\"?>\n"
-      "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-      "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"");
-  f.write_int(static_cast<NodeId>(mesh.nodes.size()));
-  f.write("\" NumberOfCells=\"");
-  f.write_int(static_cast<std::int64_t>(num_cells));
-  f.write("\">\n      <Points>\n");
-  data_array(f, "Float64", "Points", 3);
-  for (const auto& x : mesh.nodes) f.write_point_line(x);
-  f.write(end_data_array);
-  f.write("      </Points>\n");
+template <int Dim, class Sink>
+void write_points(Sink& f, const HybridMesh<Dim>& mesh, std::size_t num_cells) {
+  f.xml("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"");
+  f.xml(kByteOrder);
+  f.xml("\" header_type=\"UInt64\"");
+  f.xml(Sink::kCompressor);
+  f.xml(">\n  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"");
+  f.xml(std::to_string(mesh.nodes.size()));
+  f.xml("\" NumberOfCells=\"");
+  f.xml(std::to_string(num_cells));
+  f.xml("\">\n      <Points>\n");
+  f.begin_array("Float64", "Points", 3);
+  for (const auto& x : mesh.nodes) {
+    f.value(static_cast<double>(x[0]), ' ');
+    f.value(static_cast<double>(x[1]), ' ');
+    f.value(Dim == 3 ? static_cast<double>(x[Dim - 1]) : 0.0, '\n');  // z = 0 in 2D
+  }
+  f.end_array();
+  f.xml("      </Points>\n");
 }
 
 // Connectivity in VTK order, offsets, types.
-void write_cells(AtomicFile& f, const VtuBlocks& v) {
-  f.write("      <Cells>\n");
-  data_array(f, "Int64", "connectivity", 1);
+template <class Sink>
+void write_cells(Sink& f, const VtuBlocks& v) {
+  f.xml("      <Cells>\n");
+  f.begin_array("Int64", "connectivity", 1);
   for (std::size_t bi = 0; bi < v.blocks.size(); ++bi) {
     const CellBlock& b = *v.blocks[bi];
     const std::vector<int>& perm = v.perms[bi];
     for (std::size_t i = 0; i < b.size(); ++i) {
       const NodeId* c = b.cell(i);
-      for (std::size_t k = 0; k < perm.size(); ++k) {
-        if (k > 0) f.put(' ');
-        f.write_int(c[perm[k]]);
-      }
-      f.put('\n');
+      for (std::size_t k = 0; k < perm.size(); ++k)
+        f.value(static_cast<std::int64_t>(c[perm[k]]), k + 1 < perm.size() ? ' ' : '\n');
     }
   }
-  f.write(end_data_array);
-  data_array(f, "Int64", "offsets", 1);
+  f.end_array();
+  f.begin_array("Int64", "offsets", 1);
   std::int64_t offset = 0;
   for (std::size_t bi = 0; bi < v.blocks.size(); ++bi)
     for (std::size_t i = 0; i < v.blocks[bi]->size(); ++i) {
       offset += static_cast<std::int64_t>(v.perms[bi].size());
-      f.write_int(offset);
-      f.put('\n');
+      f.value(offset, '\n');
     }
-  f.write(end_data_array);
-  data_array(f, "UInt8", "types", 1);
+  f.end_array();
+  f.begin_array("UInt8", "types", 1);
   for (const CellBlock* bp : v.blocks) {
     const CellBlock& b = *bp;
-    const int type = vtk_cell_type(b.type, b.order);
-    for (std::size_t i = 0; i < b.size(); ++i) {
-      f.write_int(type);
-      f.put('\n');
-    }
+    const auto type = static_cast<std::uint8_t>(vtk_cell_type(b.type, b.order));
+    for (std::size_t i = 0; i < b.size(); ++i) f.value(type, '\n');
   }
-  f.write(end_data_array);
-  f.write("      </Cells>\n");
+  f.end_array();
+  f.xml("      </Cells>\n");
 }
 
 // Cell data: block index, the caller's fields, the Lagrange degrees.
-void write_cell_data(AtomicFile& f, const VtuBlocks& v, const std::vector<CellField>& fields) {
-  f.write("      <CellData Scalars=\"block\" HigherOrderDegrees=\"HigherOrderDegrees\">\n");
-  data_array(f, "Int32", "block", 1);
+template <class Sink>
+void write_cell_data(Sink& f, const VtuBlocks& v, const std::vector<CellField>& fields) {
+  f.xml("      <CellData Scalars=\"block\" HigherOrderDegrees=\"HigherOrderDegrees\">\n");
+  f.begin_array("Int32", "block", 1);
   for (std::size_t bi = 0; bi < v.blocks.size(); ++bi)
-    for (std::size_t i = 0; i < v.blocks[bi]->size(); ++i) {
-      f.write_int(static_cast<std::int64_t>(bi));
-      f.put('\n');
-    }
-  f.write(end_data_array);
+    for (std::size_t i = 0; i < v.blocks[bi]->size(); ++i) f.value(static_cast<std::int32_t>(bi), '\n');
+  f.end_array();
   for (const CellField& field : fields) {
-    data_array(f, "Float64", field.name, 1);
-    for (double x : field.values) {
-      f.write_double(x);
-      f.put('\n');
-    }
-    f.write(end_data_array);
+    f.begin_array("Float64", field.name, 1);
+    for (double x : field.values) f.value(x, '\n');
+    f.end_array();
   }
-  data_array(f, "Int32", "HigherOrderDegrees", 3);
+  f.begin_array("Int32", "HigherOrderDegrees", 3);
   for (const CellBlock* bp : v.blocks) {
     const CellBlock& b = *bp;
     const int dim = ref_dim(b.type);
     for (std::size_t i = 0; i < b.size(); ++i)
-      for (int d = 0; d < 3; ++d) {
-        f.write_int(d < dim ? b.order : 0);
-        f.put(d < 2 ? ' ' : '\n');
-      }
+      for (int d = 0; d < 3; ++d) f.value(static_cast<std::int32_t>(d < dim ? b.order : 0), d < 2 ? ' ' : '\n');
   }
-  f.write(end_data_array);
-  f.write("      </CellData>\n");
+  f.end_array();
+  f.xml("      </CellData>\n");
+}
+
+template <int Dim, class Sink>
+void write_pieces(Sink& f, const HybridMesh<Dim>& mesh, const VtuBlocks& blocks, const std::vector<CellField>& fields) {
+  // Header and points, cells, cell data.
+  write_points(f, mesh, blocks.num_cells);
+  write_cells(f, blocks);
+  write_cell_data(f, blocks, fields);
+  f.xml("    </Piece>\n  </UnstructuredGrid>\n");
+  f.finish();
 }
 
 // One file: the points, the blocks `source` (all of dimension block_dim), their cell data.
 template <int Dim>
 void write_blocks(const HybridMesh<Dim>& mesh, const std::vector<CellBlock>& source, int block_dim,
-                  const std::filesystem::path& path, const std::vector<CellField>& fields) {
+                  const std::filesystem::path& path, const std::vector<CellField>& fields, VtuEncoding encoding) {
   // 1. Validate before touching the file system.
   const VtuBlocks blocks = vtu_blocks(mesh, source, block_dim, path, fields);
   AtomicFile f(path);
-  // 2. Header and points, 3. cells, 4. cell data.
-  write_points(f, mesh, blocks.num_cells);
-  write_cells(f, blocks);
-  write_cell_data(f, blocks, fields);
-  f.write("    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
+  // 2. The pieces, as text or as compressed appended data.
+  if (encoding == VtuEncoding::binary) {
+    ZlibSink sink(f);
+    write_pieces(sink, mesh, blocks, fields);
+  } else {
+    TextSink sink(f);
+    write_pieces(sink, mesh, blocks, fields);
+  }
+  f.write("</VTKFile>\n");
   f.commit();
 }
 
 }  // namespace
 
 template <int Dim>
-void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, const std::vector<CellField>& fields) {
+void write_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, const std::vector<CellField>& fields,
+               VtuEncoding encoding) {
   const bool surface = mesh.cells.empty();
-  write_blocks(mesh, surface ? mesh.boundary : mesh.cells, surface ? Dim - 1 : Dim, path, fields);
+  write_blocks(mesh, surface ? mesh.boundary : mesh.cells, surface ? Dim - 1 : Dim, path, fields, encoding);
 }
 
 template <int Dim>
-bool write_boundary_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path) {
+bool write_boundary_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path& path, VtuEncoding encoding) {
   // The boundary of what write_vtu writes, checked against the mesh, then written on the nodes it
   // uses (renumbered in their order; the other nodes are not copied).
   const bool facets = !mesh.cells.empty();
@@ -280,14 +367,14 @@ bool write_boundary_vtu(const HybridMesh<Dim>& mesh, const std::filesystem::path
     for (NodeId& v : b.connectivity) v = static_cast<NodeId>(std::lower_bound(used.begin(), used.end(), v) - used.begin());
     tag.values.insert(tag.values.end(), b.size(), static_cast<double>(b.tag + 1));
   }
-  write_blocks(part, blocks, dim, path, {tag});
+  write_blocks(part, blocks, dim, path, {tag}, encoding);
   return true;
 }
 
-template void write_vtu(const HybridMesh<2>&, const std::filesystem::path&, const std::vector<CellField>&);
-template void write_vtu(const HybridMesh<3>&, const std::filesystem::path&, const std::vector<CellField>&);
-template bool write_boundary_vtu(const HybridMesh<2>&, const std::filesystem::path&);
-template bool write_boundary_vtu(const HybridMesh<3>&, const std::filesystem::path&);
+template void write_vtu(const HybridMesh<2>&, const std::filesystem::path&, const std::vector<CellField>&, VtuEncoding);
+template void write_vtu(const HybridMesh<3>&, const std::filesystem::path&, const std::vector<CellField>&, VtuEncoding);
+template bool write_boundary_vtu(const HybridMesh<2>&, const std::filesystem::path&, VtuEncoding);
+template bool write_boundary_vtu(const HybridMesh<3>&, const std::filesystem::path&, VtuEncoding);
 
 }  // namespace io
 }  // namespace plaf

@@ -39,6 +39,8 @@ void parse_output(const ConfigNode& o, RunConfig& r) {
     for (const std::string& f : writer_registry<2>().names()) known += (known.empty() ? "" : ", ") + f;
     throw ConfigError(o.where("formats") + ": an empty list writes nothing; give at least one of " + known);
   }
+  r.output.msh = o.get_choice("msh", r.output.msh, {"auto", "ascii", "binary"});
+  r.output.vtu = o.get_choice("vtu", r.output.vtu, {"auto", "ascii", "binary"});
   r.output.histogram_bins = o.get_int("histogram_bins", r.output.histogram_bins, 2, 1000);
   r.output.picture_width = o.get_int("picture_width", r.output.picture_width, 64, 16384);
   r.output.picture_height = o.get_int("picture_height", r.output.picture_height, 64, 16384);

@@ -51,6 +51,12 @@ struct ValidityParams {
 struct OutputParams {
   std::filesystem::path dir = "out";
   std::vector<std::string> formats = {"msh", "vtu", "report", "png"};
+  // The MSH files' encoding (`output.msh`): "ascii", "binary", or "auto": binary above
+  // kBinaryNodes nodes, where ASCII files grow to hundreds of MB and are slow to write and read.
+  std::string msh = "auto";
+  // The .vtu files' encoding (`output.vtu`), with the same choices and the same rule for auto.
+  std::string vtu = "auto";
+  static constexpr std::size_t kBinaryNodes = 100000;
   int picture_width = 1600;
   int picture_height = 1200;
   int histogram_bins = 12;

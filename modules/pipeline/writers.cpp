@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "modules/io/atomic_file.h"
+#include "modules/io/cgns_io.h"
 #include "modules/io/msh_io.h"
 #include "modules/io/picture.h"
 #include "modules/io/picture3d.h"
@@ -15,9 +16,29 @@ inline namespace pipeline {
 
 namespace {
 
+// output.msh / output.vtu: "binary", "ascii", or "auto": binary above OutputParams::kBinaryNodes.
+template <int Dim>
+bool binary(const std::string& encoding, const HybridMesh<Dim>& mesh) {
+  return encoding == "binary" || (encoding == "auto" && mesh.nodes.size() > OutputParams::kBinaryNodes);
+}
+
 template <int Dim>
 void write_msh(const WriteJob<Dim>& j) {
-  write_msh41(j.mesh, j.base.string() + ".msh");
+  write_msh41(j.mesh, j.base.string() + ".msh",
+              binary(j.config.output.msh, j.mesh) ? MshEncoding::binary : MshEncoding::ascii);
+}
+
+// Gmsh's legacy MSH 2.2 beside the 4.1 file, as NAME_msh22.msh, in output.msh's encoding.
+template <int Dim>
+void write_msh22_file(const WriteJob<Dim>& j) {
+  write_msh22(j.mesh, j.base.string() + "_msh22.msh",
+              binary(j.config.output.msh, j.mesh) ? MshEncoding::binary : MshEncoding::ascii);
+}
+
+// CGNS (cgns_io.h) as NAME.cgns.
+template <int Dim>
+void write_cgns_file(const WriteJob<Dim>& j) {
+  write_cgns(j.mesh, j.base.string() + ".cgns");
 }
 
 template <int Dim>
@@ -28,17 +49,19 @@ void write_vtu_file(const WriteJob<Dim>& j) {
     for (double& x : v) x = std::clamp(x, std::numeric_limits<double>::lowest(), std::numeric_limits<double>::max());
     return v;
   };
+  const VtuEncoding encoding = binary(j.config.output.vtu, j.mesh) ? VtuEncoding::binary : VtuEncoding::ascii;
   if (j.per_cell.valid.empty()) {  // a 2D surface mesh alone: its lines, no per-cell quality
-    write_vtu(j.mesh, j.base.string() + ".vtu");
+    write_vtu(j.mesh, j.base.string() + ".vtu", {}, encoding);
   } else {
     const std::vector<double> valid(j.per_cell.valid.begin(), j.per_cell.valid.end());
     write_vtu(j.mesh, j.base.string() + ".vtu",
               {{"valid", valid},
                {"scaled_jacobian", finite(j.per_cell.scaled_jacobian)},
-               {"aspect_ratio", finite(j.per_cell.aspect_ratio)}});
+               {"aspect_ratio", finite(j.per_cell.aspect_ratio)}},
+              encoding);
   }
   // The boundary in a file of its own (one dimension per file: vtu_writer.h).
-  write_boundary_vtu(j.mesh, j.base.string() + "_boundary.vtu");
+  write_boundary_vtu(j.mesh, j.base.string() + "_boundary.vtu", encoding);
 }
 
 // The options both pictures share: size, title, zoom boxes.
@@ -124,6 +147,8 @@ WriterRegistry<2>& writer_registry<2>() {
   static WriterRegistry<2> registry = [] {
     WriterRegistry<2> r("output format");
     r.add("msh", write_msh<2>);
+    r.add("msh22", write_msh22_file<2>);
+    r.add("cgns", write_cgns_file<2>);
     r.add("vtu", write_vtu_file<2>);
     r.add("png", write_picture);
     r.add("report", write_report<2>);
@@ -137,6 +162,8 @@ WriterRegistry<3>& writer_registry<3>() {
   static WriterRegistry<3> registry = [] {
     WriterRegistry<3> r("output format");
     r.add("msh", write_msh<3>);
+    r.add("msh22", write_msh22_file<3>);
+    r.add("cgns", write_cgns_file<3>);
     r.add("vtu", write_vtu_file<3>);
     r.add("png", write_picture_3d);
     r.add("report", write_report<3>);

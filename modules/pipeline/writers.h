@@ -29,7 +29,8 @@ struct WriteJob {
 
 template <int Dim>
 using WriterRegistry = Registry<void(const WriteJob<Dim>&)>;
-// Built-in: msh (Gmsh 4.1), vtu (VTK Lagrange cells), report (JSON); 2D also png (picture).
+// Built-in: msh (Gmsh 4.1), msh22 (Gmsh 2.2, NAME_msh22.msh), cgns (NAME.cgns), vtu (VTK Lagrange
+// cells), report (JSON), png (picture).
 template <int Dim>
 WriterRegistry<Dim>& writer_registry();
 // Explicitly specialised in writers.cpp; declared here so that no translation unit instantiates

@@ -28,6 +28,8 @@
 #include "modules/pipeline/data_root.h"
 #include "tests/gmsh_support.h"
 #include "tests/published_data.h"
+#include "modules/io/gmsh_types.h"
+#include "tests/modules/io/vtu_arrays.h"
 #include "tests/test_support.h"
 
 namespace fs = std::filesystem;
@@ -294,16 +296,14 @@ const std::vector<Run>& shipped_runs() {
 
 // ---- the output files' structure ------------------------------------------------------------
 
-// The dimensions of the cells of a .vtu, from its "types" array (VTK's linear and Lagrange codes).
+// The dimensions of the cells of a .vtu, from its "types" array (VTK's linear and Lagrange codes),
+// ASCII or appended binary (tests/modules/io/vtu_arrays.h).
 std::set<int> vtu_cell_dims(const fs::path& file) {
-  const std::string xml = read_text(file);
-  const std::size_t at = xml.find("Name=\"types\"");
-  REQUIRE_MESSAGE(at != std::string::npos, file.string());
-  const std::size_t b = xml.find('>', at) + 1;
-  std::istringstream in(xml.substr(b, xml.find("</DataArray>", b) - b));
   std::set<int> dims;
-  for (int t; in >> t;)
+  for (double v : plaf::test::vtu_data_array(read_text(file), "types")) {
+    const int t = static_cast<int>(v);
     dims.insert(t == 3 || t == 4 || t == 68 ? 1 : t == 5 || t == 9 || t == 69 || t == 70 ? 2 : t == 10 || t == 13 || t == 71 || t == 73 ? 3 : -t);
+  }
   return dims;
 }
 
@@ -317,10 +317,38 @@ struct MshStructure {
 
 MshStructure msh_structure(const fs::path& file) {
   MshStructure m;
-  std::ifstream in(file);
+  std::ifstream in(file, std::ios::binary);
   REQUIRE_MESSAGE(in, file.string());
+  // ASCII or binary MSH 4.1 ($MeshFormat's file type): the same fields as text tokens, or as
+  // Gmsh's binary layout (ints of 4 bytes, size_t of 8, doubles).
+  bool binary = false;
+  auto raw = [&in]<class T>(T v) {
+    in.read(reinterpret_cast<char*>(&v), sizeof v);
+    return v;
+  };
+  auto int32 = [&]() -> long {
+    if (binary) return raw(std::int32_t{});
+    long v = 0;
+    in >> v;
+    return v;
+  };
+  auto size = [&]() -> long {
+    if (binary) return static_cast<long>(raw(std::uint64_t{}));
+    long v = 0;
+    in >> v;
+    return v;
+  };
+  auto real = [&]() -> double {
+    if (binary) return raw(double{});
+    double v = 0;
+    in >> v;
+    return v;
+  };
   for (std::string line; std::getline(in, line);) {
-    if (line == "$PhysicalNames") {
+    if (line == "$MeshFormat") {
+      std::getline(in, line);
+      binary = line.find(" 1 ") != std::string::npos;
+    } else if (line == "$PhysicalNames") {
       int n = 0;
       in >> n;
       for (int i = 0; i < n; ++i) {
@@ -331,34 +359,35 @@ MshStructure msh_structure(const fs::path& file) {
         m.groups[{dim, tag}] = name.substr(name.find('"') + 1, name.rfind('"') - name.find('"') - 1);
       }
     } else if (line == "$Entities") {
-      std::array<int, 4> count{};
-      in >> count[0] >> count[1] >> count[2] >> count[3];
+      std::array<long, 4> count{};
+      for (long& c : count) c = size();
       for (int dim = 0; dim < 4; ++dim)
-        for (int i = 0; i < count[static_cast<std::size_t>(dim)]; ++i) {
-          int tag = 0, n = 0;
-          double box = 0;
-          in >> tag;
-          for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) in >> box;
-          in >> n;
+        for (long i = 0; i < count[static_cast<std::size_t>(dim)]; ++i) {
+          const int tag = static_cast<int>(int32());
+          for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) real();
           std::vector<int>& phys = m.physicals[{dim, tag}];
-          phys.resize(static_cast<std::size_t>(n));
-          for (int& p : phys) in >> p;
+          phys.resize(static_cast<std::size_t>(size()));
+          for (int& p : phys) p = static_cast<int>(int32());
           if (dim == 0) continue;
-          in >> n;
           std::vector<int>& bounding = m.bounds[{dim, tag}];
-          bounding.resize(static_cast<std::size_t>(n));
-          for (int& b : bounding) in >> b;
+          bounding.resize(static_cast<std::size_t>(size()));
+          for (int& b : bounding) b = static_cast<int>(int32());
         }
     } else if (line == "$Elements") {
-      long blocks = 0, skip = 0;
-      in >> blocks >> skip >> skip >> skip;
+      const long blocks = size();
+      for (int k = 0; k < 3; ++k) size();
       for (long i = 0; i < blocks; ++i) {
-        int dim = 0, tag = 0, type = 0;
-        long n = 0;
-        in >> dim >> tag >> type >> n;
+        const int dim = static_cast<int>(int32()), tag = static_cast<int>(int32()), type = static_cast<int>(int32());
+        const long n = size();
         m.elements[{dim, tag}] += n;
-        std::getline(in, line);
-        for (long k = 0; k < n; ++k) std::getline(in, line);
+        if (binary) {
+          const plaf::GmshType* t = plaf::find_gmsh_type(type);
+          REQUIRE(t);
+          in.seekg(static_cast<std::streamoff>(n * (t->nodes + 1) * 8), std::ios::cur);
+        } else {
+          std::getline(in, line);
+          for (long k = 0; k < n; ++k) std::getline(in, line);
+        }
       }
     }
   }

@@ -21,10 +21,14 @@
 #include "modules/base/coordinates.h"
 #include "modules/io/atomic_file.h"
 #include "modules/base/error.h"
+#include "tests/modules/io/sample_meshes.h"
 #include "tests/test_support.h"
 #include "tests/published_data.h"
 
 using namespace plaf;
+using test::annulus_sector;
+using test::cell_keys;
+using test::check_same;
 using test::read_text;
 using test::TempDir;
 using test::write_text;
@@ -32,166 +36,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Builds meshes from cells placed on a global integer lattice: a cell of order q with frame
-// (O, A, B, C) has its local lattice point l at O + (l0 (A-O) + l1 (B-O) + l2 (C-O)) / q. Nodes at
-// the same global lattice point are shared. A lattice step of `unit` per cell (divisible by 1..4)
-// lets cells of every order share their vertices.
-template <int Dim>
-struct LatticeMesh {
-  static constexpr int unit = 12;
-  using Point = typename HybridMesh<Dim>::Point;
-  HybridMesh<Dim> mesh;
-  std::map<Lattice, NodeId> ids;
-  std::vector<Lattice> where;  // global lattice point of each node
-  std::function<Point(const Lattice&)> place;
-
-  NodeId node(const Lattice& g) {
-    auto [it, inserted] = ids.emplace(g, static_cast<NodeId>(mesh.nodes.size()));
-    if (inserted) {
-      mesh.nodes.push_back(place(g));
-      where.push_back(g);
-    }
-    return it->second;
-  }
-
-  void add_cell(CellType t, int q, const std::array<Lattice, 4>& frame) {
-    CellBlock& b = mesh.block(t, q);
-    for (const Lattice& l : gmsh_lattice(t, q)) {
-      Lattice g = frame[0];
-      for (int d = 0; d < 3; ++d)
-        for (int e = 0; e < 3; ++e) g[d] += l[e] * (frame[e + 1][d] - frame[0][d]) / q;
-      b.connectivity.push_back(node(g));
-    }
-  }
-
-  // Facets used by one cell become boundary facets, tagged by classify(vertex lattice points).
-  void add_boundary(const std::function<std::pair<std::string, BoundaryKind>(const std::vector<Lattice>&)>& classify) {
-    std::map<std::vector<NodeId>, std::pair<int, std::vector<NodeId>>> facets;  // sorted vertices -> uses, nodes
-    std::map<std::vector<NodeId>, std::pair<CellType, int>> kinds;
-    for (const CellBlock& b : mesh.cells) {
-      const LagrangeElement& e = lagrange_element(b.type, b.order);
-      for (std::size_t i = 0; i < b.size(); ++i)
-        for (int f = 0; f < e.num_facets(); ++f) {
-          const int nv = Dim == 2 ? 2 : static_cast<int>(topology(b.type).faces[f].size());
-          std::vector<NodeId> nodes, key;
-          for (int k : e.facet_nodes(f)) nodes.push_back(b.cell(i)[k]);
-          key.assign(nodes.begin(), nodes.begin() + nv);
-          std::sort(key.begin(), key.end());
-          auto& use = facets[key];
-          ++use.first;
-          use.second = nodes;
-          kinds[key] = {Dim == 2 ? CellType::Line : (nv == 3 ? CellType::Triangle : CellType::Quadrilateral), b.order};
-        }
-    }
-    for (const auto& [key, use] : facets) {
-      if (use.first != 1) continue;
-      std::vector<Lattice> vertices;
-      for (NodeId v : key) vertices.push_back(where[v]);
-      const auto [name, kind] = classify(vertices);
-      const auto [type, order] = kinds[key];
-      CellBlock& b = mesh.boundary_block(type, order, mesh.add_tag(name, kind));
-      b.connectivity.insert(b.connectivity.end(), use.second.begin(), use.second.end());
-    }
-  }
-};
-
-// Six times the signed volume of a tetrahedron of lattice points.
-long lattice_volume(const std::array<Lattice, 4>& v) {
-  long e[3][3];
-  for (int a = 0; a < 3; ++a)
-    for (int d = 0; d < 3; ++d) e[a][d] = v[a + 1][d] - v[0][d];
-  return e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) - e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
-         e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
-}
-
-// An annulus sector r in [1, 2], theta in [0.1, 1.3] (and z in [0, 0.5] in 3D), nx x ny (x nz)
-// lattice cells scaled by `scale`; order(i, j, k) gives each cell's order. In 2D the lower half
-// of the theta range holds quadrilaterals, the upper half pairs of triangles; in 3D the lower half
-// of z holds prisms and the upper half six (Kuhn) tetrahedra per cell.
-template <int Dim>
-HybridMesh<Dim> annulus_sector(int nx, int ny, int nz, double scale, const std::function<int(int, int, int)>& order) {
-  constexpr int u = LatticeMesh<Dim>::unit;
-  LatticeMesh<Dim> m;
-  m.place = [&](const Lattice& g) {
-    const double r = 1.0 + static_cast<double>(g[0]) / (u * nx);
-    const double t = 0.1 + 1.2 * static_cast<double>(g[1]) / (u * ny);
-    typename HybridMesh<Dim>::Point p;
-    p[0] = scale * r * std::cos(t);
-    p[1] = scale * r * std::sin(t);
-    if constexpr (Dim == 3) p[2] = scale * 0.5 * static_cast<double>(g[2]) / (u * nz);
-    return p;
-  };
-  for (int k = 0; k < (Dim == 3 ? nz : 1); ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const int q = order(i, j, k);
-        auto at = [&](int a, int b, int c) { return Lattice{u * (i + a), u * (j + b), u * (k + c)}; };
-        if constexpr (Dim == 2) {
-          if (2 * j < ny) {
-            m.add_cell(CellType::Quadrilateral, q, {at(0, 0, 0), at(1, 0, 0), at(0, 1, 0), at(0, 0, 0)});
-          } else {
-            m.add_cell(CellType::Triangle, q, {at(0, 0, 0), at(1, 0, 0), at(1, 1, 0), at(0, 0, 0)});
-            m.add_cell(CellType::Triangle, q, {at(0, 0, 0), at(1, 1, 0), at(0, 1, 0), at(0, 0, 0)});
-          }
-        } else if (2 * k < nz) {
-          m.add_cell(CellType::Prism, q, {at(0, 0, 0), at(1, 0, 0), at(1, 1, 0), at(0, 0, 1)});
-          m.add_cell(CellType::Prism, q, {at(0, 0, 0), at(1, 1, 0), at(0, 1, 0), at(0, 0, 1)});
-        } else {
-          // Kuhn: one tetrahedron per axis permutation, along the diagonal (0,0,0)-(1,1,1).
-          const int perms[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
-          for (const auto& p : perms) {
-            std::array<int, 3> s{0, 0, 0};
-            std::array<Lattice, 4> v;
-            v[0] = at(0, 0, 0);
-            for (int a = 0; a < 3; ++a) {
-              s[p[a]] = 1;
-              v[a + 1] = at(s[0], s[1], s[2]);
-            }
-            if (lattice_volume(v) < 0) std::swap(v[2], v[3]);
-            m.add_cell(CellType::Tetrahedron, q, v);
-          }
-        }
-      }
-  m.add_boundary([&](const std::vector<Lattice>& vs) -> std::pair<std::string, BoundaryKind> {
-    auto all = [&](int d, int value) {
-      for (const Lattice& v : vs)
-        if (v[d] != value) return false;
-      return true;
-    };
-    if (all(0, 0)) return {"wall_inner", BoundaryKind::Wall};
-    if (all(0, u * nx)) return {"Farfield", BoundaryKind::Farfield};
-    if (all(1, 0)) return {"symmetry plane", BoundaryKind::Symmetry};
-    return {"outlet", BoundaryKind::Named};
-  });
-  return m.mesh;
-}
-
-template <int Dim>
-void check_same(const HybridMesh<Dim>& a, const HybridMesh<Dim>& b) {
-  REQUIRE(a.nodes.size() == b.nodes.size());
-  for (std::size_t i = 0; i < a.nodes.size(); ++i)
-    for (int d = 0; d < Dim; ++d) {
-      INFO("node ", i, " coordinate ", d);
-      CHECK(std::bit_cast<std::uint64_t>(a.nodes[i][d]) == std::bit_cast<std::uint64_t>(b.nodes[i][d]));
-    }
-  auto same_blocks = [](const std::vector<CellBlock>& x, const std::vector<CellBlock>& y) {
-    REQUIRE(x.size() == y.size());
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      CHECK(x[i].type == y[i].type);
-      CHECK(x[i].order == y[i].order);
-      CHECK(x[i].tag == y[i].tag);
-      CHECK(x[i].connectivity == y[i].connectivity);
-    }
-  };
-  same_blocks(a.cells, b.cells);
-  same_blocks(a.boundary, b.boundary);
-  same_blocks(a.curves, b.curves);
-  REQUIRE(a.tags.size() == b.tags.size());
-  for (std::size_t i = 0; i < a.tags.size(); ++i) {
-    CHECK(a.tags[i].name == b.tags[i].name);
-    CHECK(a.tags[i].kind == b.tags[i].kind);
-  }
-}
 
 // Node k of every cell sits at the affine image of its reference lattice point (cells with
 // straight edges), to a tolerance relative to the cell size.
@@ -579,7 +423,14 @@ TEST_CASE("io: malformed MSH files throw InputError \"path:line: reason\", never
   const std::vector<Case> cases = {
       {"empty file", "", "unexpected end of file", 1},
       {"not an MSH file", "solid cube\nfacet normal 0 0 1\n", "expected $MeshFormat", 1},
-      {"MSH 2.2", replace(m, "4.1 0 8", "2.2 0 8"), "MSH version '2.2' is not supported", 2},
+      {"MSH 4.0", replace(m, "4.1 0 8", "4.0 0 8"), "MSH version '4.0' is not supported", 2},
+      {"a 4.1 body under a 2.2 header", replace(m, "4.1 0 8", "2.2 0 8"), "expected $EndNodes, found '1'", 6},
+      {"MSH 2.2 element with a node out of range",
+       "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n"
+       "$Elements\n1\n1 2 2 1 1 1 2 7\n$EndElements\n",
+       "unknown node tag 7", 12},
+      {"MSH 2.2 absurd count", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n99999999999\n$EndNodes\n",
+       "exceeds what the rest of the file", 5},
       {"binary MSH without its binary data", replace(m, "4.1 0 8", "4.1 1 8"), "binary MSH: the integer 1 after the header reads as", 3},
       {"bad number", replace(m, "1 0 0\n0 1 0", "1 0 0\n0 1x 0"), "bad node coordinate '1x'", 12},
       {"non-finite coordinate", replace(m, "1 0 0\n", "1 nan 0\n"), "bad node coordinate 'nan'", 11},
@@ -987,6 +838,7 @@ std::string binary_tet_msh() {
   return b;
 }
 
+
 }  // namespace
 
 TEST_CASE("io: binary MSH 4.1 reads as its description says, and every truncation throws InputError") {
@@ -1021,19 +873,201 @@ TEST_CASE("io: Gmsh's binary MSH 4.1 of a plaf mesh reads as the ASCII one: the 
   const MshMesh a = read_msh41(dir / "ascii.msh"), b = read_msh41(dir / "binary.msh");
   REQUIRE(b.dim == 3);
   REQUIRE(a.mesh3.nodes.size() == b.mesh3.nodes.size());
-  // Each cell as the coordinates of its nodes in order: the same multiset in both (Gmsh may
-  // renumber, never move a node).
-  auto cells = [](const HybridMesh<3>& h) {
-    std::vector<std::vector<double>> all;
-    for (const CellBlock& blk : h.cells)
-      for (std::size_t c = 0; c < blk.size(); ++c) {
-        std::vector<double> key = {static_cast<double>(blk.type), static_cast<double>(blk.order)};
-        for (int k = 0; k < blk.nodes_per_cell(); ++k)
-          for (int d = 0; d < 3; ++d) key.push_back(h.nodes[static_cast<std::size_t>(blk.cell(c)[k])][d]);
-        all.push_back(key);
-      }
-    std::sort(all.begin(), all.end());
-    return all;
-  };
-  CHECK(cells(a.mesh3) == cells(b.mesh3));
+  CHECK(cell_keys(a.mesh3.cells, a.mesh3) == cell_keys(b.mesh3.cells, b.mesh3));
+}
+
+TEST_CASE("io: plaf's binary MSH 4.1 round-trips bit for bit and holds what the ASCII file holds") {
+  TempDir dir("msh_binary_write");
+  for (int q = 1; q <= max_order; ++q) {
+    INFO("order ", q);
+    HybridMesh<2> flat = annulus_sector<2>(3, 4, 1, 1.0, [&](int, int, int) { return q; });
+    for (double v : {-0.0, 5e-324, kMaxCoordinate, 0.1, -1.0 / 3.0}) flat.nodes.push_back(HybridMesh<2>::Point(v, -v));
+    const HybridMesh<3> solid = annulus_sector<3>(2, 2, 2, 1.0, [&](int i, int j, int k) { return 1 + (i + j + k + q) % max_order; });
+    write_msh41(flat, dir / "flat.msh", MshEncoding::binary);
+    write_msh41(solid, dir / "solid.msh", MshEncoding::binary);
+    CHECK(read_text(dir / "flat.msh").rfind("$MeshFormat\n4.1 1 8\n", 0) == 0);
+    const MshMesh f = read_msh41(dir / "flat.msh"), s = read_msh41(dir / "solid.msh");
+    REQUIRE(f.dim == 2);
+    check_same(flat, f.mesh2);
+    REQUIRE(s.dim == 3);
+    check_same(solid, s.mesh3);
+  }
+  // A 3D surface mesh with curves (no cells) keeps its curve groups in binary too.
+  HybridMesh<3> surface = annulus_sector<3>(2, 2, 1, 1.0, [](int, int, int) { return 2; });
+  surface.cells.clear();
+  write_msh41(surface, dir / "ascii.msh");
+  write_msh41(surface, dir / "binary.msh", MshEncoding::binary);
+  const MshMesh a = read_msh41(dir / "ascii.msh"), b = read_msh41(dir / "binary.msh");
+  CHECK(a.dim == 3);
+  CHECK(b.dim == 3);
+  check_same(a.mesh3, b.mesh3);
+}
+
+TEST_CASE("io: Gmsh reads plaf's binary MSH 4.1 as plaf's ASCII one: the same nodes and cells") {
+  if (std::system("command -v gmsh > /dev/null 2>&1") != 0) {
+    plaf::test::request_skip("gmsh is not on PATH: plaf's binary file not checked by Gmsh");
+    return;
+  }
+  TempDir dir("msh_binary_by_gmsh");
+  const HybridMesh<3> mesh = annulus_sector<3>(2, 2, 2, 1.0, [](int i, int, int) { return 1 + i; });
+  write_msh41(mesh, dir / "binary.msh", MshEncoding::binary);
+  // Gmsh reads the binary file and writes it back as ASCII; plaf reads that.
+  const std::string cmd = "gmsh '" + (dir / "binary.msh").string() + "' -0 -format msh41 -o '" +
+                          (dir / "by_gmsh.msh").string() + "' > '" + (dir / "gmsh.log").string() + "' 2>&1";
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  const std::string log = read_text(dir / "gmsh.log");
+  INFO(log);
+  CHECK(log.find("Error") == std::string::npos);
+  const MshMesh back = read_msh41(dir / "by_gmsh.msh");
+  REQUIRE(back.dim == 3);
+  CHECK(cell_keys(mesh.cells, mesh) == cell_keys(back.mesh3.cells, back.mesh3));
+  CHECK(cell_keys(mesh.boundary, mesh) == cell_keys(back.mesh3.boundary, back.mesh3));
+  REQUIRE(back.mesh3.tags.size() == mesh.tags.size());
+  for (std::size_t t = 0; t < mesh.tags.size(); ++t) CHECK(back.mesh3.tags[t].name == mesh.tags[t].name);
+}
+
+TEST_CASE("io: MSH 2.2, ASCII and binary, round-trips through plaf's reader: nodes bit for bit, blocks, tags") {
+  TempDir dir("msh22");
+  for (MshEncoding e : {MshEncoding::ascii, MshEncoding::binary})
+    for (int q = 1; q <= max_order; ++q) {
+      INFO("order ", q, (e == MshEncoding::binary ? " binary" : " ascii"));
+      HybridMesh<2> flat = annulus_sector<2>(3, 4, 1, 1.0, [&](int, int, int) { return q; });
+      for (double v : {-0.0, 5e-324, kMaxCoordinate, 0.1}) flat.nodes.push_back(HybridMesh<2>::Point(v, -v));
+      const HybridMesh<3> solid = annulus_sector<3>(2, 2, 2, 1.0, [&](int i, int j, int k) { return 1 + (i + j + k + q) % max_order; });
+      write_msh22(flat, dir / "flat.msh", e);
+      write_msh22(solid, dir / "solid.msh", e);
+      CHECK(read_text(dir / "solid.msh").rfind(e == MshEncoding::binary ? "$MeshFormat\n2.2 1 8\n" : "$MeshFormat\n2.2 0 8\n", 0) == 0);
+      const MshMesh f = read_msh41(dir / "flat.msh"), s = read_msh41(dir / "solid.msh");
+      REQUIRE(f.dim == 2);
+      check_same(flat, f.mesh2);
+      REQUIRE(s.dim == 3);
+      check_same(solid, s.mesh3);
+      // A 3D surface mesh (no cells) still reads as 3D: its "domain" group names dimension 3.
+      HybridMesh<3> surface = solid;
+      surface.cells.clear();
+      write_msh22(surface, dir / "surface.msh", e);
+      const MshMesh back = read_msh41(dir / "surface.msh");
+      REQUIRE(back.dim == 3);
+      check_same(surface, back.mesh3);
+    }
+  // Truncations of a binary 2.2 file throw InputError, never crash.
+  const HybridMesh<3> small = annulus_sector<3>(1, 1, 1, 1.0, [](int, int, int) { return 2; });
+  write_msh22(small, dir / "small.msh", MshEncoding::binary);
+  const std::string bytes = read_text(dir / "small.msh");
+  for (std::size_t cut = 0; cut + 1 < bytes.size(); cut += 7) {
+    CAPTURE(cut);
+    CHECK_THROWS_AS(read_msh41(write_text(dir / "cut.msh", bytes.substr(0, cut))), InputError);
+  }
+}
+
+TEST_CASE("io: Gmsh reads plaf's MSH 2.2 and plaf reads Gmsh's: the same cells, boundary facets and groups") {
+  if (std::system("command -v gmsh > /dev/null 2>&1") != 0) {
+    plaf::test::request_skip("gmsh is not on PATH: MSH 2.2 not checked against Gmsh");
+    return;
+  }
+  TempDir dir("msh22_gmsh");
+  const HybridMesh<3> mesh = annulus_sector<3>(2, 2, 2, 1.0, [](int i, int j, int) { return 1 + i + j; });
+  for (const char* flag : {"", " -bin"}) {
+    INFO("binary flag '", flag, "'");
+    // plaf 2.2 -> Gmsh -> 4.1 -> plaf
+    write_msh22(mesh, dir / "plaf22.msh", *flag ? MshEncoding::binary : MshEncoding::ascii);
+    std::string cmd = "gmsh '" + (dir / "plaf22.msh").string() + "' -0 -format msh41 -o '" +
+                      (dir / "gmsh41.msh").string() + "' > '" + (dir / "gmsh.log").string() + "' 2>&1";
+    REQUIRE(std::system(cmd.c_str()) == 0);
+    CHECK(read_text(dir / "gmsh.log").find("Error") == std::string::npos);
+    const MshMesh a = read_msh41(dir / "gmsh41.msh");
+    REQUIRE(a.dim == 3);
+    CHECK(cell_keys(mesh.cells, mesh) == cell_keys(a.mesh3.cells, a.mesh3));
+    CHECK(cell_keys(mesh.boundary, mesh) == cell_keys(a.mesh3.boundary, a.mesh3));
+    // plaf 4.1 -> Gmsh -> 2.2 (ASCII or binary) -> plaf
+    write_msh41(mesh, dir / "plaf41.msh");
+    cmd = "gmsh '" + (dir / "plaf41.msh").string() + "' -0" + flag + " -format msh22 -o '" +
+          (dir / "gmsh22.msh").string() + "' > '" + (dir / "gmsh.log").string() + "' 2>&1";
+    REQUIRE(std::system(cmd.c_str()) == 0);
+    CHECK(read_text(dir / "gmsh22.msh").rfind(*flag ? "$MeshFormat\n2.2 1 8" : "$MeshFormat\n2.2 0 8", 0) == 0);
+    const MshMesh b = read_msh41(dir / "gmsh22.msh");
+    REQUIRE(b.dim == 3);
+    CHECK(cell_keys(mesh.cells, mesh) == cell_keys(b.mesh3.cells, b.mesh3));
+    CHECK(cell_keys(mesh.boundary, mesh) == cell_keys(b.mesh3.boundary, b.mesh3));
+    std::vector<std::string> names_a, names_b;
+    for (const BoundaryTag& t : mesh.tags) names_a.push_back(t.name);
+    for (const BoundaryTag& t : b.mesh3.tags) names_b.push_back(t.name);
+    std::sort(names_a.begin(), names_a.end());
+    std::sort(names_b.begin(), names_b.end());
+    CHECK(names_a == names_b);
+  }
+}
+
+TEST_CASE("io: meshio reads plaf's MSH 2.2 and binary MSH 4.1 with the cells of the ASCII 4.1 file") {
+  if (std::system("/usr/bin/python3 -c 'import meshio' > /dev/null 2>&1") != 0) {
+    plaf::test::request_skip("no Python meshio module (python3-meshio): not checked");
+    return;
+  }
+  TempDir dir("msh_meshio");
+  const HybridMesh<3> mesh = annulus_sector<3>(2, 2, 2, 1.0, [](int, int, int) { return 2; });
+  write_msh41(mesh, dir / "a41.msh");
+  write_msh41(mesh, dir / "b41.msh", MshEncoding::binary);
+  write_msh22(mesh, dir / "a22.msh");
+  write_msh22(mesh, dir / "b22.msh", MshEncoding::binary);
+  const std::filesystem::path script = write_text(dir / "counts.py", R"(import sys, meshio
+for p in sys.argv[1:]:
+    m = meshio.read(p)
+    count = {}
+    for c in m.cells:
+        count[c.type] = count.get(c.type, 0) + len(c.data)
+    print(p.rsplit("/", 1)[-1], len(m.points), sorted(count.items()))
+)");
+  const std::string cmd = "/usr/bin/python3 '" + script.string() + "' " + (dir / "a41.msh").string() + " " +
+                          (dir / "b41.msh").string() + " " + (dir / "a22.msh").string() + " " +
+                          (dir / "b22.msh").string() + " > '" + (dir / "out.txt").string() + "' 2>&1";
+  const int rc = std::system(cmd.c_str());
+  const std::string out = read_text(dir / "out.txt");
+  INFO(out);
+  REQUIRE(rc == 0);
+  std::istringstream lines(out);
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(lines, line);)
+    if (line.find(".msh ") != std::string::npos) rows.push_back(line.substr(line.find(' ')));
+  REQUIRE(rows.size() == 4);
+  CHECK(rows[0].find("tetra10") != std::string::npos);
+  for (std::size_t i = 1; i < rows.size(); ++i) CHECK(rows[i] == rows[0]);
+}
+
+TEST_CASE("io: Gmsh's Python API reads plaf's binary MSH 4.1 with plaf's element counts and types") {
+  if (std::system("/usr/bin/python3 -c 'import gmsh' > /dev/null 2>&1") != 0) {
+    plaf::test::request_skip("no Python gmsh module (python3-gmsh): not checked");
+    return;
+  }
+  TempDir dir("msh_binary_gmsh_api");
+  for (int q = 1; q <= max_order; ++q) {
+    INFO("order ", q);
+    const HybridMesh<3> mesh = annulus_sector<3>(2, 2, 2, 1.0, [q](int, int, int) { return q; });
+    write_msh41(mesh, dir / "binary.msh", MshEncoding::binary);
+    std::map<int, std::size_t> expected;  // Gmsh type -> elements
+    for (const auto* blocks : {&mesh.cells, &mesh.boundary})
+      for (const CellBlock& b : *blocks) expected[gmsh_element_type(b.type, b.order)] += b.size();
+    const fs::path script = write_text(dir / "count.py", R"(import sys, gmsh
+gmsh.initialize(["", "-v", "0"])
+gmsh.open(sys.argv[1])
+count = {}
+for dim in (2, 3):
+    types, tags, nodes = gmsh.model.mesh.getElements(dim)
+    for t, e in zip(types, tags):
+        count[t] = count.get(t, 0) + len(e)
+print(" ".join("%d:%d" % kv for kv in sorted(count.items())))
+gmsh.finalize()
+)");
+    const std::string cmd = "/usr/bin/python3 '" + script.string() + "' '" + (dir / "binary.msh").string() + "' > '" +
+                            (dir / "out.txt").string() + "' 2>&1";
+    const int rc = std::system(cmd.c_str());
+    const std::string out = read_text(dir / "out.txt");
+    INFO(out);
+    REQUIRE(rc == 0);
+    std::string want;
+    for (const auto& [type, n] : expected) {
+      if (!want.empty()) want.push_back(' ');
+      want.append(std::to_string(type)).append(":").append(std::to_string(n));
+    }
+    CHECK(out.find(want) != std::string::npos);
+  }
 }

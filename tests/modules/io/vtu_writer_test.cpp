@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <random>
 #include <sstream>
@@ -14,6 +16,8 @@
 #include <vector>
 
 #include "modules/base/error.h"
+#include "tests/modules/io/vtu_arrays.h"
+#include "tests/published_data.h"
 #include "tests/test_support.h"
 
 using namespace plaf;
@@ -26,18 +30,8 @@ namespace {
 constexpr CellType all_types[] = {CellType::Line, CellType::Triangle, CellType::Quadrilateral, CellType::Tetrahedron,
                                   CellType::Prism};
 
-// The numbers of the DataArray named `name`: a plain text scan of the XML.
 std::vector<double> data_array(const std::string& xml, const std::string& name) {
-  const std::size_t at = xml.find("Name=\"" + name + "\"");
-  REQUIRE_MESSAGE(at != std::string::npos, "no DataArray ", name);
-  const std::size_t begin = xml.find('>', at) + 1;
-  const std::size_t end = xml.find("</DataArray>", begin);
-  REQUIRE(end != std::string::npos);
-  std::istringstream in(xml.substr(begin, end - begin));
-  std::vector<double> values;
-  std::string token;
-  while (in >> token) values.push_back(std::strtod(token.c_str(), nullptr));
-  return values;
+  return test::vtu_data_array(xml, name);
 }
 
 // Cells of every type of dimension Dim and every order, each with its own nodes placed at an
@@ -188,6 +182,89 @@ TEST_CASE("io: a written .vtu reads back: points, connectivity in VTK order, typ
     write_vtu(mesh, dir.path / "m.vtu");
     check_written(mesh, maps, {}, read_text(dir.path / "m.vtu"));
   }
+}
+
+TEST_CASE("io: a binary .vtu (zlib-compressed appended data) holds what the ASCII one holds") {
+  TempDir dir("vtu_binary");
+  std::mt19937 rng(7);
+  std::vector<std::array<double, 12>> maps2, maps3;
+  const HybridMesh<2> flat = affine_soup<2>(rng, maps2);
+  const HybridMesh<3> solid = affine_soup<3>(rng, maps3);
+  std::vector<double> quality(flat.num_cells());
+  for (std::size_t i = 0; i < quality.size(); ++i) quality[i] = i % 3 == 0 ? -1.0 / static_cast<double>(i + 3) : 0.0;
+  write_vtu(flat, dir.path / "flat.vtu", {{"q", quality}}, VtuEncoding::binary);
+  write_vtu(solid, dir.path / "solid.vtu", {}, VtuEncoding::binary);
+  const std::string f = read_text(dir.path / "flat.vtu");
+  CHECK(f.find("compressor=\"vtkZLibDataCompressor\"") != std::string::npos);
+  CHECK(f.find("format=\"ascii\"") == std::string::npos);
+  check_written(flat, maps2, {{"q", quality}}, f);
+  check_written(solid, maps3, {}, read_text(dir.path / "solid.vtu"));
+
+  // Arrays longer than one compression block (1 MiB), and an empty mesh.
+  HybridMesh<3> big;
+  for (int i = 0; i < 70000; ++i) big.nodes.push_back({i * 1e-3, std::sin(i), std::cos(i)});
+  CellBlock& tets = big.block(CellType::Tetrahedron, 1);
+  for (int i = 0; i + 3 < 70000; i += 2) tets.connectivity.insert(tets.connectivity.end(), {i, i + 1, i + 2, i + 3});
+  write_vtu(big, dir.path / "big.vtu", {}, VtuEncoding::binary);
+  write_vtu(big, dir.path / "big_ascii.vtu");
+  const std::string b = read_text(dir.path / "big.vtu"), a = read_text(dir.path / "big_ascii.vtu");
+  for (const char* name : {"Points", "connectivity", "offsets", "types", "block", "HigherOrderDegrees"}) {
+    INFO(name);
+    CHECK(data_array(b, name) == data_array(a, name));
+  }
+  CHECK(b.size() * 2 < a.size());
+  HybridMesh<3> empty;
+  empty.block(CellType::Tetrahedron, 1);
+  write_vtu(empty, dir.path / "empty.vtu", {}, VtuEncoding::binary);
+  CHECK(data_array(read_text(dir.path / "empty.vtu"), "Points").empty());
+
+  // Boundary files too.
+  HybridMesh<2> m;
+  m.nodes = {{0, 0}, {1, 0}, {0, 1}};
+  const int wall = m.add_tag("wall", BoundaryKind::Wall);
+  m.block(CellType::Triangle, 1).connectivity = {0, 1, 2};
+  m.boundary_block(CellType::Line, 1, wall).connectivity = {0, 1};
+  REQUIRE(write_boundary_vtu(m, dir.path / "m_boundary.vtu", VtuEncoding::binary));
+  CHECK(data_array(read_text(dir.path / "m_boundary.vtu"), "tag") == std::vector<double>{1});
+}
+
+TEST_CASE("io: VTK reads plaf's binary .vtu as the ASCII one: points, cells, types, cell data") {
+  if (std::system("/usr/bin/python3 -c 'import vtk' > /dev/null 2>&1") != 0) {
+    plaf::test::request_skip("no Python vtk module (python3-vtk9): VTK's reading of binary .vtu not checked");
+    return;
+  }
+  TempDir dir("vtu_binary_vtk");
+  std::mt19937 rng(11);
+  std::vector<std::array<double, 12>> maps;
+  const HybridMesh<3> mesh = affine_soup<3>(rng, maps);
+  std::vector<double> q(mesh.num_cells());
+  for (std::size_t i = 0; i < q.size(); ++i) q[i] = 0.25 * static_cast<double>(i);
+  write_vtu(mesh, dir.path / "a.vtu", {{"q", q}});
+  write_vtu(mesh, dir.path / "b.vtu", {{"q", q}}, VtuEncoding::binary);
+  const fs::path script = dir.path / "compare.py";
+  test::write_text(script, R"(import sys, vtk
+from vtk.util.numpy_support import vtk_to_numpy as np_of
+def read(p):
+    r = vtk.vtkXMLUnstructuredGridReader()
+    r.SetFileName(p)
+    r.Update()
+    if r.GetErrorCode() != 0: sys.exit("VTK could not read " + p)
+    return r.GetOutput()
+a, b = read(sys.argv[1]), read(sys.argv[2])
+assert a.GetNumberOfCells() == b.GetNumberOfCells() > 0
+assert (np_of(a.GetPoints().GetData()) == np_of(b.GetPoints().GetData())).all()
+assert (np_of(a.GetCellTypesArray()) == np_of(b.GetCellTypesArray())).all()
+assert (np_of(a.GetCells().GetConnectivityArray()) == np_of(b.GetCells().GetConnectivityArray())).all()
+for name in ("q", "block", "HigherOrderDegrees"):
+    assert (np_of(a.GetCellData().GetArray(name)) == np_of(b.GetCellData().GetArray(name))).all(), name
+print("same", a.GetNumberOfCells())
+)");
+  const std::string cmd = "/usr/bin/python3 '" + script.string() + "' '" + (dir.path / "a.vtu").string() + "' '" +
+                          (dir.path / "b.vtu").string() + "' > '" + (dir.path / "out.txt").string() + "' 2>&1";
+  const int rc = std::system(cmd.c_str());
+  INFO(read_text(dir.path / "out.txt"));
+  CHECK(rc == 0);
+  CHECK(read_text(dir.path / "out.txt").find("same " + std::to_string(mesh.num_cells())) != std::string::npos);
 }
 
 TEST_CASE("io: VTU writer rejects bad fields and broken blocks without leaving a file") {
