@@ -79,7 +79,7 @@ struct Section {
 };
 
 template <int Dim>
-void fill(CgnsInput& in, int base, int zone, cgsize_t node_count, HybridMesh<Dim>& mesh) {
+void fill(CgnsInput& in, int base, int zone, cgsize_t node_count, bool surface, HybridMesh<Dim>& mesh) {
   const int fn = in.fn();
   // Coordinates.
   mesh.nodes.resize(static_cast<std::size_t>(node_count));
@@ -114,7 +114,7 @@ void fill(CgnsInput& in, int base, int zone, cgsize_t node_count, HybridMesh<Dim
               ", which plaf does not represent (Lagrange BAR, TRI, QUAD, TETRA and PENTA of order 1..4)");
     }
     const int dim = ref_dim(cell->first);
-    if (dim != Dim && dim != Dim - 1) continue;  // lines of a 3D zone: ignored
+    if (dim != (surface ? 2 : Dim) && dim != Dim - 1) continue;  // lines of a 3D zone: ignored
     if (end < start) in.fail(std::string("section '") + name + "' has the element range " + std::to_string(start) + ".." + std::to_string(end));
     Section sec{name, cell->first, cell->second, start, end, {}};
     const std::vector<int> perm = cgns_node_permutation(sec.type, sec.order);
@@ -187,14 +187,25 @@ void fill(CgnsInput& in, int base, int zone, cgsize_t node_count, HybridMesh<Dim
   };
   for (const Section& sec : sections) {
     const int per = num_nodes(sec.type, sec.order);
-    if (ref_dim(sec.type) == Dim) {
+    if (ref_dim(sec.type) == Dim && !surface) {
       CellBlock& out = mesh.block(sec.type, sec.order);
       out.connectivity.insert(out.connectivity.end(), sec.nodes.begin(), sec.nodes.end());
       continue;
     }
+    // Facets no BC names: tagged by their section's name, less a "_<CGNS type>" suffix that plaf's
+    // writer adds to a tag's second section ("wall", "wall_QUAD_9").
+    std::string section_tag = sec.name;
+    for (CellType t : {CellType::Line, CellType::Triangle, CellType::Quadrilateral})
+      for (int q = 1; q <= max_order; ++q) {
+        std::string suffix(1, '_');
+        suffix += cgns_element_name(t, q);
+        if (section_tag.size() > suffix.size() && section_tag.ends_with(suffix) &&
+            tag_of.count(section_tag.substr(0, section_tag.size() - suffix.size())))
+          section_tag.resize(section_tag.size() - suffix.size());
+      }
     for (cgsize_t e = sec.start; e <= sec.end; ++e) {
       const Bc* bc = bc_of(e);
-      const int t = bc ? tag(bc->name, bc->kind) : tag(sec.name, kind_of(CGNS_ENUMV(BCTypeNull), sec.name));
+      const int t = bc ? tag(bc->name, bc->kind) : tag(section_tag, kind_of(CGNS_ENUMV(BCTypeNull), section_tag));
       CellBlock& out = mesh.boundary_block(sec.type, sec.order, t);
       const auto first = sec.nodes.begin() + static_cast<std::ptrdiff_t>((e - sec.start) * per);
       out.connectivity.insert(out.connectivity.end(), first, first + per);
@@ -213,9 +224,9 @@ MshMesh read_cgns(const std::filesystem::path& path) {
   char name[64] = {};
   int cell_dim = 0, phys_dim = 0;
   in.check(cg_base_read(fn, 1, name, &cell_dim, &phys_dim), "cannot read base 1");
-  if ((cell_dim != 2 && cell_dim != 3) || phys_dim < cell_dim)
+  if ((cell_dim != 2 && cell_dim != 3) || (phys_dim != 2 && phys_dim != 3) || phys_dim < cell_dim)
     in.fail("base '" + std::string(name) + "' has cell dimension " + std::to_string(cell_dim) + " and physical dimension " +
-            std::to_string(phys_dim) + " (plaf reads 2D meshes of dimension 2 and 3D of dimension 3)");
+            std::to_string(phys_dim) + " (plaf reads planar 2D meshes, 3D volume meshes and 3D surface meshes)");
   int num_zones = 0;
   in.check(cg_nzones(fn, 1, &num_zones), "cannot count the zones");
   if (num_zones < 1) in.fail("base '" + std::string(name) + "' has no zone");
@@ -225,13 +236,11 @@ MshMesh read_cgns(const std::filesystem::path& path) {
   cgsize_t size[3] = {0, 0, 0};
   in.check(cg_zone_read(fn, 1, 1, name, size), "cannot read zone 1");
   MshMesh result;
-  result.dim = cell_dim;
-  if (cell_dim == 2) {
-    if (phys_dim != 2) in.fail("a 2D base with physical dimension " + std::to_string(phys_dim) + " (plaf reads planar 2D meshes)");
-    fill(in, 1, 1, size[0], result.mesh2);
-  } else {
-    fill(in, 1, 1, size[0], result.mesh3);
-  }
+  result.dim = phys_dim == 3 ? 3 : 2;
+  if (phys_dim == 2)
+    fill(in, 1, 1, size[0], false, result.mesh2);
+  else
+    fill(in, 1, 1, size[0], cell_dim == 2, result.mesh3);  // cell dimension 2 in 3D: a surface mesh
   return result;
 }
 

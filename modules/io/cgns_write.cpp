@@ -86,12 +86,17 @@ template <int Dim>
 void write_file(const HybridMesh<Dim>& mesh, CgnsFile& f) {
   const int fn = f.fn();
   int base = 0, zone = 0;
-  f.check(cg_base_write(fn, "plaf", Dim, Dim, &base), "cg_base_write");
+  // A 3D mesh without cells (a surface run) is a zone of cell dimension 2 in 3D space: its facets
+  // are its cells, tagged by their sections' names (no BCs: they would bound nothing).
+  std::size_t num_cells = 0;
+  for (const CellBlock& b : mesh.cells) num_cells += b.size();
+  const bool surface = Dim == 3 && num_cells == 0;
+  if (surface)
+    for (const CellBlock& b : mesh.boundary) num_cells += b.size();
+  f.check(cg_base_write(fn, "plaf", surface ? 2 : Dim, Dim, &base), "cg_base_write");
   // The coordinates' units are the geometry's, which plaf does not know.
   f.check(cg_goto(fn, base, "end"), "cg_goto");
   f.check(cg_dataclass_write(CGNS_ENUMV(NormalizedByUnknownDimensional)), "cg_dataclass_write");
-  std::size_t num_cells = 0;
-  for (const CellBlock& b : mesh.cells) num_cells += b.size();
   cgsize_t size[3] = {static_cast<cgsize_t>(mesh.nodes.size()), static_cast<cgsize_t>(num_cells), 0};
   f.check(cg_zone_write(fn, base, "domain", size, CGNS_ENUMV(Unstructured), &zone), "cg_zone_write");
   static const char* const names[3] = {"CoordinateX", "CoordinateY", "CoordinateZ"};
@@ -131,7 +136,7 @@ void write_file(const HybridMesh<Dim>& mesh, CgnsFile& f) {
         section(b, any ? tag.name + "_" + cgns_element_name(b.type, b.order) : tag.name);
         any = true;
       }
-    if (!any) continue;
+    if (!any || surface) continue;
     const std::string name = cgns_name(tag.name);
     int family = 0, family_bc = 0, bc = 0;
     f.check(cg_family_write(fn, base, name.c_str(), &family), "cg_family_write");

@@ -8,11 +8,13 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <cstring>
 #include <string_view>
 #include <type_traits>
 
 #include "modules/io/atomic_file.h"
 #include "modules/base/error.h"
+#include "modules/base/parallel.h"
 
 namespace plaf {
 inline namespace io {
@@ -103,31 +105,35 @@ class ZlibSink {
   }
   template <class T>
   void value(T v, char) {
-    const auto* p = reinterpret_cast<const char*>(&v);
-    raw_.insert(raw_.end(), p, p + sizeof v);
+    const std::size_t at = raw_.size();
+    raw_.resize(at + sizeof v);
+    std::memcpy(raw_.data() + at, &v, sizeof v);
   }
   void end_array() {
-    // Blocks of kBlock bytes, each its own zlib stream (VTK's reader inflates them one by one).
+    // Blocks of kBlock bytes, each its own zlib stream (VTK's reader inflates them one by one),
+    // compressed on the worker threads (modules/base/parallel.h), each into its own buffer.
     constexpr std::size_t kBlock = std::size_t{1} << 20;
     const std::size_t n = raw_.size(), num_blocks = n == 0 ? 0 : (n + kBlock - 1) / kBlock;
+    std::vector<std::vector<char>> streams(num_blocks);
+    parallel_chunks(num_blocks, 1, [&](unsigned, std::size_t begin, std::size_t end) {
+      for (std::size_t b = begin; b < end; ++b) {
+        const std::size_t size = std::min(kBlock, n - b * kBlock);
+        uLongf bound = compressBound(static_cast<uLong>(size));
+        streams[b].resize(bound);
+        if (compress2(reinterpret_cast<Bytef*>(streams[b].data()), &bound,
+                      reinterpret_cast<const Bytef*>(raw_.data() + b * kBlock), static_cast<uLong>(size),
+                      Z_BEST_SPEED) != Z_OK)
+          throw Error("cannot write " + f_.target().string() + ": zlib failed to compress a data array");
+        streams[b].resize(bound);
+      }
+    });
     // The last block's size when it is partial, 0 when it is full (vtkXMLDataParser).
     std::vector<std::uint64_t> header{num_blocks, kBlock, n % kBlock};
-    std::vector<char> streams;
-    for (std::size_t b = 0; b < num_blocks; ++b) {
-      const std::size_t size = std::min(kBlock, n - b * kBlock);
-      uLongf bound = compressBound(static_cast<uLong>(size));
-      const std::size_t at = streams.size();
-      streams.resize(at + bound);
-      if (compress2(reinterpret_cast<Bytef*>(streams.data() + at), &bound,
-                    reinterpret_cast<const Bytef*>(raw_.data() + b * kBlock), static_cast<uLong>(size),
-                    Z_BEST_SPEED) != Z_OK)
-        throw Error("cannot write " + f_.target().string() + ": zlib failed to compress a data array");
-      streams.resize(at + bound);
-      header.push_back(bound);
-    }
+    for (const std::vector<char>& s : streams) header.push_back(s.size());
     const auto* h = reinterpret_cast<const char*>(header.data());
     data_.insert(data_.end(), h, h + header.size() * sizeof(std::uint64_t));
-    data_.insert(data_.end(), streams.begin(), streams.end());
+    for (const std::vector<char>& s : streams) data_.insert(data_.end(), s.begin(), s.end());
+    raw_.clear();
   }
   void finish() {
     f_.write(xml_);

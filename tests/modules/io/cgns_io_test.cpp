@@ -104,6 +104,17 @@ TEST_CASE("io: CGNS round-trips through plaf's reader: nodes bit for bit, cells,
     check_same(by_tag(flat), by_tag(f.mesh2));
     check_same(by_tag(solid), by_tag(s.mesh3));
   }
+  // A 3D surface mesh (no cells): a base of cell dimension 2 in 3D, read back as a surface mesh
+  // with its tags, a tag of two facet types included.
+  for (int q = 1; q <= max_order; ++q) {
+    HybridMesh<3> surface = annulus_sector<3>(2, 2, 2, 1.0, [q](int, int, int) { return q; });
+    surface.cells.clear();
+    write_cgns(surface, dir / "surface.cgns");
+    const MshMesh back = read_cgns(dir / "surface.cgns");
+    REQUIRE(back.dim == 3);
+    CHECK(back.mesh3.cells.empty());
+    check_same(by_tag(surface), by_tag(back.mesh3));
+  }
   // No temporary is left beside the file.
   for (const auto& e : fs::directory_iterator(dir.path)) CHECK(e.path().extension() == ".cgns");
 }
@@ -124,7 +135,7 @@ TEST_CASE("io: bad CGNS input throws InputError naming the file, and a broken me
   for (const auto& e : fs::directory_iterator(dir.path)) CHECK(e.path().filename().string().rfind("broken", 0) != 0);
 }
 
-TEST_CASE("io: cgnscheck finds no error in plaf's CGNS files, 2D and 3D, orders 1 to 4") {
+TEST_CASE("io: cgnscheck finds no error in plaf's CGNS files, 2D, 3D and 3D surfaces, orders 1 to 4") {
   if (std::system("command -v cgnscheck > /dev/null 2>&1") != 0) {
     plaf::test::request_skip("cgnscheck (cgns-convert) is not on PATH: the CGNS files not checked by it");
     return;
@@ -134,7 +145,10 @@ TEST_CASE("io: cgnscheck finds no error in plaf's CGNS files, 2D and 3D, orders 
     INFO("order ", q);
     write_cgns(annulus_sector<2>(2, 2, 1, 1.0, [q](int, int, int) { return q; }), dir / "flat.cgns");
     write_cgns(annulus_sector<3>(2, 2, 2, 1.0, [q](int, int, int) { return q; }), dir / "solid.cgns");
-    for (const char* name : {"flat.cgns", "solid.cgns"}) {
+    HybridMesh<3> surface = annulus_sector<3>(2, 2, 2, 1.0, [q](int, int, int) { return q; });
+    surface.cells.clear();
+    write_cgns(surface, dir / "surface.cgns");
+    for (const char* name : {"flat.cgns", "solid.cgns", "surface.cgns"}) {
       const std::string cmd =
           "cgnscheck '" + (dir / name).string() + "' > '" + (dir / "check.txt").string() + "' 2>&1";
       const int rc = std::system(cmd.c_str());
