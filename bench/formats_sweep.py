@@ -31,6 +31,17 @@ def check(plaf, path, out):
         return json.load(f), None
 
 
+def absolute_files(node):
+    """The config with its relative `file:` paths made absolute (they are relative to the config's
+    folder, and the rewritten config lives elsewhere); data: paths are left to the data roots."""
+    if isinstance(node, dict):
+        return {k: (os.path.normpath(os.path.join(CONFIGS, v)) if k == "file" and isinstance(v, str) and
+                    not v.startswith("data:") and not os.path.isabs(v) else absolute_files(v)) for k, v in node.items()}
+    if isinstance(node, list):
+        return [absolute_files(v) for v in node]
+    return node
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--plaf", required=True)
@@ -50,7 +61,7 @@ def main():
         name = os.path.splitext(os.path.basename(cfg))[0]
         if (only and name not in only) or "study" in name:
             continue
-        base = yaml.safe_load(open(cfg))
+        base = absolute_files(yaml.safe_load(open(cfg)))
         if "cases" in base:  # a study file
             continue
         for q in [int(x) for x in a.orders.split(",")]:

@@ -11,16 +11,17 @@
 // (Family_t with a FamilyBC_t) and a BC_t of its name on that PointRange with GridLocation
 // FaceCenter (3D) or EdgeCenter (2D), carrying its family name. BC types from the tag's kind:
 // wall -> BCWall, farfield -> BCFarfield, symmetry -> BCSymmetryPlane, other -> BCTypeUserDefined.
-// A 3D mesh without cells (a surface run) is written as a base of cell dimension 2 in physical
-// dimension 3: its facet sections are the zone's cells, named by tag as above, without BCs.
-// Curves (3D symmetry loops) are not written: CGNS has no place for edges beside faces that a
-// solver would read. Element orders 1..4 of lines, triangles, quadrilaterals, tetrahedra and
+// A mesh without cells (a surface run) is written as a base of cell dimension Dim - 1: its facet
+// sections are the zone's cells, named by tag as above, without BCs; in 3D its curves follow as
+// BAR sections by tag, each tag with its family and a BC_t at EdgeCenter (the surface's boundary).
+// The curves of a 3D volume mesh (symmetry loops) are not written: its BCs are on faces. Element orders 1..4 of lines, triangles, quadrilaterals, tetrahedra and
 // prisms map to BAR_2..5, TRI_3/6/10/15, QUAD_4/9/16/25, TETRA_4/10/20/35, PENTA_6/18/40/75,
 // their nodes permuted from Gmsh's order to the SIDS order (cgns_node_permutation).
 //
 // Reading: the first zone of the first base (unstructured); sections of these types become cells
 // (of the base's cell dimension) or boundary facets (one dimension less); lower-dimensional
-// sections are ignored; a base of cell dimension 2 in 3D is a surface mesh (facets, no cells). A
+// sections are ignored; a base of cell dimension one below its physical dimension is a surface
+// mesh (facets, no cells; in 3D its BAR sections are its curves). A
 // facet is tagged by the BC_t whose element range or list holds it (named by the BC's family
 // name if it has one, else its own name; kind from its BC type, else from the name as read_msh41
 // does); facets no BC names are tagged by their section's name, less a "_<CGNS type>" suffix

@@ -113,8 +113,9 @@ void fill(CgnsInput& in, int base, int zone, cgsize_t node_count, bool surface, 
       in.fail(std::string("section '") + name + "' has element type " + ElementTypeName[code] +
               ", which plaf does not represent (Lagrange BAR, TRI, QUAD, TETRA and PENTA of order 1..4)");
     }
+    // Cells and facets; a surface's facets and (3D) curves; anything else is ignored.
     const int dim = ref_dim(cell->first);
-    if (dim != (surface ? 2 : Dim) && dim != Dim - 1) continue;  // lines of a 3D zone: ignored
+    if (surface ? dim != Dim - 1 && !(Dim == 3 && dim == 1) : dim != Dim && dim != Dim - 1) continue;
     if (end < start) in.fail(std::string("section '") + name + "' has the element range " + std::to_string(start) + ".." + std::to_string(end));
     Section sec{name, cell->first, cell->second, start, end, {}};
     const std::vector<int> perm = cgns_node_permutation(sec.type, sec.order);
@@ -206,7 +207,8 @@ void fill(CgnsInput& in, int base, int zone, cgsize_t node_count, bool surface, 
     for (cgsize_t e = sec.start; e <= sec.end; ++e) {
       const Bc* bc = bc_of(e);
       const int t = bc ? tag(bc->name, bc->kind) : tag(section_tag, kind_of(CGNS_ENUMV(BCTypeNull), section_tag));
-      CellBlock& out = mesh.boundary_block(sec.type, sec.order, t);
+      CellBlock& out = Dim == 3 && surface && ref_dim(sec.type) == 1 ? mesh.curve_block(sec.order, t)
+                                                                     : mesh.boundary_block(sec.type, sec.order, t);
       const auto first = sec.nodes.begin() + static_cast<std::ptrdiff_t>((e - sec.start) * per);
       out.connectivity.insert(out.connectivity.end(), first, first + per);
     }
@@ -224,7 +226,7 @@ MshMesh read_cgns(const std::filesystem::path& path) {
   char name[64] = {};
   int cell_dim = 0, phys_dim = 0;
   in.check(cg_base_read(fn, 1, name, &cell_dim, &phys_dim), "cannot read base 1");
-  if ((cell_dim != 2 && cell_dim != 3) || (phys_dim != 2 && phys_dim != 3) || phys_dim < cell_dim)
+  if ((phys_dim != 2 && phys_dim != 3) || (cell_dim != phys_dim && cell_dim != phys_dim - 1))
     in.fail("base '" + std::string(name) + "' has cell dimension " + std::to_string(cell_dim) + " and physical dimension " +
             std::to_string(phys_dim) + " (plaf reads planar 2D meshes, 3D volume meshes and 3D surface meshes)");
   int num_zones = 0;
@@ -235,12 +237,14 @@ MshMesh read_cgns(const std::filesystem::path& path) {
   if (type != CGNS_ENUMV(Unstructured)) in.fail("zone 1 is not unstructured");
   cgsize_t size[3] = {0, 0, 0};
   in.check(cg_zone_read(fn, 1, 1, name, size), "cannot read zone 1");
+  // A cell dimension one below the physical one: a surface mesh (lines in 2D, triangles and
+  // quadrilaterals with their curves in 3D).
   MshMesh result;
-  result.dim = phys_dim == 3 ? 3 : 2;
+  result.dim = phys_dim;
   if (phys_dim == 2)
-    fill(in, 1, 1, size[0], false, result.mesh2);
+    fill(in, 1, 1, size[0], cell_dim == 1, result.mesh2);
   else
-    fill(in, 1, 1, size[0], cell_dim == 2, result.mesh3);  // cell dimension 2 in 3D: a surface mesh
+    fill(in, 1, 1, size[0], cell_dim == 2, result.mesh3);
   return result;
 }
 

@@ -11,6 +11,7 @@
 #include <array>
 #include <limits>
 #include <map>
+#include <set>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -86,14 +87,15 @@ template <int Dim>
 void write_file(const HybridMesh<Dim>& mesh, CgnsFile& f) {
   const int fn = f.fn();
   int base = 0, zone = 0;
-  // A 3D mesh without cells (a surface run) is a zone of cell dimension 2 in 3D space: its facets
-  // are its cells, tagged by their sections' names (no BCs: they would bound nothing).
+  // A mesh without cells (a surface run) is a zone of cell dimension Dim - 1: its facets are its
+  // cells, tagged by their sections' names (no BCs: they would bound nothing); in 3D its curves
+  // are its boundary, with BCs at EdgeCenter.
   std::size_t num_cells = 0;
   for (const CellBlock& b : mesh.cells) num_cells += b.size();
-  const bool surface = Dim == 3 && num_cells == 0;
+  const bool surface = num_cells == 0;
   if (surface)
     for (const CellBlock& b : mesh.boundary) num_cells += b.size();
-  f.check(cg_base_write(fn, "plaf", surface ? 2 : Dim, Dim, &base), "cg_base_write");
+  f.check(cg_base_write(fn, "plaf", surface ? Dim - 1 : Dim, Dim, &base), "cg_base_write");
   // The coordinates' units are the geometry's, which plaf does not know.
   f.check(cg_goto(fn, base, "end"), "cg_goto");
   f.check(cg_dataclass_write(CGNS_ENUMV(NormalizedByUnknownDimensional)), "cg_dataclass_write");
@@ -126,29 +128,37 @@ void write_file(const HybridMesh<Dim>& mesh, CgnsFile& f) {
     next = end + 1;
   };
   for (const CellBlock& b : mesh.cells) section(b, cgns_element_name(b.type, b.order));
-  // Facets by tag, each tag's blocks in a row: one element range per tag.
-  for (int t = 0; t < static_cast<int>(mesh.tags.size()); ++t) {
-    const BoundaryTag& tag = mesh.tags[static_cast<std::size_t>(t)];
-    const cgsize_t first = next;
-    bool any = false;
-    for (const CellBlock& b : mesh.boundary)
-      if (b.tag == t && b.size() > 0) {
-        section(b, any ? tag.name + "_" + cgns_element_name(b.type, b.order) : tag.name);
-        any = true;
+  // Blocks by tag, each tag's blocks in a row (one element range per tag), with a family and a BC
+  // on that range at `location` when `bcs`.
+  std::set<std::string> families;
+  auto by_tag = [&](const std::vector<CellBlock>& blocks, bool bcs, CGNS_ENUMT(GridLocation_t) location) {
+    for (int t = 0; t < static_cast<int>(mesh.tags.size()); ++t) {
+      const BoundaryTag& tag = mesh.tags[static_cast<std::size_t>(t)];
+      const cgsize_t first = next;
+      bool any = false;
+      for (const CellBlock& b : blocks)
+        if (b.tag == t && b.size() > 0) {
+          section(b, any ? tag.name + "_" + cgns_element_name(b.type, b.order) : tag.name);
+          any = true;
+        }
+      if (!any || !bcs) continue;
+      const std::string name = cgns_name(tag.name);
+      if (families.insert(name).second) {
+        int family = 0, family_bc = 0;
+        f.check(cg_family_write(fn, base, name.c_str(), &family), "cg_family_write");
+        f.check(cg_fambc_write(fn, base, family, "FamBC", bc_type(tag.kind), &family_bc), "cg_fambc_write");
       }
-    if (!any || surface) continue;
-    const std::string name = cgns_name(tag.name);
-    int family = 0, family_bc = 0, bc = 0;
-    f.check(cg_family_write(fn, base, name.c_str(), &family), "cg_family_write");
-    f.check(cg_fambc_write(fn, base, family, "FamBC", bc_type(tag.kind), &family_bc), "cg_fambc_write");
-    const cgsize_t range[2] = {first, next - 1};
-    f.check(cg_boco_write(fn, base, zone, name.c_str(), bc_type(tag.kind), CGNS_ENUMV(PointRange), 2, range, &bc),
-            "cg_boco_write");
-    f.check(cg_boco_gridlocation_write(fn, base, zone, bc, Dim == 3 ? CGNS_ENUMV(FaceCenter) : CGNS_ENUMV(EdgeCenter)),
-            "cg_boco_gridlocation_write");
-    f.check(cg_goto(fn, base, "Zone_t", zone, "ZoneBC_t", 1, "BC_t", bc, "end"), "cg_goto");
-    f.check(cg_famname_write(name.c_str()), "cg_famname_write");
-  }
+      int bc = 0;
+      const cgsize_t range[2] = {first, next - 1};
+      f.check(cg_boco_write(fn, base, zone, name.c_str(), bc_type(tag.kind), CGNS_ENUMV(PointRange), 2, range, &bc),
+              "cg_boco_write");
+      f.check(cg_boco_gridlocation_write(fn, base, zone, bc, location), "cg_boco_gridlocation_write");
+      f.check(cg_goto(fn, base, "Zone_t", zone, "ZoneBC_t", 1, "BC_t", bc, "end"), "cg_goto");
+      f.check(cg_famname_write(name.c_str()), "cg_famname_write");
+    }
+  };
+  by_tag(mesh.boundary, !surface, Dim == 3 ? CGNS_ENUMV(FaceCenter) : CGNS_ENUMV(EdgeCenter));
+  if (Dim == 3 && surface) by_tag(mesh.curves, true, CGNS_ENUMV(EdgeCenter));
 }
 
 }  // namespace

@@ -109,11 +109,24 @@ TEST_CASE("io: CGNS round-trips through plaf's reader: nodes bit for bit, cells,
   for (int q = 1; q <= max_order; ++q) {
     HybridMesh<3> surface = annulus_sector<3>(2, 2, 2, 1.0, [q](int, int, int) { return q; });
     surface.cells.clear();
+    // A curve on the surface's rim, tagged as a symmetry loop is.
+    const int sym = surface.add_tag("symmetry_loop", BoundaryKind::Symmetry);
+    const CellBlock& facet = surface.boundary.front();
+    const LagrangeElement& e = lagrange_element(facet.type, facet.order);
+    CellBlock& line = surface.curve_block(q, sym);
+    for (int k : e.facet_nodes(0)) line.connectivity.push_back(facet.cell(0)[k]);
     write_cgns(surface, dir / "surface.cgns");
     const MshMesh back = read_cgns(dir / "surface.cgns");
     REQUIRE(back.dim == 3);
     CHECK(back.mesh3.cells.empty());
     check_same(by_tag(surface), by_tag(back.mesh3));
+    // A 2D surface mesh: its lines.
+    HybridMesh<2> lines = annulus_sector<2>(2, 2, 1, 1.0, [q](int, int, int) { return q; });
+    lines.cells.clear();
+    write_cgns(lines, dir / "lines.cgns");
+    const MshMesh back2 = read_cgns(dir / "lines.cgns");
+    REQUIRE(back2.dim == 2);
+    check_same(by_tag(lines), by_tag(back2.mesh2));
   }
   // No temporary is left beside the file.
   for (const auto& e : fs::directory_iterator(dir.path)) CHECK(e.path().extension() == ".cgns");
@@ -148,7 +161,10 @@ TEST_CASE("io: cgnscheck finds no error in plaf's CGNS files, 2D, 3D and 3D surf
     HybridMesh<3> surface = annulus_sector<3>(2, 2, 2, 1.0, [q](int, int, int) { return q; });
     surface.cells.clear();
     write_cgns(surface, dir / "surface.cgns");
-    for (const char* name : {"flat.cgns", "solid.cgns", "surface.cgns"}) {
+    HybridMesh<2> lines = annulus_sector<2>(2, 2, 1, 1.0, [q](int, int, int) { return q; });
+    lines.cells.clear();
+    write_cgns(lines, dir / "lines.cgns");
+    for (const char* name : {"flat.cgns", "solid.cgns", "surface.cgns", "lines.cgns"}) {
       const std::string cmd =
           "cgnscheck '" + (dir / name).string() + "' > '" + (dir / "check.txt").string() + "' 2>&1";
       const int rc = std::system(cmd.c_str());
