@@ -83,7 +83,7 @@ const std::vector<KeyNote>& key_notes() {
        "none (isotropic h)"},
       {"metric.angle_deg", "uniform, 2D: the direction of h1 from the x axis, in degrees"},
       {"metric.file",
-       "background: a Gmsh .msh with a tensor $NodeData view, or a libMeshb .mesh, of the run's dimension",
+       "background: an ASCII Gmsh MSH 4.1 .msh with a tensor $NodeData view, or a libMeshb .mesh, of the run's dimension",
        "required"},
       {"metric.sol", "background: the .sol of a .mesh file (required with a .mesh)"},
       {"metric.mean", "background: how the metric is interpolated between the nodes"},

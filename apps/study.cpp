@@ -779,6 +779,8 @@ int compare_attenuation_command(const fs::path& study_path, const std::optional<
     const auto start = std::chrono::steady_clock::now();
     try {
       r.out = run_config(r.config, true);
+      r.out.mesh2.reset();  // the study keeps every run's numbers, not its mesh
+      r.out.mesh3.reset();
       r.ran = true;
     } catch (const Error& e) {  // a mesher failure (or an output that cannot be written): a failed row
       r.error = e.what();

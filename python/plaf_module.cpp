@@ -3,8 +3,8 @@
 // configuration (YAML text or a file) through the driver (apps/run.h) and hands back the mesh in
 // memory (nodes and cells as numpy arrays, Gmsh node order), its tags and the JSON report; writes
 // the mesh in plaf's formats; certifies a mesh file as `plaf check` does. plaf's errors become
-// Python exceptions carrying the CLI's one-line message: plaf.Error and its subclasses
-// InputError (also a ValueError), ConfigError and MesherError.
+// Python exceptions carrying the CLI's one-line message: plaf.Error (a RuntimeError) and its
+// subclasses InputError (ConfigError is one) and MesherError.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -141,7 +141,7 @@ void write_mesh(const plaf::HybridMesh<Dim>& m, const fs::path& path, const std:
 
 // Runs a parsed configuration. out: the folder for the configured outputs; none: the run writes
 // only its report, into a scratch folder, and the mesh stays in memory.
-Result run(plaf::RunConfig c, const std::optional<fs::path>& out, bool quiet) {
+Result run(plaf::RunConfig c, const std::optional<fs::path>& out, bool quiet, bool keep_invalid) {
   std::optional<ScratchDir> scratch;
   if (out) {
     c.output.dir = *out;
@@ -151,7 +151,8 @@ Result run(plaf::RunConfig c, const std::optional<fs::path>& out, bool quiet) {
     c.output.formats = {"report"};
     c.output.cuts.clear();
   }
-  c.output.keep_invalid = true;  // a failed run's mesh is handed back too (exit_code 2)
+  // A failed run's mesh is handed back in memory either way (exit_code 2); written only when asked.
+  c.output.keep_invalid = keep_invalid;
   plaf::prepare_output_dir(c.output.dir, c.name);
   plaf::RunOutcome o;
   {
@@ -219,16 +220,16 @@ PYBIND11_MODULE(_plaf, m) {
 
   m.def(
       "_run_yaml",
-      [](const std::string& text, const std::string& name, const std::optional<fs::path>& out, bool quiet) {
-        return run(plaf::parse_run_config(text, name), out, quiet);
-      },
-      py::arg("text"), py::arg("name"), py::arg("out") = py::none(), py::arg("quiet") = true);
+      [](const std::string& text, const std::string& name, const std::optional<fs::path>& out, bool quiet,
+         bool keep_invalid) { return run(plaf::parse_run_config(text, name), out, quiet, keep_invalid); },
+      py::arg("text"), py::arg("name"), py::arg("out") = py::none(), py::arg("quiet") = true,
+      py::arg("keep_invalid") = false);
   m.def(
       "_run_file",
-      [](const fs::path& path, const std::optional<fs::path>& out, bool quiet) {
-        return run(plaf::load_run_config(path), out, quiet);
+      [](const fs::path& path, const std::optional<fs::path>& out, bool quiet, bool keep_invalid) {
+        return run(plaf::load_run_config(path), out, quiet, keep_invalid);
       },
-      py::arg("path"), py::arg("out") = py::none(), py::arg("quiet") = true);
+      py::arg("path"), py::arg("out") = py::none(), py::arg("quiet") = true, py::arg("keep_invalid") = false);
   m.def(
       "_check",
       [](const fs::path& path) {

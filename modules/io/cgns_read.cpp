@@ -8,7 +8,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <map>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -29,10 +31,16 @@ class CgnsInput {
     if (!std::filesystem::is_regular_file(path, ec)) fail("cannot open the file (it does not exist or is not a file)");
     int valid = 0;
     if (cg_is_cgns(path.c_str(), &valid) != CG_OK) fail("not a CGNS file");
-    if (cg_open(path.c_str(), CG_MODE_READ, &fn_) != CG_OK) fail(std::string("cannot open (libcgns: ") + cg_get_error() + ")");
+    if (cg_open(path.c_str(), CG_MODE_READ, &fn_) != CG_OK) {
+      // libcgns may count the file as open before it fails a check: release its slot.
+      const std::string why = cg_get_error();
+      if (fn_ > 0) cg_close(fn_);
+      fn_ = -1;
+      fail("cannot open (libcgns: " + why + ")");
+    }
   }
   ~CgnsInput() {
-    if (fn_ >= 0) cg_close(fn_);
+    if (fn_ > 0) cg_close(fn_);
   }
   CgnsInput(const CgnsInput&) = delete;
   CgnsInput& operator=(const CgnsInput&) = delete;
@@ -68,6 +76,21 @@ BoundaryKind kind_of(CGNS_ENUMT(BCType_t) type, const std::string& name) {
   if (lower.rfind("farfield", 0) == 0) return BoundaryKind::Farfield;
   if (lower.rfind("symmetry", 0) == 0) return BoundaryKind::Symmetry;
   return BoundaryKind::Named;
+}
+
+// The BC type of a family of the base (its FamilyBC_t), or BCTypeNull.
+CGNS_ENUMT(BCType_t) family_bc_type(CgnsInput& in, int base, const std::string& family) {
+  int n = 0;
+  if (cg_nfamilies(in.fn(), base, &n) != CG_OK) return CGNS_ENUMV(BCTypeNull);
+  for (int f = 1; f <= n; ++f) {
+    char name[64] = {};
+    int nbc = 0, ngeo = 0;
+    if (cg_family_read(in.fn(), base, f, name, &nbc, &ngeo) != CG_OK || family != name || nbc < 1) continue;
+    char bc_name[64] = {};
+    CGNS_ENUMT(BCType_t) type = CGNS_ENUMV(BCTypeNull);
+    if (cg_fambc_read(in.fn(), base, f, 1, bc_name, &type) == CG_OK) return type;
+  }
+  return CGNS_ENUMV(BCTypeNull);
 }
 
 struct Section {
@@ -119,7 +142,8 @@ void fill(CgnsInput& in, int base, int zone, cgsize_t node_count, bool surface, 
     if (end < start) in.fail(std::string("section '") + name + "' has the element range " + std::to_string(start) + ".." + std::to_string(end));
     Section sec{name, cell->first, cell->second, start, end, {}};
     const std::vector<int> perm = cgns_node_permutation(sec.type, sec.order);
-    const std::size_t n = static_cast<std::size_t>(end - start + 1), per = perm.size();
+    const auto n = static_cast<std::size_t>(static_cast<std::int64_t>(end) - static_cast<std::int64_t>(start) + 1);
+    const std::size_t per = perm.size();
     cgsize_t data_size = 0;
     in.check(cg_ElementDataSize(fn, base, zone, s, &data_size), std::string("cannot size section '") + name + "'");
     if (static_cast<std::size_t>(data_size) != n * per)
@@ -138,6 +162,9 @@ void fill(CgnsInput& in, int base, int zone, cgsize_t node_count, bool surface, 
       }
     sections.push_back(std::move(sec));
   }
+  if (sections.empty())
+    in.fail("zone 1 has no element section plaf reads (Lagrange TRI, QUAD, TETRA, PENTA, BAR of order 1..4 of the "
+            "zone's dimensions)");
   // Boundary conditions: which element numbers each names.
   int num_bcs = 0;
   in.check(cg_nbocos(fn, base, zone, &num_bcs), "cannot count the boundary conditions");
@@ -167,8 +194,12 @@ void fill(CgnsInput& in, int base, int zone, cgsize_t node_count, bool surface, 
     Bc bc{name, kind_of(type, name), std::vector<cgsize_t>(static_cast<std::size_t>(npnts)), range};
     in.check(cg_boco_read(fn, base, zone, b, bc.list.data(), nullptr), std::string("cannot read the elements of '") + name + "'");
     if (cg_goto(fn, base, "Zone_t", zone, "ZoneBC_t", 1, "BC_t", b, "end") == CG_OK) {
-      char family[64] = {};
-      if (cg_famname_read(family) == CG_OK && family[0] != '\0') bc.name = family;
+      char family[4096] = {};  // a family path may be longer than a name in libcgns 4
+      if (cg_famname_read(family) == CG_OK && family[0] != '\0') {
+        bc.name = family;
+        // FamilySpecified: the type is the family's FamilyBC.
+        if (type == CGNS_ENUMV(FamilySpecified)) bc.kind = kind_of(family_bc_type(in, base, family), bc.name);
+      }
     }
     if (!range) std::sort(bc.list.begin(), bc.list.end());
     bcs.push_back(std::move(bc));
@@ -218,6 +249,7 @@ void fill(CgnsInput& in, int base, int zone, cgsize_t node_count, bool surface, 
 }  // namespace
 
 MshMesh read_cgns(const std::filesystem::path& path) {
+  const std::lock_guard<std::mutex> lock(cgns_mutex());
   CgnsInput in(path);
   const int fn = in.fn();
   int num_bases = 0;
@@ -232,6 +264,9 @@ MshMesh read_cgns(const std::filesystem::path& path) {
   int num_zones = 0;
   in.check(cg_nzones(fn, 1, &num_zones), "cannot count the zones");
   if (num_zones < 1) in.fail("base '" + std::string(name) + "' has no zone");
+  if (num_zones > 1 || num_bases > 1)
+    in.fail(std::to_string(num_bases) + " bases and " + std::to_string(num_zones) +
+            " zones in the first: plaf reads a mesh of one zone (merge the zones, e.g. with cgnsupdate tools)");
   CGNS_ENUMT(ZoneType_t) type;
   in.check(cg_zone_type(fn, 1, 1, &type), "cannot read zone 1's type");
   if (type != CGNS_ENUMV(Unstructured)) in.fail("zone 1 is not unstructured");

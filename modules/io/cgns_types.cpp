@@ -53,6 +53,11 @@ const CgnsType& find(CellType type, int order) {
 
 }  // namespace
 
+std::mutex& cgns_mutex() {
+  static std::mutex m;
+  return m;
+}
+
 int cgns_element_type(CellType type, int order) { return static_cast<int>(find(type, order).code); }
 std::string cgns_element_name(CellType type, int order) { return find(type, order).name; }
 

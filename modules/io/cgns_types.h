@@ -4,6 +4,7 @@
 // exposing cgnslib.h. Internal to modules/io.
 #pragma once
 
+#include <mutex>
 #include <optional>
 #include <string>
 #include <utility>
@@ -18,6 +19,9 @@ inline namespace io {
 int cgns_element_type(CellType type, int order);
 // Its name as the SIDS spells it ("PENTA_18").
 std::string cgns_element_name(CellType type, int order);
+// libcgns keeps its state in globals (open files, the goto position): every use holds this lock.
+std::mutex& cgns_mutex();
+
 // The inverse: (type, order) of a CGNS code, or nothing for a type plaf does not represent
 // (serendipity elements such as QUAD_8, pyramids, hexahedra, polyhedra, MIXED).
 std::optional<std::pair<CellType, int>> cell_of_cgns_type(int code);

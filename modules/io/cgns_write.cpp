@@ -10,7 +10,9 @@
 
 #include <array>
 #include <limits>
+#include <algorithm>
 #include <map>
+#include <mutex>
 #include <set>
 #include <string>
 #include <system_error>
@@ -28,10 +30,15 @@ namespace {
 class CgnsFile {
  public:
   CgnsFile(const std::filesystem::path& path, const std::filesystem::path& target) : target_(target) {
-    if (cg_open(path.c_str(), CG_MODE_WRITE, &fn_) != CG_OK) fail("cannot open for writing");
+    if (cg_open(path.c_str(), CG_MODE_WRITE, &fn_) != CG_OK) {
+      const std::string why = cg_get_error();
+      if (fn_ > 0) cg_close(fn_);  // libcgns may count the file as open before it fails
+      fn_ = -1;
+      throw Error("cannot write " + target_.string() + ": cannot open for writing (libcgns: " + why + ")");
+    }
   }
   ~CgnsFile() {
-    if (fn_ >= 0) cg_close(fn_);
+    if (fn_ > 0) cg_close(fn_);
   }
   CgnsFile(const CgnsFile&) = delete;
   CgnsFile& operator=(const CgnsFile&) = delete;
@@ -80,8 +87,30 @@ std::vector<cgsize_t> cgns_connectivity(const CellBlock& b) {
   return out;
 }
 
-// CGNS names hold at most 32 characters.
-std::string cgns_name(const std::string& name) { return name.substr(0, 32); }
+// Node names of the file: at most 32 characters, no '/', not blank, unique among the base's and
+// the zone's children (one set for all: families, the zone, sections, BCs). A clash or a cut name
+// gets "_2", "_3", ... within the 32 characters.
+class CgnsNames {
+ public:
+  CgnsNames() : used_{"plaf", "domain", "GridCoordinates", "ZoneBC", "ZoneType", "FamBC", "DataClass"} {}
+  std::string make(const std::string& wanted) {
+    std::string base = wanted;
+    std::replace(base.begin(), base.end(), '/', '_');
+    if (base.find_first_not_of(' ') == std::string::npos) base = "unnamed";
+    base = base.substr(0, 32);
+    std::string name = base;
+    for (int k = 2; !used_.insert(name).second; ++k) {
+      const std::string number = std::to_string(k);
+      name = base.substr(0, 31 - number.size());
+      name.push_back('_');
+      name.append(number);
+    }
+    return name;
+  }
+
+ private:
+  std::set<std::string> used_;
+};
 
 template <int Dim>
 void write_file(const HybridMesh<Dim>& mesh, CgnsFile& f) {
@@ -101,25 +130,26 @@ void write_file(const HybridMesh<Dim>& mesh, CgnsFile& f) {
   f.check(cg_dataclass_write(CGNS_ENUMV(NormalizedByUnknownDimensional)), "cg_dataclass_write");
   cgsize_t size[3] = {static_cast<cgsize_t>(mesh.nodes.size()), static_cast<cgsize_t>(num_cells), 0};
   f.check(cg_zone_write(fn, base, "domain", size, CGNS_ENUMV(Unstructured), &zone), "cg_zone_write");
-  static const char* const names[3] = {"CoordinateX", "CoordinateY", "CoordinateZ"};
+  static const char* const coordinates[3] = {"CoordinateX", "CoordinateY", "CoordinateZ"};
   std::vector<double> x(mesh.nodes.size());
   for (int d = 0; d < Dim; ++d) {
     for (std::size_t i = 0; i < mesh.nodes.size(); ++i) x[i] = mesh.nodes[i][d];
     int c = 0;
-    f.check(cg_coord_write(fn, base, zone, CGNS_ENUMV(RealDouble), names[d], x.data(), &c), "cg_coord_write");
+    f.check(cg_coord_write(fn, base, zone, CGNS_ENUMV(RealDouble), coordinates[d], x.data(), &c), "cg_coord_write");
     // A length: exponents of mass, length, time, temperature, angle.
     const double length[5] = {0, 1, 0, 0, 0};
     f.check(cg_goto(fn, base, "Zone_t", zone, "GridCoordinates_t", 1, "DataArray_t", c, "end"), "cg_goto");
     f.check(cg_exponents_write(CGNS_ENUMV(RealDouble), length), "cg_exponents_write");
   }
   cgsize_t next = 1;  // the next element number
-  std::map<std::string, int> used;
-  auto section = [&](const CellBlock& b, const std::string& name) {
+  CgnsNames names;
+  // Each tag's name in the file, chosen once (its family, BC and first section).
+  std::vector<std::string> tag_name;
+  for (const BoundaryTag& t : mesh.tags) tag_name.push_back(names.make(t.name));
+  auto section = [&](const CellBlock& b, const std::string& unique) {
     if (b.size() == 0) return;
     const std::vector<cgsize_t> conn = cgns_connectivity(b);
     const cgsize_t start = next, end = next + static_cast<cgsize_t>(b.size()) - 1;
-    const int n = used[name]++;
-    const std::string unique = cgns_name(n == 0 ? name : name + "_" + std::to_string(n + 1));
     int s = 0;
     f.check(cg_section_write(fn, base, zone, unique.c_str(),
                              static_cast<CGNS_ENUMT(ElementType_t)>(cgns_element_type(b.type, b.order)), start, end, 0,
@@ -127,22 +157,23 @@ void write_file(const HybridMesh<Dim>& mesh, CgnsFile& f) {
             "cg_section_write");
     next = end + 1;
   };
-  for (const CellBlock& b : mesh.cells) section(b, cgns_element_name(b.type, b.order));
+  for (const CellBlock& b : mesh.cells) section(b, names.make(cgns_element_name(b.type, b.order)));
   // Blocks by tag, each tag's blocks in a row (one element range per tag), with a family and a BC
   // on that range at `location` when `bcs`.
   std::set<std::string> families;
   auto by_tag = [&](const std::vector<CellBlock>& blocks, bool bcs, CGNS_ENUMT(GridLocation_t) location) {
     for (int t = 0; t < static_cast<int>(mesh.tags.size()); ++t) {
       const BoundaryTag& tag = mesh.tags[static_cast<std::size_t>(t)];
+      const std::string& name = tag_name[static_cast<std::size_t>(t)];
       const cgsize_t first = next;
       bool any = false;
       for (const CellBlock& b : blocks)
         if (b.tag == t && b.size() > 0) {
-          section(b, any ? tag.name + "_" + cgns_element_name(b.type, b.order) : tag.name);
+          section(b, any ? names.make(tag_name[static_cast<std::size_t>(t)] + "_" + cgns_element_name(b.type, b.order))
+                         : tag_name[static_cast<std::size_t>(t)]);
           any = true;
         }
       if (!any || !bcs) continue;
-      const std::string name = cgns_name(tag.name);
       if (families.insert(name).second) {
         int family = 0, family_bc = 0;
         f.check(cg_family_write(fn, base, name.c_str(), &family), "cg_family_write");
@@ -178,6 +209,9 @@ void write_cgns(const HybridMesh<Dim>& mesh, const std::filesystem::path& path) 
           fail(std::string(cell_name(b.type)) + " block refers to node " + std::to_string(v) + " of " +
                std::to_string(mesh.nodes.size()));
       elements += b.size();
+      if (b.connectivity.size() > static_cast<std::size_t>(std::numeric_limits<cgsize_t>::max()))
+        fail(std::string(cell_name(b.type)) + " block of " + std::to_string(b.size()) + " cells holds more node numbers than libcgns's " +
+             std::to_string(8 * sizeof(cgsize_t)) + "-bit sizes count");
     }
   for (const CellBlock& b : mesh.boundary)
     if (b.tag < 0 || b.tag >= static_cast<int>(mesh.tags.size()))
@@ -187,7 +221,9 @@ void write_cgns(const HybridMesh<Dim>& mesh, const std::filesystem::path& path) 
       elements > static_cast<std::size_t>(std::numeric_limits<cgsize_t>::max()))
     fail("libcgns counts with " + std::to_string(8 * sizeof(cgsize_t)) + "-bit integers; this mesh has " +
          std::to_string(mesh.nodes.size()) + " nodes and " + std::to_string(elements) + " elements");
-  // 2. The file, under a temporary name beside the target (removed on failure or a signal).
+  // 2. The file, under a temporary name beside the target (removed on failure or a signal);
+  //    libcgns is used by one thread at a time.
+  const std::lock_guard<std::mutex> lock(cgns_mutex());
   const std::filesystem::path temp = path.string() + ".tmp." + std::to_string(::getpid());
   const int slot = cleanup::add(temp);
   try {

@@ -42,7 +42,8 @@
 // MSH 2.2 files (ASCII and binary, as write_msh22 and Gmsh write them) are read alike: an element's
 // first tag is its physical group (its boundary tag, named by $PhysicalNames), elements without
 // one are tagged "entity_<elementary tag>"; a 2.2 file is 3D when it has volume elements or names
-// a physical group of dimension 3.
+// a physical group of dimension 3. An element Gmsh lists once per physical group (2.2 has no
+// entities) is read once per listing, each copy tagged by its group.
 #pragma once
 
 #include <filesystem>

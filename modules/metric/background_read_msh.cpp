@@ -213,9 +213,19 @@ template <int Dim>
 BackgroundMesh<Dim> read_background_msh(const std::filesystem::path& path) {
   // 1. The mesh part, validated by the MSH reader; its nodes are in file order.
   const MshMesh msh = read_msh41(path);
-  // 2. Node tags and the metric view, once the mesh has the run's dimension.
+  // 2. Node tags and the metric view, once the mesh has the run's dimension: read from an ASCII
+  //    MSH 4.1 file (the mesh reader takes 2.2 and binary files too; this scan does not).
   const std::string text = read_whole_file(path);
   TextCursor in(path, text);
+  {
+    const std::size_t at = text.find("$MeshFormat");
+    const std::size_t line = text.find('\n', at);
+    const std::string format = at == std::string::npos || line == std::string::npos ? "" : text.substr(line + 1, 7);
+    if (format != "4.1 0 8")
+      in.fail_at(2, "a background metric is read from an ASCII MSH 4.1 file (this one is '" + format.substr(0, 5) +
+                        "...': save it as ASCII MSH 4.1, e.g. gmsh FILE -0 -format msh41 -save_all -o OUT.msh; "
+                        "a .mesh/.sol pair works too)");
+  }
   if (msh.dim != Dim)
     in.fail_at(scan_msh<Dim>(path, text, false).elements_line, "the background mesh is " + std::to_string(msh.dim) +
                                                                    "D; a " + std::to_string(Dim) + "D run needs a " +

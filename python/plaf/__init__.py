@@ -16,11 +16,15 @@
 The configuration keys are the YAML files' (docs/config.md, `plaf keys`). Errors are raised as
 plaf.Error (InputError, ConfigError, MesherError) with the command line's one-line message.
 A run without `out` writes nothing but keeps the mesh in memory; with `out`, it writes the
-configured outputs (output.formats) into that folder, as `plaf run CONFIG --out DIR` does.
+configured outputs (output.formats) into that folder as `plaf run CONFIG --out DIR` does, except
+that a run that fails before it has a mesh raises MesherError without writing NAME.failed/.
+libcgns serves one thread at a time: CGNS reads and writes from several threads take turns.
 """
 import json
 import os
 import tempfile
+
+import numpy  # noqa: F401  (before any thread makes an array: pybind11 imports it once, under a lock)
 
 from ._plaf import ConfigError, Error, InputError, Mesh, MesherError, _check, _run_file, _run_yaml
 
@@ -36,17 +40,19 @@ def _config_text(config):
         return json.dumps(config, indent=1)  # JSON is YAML too
 
 
-def run(config, out=None, quiet=True):
+def run(config, out=None, quiet=True, keep_invalid=False):
     """Mesh a configuration: a dict of the YAML keys, or the path of a YAML file.
 
     out: a folder for the configured outputs (None: nothing written). quiet: no progress on
-    stderr. Returns a Mesh (also for a run that failed with a mesh: exit_code 2, ok False);
-    raises plaf.Error subclasses for bad input and for a run that failed before it had a mesh.
+    stderr. keep_invalid: with out, a failed run writes its mesh into out/NAME.failed/ too (the
+    CLI's --keep-invalid). Returns a Mesh (also for a run that failed with a mesh: exit_code 2,
+    ok False); raises plaf.Error subclasses for bad input and for a run that failed before it
+    had a mesh.
     """
     out = None if out is None else os.fspath(out)
     if isinstance(config, dict):
-        return _run_yaml(_config_text(config), "config", out, quiet)
-    return _run_file(os.fspath(config), out, quiet)
+        return _run_yaml(_config_text(config), "config", out, quiet, keep_invalid)
+    return _run_file(os.fspath(config), out, quiet, keep_invalid)
 
 
 def check(path):

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
+#include <set>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -130,6 +131,48 @@ TEST_CASE("io: CGNS round-trips through plaf's reader: nodes bit for bit, cells,
   }
   // No temporary is left beside the file.
   for (const auto& e : fs::directory_iterator(dir.path)) CHECK(e.path().extension() == ".cgns");
+}
+
+TEST_CASE("io: CGNS names: long, clashing, reserved, blank and slashed tag names are written and read back distinct") {
+  TempDir dir("cgns_names");
+  HybridMesh<3> mesh = annulus_sector<3>(2, 2, 2, 1.0, [](int, int, int) { return 2; });
+  REQUIRE(mesh.tags.size() == 4);
+  mesh.tags[0].name = "wall_high_lift_configuration_element_slat";  // longer than 32, two facet types
+  mesh.tags[1].name = "wall_high_lift_configuration_element_flap";  // the same first 32 characters
+  mesh.tags[2].name = "wing/upper";
+  mesh.tags[3].name = "domain";  // the zone's name
+  write_cgns(mesh, dir / "names.cgns");
+  const MshMesh back = read_cgns(dir / "names.cgns");
+  REQUIRE(back.dim == 3);
+  std::set<std::string> names;
+  for (const BoundaryTag& t : back.mesh3.tags) {
+    CHECK(t.name.size() <= 32);
+    CHECK(t.name.find('/') == std::string::npos);
+    names.insert(t.name);
+  }
+  CHECK(names.size() == 4);
+  CHECK(cell_keys(mesh.boundary, mesh) == cell_keys(back.mesh3.boundary, back.mesh3));
+  if (std::system("command -v cgnscheck > /dev/null 2>&1") == 0) {
+    const std::string cmd = "cgnscheck '" + (dir / "names.cgns").string() + "' > '" + (dir / "c.txt").string() + "' 2>&1";
+    CHECK(std::system(cmd.c_str()) == 0);
+    CHECK(read_text(dir / "c.txt").find("ERROR") == std::string::npos);
+  }
+  // Blank names are named.
+  mesh.tags[0].name = " ";
+  write_cgns(mesh, dir / "blank.cgns");
+  CHECK(read_cgns(dir / "blank.cgns").mesh3.tags.size() == 4);
+}
+
+TEST_CASE("io: bad CGNS files do not use up libcgns's open files: a good file reads after 300 bad ones") {
+  TempDir dir("cgns_slots");
+  const fs::path good = dir / "good.cgns";
+  write_cgns(annulus_sector<2>(1, 1, 1, 1.0, [](int, int, int) { return 1; }), good);
+  // A valid file cut short: libcgns opens it, then fails a check.
+  const std::string bytes = read_text(good);
+  const fs::path bad = write_text(dir / "bad.cgns", bytes.substr(0, bytes.size() / 2));
+  for (int i = 0; i < 300; ++i) CHECK_THROWS_AS(read_cgns(bad), InputError);
+  CHECK(read_cgns(good).dim == 2);
+  write_cgns(annulus_sector<2>(1, 1, 1, 1.0, [](int, int, int) { return 1; }), dir / "again.cgns");
 }
 
 TEST_CASE("io: bad CGNS input throws InputError naming the file, and a broken mesh is not written") {

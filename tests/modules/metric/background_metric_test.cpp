@@ -471,3 +471,22 @@ TEST_CASE("background: every truncation and random corruption of the files parse
       dir, [](const fs::path& p) { read_background_msh<2>(p); },
       [](const fs::path& m, const fs::path& s) { read_background_meshb<2>(m, s); });
 }
+
+TEST_CASE("background: an MSH 2.2 or binary background is refused with the way out, not misread") {
+  // The mesh reader takes MSH 2.2 and binary 4.1; the metric's $NodeData scan reads ASCII 4.1.
+  TempDir dir("background_msh_22");
+  const std::string text =
+      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n"
+      "$Elements\n1\n1 2 2 1 1 1 2 3\n$EndElements\n"
+      "$NodeData\n1\n\"metric\"\n1\n0.0\n3\n0\n9\n3\n1 1 0 0 0 1 0 0 0 1\n2 1 0 0 0 1 0 0 0 1\n3 1 0 0 0 1 0 0 0 1\n"
+      "$EndNodeData\n";
+  write_text(dir / "bg22.msh", text);
+  try {
+    (void)read_background_msh<2>(dir / "bg22.msh");
+    FAIL("no InputError");
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    CHECK(what.find("ASCII MSH 4.1") != std::string::npos);
+    CHECK(what.find("-format msh41") != std::string::npos);
+  }
+}
