@@ -35,8 +35,8 @@ def absolute_files(node):
     """The config with its relative `file:` paths made absolute (they are relative to the config's
     folder, and the rewritten config lives elsewhere); data: paths are left to the data roots."""
     if isinstance(node, dict):
-        return {k: (os.path.normpath(os.path.join(CONFIGS, v)) if k == "file" and isinstance(v, str) and
-                    not v.startswith("data:") and not os.path.isabs(v) else absolute_files(v)) for k, v in node.items()}
+        return {k: (os.path.normpath(os.path.join(CONFIGS, v)) if k in ("file", "mesh", "sol") and isinstance(v, str)
+                    and not v.startswith("data:") and not os.path.isabs(v) else absolute_files(v)) for k, v in node.items()}
     if isinstance(node, list):
         return [absolute_files(v) for v in node]
     return node
