@@ -29,6 +29,7 @@
 #include "modules/io/cgns_io.h"
 #include "modules/io/msh_io.h"
 #include "modules/io/output_set.h"
+#include "modules/io/text_cursor.h"
 #include "modules/io/vtu_writer.h"
 #include "modules/pipeline/run_config.h"
 
@@ -57,12 +58,6 @@ class ScratchDir {
   fs::path path_;
 };
 
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // One run's result: the mesh (2D or 3D), its exit code and report.
 struct Result {
@@ -240,7 +235,7 @@ PYBIND11_MODULE(_plaf, m) {
           py::gil_scoped_release release;
           code = plaf::check_command(path, std::nullopt, report);
         }
-        return py::make_tuple(code, read_file(report));
+        return py::make_tuple(code, plaf::read_whole_file(report));
       },
       py::arg("path"));
 }

@@ -53,21 +53,6 @@ class AtomicFile {
   void write_int(std::int64_t value);
   // Shortest round-trip representation (non-finite values are written as "nan", "inf", "-inf").
   void write_double(double value);
-  // Writes the point x (an Eigen vector of 2 or 3 coordinates) as the line "x y z"; z is 0 in
-  // 2D, since MSH and VTU store every point in 3D.
-  template <class Point>
-  void write_point_line(const Point& x) {
-    static_assert(Point::SizeAtCompileTime == 2 || Point::SizeAtCompileTime == 3);
-    write_double(x[0]);
-    put(' ');
-    write_double(x[1]);
-    put(' ');
-    if constexpr (Point::SizeAtCompileTime == 3)
-      write_double(x[2]);
-    else
-      put('0');
-    put('\n');
-  }
 
   // Raw bytes (binary formats: MSH 4.1 with file type 1, VTU's appended data), in this machine's
   // byte order.

@@ -70,12 +70,7 @@ BoundaryKind kind_of(CGNS_ENUMT(BCType_t) type, const std::string& name) {
     default:
       break;
   }
-  std::string lower = name;
-  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (lower.rfind("wall", 0) == 0) return BoundaryKind::Wall;
-  if (lower.rfind("farfield", 0) == 0) return BoundaryKind::Farfield;
-  if (lower.rfind("symmetry", 0) == 0) return BoundaryKind::Symmetry;
-  return BoundaryKind::Named;
+  return boundary_kind_from_name(name);
 }
 
 // The BC type of a family of the base (its FamilyBC_t), or BCTypeNull.
@@ -237,7 +232,7 @@ void fill(CgnsInput& in, int base, int zone, cgsize_t node_count, bool surface, 
       }
     for (cgsize_t e = sec.start; e <= sec.end; ++e) {
       const Bc* bc = bc_of(e);
-      const int t = bc ? tag(bc->name, bc->kind) : tag(section_tag, kind_of(CGNS_ENUMV(BCTypeNull), section_tag));
+      const int t = bc ? tag(bc->name, bc->kind) : tag(section_tag, boundary_kind_from_name(section_tag));
       CellBlock& out = Dim == 3 && surface && ref_dim(sec.type) == 1 ? mesh.curve_block(sec.order, t)
                                                                      : mesh.boundary_block(sec.type, sec.order, t);
       const auto first = sec.nodes.begin() + static_cast<std::ptrdiff_t>((e - sec.start) * per);

@@ -75,18 +75,6 @@ struct RawBlock {
   std::vector<NodeId> nodes;  // contiguous node indices, type->nodes per element
 };
 
-BoundaryKind kind_from_name(const std::string& name) {
-  auto starts = [&](std::string_view prefix) {
-    if (name.size() < prefix.size()) return false;
-    for (std::size_t i = 0; i < prefix.size(); ++i)
-      if (std::tolower(static_cast<unsigned char>(name[i])) != prefix[i]) return false;
-    return true;
-  };
-  if (starts("wall")) return BoundaryKind::Wall;
-  if (starts("farfield")) return BoundaryKind::Farfield;
-  if (starts("symmetry")) return BoundaryKind::Symmetry;
-  return BoundaryKind::Named;
-}
 
 // A section's fields as MSH 4.1 stores them: text tokens (ASCII), or Gmsh's binary layout (the
 // reference manual's "MSH file format": ints of 4 bytes, size_t counts and tags of 8, doubles,
@@ -444,7 +432,7 @@ class MshReader {
       auto it = physical_names_.find({b.entity_dim, physical});
       name = it != physical_names_.end() ? it->second : "physical_" + std::to_string(physical);
     }
-    return mesh.add_tag(name, kind_from_name(name));
+    return mesh.add_tag(name, boundary_kind_from_name(name));
   }
 
   template <int Dim>
@@ -459,7 +447,7 @@ class MshReader {
     for (const auto& [key, name] : physical_names_)
       if (key.first == Dim - 1 || (Dim == 3 && key.first == 1)) named.emplace_back(key.second, key.first, &name);
     std::sort(named.begin(), named.end());
-    for (const auto& [tag, dim, name] : named) mesh.add_tag(*name, kind_from_name(*name));
+    for (const auto& [tag, dim, name] : named) mesh.add_tag(*name, boundary_kind_from_name(*name));
     for (const RawBlock& b : blocks_) {
       if (Dim == 3 && b.type->dim == 1) {
         if (b.type->supported && entity_physical(b) != 0) {

@@ -2,12 +2,13 @@
 // HybridMesh blocks, tags and the facet-hash conformity check (see hybrid_mesh.h).
 #include "modules/mesh/hybrid_mesh.h"
 
-#include <limits>
-
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
+#include <limits>
 #include <sstream>
+#include <string_view>
 #include <unordered_map>
 
 namespace plaf {
@@ -25,6 +26,19 @@ const char* boundary_kind_name(BoundaryKind kind) {
       return "named";
   }
   return "?";
+}
+
+BoundaryKind boundary_kind_from_name(const std::string& name) {
+  auto starts = [&](std::string_view prefix) {
+    if (name.size() < prefix.size()) return false;
+    for (std::size_t i = 0; i < prefix.size(); ++i)
+      if (std::tolower(static_cast<unsigned char>(name[i])) != prefix[i]) return false;
+    return true;
+  };
+  if (starts("wall")) return BoundaryKind::Wall;
+  if (starts("farfield")) return BoundaryKind::Farfield;
+  if (starts("symmetry")) return BoundaryKind::Symmetry;
+  return BoundaryKind::Named;
 }
 
 template <int Dim>

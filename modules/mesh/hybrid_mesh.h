@@ -26,6 +26,9 @@ using NodeId = std::int32_t;
 
 enum class BoundaryKind : std::uint8_t { Wall, Farfield, Symmetry, Named };
 const char* boundary_kind_name(BoundaryKind kind);
+// The kind a boundary's name implies (case-insensitive prefix): "wall*" -> Wall, "farfield*" ->
+// Farfield, "symmetry*" -> Symmetry, else Named (the readers' rule for files without kinds).
+BoundaryKind boundary_kind_from_name(const std::string& name);
 
 struct BoundaryTag {
   std::string name;
