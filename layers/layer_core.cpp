@@ -4,10 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <queue>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "modules/base/format.h"
 #include "modules/base/parallel.h"
@@ -105,6 +108,51 @@ std::vector<double> graded_room(const std::vector<Eigen::Matrix<double, Dim, 1>>
 
 namespace {
 
+// The cells of one (part, layer) certified valid so far, by their exact coordinates: a retry
+// rebuilds the whole layer, but a shrink changes the heights only around its failures, so most
+// of the rebuilt cells are, bit for bit, cells certified in an earlier build (and a local stop
+// restarts the heights at the metric's, rebuilding the first build's cells). Certification is a
+// function of the coordinates alone, so such a cell is valid without certifying it again.
+// Measured on the published spot (h0 1e-5 L, Q3, layers only): the layers took 444 s, 500
+// builds of up to 63,106 cells, two thirds of it certifying cells already certified.
+class CertifiedCells {
+ public:
+  void clear() {
+    index_.clear();
+    store_.clear();
+  }
+  // True when a cell with exactly these n coordinates (and cell block b) was added.
+  bool contains(int b, const double* x, std::size_t n) const {
+    const std::uint64_t key = hash(b, x, n);
+    const auto range = index_.equal_range(key);
+    for (auto it = range.first; it != range.second; ++it)
+      if (it->second.first == n && std::equal(x, x + n, store_.begin() + static_cast<std::ptrdiff_t>(it->second.second),
+                                              [](double u, double v) { return bits(u) == bits(v); }))
+        return true;
+    return false;
+  }
+  void add(int b, const double* x, std::size_t n) {
+    index_.emplace(hash(b, x, n), std::make_pair(n, store_.size()));
+    store_.insert(store_.end(), x, x + n);
+  }
+
+ private:
+  static std::uint64_t bits(double v) {
+    std::uint64_t u = 0;
+    std::memcpy(&u, &v, sizeof u);
+    return u;
+  }
+  static std::uint64_t hash(int b, const double* x, std::size_t n) {
+    std::uint64_t h = 0x9e3779b97f4a7c15ULL ^ static_cast<std::uint64_t>(b);
+    for (std::size_t i = 0; i < n; ++i) {
+      h ^= bits(x[i]) + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+      h *= 0xff51afd7ed558ccdULL;
+    }
+    return h ^ (h >> 33);
+  }
+  std::unordered_multimap<std::uint64_t, std::pair<std::size_t, std::size_t>> index_;  // -> (size, offset)
+  std::vector<double> store_;
+};
 
 // Steps 2-3 of layer_core.h for one part and one layer: build, certify, test collisions, shrink
 // and retry.
@@ -122,6 +170,11 @@ class LayerAttempts {
            double f_atten, LayerStats& st, BuiltLayer& built, double invalid_factor = 0.5, int attempts = -1) {
     const std::array<CellType, 2> types = g_.cell_types();
     if (attempts < 0) attempts = p_.shrink_attempts;
+    if (part != memo_part_ || layer != memo_layer_) {
+      certified_.clear();
+      memo_part_ = part;
+      memo_layer_ = layer;
+    }
     for (int attempt = 0; attempt <= attempts; ++attempt) {
       const std::size_t nodes_before = r_.mesh.nodes.size();
       built = g_.build(part, layer, scale, stopped, f_atten);
@@ -142,10 +195,19 @@ class LayerAttempts {
           for (std::size_t c = begin; c < end; ++c) {
             for (std::size_t k = 0; k < npc; ++k)
               for (int d = 0; d < Dim; ++d) coords[Dim * k + static_cast<std::size_t>(d)] = r_.mesh.nodes[cells[c * npc + k]][d];
-            valid_[c] = cell_valid<Dim>(*certifiers_[w], type, q_, coords.data()) ? 1 : 0;
+            // 2: valid, certified before (CertifiedCells); 1: certified now.
+            valid_[c] = certified_.contains(b, coords.data(), coords.size())          ? 2
+                        : cell_valid<Dim>(*certifiers_[w], type, q_, coords.data()) ? 1
+                                                                                    : 0;
           }
         });
+        std::vector<double> x(npc * Dim);
         for (std::size_t c = 0; c < n; ++c) {
+          if (valid_[c] == 1) {
+            for (std::size_t k = 0; k < npc; ++k)
+              for (int d = 0; d < Dim; ++d) x[Dim * k + static_cast<std::size_t>(d)] = r_.mesh.nodes[cells[c * npc + k]][d];
+            certified_.add(b, x.data(), x.size());
+          }
           if (valid_[c]) continue;
           if (failures.empty()) where = r_.mesh.nodes[cells[c * npc]];
           failures.push_back({b, c});
@@ -208,6 +270,9 @@ class LayerAttempts {
   }();
   std::vector<std::vector<double>> coords_ = std::vector<std::vector<double>>(certifiers_.size());
   std::vector<std::uint8_t> valid_;
+  CertifiedCells certified_;  // of (memo_part_, memo_layer_)
+  std::size_t memo_part_ = static_cast<std::size_t>(-1);
+  int memo_layer_ = -1;
   bool last_failed_on_cells_ = false;
   std::vector<LayerFailure> last_failures_;
 };
