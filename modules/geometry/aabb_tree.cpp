@@ -121,6 +121,21 @@ TriangleTree::TriangleTree(const std::vector<Vector3d>& points, const std::vecto
   }
   nodes_.reserve(2 * tris_.size() / kLeafSize + 2);
   build(0, n, boxes, centers);
+  // The triangles (and their boxes) stored in leaf order: a leaf's are contiguous in memory.
+  std::vector<std::array<Vector3d, 3>> sorted;
+  sorted.reserve(tris_.size());
+  leaf_boxes_.reserve(tris_.size());
+  slot_of_.resize(tris_.size());
+  for (std::size_t i = 0; i < order_.size(); ++i) {
+    const std::size_t t = static_cast<std::size_t>(order_[i]);
+    sorted.push_back(tris_[t]);
+    leaf_boxes_.push_back(boxes[t]);
+    slot_of_[t] = static_cast<int>(i);
+  }
+  tris_ = std::move(sorted);
+  const AlignedBox3d& all = nodes_[0].box;
+  const double extent = std::max(all.min().cwiseAbs().maxCoeff(), all.max().cwiseAbs().maxCoeff());
+  prune_abs_ = 1e-28 * extent * extent;
 }
 
 int TriangleTree::build(int first, int count, std::vector<AlignedBox3d>& boxes, std::vector<Vector3d>& centers) {
@@ -167,7 +182,7 @@ void TriangleTree::query(const AlignedBox3d& box, std::vector<int>& out) const {
     if (node.count > 0) {
       for (int i = node.first; i < node.first + node.count; ++i) {
         const int t = order_[static_cast<std::size_t>(i)];
-        if (triangle_box(tris_[static_cast<std::size_t>(t)]).intersects(box)) out.push_back(t);
+        if (leaf_boxes_[static_cast<std::size_t>(i)].intersects(box)) out.push_back(t);
       }
     } else {
       stack.push_back(node.left);
@@ -195,8 +210,13 @@ TriangleTree::Closest TriangleTree::closest(const Vector3d& p) const {
     const Node& node = nodes_[static_cast<std::size_t>(id)];
     if (node.count > 0) {
       for (int i = node.first; i < node.first + node.count; ++i) {
-        const int t = order_[static_cast<std::size_t>(i)];
-        const auto& tri = tris_[static_cast<std::size_t>(t)];
+        const std::size_t slot = static_cast<std::size_t>(i);
+        // A triangle whose box is farther than the best so far (by a relative 1e-9 and an
+        // absolute (1e-14 x extent)^2, far beyond the rounding of either distance) cannot be
+        // closer: skipped, the answer the same bit for bit.
+        if (leaf_boxes_[slot].squaredExteriorDistance(p) > best.distance2 * (1 + 1e-9) + prune_abs_) continue;
+        const int t = order_[slot];
+        const auto& tri = tris_[slot];
         Vector3d bary;
         const Vector3d q = closest_point_on_triangle(p, tri[0], tri[1], tri[2], &bary);
         const double e2 = (q - p).squaredNorm();
@@ -238,7 +258,7 @@ TriangleTree::Hit TriangleTree::first_hit(const Vector3d& origin, const Vector3d
     if (node.count > 0) {
       for (int i = node.first; i < node.first + node.count; ++i) {
         const int t = order_[static_cast<std::size_t>(i)];
-        const auto& tri = tris_[static_cast<std::size_t>(t)];
+        const auto& tri = tris_[static_cast<std::size_t>(i)];
         const double s = ray_triangle(origin, dir, tri[0], tri[1], tri[2]);
         if (s > t_min && s <= best.t && !(skip && skip(t))) {
           best.t = s;
@@ -261,7 +281,6 @@ std::vector<std::pair<int, int>> TriangleTree::overlapping_pairs() const {
   // themselves and against each other; two distinct nodes are visited only while their boxes
   // overlap, so the work is proportional to the overlapping node pairs, not n^2.
   std::vector<std::pair<int, int>> stack = {{0, 0}};
-  std::vector<AlignedBox3d> leaf_boxes;
   while (!stack.empty()) {
     const auto [ia, ib] = stack.back();
     stack.pop_back();
@@ -271,10 +290,10 @@ std::vector<std::pair<int, int>> TriangleTree::overlapping_pairs() const {
       if (a.count > 0) {
         for (int i = a.first; i < a.first + a.count; ++i) {
           const int ti = order_[static_cast<std::size_t>(i)];
-          const AlignedBox3d bi = triangle_box(tris_[static_cast<std::size_t>(ti)]);
+          const AlignedBox3d& bi = leaf_boxes_[static_cast<std::size_t>(i)];
           for (int j = i + 1; j < a.first + a.count; ++j) {
             const int tj = order_[static_cast<std::size_t>(j)];
-            if (bi.intersects(triangle_box(tris_[static_cast<std::size_t>(tj)])))
+            if (bi.intersects(leaf_boxes_[static_cast<std::size_t>(j)]))
               out.emplace_back(std::min(ti, tj), std::max(ti, tj));
           }
         }
@@ -287,16 +306,13 @@ std::vector<std::pair<int, int>> TriangleTree::overlapping_pairs() const {
     }
     if (!a.box.intersects(b.box)) continue;
     if (a.count > 0 && b.count > 0) {
-      leaf_boxes.clear();
-      for (int j = b.first; j < b.first + b.count; ++j)
-        leaf_boxes.push_back(triangle_box(tris_[static_cast<std::size_t>(order_[static_cast<std::size_t>(j)])]));
       for (int i = a.first; i < a.first + a.count; ++i) {
         const int ti = order_[static_cast<std::size_t>(i)];
-        const AlignedBox3d bi = triangle_box(tris_[static_cast<std::size_t>(ti)]);
+        const AlignedBox3d& bi = leaf_boxes_[static_cast<std::size_t>(i)];
         if (!bi.intersects(b.box)) continue;
         for (int j = b.first; j < b.first + b.count; ++j) {
           const int tj = order_[static_cast<std::size_t>(j)];
-          if (bi.intersects(leaf_boxes[static_cast<std::size_t>(j - b.first)]))
+          if (bi.intersects(leaf_boxes_[static_cast<std::size_t>(j)]))
             out.emplace_back(std::min(ti, tj), std::max(ti, tj));
         }
       }

@@ -22,7 +22,9 @@ class TriangleTree {
   TriangleTree(const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& triangles);
 
   std::size_t size() const { return tris_.size(); }
-  const std::array<Eigen::Vector3d, 3>& triangle(int t) const { return tris_[static_cast<std::size_t>(t)]; }
+  const std::array<Eigen::Vector3d, 3>& triangle(int t) const {
+    return tris_[static_cast<std::size_t>(slot_of_[static_cast<std::size_t>(t)])];
+  }
 
   // Triangles whose bounding boxes overlap the box (closed), appended to out.
   void query(const Eigen::AlignedBox3d& box, std::vector<int>& out) const;
@@ -56,8 +58,12 @@ class TriangleTree {
     int first = 0, count = 0;  // leaf: range in order_; inner: count = 0
     int left = -1, right = -1;
   };
+  // The triangles and their boxes by slot: in leaf order (order_[slot] is the triangle's id,
+  // slot_of_ the inverse), each leaf's contiguous in memory.
   std::vector<std::array<Eigen::Vector3d, 3>> tris_;
-  std::vector<int> order_;
+  std::vector<Eigen::AlignedBox3d> leaf_boxes_;
+  std::vector<int> order_, slot_of_;
+  double prune_abs_ = 0;  // closest(): an absolute margin of the box prune, (1e-14 x the extent)^2
   std::vector<Node> nodes_;
   int build(int first, int count, std::vector<Eigen::AlignedBox3d>& boxes, std::vector<Eigen::Vector3d>& centers);
 };
