@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // plaf — curved high-order hybrid meshes by prismatic layers and advancing fronts.
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdlib>
 #include <exception>
 #include <new>
@@ -12,6 +14,7 @@
 
 #include "apps/exit_codes.h"
 #include "apps/keys.h"
+#include "apps/picture.h"
 #include "apps/run.h"
 #include "apps/study.h"
 #include "modules/base/error.h"
@@ -30,6 +33,12 @@ constexpr const char* usage =
     "                                          re-read a Gmsh MSH 4.1 or 2.2 mesh (ASCII or binary) or a\n"
     "                                          CGNS file and certify its cells; measure\n"
     "                                          its edges in CONFIG's metric; write the JSON report\n"
+    "       plaf picture MESH.msh|MESH.cgns [--out FILE.png] [--cut X,Y,Z,NX,NY,NZ] [--at X,Y[,Z],R]...\n"
+    "                    [--view X,Y,Z] [--size W,H]\n"
+    "                                          draw any mesh as a run draws its own (3D: a cut, its zooms\n"
+    "                                          and a shaded view), its cells certified first (invalid red);\n"
+    "                                          the first zoom is the worst cell, each --at adds one; default\n"
+    "                                          FILE: MESH_STEM.picture.png beside the mesh; exit 2 if invalid\n"
     "       plaf compare-attenuation STUDY.yaml [--out DIR] [--data DIR]\n"
     "                                          run paired 2D and 3D layer cases (a section and its extrusion,\n"
     "                                          a circle and a sphere) over f_atten and h0; write the tables,\n"
@@ -190,6 +199,44 @@ int main(int argc, char** argv) {
         return 0;
       }
       return plaf::keys_command(section, markdown);
+    }
+    if (args[0] == "picture") {
+      plaf::PictureRequest pr;
+      bool have_mesh = false;
+      for (std::size_t i = 1; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (a == "--out" || a == "--cut" || a == "--at" || a == "--view" || a == "--size") {
+          if (i + 1 >= args.size()) return fail_usage(a + " needs a value");
+          const std::string& v = args[++i];
+          if (a == "--out") {
+            pr.out = v;
+          } else if (a == "--cut") {
+            const std::vector<double> x = plaf::parse_numbers(a, v, 6, 6);
+            pr.cut = std::array<double, 6>{x[0], x[1], x[2], x[3], x[4], x[5]};
+          } else if (a == "--at") {
+            pr.zooms.push_back(plaf::parse_numbers(a, v, 3, 4));
+          } else if (a == "--view") {
+            const std::vector<double> x = plaf::parse_numbers(a, v, 3, 3);
+            pr.view = std::array<double, 3>{x[0], x[1], x[2]};
+          } else {
+            const std::vector<double> x = plaf::parse_numbers(a, v, 2, 2);
+            if (!(x[0] >= 64 && x[0] <= 16384 && x[1] >= 64 && x[1] <= 16384) || x[0] != std::floor(x[0]) ||
+                x[1] != std::floor(x[1]))
+              return fail_usage("--size: '" + v + "': width and height are whole numbers of pixels in 64..16384");
+            pr.width = static_cast<int>(x[0]);
+            pr.height = static_cast<int>(x[1]);
+          }
+        } else if (!a.empty() && a[0] == '-') {
+          return fail_usage("unknown option '" + a + "'");
+        } else if (have_mesh) {
+          return fail_usage("picture takes one mesh file, got '" + pr.mesh.string() + "' and '" + a + "'");
+        } else {
+          pr.mesh = a;
+          have_mesh = true;
+        }
+      }
+      if (!have_mesh) return fail_usage("picture needs a mesh file");
+      return plaf::picture_command(pr);
     }
     if (args[0] == "check") {
       std::optional<std::string> mesh, metric, report;

@@ -415,6 +415,10 @@ void draw_shaded(cairo_t* cr, const HybridMesh<3>& mesh, const Vec& view, double
 
 }  // namespace
 
+Eigen::Vector2d cut_plane_uv(const Eigen::Vector3d& normal, const Eigen::Vector3d& x) {
+  return Frame(Vec::Zero(), normal).to2(x);
+}
+
 void default_cut(const HybridMesh<3>& mesh, Vec& point, Vec& normal) {
   // The plane of the first symmetry facet (its first three vertices; a tag may span two planes).
   for (const CellBlock& b : mesh.boundary) {

@@ -62,6 +62,10 @@ struct Picture3Options {
 // the nodes' bounding-box centre normal to its shortest side.
 void default_cut(const HybridMesh<3>& mesh, Eigen::Vector3d& point, Eigen::Vector3d& normal);
 
+// The point x in the cut plane's (u, v) coordinates (the axes above; x need not lie in the
+// plane: its projection), as Picture3Options::zooms take them.
+Eigen::Vector2d cut_plane_uv(const Eigen::Vector3d& normal, const Eigen::Vector3d& x);
+
 // valid: one flag per cell in block order (empty: all valid). Written atomically.
 void write_png(const HybridMesh<3>& mesh, const std::vector<std::uint8_t>& valid, const std::filesystem::path& path,
                const Picture3Options& options);

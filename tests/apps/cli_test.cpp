@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "apps/exit_codes.h"
+#include "modules/io/msh_io.h"
 #include "tests/test_support.h"
 #include "tests/published_data.h"
 
@@ -391,4 +392,38 @@ TEST_CASE("cli: check --metric measures a 3D mesh's tetrahedra in a 3D configura
   MESSAGE("tetrahedra's unit edges: run " << run_unit << ", check " << check_unit);
   CHECK(run_unit > 0.5);
   CHECK(check_unit == doctest::Approx(run_unit).epsilon(1e-6));
+}
+
+TEST_CASE("cli: picture draws a run's mesh and another one, the worst cell first, and exit 2 on an invalid mesh") {
+  const TempDir d("cli_picture");
+  const fs::path cfg = write_text(d / "case.yaml", good);
+  REQUIRE(run_plaf("run " + cfg.string() + " --out " + (d / "out").string(), d).code == 0);
+  // 2D, default name beside the mesh; the summary and the worst cell on stdout.
+  const plaf::test::PlafOutput r = plaf::test::run_plaf_output("picture " + (d / "out" / "case.msh").string() + " --at 0.5,0.5,0.1", d);
+  CHECK(r.code == 0);
+  CHECK(r.out.find("worst cell, scaled Jacobian") != std::string::npos);
+  CHECK(r.out.find("invalid cells: 0") != std::string::npos);
+  const std::string png = read_text(d / "out" / "case.picture.png");
+  REQUIRE(png.size() > 8);
+  CHECK(png.substr(1, 3) == "PNG");
+  // 3D: one inverted linear tetrahedron (its fourth node below the first three's plane), written
+  // by the MSH writer as another tool's file would be: drawn, and the verdict is exit 2.
+  plaf::HybridMesh<3> m;
+  m.nodes = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, -1}};
+  m.cells.push_back({plaf::CellType::Tetrahedron, 1, -1, {0, 1, 2, 3}});
+  plaf::write_msh41(m, d / "bad.msh");
+  const PlafResult bad = run_plaf("picture " + (d / "bad.msh").string() + " --out " + (d / "bad.png").string() +
+                                      " --cut 0,0,0,0,0,1 --view 1,1,1 --size 320,240 --at 0.2,0.2,0,0.5",
+                                  d);
+  CHECK(bad.code == 2);
+  CHECK(bad.err.find("NOT valid: 1 invalid cells") != std::string::npos);
+  CHECK(fs::file_size(d / "bad.png") > 0);
+  // Usage errors: exit 1 and one line naming the option, nothing drawn.
+  for (const std::string& args : {std::string(" --at 1,2"), std::string(" --cut 0,0,0"), std::string(" --size 10,10"),
+                                  std::string(" --out x.jpg"), std::string(" --at 0,0,0,-1"), std::string(" --bogus")}) {
+    const PlafResult u = run_plaf("picture " + (d / "bad.msh").string() + args, d);
+    CHECK_MESSAGE(u.code == 1, args);
+    CHECK_MESSAGE(u.err.rfind("plaf: error: ", 0) == 0, args);
+  }
+  CHECK(run_plaf("picture " + (d / "missing.msh").string(), d).code == 1);
 }
