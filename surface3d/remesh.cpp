@@ -14,6 +14,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "modules/base/error.h"
+#include "modules/base/parallel.h"
 #include "surface3d/remesher.h"
 #include "surface3d/validate.h"
 
@@ -21,10 +22,41 @@ namespace plaf {
 
 namespace remesh_detail {
 
+void Remesher::warm_vertices() {
+  grow_caches();
+  parallel_chunks(m_.n_vertices(), 512, [&](unsigned, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const VH v(static_cast<int>(i));
+      if (m_.status(v).deleted()) continue;
+      if (!have_[i]) {
+        vm_[i] = metric_.evaluate(m_.point(v)).matrix();
+        have_[i] = 1;
+      }
+      // (as vertex_normal fills it)
+      if (feature(v) == VertexFeature::Smooth && !m_.is_boundary(v) && !have_n_[i]) {
+        vn_[i] = ref_.normal(m_.point(v));
+        have_n_[i] = 1;
+      }
+    }
+  });
+}
+
+void Remesher::warm_lengths() {
+  warm_vertices();
+  if (edge_lengths_.size() < m_.n_edges()) edge_lengths_.resize(m_.n_edges());
+  parallel_chunks(m_.n_edges(), 512, [&](unsigned, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const EH e(static_cast<int>(i));
+      if (!m_.status(e).deleted()) length(e);  // fills edge_lengths_[i] only: the vertices are warm
+    }
+  });
+}
+
 void Remesher::split_long_edges() {
   // Repeated until no edge is long: a coarse start (an icosahedron for a fine metric) needs
   // several halvings; each pass splits the edges found long at its start, longest first.
   for (int pass = 0; pass < 40; ++pass) {
+    warm_lengths();
     std::vector<std::pair<double, EH>> longs;
     for (const EH e : m_.edges()) {
       const double l = length(e);
@@ -222,6 +254,7 @@ bool Remesher::try_collapse(HH h, double max_length) {
 }
 
 void Remesher::collapse_short_edges() {
+  warm_lengths();
   std::vector<std::pair<double, EH>> shorts;
   for (const EH e : m_.edges()) {
     const double l = length(e);
@@ -388,42 +421,34 @@ void Remesher::relax() {
   // its neighbours, within its tangent plane (or along its curve), then back onto the reference.
   std::vector<Vec> target(m_.n_vertices());
   std::vector<char> moves(m_.n_vertices(), 0);
-  for (const VH v : m_.vertices()) {
-    if (is_fixed(v)) continue;
-    const int c = vertex_curve(v);
-    const bool on_boundary = m_.is_boundary(v);
-    Vec sum = Vec::Zero();
-    double wsum = 0;
-    for (const HH h : m_.voh_range(v)) {
-      const EH e = m_.edge_handle(h);
-      // A curve vertex averages its two curve neighbours only.
-      if ((c >= 0 || on_boundary) && curve(e) != c) continue;
-      const VH wv = m_.to_vertex_handle(h);
-      const Vec w = m_.point(wv);
-      // Weight by the metric density at the neighbour (1/h^2 for an isotropic size h), so the
-      // centroid leans toward fine regions as the metric asks.
-      const double rho = vertex_metric(wv).trace() / 3.0;
-      sum += rho * w;
-      wsum += rho;
+  // The targets from the positions before any move (a Jacobi step): on the worker threads, the
+  // vertices' metrics and normals warm.
+  warm_vertices();
+  parallel_chunks(m_.n_vertices(), 512, [&](unsigned, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const VH v(static_cast<int>(i));
+      if (!m_.status(v).deleted()) relax_target(v, target, moves);
     }
-    if (wsum <= 0) continue;
-    const Vec p = m_.point(v);
-    Vec d = sum / wsum - p;
-    if (c < 0) {
-      const Vec* cached = vertex_normal(v);
-      const Vec n = cached ? *cached : ref_.normal(p);
-      d -= n * n.dot(d);
+  });
+  // The moved positions on the reference (a function of each target alone), on the worker
+  // threads too; then the moves one by one, each checked against its neighbours as they stand.
+  std::vector<Vec> projected(m_.n_vertices()), projected_normal(m_.n_vertices());
+  parallel_chunks(m_.n_vertices(), 512, [&](unsigned, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      if (!moves[i]) continue;
+      const VH v(static_cast<int>(i));
+      if (feature(v) == VertexFeature::Smooth && !m_.is_boundary(v))
+        projected[i] = ref_.project(target[i], projected_normal[i]);
+      else
+        projected[i] = project_vertex(v, target[i]);
     }
-    target[static_cast<std::size_t>(v.idx())] = p + 0.5 * d;
-    moves[static_cast<std::size_t>(v.idx())] = 1;
-  }
+  });
   for (const VH v : m_.vertices()) {
     if (!moves[static_cast<std::size_t>(v.idx())]) continue;
     // A smooth vertex is projected with its normal in one search, and keeps that normal cached.
     const bool smooth = vertex_normal(v) != nullptr;
-    Vec n;
-    const Vec p = smooth ? ref_.project(target[static_cast<std::size_t>(v.idx())], n)
-                         : project_vertex(v, target[static_cast<std::size_t>(v.idx())]);
+    const Vec& p = projected[static_cast<std::size_t>(v.idx())];
+    const Vec& n = projected_normal[static_cast<std::size_t>(v.idx())];
     if (!smooth && !curve_move_keeps_shape(v, p)) continue;
     if (move_keeps_faces(v, p, FH(), FH(), smooth ? &n : nullptr)) {
       m_.set_point(v, p);
@@ -434,6 +459,39 @@ void Remesher::relax() {
       }
     }
   }
+}
+
+// Relaxation's target for v (relax): halfway toward the density-weighted centroid of its
+// neighbours, in its tangent plane or along its curve; moves[v] set when it has one. Reads only
+// (the metrics and normals warm).
+void Remesher::relax_target(VH v, std::vector<Vec>& target, std::vector<char>& moves) {
+  if (is_fixed(v)) return;
+  const int c = vertex_curve(v);
+  const bool on_boundary = m_.is_boundary(v);
+  Vec sum = Vec::Zero();
+  double wsum = 0;
+  for (const HH h : m_.voh_range(v)) {
+    const EH e = m_.edge_handle(h);
+    // A curve vertex averages its two curve neighbours only.
+    if ((c >= 0 || on_boundary) && curve(e) != c) continue;
+    const VH wv = m_.to_vertex_handle(h);
+    const Vec w = m_.point(wv);
+    // Weight by the metric density at the neighbour (1/h^2 for an isotropic size h), so the
+    // centroid leans toward fine regions as the metric asks.
+    const double rho = vertex_metric(wv).trace() / 3.0;
+    sum += rho * w;
+    wsum += rho;
+  }
+  if (wsum <= 0) return;
+  const Vec p = m_.point(v);
+  Vec d = sum / wsum - p;
+  if (c < 0) {
+    const Vec* cached = vertex_normal(v);
+    const Vec n = cached ? *cached : ref_.normal(p);
+    d -= n * n.dot(d);
+  }
+  target[static_cast<std::size_t>(v.idx())] = p + 0.5 * d;
+  moves[static_cast<std::size_t>(v.idx())] = 1;
 }
 
 void Remesher::measure_result() {

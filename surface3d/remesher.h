@@ -166,11 +166,22 @@ class Remesher {
   // from the face (a projected midpoint on a tight leading edge can land behind a neighbour).
   bool split_keeps_faces(HH h, const Vec& p);
 
+  // --- parallel warm-up (remesh.cpp) ------------------------------------------------------------
+  // The caches the serial operations fill one entry at a time, filled on the worker threads
+  // (modules/base/parallel.h) beforehand: every live vertex's metric and (smooth) reference
+  // normal, and with warm_lengths every live edge's length. Each entry is a function of what its
+  // cache key records (the metric fields and the reference keep no mutable state), so a warmed
+  // entry is, bit for bit, the one the serial pass would compute: the remeshing is unchanged,
+  // only its evaluations run in parallel.
+  void warm_vertices();
+  void warm_lengths();
+
   // --- operations (remesh.cpp) -------------------------------------------------------------------
   void split_long_edges();
   void collapse_short_edges();
   void flip_edges();
   void relax();
+  void relax_target(VH v, std::vector<Vec>& target, std::vector<char>& moves);
   bool try_collapse(HH h, double max_length = kSplitAbove);
   bool try_flip(EH e, double min_gain);
   bool try_split(EH e);
