@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "modules/base/error.h"
+#include "modules/base/format.h"
 #include "modules/io/cgns_io.h"
 #include "modules/io/msh_io.h"
 #include "modules/io/picture.h"
@@ -20,23 +21,27 @@ namespace plaf {
 
 namespace {
 
-// The cell of the smallest certified scaled Jacobian: its centre (the mean of its nodes) and
-// half its largest extent; false for a mesh without cells.
+// The cell of the smallest certified scaled Jacobian (an invalid one first; among equals, e.g.
+// the straight cells of an order-1 mesh, whose scaled Jacobian is 1, the largest aspect ratio):
+// its centre (the mean of its nodes) and half its largest extent; false for a mesh without cells.
 template <int Dim>
 bool worst_cell(const HybridMesh<Dim>& mesh, const CellQuality& q, Eigen::Matrix<double, Dim, 1>& centre,
-                double& radius, double& value) {
+                double& radius, double& value, double& ratio_out) {
   std::size_t flat = 0, best = std::numeric_limits<std::size_t>::max();
   const CellBlock* best_block = nullptr;
   std::size_t best_cell = 0;
   value = std::numeric_limits<double>::infinity();
+  double best_ratio = 0;
   for (const CellBlock& b : mesh.cells)
     for (std::size_t c = 0; c < b.size(); ++c, ++flat) {
       const double sj = flat < q.scaled_jacobian.size() ? q.scaled_jacobian[flat] : value;
+      const double ratio = flat < q.aspect_ratio.size() ? q.aspect_ratio[flat] : 0.0;
       const bool invalid = flat < q.valid.size() && !q.valid[flat];
       // An invalid cell ranks below every valid one (its bound may not be finite).
       const double key = invalid ? -std::numeric_limits<double>::infinity() : sj;
-      if (best_block == nullptr || key < value) {
+      if (best_block == nullptr || key < value || (key == value && ratio > best_ratio)) {
         value = key;
+        best_ratio = ratio;
         best = flat;
         best_block = &b;
         best_cell = c;
@@ -56,6 +61,7 @@ bool worst_cell(const HybridMesh<Dim>& mesh, const CellQuality& q, Eigen::Matrix
   centre /= n;
   radius = 0.5 * (hi - lo).maxCoeff();
   value = best < q.scaled_jacobian.size() ? q.scaled_jacobian[best] : value;
+  ratio_out = best_ratio;
   return true;
 }
 
@@ -124,10 +130,11 @@ int picture_command(const PictureRequest& r) {
     po.height = r.height;
     po.title = title;
     Eigen::Vector2d c;
-    double radius = 0, sj = 0;
-    if (worst_cell<2>(m.mesh2, per_cell, c, radius, sj)) {
+    double radius = 0, sj = 0, ratio = 0;
+    if (worst_cell<2>(m.mesh2, per_cell, c, radius, sj, ratio)) {
       const double h = std::max(4 * radius, 1e-12);
-      worst_label = "worst cell, scaled Jacobian " + std::to_string(sj) + " at " + where_text(c.data(), 2);
+      worst_label = "worst cell, scaled Jacobian " + num(sj) + ", aspect ratio " + num(ratio) + " at " +
+                    where_text(c.data(), 2);
       po.zooms.push_back({worst_label, c.x() - h, c.x() + h, c.y() - h, c.y() + h});
     }
     for (const auto& z : r.zooms)
@@ -147,11 +154,12 @@ int picture_command(const PictureRequest& r) {
     if (r.view) po.view = Eigen::Vector3d((*r.view)[0], (*r.view)[1], (*r.view)[2]);
     if (!(po.view.norm() > 0)) throw InputError("--view: the direction is zero");
     Eigen::Vector3d c;
-    double radius = 0, sj = 0;
-    if (worst_cell<3>(m.mesh3, per_cell, c, radius, sj)) {
+    double radius = 0, sj = 0, ratio = 0;
+    if (worst_cell<3>(m.mesh3, per_cell, c, radius, sj, ratio)) {
       po.focus = c;
       po.focus_radius = std::max(4 * radius, 1e-12);
-      worst_label = "worst cell, scaled Jacobian " + std::to_string(sj) + " at " + where_text(c.data(), 3);
+      worst_label = "worst cell, scaled Jacobian " + num(sj) + ", aspect ratio " + num(ratio) + " at " +
+                    where_text(c.data(), 3);
       po.focus_label = worst_label;
       if (!r.cut) po.cut_point = c;  // the default plane moved through it
     }
