@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "modules/base/parallel.h"
 #include "modules/elements/lagrange.h"
 #include "modules/geometry/aabb_tree.h"
 
@@ -137,28 +138,55 @@ FidelityReport measure_fidelity(const TriSurface& surface, const ReferenceGeomet
   std::vector<int> tri_face;
   std::vector<Eigen::Vector3d> face_nodes;  // e.size() per face, for the refinement
   std::size_t nfaces = 0;
-  for (const auto f : surface.mesh.faces()) {
-    const std::vector<Eigen::Vector3d> nodes = surface.triangle_nodes(f);
-    if (static_cast<int>(nodes.size()) != e.size()) continue;  // (triangle_nodes gives order-Q nodes)
-    for (const auto& w : fine_basis) {
-      const Eigen::Vector3d x = at(w, nodes);
-      const double d = (x - reference.project(x)).norm();
-      ++r.mesh_samples;
-      if (d > far_over) r.far.emplace_back(x, d);
-      if (d > r.to_reference || !(d == d)) {
-        r.to_reference = d;
-        r.worst_on_mesh = x;
+  // The projections onto the reference on the worker threads (modules/base/parallel.h; a
+  // reference keeps no mutable state), a block of faces at a time; what they give is taken in the
+  // faces' order, so the report is the same as one thread's, bit for bit.
+  const std::size_t nfine = fine_basis.size();
+  std::vector<std::vector<Eigen::Vector3d>> block_nodes;
+  std::vector<Eigen::Vector3d> block_x;
+  std::vector<double> block_d;
+  auto take_block = [&]() {
+    block_x.resize(block_nodes.size() * nfine);
+    block_d.resize(block_x.size());
+    parallel_chunks(block_nodes.size(), 16, [&](unsigned, std::size_t begin, std::size_t end) {
+      for (std::size_t b = begin; b < end; ++b)
+        for (std::size_t k = 0; k < nfine; ++k) {
+          const Eigen::Vector3d x = at(fine_basis[k], block_nodes[b]);
+          block_x[b * nfine + k] = x;
+          block_d[b * nfine + k] = (x - reference.project(x)).norm();
+        }
+    });
+    for (std::size_t b = 0; b < block_nodes.size(); ++b) {
+      for (std::size_t k = 0; k < nfine; ++k) {
+        const Eigen::Vector3d& x = block_x[b * nfine + k];
+        const double d = block_d[b * nfine + k];
+        ++r.mesh_samples;
+        if (d > far_over) r.far.emplace_back(x, d);
+        if (d > r.to_reference || !(d == d)) {
+          r.to_reference = d;
+          r.worst_on_mesh = x;
+        }
       }
+      const std::vector<Eigen::Vector3d>& nodes = block_nodes[b];
+      const int first = static_cast<int>(points.size());
+      for (const auto& w : coarse_basis) points.push_back(at(w, nodes));
+      for (const auto& t : coarse.tris) {
+        tris.push_back({first + t[0], first + t[1], first + t[2]});
+        tri_face.push_back(static_cast<int>(nfaces));
+      }
+      face_nodes.insert(face_nodes.end(), nodes.begin(), nodes.end());
+      ++nfaces;
     }
-    const int first = static_cast<int>(points.size());
-    for (const auto& w : coarse_basis) points.push_back(at(w, nodes));
-    for (const auto& t : coarse.tris) {
-      tris.push_back({first + t[0], first + t[1], first + t[2]});
-      tri_face.push_back(static_cast<int>(nfaces));
-    }
-    face_nodes.insert(face_nodes.end(), nodes.begin(), nodes.end());
-    ++nfaces;
+    block_nodes.clear();
+  };
+  constexpr std::size_t kBlock = 4096;
+  for (const auto f : surface.mesh.faces()) {
+    std::vector<Eigen::Vector3d> nodes = surface.triangle_nodes(f);
+    if (static_cast<int>(nodes.size()) != e.size()) continue;  // (triangle_nodes gives order-Q nodes)
+    block_nodes.push_back(std::move(nodes));
+    if (block_nodes.size() == kBlock) take_block();
   }
+  take_block();
   r.reference_samples = samples.size();
   r.diagonal = samples_diagonal(samples);
   if (!samples.empty() && tris.empty()) {  // a body and no mesh: as far as it gets
@@ -166,23 +194,32 @@ FidelityReport measure_fidelity(const TriSurface& surface, const ReferenceGeomet
     r.worst_on_reference = samples.front();
   } else if (!tris.empty()) {
     const TriangleTree tree(points, tris);
-    std::vector<Eigen::Vector3d> nodes(static_cast<std::size_t>(e.size()));
-    for (const Eigen::Vector3d& p : samples) {
-      const TriangleTree::Closest cl = tree.closest(p);
-      const std::size_t t = static_cast<std::size_t>(cl.triangle);
-      // The flat sub-triangle's closest point, refined on its curved face.
-      const auto& st = coarse.tris[t % coarse.tris.size()];
-      std::array<double, 2> xi{0, 0};
-      for (int k = 0; k < 3; ++k)
-        for (int d = 0; d < 2; ++d)
-          xi[static_cast<std::size_t>(d)] += cl.barycentric[k] * coarse.xi[static_cast<std::size_t>(st[static_cast<std::size_t>(k)])][static_cast<std::size_t>(d)];
-      const auto first = face_nodes.begin() + static_cast<std::ptrdiff_t>(tri_face[t]) * e.size();
-      std::copy(first, first + e.size(), nodes.begin());
-      const double dist = std::min(std::sqrt(cl.distance2), curved_distance(e, nodes, p, xi, phi, dphi));
-      if (dist > far_over) r.far.emplace_back(p, dist);
-      if (dist > r.to_mesh) {
-        r.to_mesh = dist;
-        r.worst_on_reference = p;
+    // Each sample's distance on the worker threads (their own scratch), taken in the samples'
+    // order as above.
+    std::vector<double> dist(samples.size());
+    parallel_chunks(samples.size(), 256, [&](unsigned, std::size_t begin, std::size_t end) {
+      std::vector<Eigen::Vector3d> nodes(static_cast<std::size_t>(e.size()));
+      std::vector<double> phi_w(phi.size()), dphi_w(dphi.size());
+      for (std::size_t i = begin; i < end; ++i) {
+        const Eigen::Vector3d& p = samples[i];
+        const TriangleTree::Closest cl = tree.closest(p);
+        const std::size_t t = static_cast<std::size_t>(cl.triangle);
+        // The flat sub-triangle's closest point, refined on its curved face.
+        const auto& st = coarse.tris[t % coarse.tris.size()];
+        std::array<double, 2> xi{0, 0};
+        for (int k = 0; k < 3; ++k)
+          for (int d = 0; d < 2; ++d)
+            xi[static_cast<std::size_t>(d)] += cl.barycentric[k] * coarse.xi[static_cast<std::size_t>(st[static_cast<std::size_t>(k)])][static_cast<std::size_t>(d)];
+        const auto first = face_nodes.begin() + static_cast<std::ptrdiff_t>(tri_face[t]) * e.size();
+        std::copy(first, first + e.size(), nodes.begin());
+        dist[i] = std::min(std::sqrt(cl.distance2), curved_distance(e, nodes, p, xi, phi_w, dphi_w));
+      }
+    });
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      if (dist[i] > far_over) r.far.emplace_back(samples[i], dist[i]);
+      if (dist[i] > r.to_mesh) {
+        r.to_mesh = dist[i];
+        r.worst_on_reference = samples[i];
       }
     }
   }
