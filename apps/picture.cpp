@@ -101,11 +101,9 @@ std::vector<double> parse_numbers(const std::string& option, const std::string& 
 }
 
 int picture_command(const PictureRequest& r) {
-  std::string extension = r.mesh.extension().string();
-  for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
   std::filesystem::path out = r.out ? *r.out : r.mesh.parent_path() / (r.mesh.stem().string() + ".picture.png");
   if (out.extension() != ".png") throw InputError("--out " + out.string() + ": the picture is a .png file");
-  const MshMesh m = extension == ".cgns" ? read_cgns(r.mesh) : read_msh41(r.mesh);
+  const MshMesh m = read_mesh_file(r.mesh);
   for (const auto& z : r.zooms)
     if (z.size() != static_cast<std::size_t>(m.dim + 1))
       throw InputError("--at: a " + std::to_string(m.dim) + "D mesh's zoom is " + (m.dim == 2 ? "X,Y,R" : "X,Y,Z,R") +

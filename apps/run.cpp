@@ -623,10 +623,7 @@ int check_command(const std::filesystem::path& path, const std::optional<std::fi
     qo.histogram_bins = c->output.histogram_bins;
     clock.done("metric", c->metric.type + " from " + metric_config->string());
   }
-  // A .cgns file through the CGNS reader, anything else as MSH (4.1 or 2.2, ASCII or binary).
-  std::string extension = path.extension().string();
-  for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  const MshMesh m = extension == ".cgns" ? read_cgns(path) : read_msh41(path);
+  const MshMesh m = read_mesh_file(path);
   clock.done("read", path.string() + ", dimension " + std::to_string(m.dim));
   QualityReport report;
   if (metric_config && m.dim != c->dim)

@@ -49,5 +49,9 @@ void write_cgns(const HybridMesh<Dim>& mesh, const std::filesystem::path& path);
 // The mesh of a CGNS file (dim 2 or 3 as its base's cell dimension), as read_msh41 returns.
 MshMesh read_cgns(const std::filesystem::path& path);
 
+// A mesh file by its suffix: .cgns (any case) through read_cgns, anything else as MSH (4.1 or
+// 2.2, ASCII or binary) through read_msh41. What `plaf check` and `plaf picture` read.
+MshMesh read_mesh_file(const std::filesystem::path& path);
+
 }  // namespace io
 }  // namespace plaf

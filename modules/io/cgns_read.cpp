@@ -278,5 +278,11 @@ MshMesh read_cgns(const std::filesystem::path& path) {
   return result;
 }
 
+MshMesh read_mesh_file(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return extension == ".cgns" ? read_cgns(path) : read_msh41(path);
+}
+
 }  // namespace io
 }  // namespace plaf
