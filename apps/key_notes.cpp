@@ -66,6 +66,10 @@ const std::vector<KeyNote>& key_notes() {
       {"geometry.self_intersections",
        "surface_file: repair (folded sliver caps behind crossing pairs get their long edge flipped, then check), "
        "check (any crossing pair is an error) or skip (not tested)"},
+      {"geometry.slivers",
+       "surface_file: repair (a CAD tessellation's needles and caps thinner than 1e-3 of their longest edge, lying "
+       "in the surface around them, get their short edge collapsed or long edge flipped, with a repair line saying "
+       "how far the surface moved; slivers.h) or keep"},
       {"geometry.inner_components",
        "surface_file: bodies nested inside another (the flow never meets them) are dropped with a repair line, or "
        "an error"},

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "modules/base/error.h"
+#include "modules/base/format.h"
 #include "modules/metric/metric_fields.h"
 #include "modules/metric/metric_integrals.h"
 #include "modules/pipeline/budget.h"
@@ -85,6 +86,7 @@ Geometry3Params parse_geometry3_params(const ConfigNode& g, const std::string& t
     const std::string si = g.get_choice("self_intersections", "repair", {"repair", "check", "skip"});
     s.check_self_intersections = si != "skip";
     s.repair_folded_caps = si == "repair";
+    s.repair_slivers = g.get_choice("slivers", "repair", {"repair", "keep"}) == "repair";
     s.drop_inner_components = g.get_choice("inner_components", "drop", {"error", "drop"}) == "drop";
     s.smooth_reference = g.get_choice("reference", "facets", {"smooth", "facets"}) == "smooth";
   }
@@ -191,6 +193,7 @@ void surface_file(const Geometry3Params& g, RunState<3>& s, StageReport& rep) {
   for (const SymmetryPlaneParams& p : g.symmetry_planes) so.symmetry_planes.push_back({vec(p.normal), p.offset});
   so.check_self_intersections = g.check_self_intersections;
   so.repair_folded_caps = g.repair_folded_caps;
+  so.repair_slivers = g.repair_slivers;
   so.drop_inner_components = g.drop_inner_components;
   SurfaceCheckReport k;
   s.surface = validate_surface(soup, so, &k);
@@ -210,6 +213,8 @@ void surface_file(const Geometry3Params& g, RunState<3>& s, StageReport& rep) {
   rep.add("input.volume", k.volume);
   rep.add("input.boundary_loops", k.boundary_loops);
   rep.add("input.symmetry_edges", k.symmetry_edges);
+  rep.add("input.slivers", k.slivers_found);
+  rep.add("input.slivers_left", k.slivers_left);
   rep.add_json("input.repairs", json_array(repairs));
   rep.line("geometry: " + g.file + ": " + std::to_string(k.input_triangles) + " triangles, " +
            std::to_string(k.components) + " components, chi = " + std::to_string(k.euler_characteristic));
@@ -232,6 +237,8 @@ void report_surface(const TriSurface& surface, int order, const FeatureReport& k
   rep.add("remesh.collapses", rr.collapses);
   rep.add("remesh.flips", rr.flips);
   rep.add("remesh.unit_fraction", rr.unit_fraction);
+  rep.add("remesh.longest_edge", rr.longest);
+  rep.add("remesh.long_edges", rr.long_edges);
   rep.add("remesh.folded_faces", rr.folded_faces);
   rep.add("remesh.crossing_pairs_found", rr.crossing_pairs_found);
   rep.add("remesh.untangle_collapses", rr.untangle_collapses);
@@ -439,6 +446,12 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
              " triangles, unit fraction " + std::to_string(rr.unit_fraction) + ", " +
              std::to_string(rr.folded_faces) + " folded" +
              (rr.folded_faces ? " (first at " + rr.first_folded + ")" : ""));
+  // Edges the remesher could not split (a thin face on either side would fold): the layers
+  // extrude them as they are, into cells as stretched along the wall as the edge is long.
+  if (sp.remesh && rr.long_edges > 0)
+    rep.line("WARNING: remesh: " + std::to_string(rr.long_edges) + " edges longer than " + num(kLongEdge) +
+             " in the metric could not be split (the longest " + num(rr.longest) + ", at " + rr.first_long +
+             "): check the input's triangles there (thin faces) or give finer sizes");
   if (sp.remesh && rr.crossing_pairs_found > 0)
     rep.line("remesh: " + std::to_string(rr.crossing_pairs_found) + " pairs of faces crossing each other, " +
              std::to_string(rr.untangle_collapses) + " edges collapsed to untangle them, " +

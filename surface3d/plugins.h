@@ -46,6 +46,7 @@ struct Geometry3Params {
   std::vector<SymmetryPlaneParams> symmetry_planes;
   bool check_self_intersections = true;
   bool repair_folded_caps = true;
+  bool repair_slivers = true;  // geometry.slivers: repair (validate.h, step 8) or keep
   bool drop_inner_components = true;
   bool smooth_reference = false;  // surface_file: smooth patches, else the flat facets
 };

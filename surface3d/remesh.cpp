@@ -496,10 +496,23 @@ void Remesher::relax_target(VH v, std::vector<Vec>& target, std::vector<char>& m
 
 void Remesher::measure_result() {
   std::size_t unit = 0, total = 0;
+  EH longest;
   for (const EH e : m_.edges()) {
     const double l = length(e);
     ++total;
     if (l >= 1 / std::sqrt(2.0) && l <= std::sqrt(2.0)) ++unit;
+    if (l > kLongEdge) ++rep_.long_edges;
+    if (l > rep_.longest) {
+      rep_.longest = l;
+      longest = e;
+    }
+  }
+  if (longest.is_valid()) {
+    const HH h = m_.halfedge_handle(longest, 0);
+    const Vec mid = 0.5 * (m_.point(m_.from_vertex_handle(h)) + m_.point(m_.to_vertex_handle(h)));
+    std::ostringstream o;
+    o << "(" << mid.x() << ", " << mid.y() << ", " << mid.z() << ")";
+    rep_.first_long = o.str();
   }
   rep_.unit_fraction = total ? static_cast<double>(unit) / static_cast<double>(total) : 0;
   for (const FH f : m_.faces())

@@ -33,6 +33,10 @@ struct RemeshOptions {
   std::function<void(int round, int rounds)> on_round;  // after each round (the run's progress); may be empty
 };
 
+// An edge over twice the unit length in the metric is one the remesher could not split: the
+// surface report counts them.
+inline constexpr double kLongEdge = 2.0;
+
 struct RemeshReport {
   std::size_t splits = 0, collapses = 0, flips = 0, rounds = 0;
   std::size_t refused_splits = 0;   // long edges left because splitting them would fold a face
@@ -40,6 +44,9 @@ struct RemeshReport {
   std::size_t caps = 0;  // faces left with an angle over 160 degrees in the metric (is_cap)
   std::size_t faces_before = 0, faces_after = 0;
   double unit_fraction = 0;  // of edges with metric length in [1/sqrt 2, sqrt 2] after
+  double longest = 0;        // the longest edge's metric length after
+  std::size_t long_edges = 0;  // edges longer than kLongEdge after (splits refused to the end)
+  std::string first_long;      // the longest edge's midpoint "(x, y, z)"
   std::size_t folded_faces = 0;  // normal more than 60 degrees from the reference's (should be 0)
   std::string first_folded;      // the first one's vertices, "(x, y, z) (x, y, z) (x, y, z)"
   Eigen::Vector3d first_folded_centroid = Eigen::Vector3d::Zero();

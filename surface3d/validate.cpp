@@ -13,11 +13,15 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <sstream>
+#include <string>
+#include <utility>
 
 #include "modules/base/error.h"
 #include "modules/base/format.h"
 #include "modules/geometry/aabb_tree.h"
 #include "modules/geometry/predicates.h"
+#include "surface3d/slivers.h"
 #include "surface3d/validate_steps.h"
 
 namespace plaf {
@@ -423,6 +427,31 @@ TriSurface assemble_surface(const Work& w, const std::vector<char>& alive, const
   return s;
 }
 
+// Step 8 (slivers.h): repaired on a copy, kept unless it makes the surface cross itself (when
+// that is checked: step 7 left none).
+void repair_cad_slivers(TriSurface& s, const std::string& src, bool check_crossings, SurfaceCheckReport& rep) {
+  TriSurface repaired = s;
+  const SliverRepairReport r = repair_slivers(repaired);
+  rep.slivers_found = rep.slivers_left = r.found;
+  if (r.found == 0) return;
+  std::ostringstream o;
+  o << src << ": " << plural(r.found, "sliver triangle") << " (thinner than " << kSliverRatio
+    << " of their longest edge, a CAD tessellation's needles and caps): ";
+  if (r.collapsed + r.flipped == 0) {
+    rep.repairs.push_back(o.str() + "none could be repaired");
+    return;
+  }
+  if (check_crossings && count_self_intersections(repaired) > 0) {
+    rep.repairs.push_back(o.str() + "not repaired, the repair would make the surface cross itself");
+    return;
+  }
+  o << plural(r.collapsed, "short edge") << " collapsed, " << plural(r.flipped, "long edge") << " flipped, the surface moved by at most "
+    << r.max_moved << ", " << r.left << " left";
+  rep.repairs.push_back(o.str());
+  rep.slivers_left = r.left;
+  s = std::move(repaired);
+}
+
 }  // namespace
 
 TriSurface validate_surface(const TriangleSoup& soup, const SurfaceCheckOptions& options, SurfaceCheckReport* report) {
@@ -457,7 +486,10 @@ TriSurface validate_surface(const TriangleSoup& soup, const SurfaceCheckOptions&
   // 7. Self-intersections.
   if (options.check_self_intersections) check_self_intersections(w, tree, alive, options.repair_folded_caps, rep);
 
-  return assemble_surface(w, alive, comps, loops, options.wall_tag, rep);
+  TriSurface s = assemble_surface(w, alive, comps, loops, options.wall_tag, rep);
+  // 8. CAD slivers.
+  if (options.repair_slivers) repair_cad_slivers(s, soup.source, options.check_self_intersections, rep);
+  return s;
 }
 
 }  // namespace plaf

@@ -28,7 +28,11 @@
 //     edge flipped (repair_folded_caps, a repair line with how far the surface moved), and so are,
 //     first, folded caps back to back with the surface all around that cross nothing (the sheet
 //     around them not flat; its own repair line); the pairs left -> error naming the count and
-//     the first pair with a point.
+//     the first pair with a point;
+//  8. CAD slivers (slivers.h: needles and caps thinner than 1e-3 of their longest edge) ->
+//     needles' short edges collapsed, caps' long edges flipped (repair_slivers, a repair line with
+//     how far the surface moved and how many are left); undone, with a line saying so, if the
+//     repaired surface would cross itself.
 #pragma once
 
 #include <Eigen/Core>
@@ -50,6 +54,7 @@ struct SurfaceCheckOptions {
   double plane_tol_rel = 1e-6;
   bool check_self_intersections = true;
   bool repair_folded_caps = true;  // step 7's repair
+  bool repair_slivers = true;      // step 8
   bool drop_inner_components = true;
   std::string wall_tag = "wall";
 };
@@ -65,6 +70,8 @@ struct SurfaceCheckReport {
   std::size_t boundary_loops = 0;        // all on symmetry planes
   std::size_t symmetry_edges = 0;
   std::size_t self_intersection_pairs_tested = 0;
+  std::size_t slivers_found = 0;         // step 8: faces thinner than kSliverRatio
+  std::size_t slivers_left = 0;          //   and after the repair
   double volume = 0;                     // enclosed volume after the fixes (> 0)
   long euler_characteristic = 0;
   std::vector<std::string> repairs;      // one line per repair made, for the report and stderr
