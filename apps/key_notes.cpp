@@ -125,8 +125,8 @@ const std::vector<KeyNote>& key_notes() {
        "the run fails when the surface's two-sided distance to the body exceeds this x the body's bounding-box "
        "diagonal (fidelity.h)"},
       {"surface.fidelity_rounds",
-       "while over fidelity_tol, remesh at finer sizes around the samples farther than half of it, at most this "
-       "many times"},
+       "while over fidelity_tol, remesh at finer sizes around the samples farther than half of it (and at half the "
+       "sizes where remeshed faces still cross each other), at most this many times"},
       {"surface.gradation",
        "how fast curvature sizes may grow between neighbours (graded_metric.h: beta, > 1; 0: off)"},
       {"surface.min_scaled_jacobian",

@@ -393,6 +393,13 @@ void Remesher::untangle() {
     std::ostringstream o;
     o << "(" << at.x() << ", " << at.y() << ", " << at.z() << ")";
     rep_.first_crossing = o.str();
+    rep_.crossing_points.clear();
+    for (const auto& [a, b] : pairs)
+      for (const int fi : {a, b}) {
+        Vec c = Vec::Zero();
+        for (const VH v : m_.fv_range(m_.face_handle(fi))) c += m_.point(v) / 3;
+        rep_.crossing_points.push_back(c);
+      }
     if (round == kUntangleRounds) return;
     std::vector<FH> faces;
     for (const auto& [a, b] : pairs) faces.push_back(m_.face_handle(a)), faces.push_back(m_.face_handle(b));

@@ -20,6 +20,7 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "modules/metric/metric.h"
 #include "modules/geometry/tri_surface.h"
@@ -55,6 +56,7 @@ struct RemeshReport {
   std::size_t untangle_collapses = 0;    // edges collapsed to untangle them
   std::size_t crossing_pairs = 0;        // still crossing after that (the surface stage refuses them)
   std::string first_crossing;            // a face of the first such pair, its centroid "(x, y, z)"
+  std::vector<Eigen::Vector3d> crossing_points;  // the centroids of every face still crossing
   double seconds = 0;
 };
 
