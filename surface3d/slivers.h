@@ -16,13 +16,13 @@
 //
 // The repair, the thinnest first, until none is left or no operation applies:
 // - a needle (shortest edge under a fifth of the longest): its short edge collapsed to one of its
-//   ends, the end that turns the faces around it least; the surface moves by the old vertex's
+//   ends, the one that moves the surface least (then turns the faces least); the surface moves by the old vertex's
 //   distance to the new faces (at most the short edge's length);
 // - a cap, or a needle that could not collapse: its longest edge flipped; the surface moves by at
 //   most the cap's height over that edge.
-// Only slivers that lie in the sheet (within 30 degrees of a good face around their corners; the
-// Orion's: 326 of 349, 303 within 5) are repaired: a narrow face of the body's own between sharp
-// edges (a blunt trailing edge's base on a long wing, a step) stays.
+// Only slivers that lie in the sheet (within 60 degrees of a good face around their corners; the
+// Orion's: 330 of 349, 303 within 5) are repaired: a narrow face of the body's own between sharp
+// edges (a blunt trailing edge's base on a long wing, a step: 80-100 degrees) stays.
 // Every operation is kept only when no face it changes turns by more than 20 degrees (faces
 // thinner than max_ratio, whose normals are noise, only keep within 60 degrees of the good faces
 // around them) and no face becomes thinner than it was or max_ratio; vertices on open (symmetry)

@@ -183,6 +183,63 @@ TEST_CASE("surface cli: an inward surface is repaired and meshed") {
   }
 }
 
+TEST_CASE("surface cli: a CAD tessellation's needle is repaired with a repair line, or kept with geometry.slivers: keep") {
+  // The icosphere with a point 1e-4 along one edge from its end, both faces on the edge split
+  // there: two needles, as a CAD tessellation makes where a finely sampled curve meets a coarse one.
+  TriangleSoup s = plaf::test::icosphere_soup(6);
+  const std::array<int, 3> t0 = s.triangles[0];
+  const int a = t0[0], b = t0[1], c = t0[2];
+  const int q = static_cast<int>(s.points.size());
+  s.points.push_back(s.points[static_cast<std::size_t>(a)] +
+                     1e-4 * (s.points[static_cast<std::size_t>(b)] - s.points[static_cast<std::size_t>(a)]));
+  std::vector<std::array<int, 3>> tris;
+  for (const auto& t : s.triangles) {
+    if (t == t0) {
+      tris.push_back({a, q, c});
+      tris.push_back({q, b, c});
+      continue;
+    }
+    bool split = false;
+    for (int k = 0; k < 3 && !split; ++k)
+      if (t[static_cast<std::size_t>(k)] == b && t[static_cast<std::size_t>((k + 1) % 3)] == a) {
+        const int d = t[static_cast<std::size_t>((k + 2) % 3)];
+        tris.push_back({b, q, d});
+        tris.push_back({q, a, d});
+        split = true;
+      }
+    if (!split) tris.push_back(t);
+  }
+  s.triangles = tris;
+  {
+    const TempDir d("surface_cli_needle");
+    write_text(d / "case.stl", ascii_stl(s));
+    const PlafResult r = run_config(d, surface("case.stl"));
+    INFO(r.err);
+    CHECK(r.code == 0);
+    CHECK(r.err.find("2 sliver triangles") != std::string::npos);
+    CHECK(r.err.find("1 short edge collapsed, 0 long edges flipped, the surface moved by at most ") != std::string::npos);
+    CHECK(r.err.find(", 0 left") != std::string::npos);
+    const std::string report = read_text(d / "out" / "case.report.json");
+    CHECK(report_number(report, "input", "slivers") == 2);
+    CHECK(report_number(report, "input", "slivers_left") == 0);
+  }
+  {
+    const TempDir d("surface_cli_needle_kept");
+    write_text(d / "case.stl", ascii_stl(s));
+    const PlafResult r = run_config(d, surface("case.stl", "  slivers: keep\n"));
+    INFO(r.err);
+    CHECK(r.code == 0);
+    CHECK(r.err.find("sliver triangles") == std::string::npos);
+    const std::string report = read_text(d / "out" / "case.report.json");
+    CHECK(report_number(report, "input", "slivers") == 0);
+  }
+  const TempDir d("surface_cli_needle_bad_key");
+  write_text(d / "case.stl", ascii_stl(s));
+  const PlafResult r = run_config(d, surface("case.stl", "  slivers: mend\n"));
+  CHECK(r.code == 1);
+  CHECK(last_line(r.err).find("geometry.slivers") != std::string::npos);
+}
+
 TEST_CASE("surface cli: the published ONERA M6 half wing on its plane is tagged symmetry") {
   PLAF_NEEDS_PUBLISHED("surfaces/onera_m6_small.fmt");
   {
