@@ -177,6 +177,25 @@ class SliverRepair {
     return false;
   }
 
+  // Whether sliver f is folded back over the sheet: turned more than 90 degrees from the faces
+  // across two or three of its edges, which agree with each other (features.h's inverted faces:
+  // the Orion has a needle 4.3 long and 0.016 wide at 121 degrees to the cone it lies in). No body
+  // has such a face; the triangulation folded there, and the repair unfolds it.
+  bool folded(FH f) const {
+    const Vec n = normal(f);
+    std::vector<Vec> against;
+    for (const HH h : m_.fh_range(f)) {
+      const HH o = m_.opposite_halfedge_handle(h);
+      if (m_.is_boundary(o)) continue;
+      const Vec g = normal(m_.face_handle(o));
+      if (n.dot(g) < 0) against.push_back(g);
+    }
+    for (std::size_t i = 0; i < against.size(); ++i)
+      for (std::size_t j = i + 1; j < against.size(); ++j)
+        if (!(against[i].dot(against[j]) > 0)) return false;
+    return against.size() >= 2;
+  }
+
   bool repair(FH f, SliverRepairReport& rep, double& moved) {
     std::array<HH, 3> hs;
     std::size_t k = 0;
@@ -185,7 +204,7 @@ class SliverRepair {
     for (std::size_t i = 0; i < 3; ++i) l[i] = m_.calc_edge_length(hs[i]);
     const std::size_t shortest = static_cast<std::size_t>(std::min_element(l.begin(), l.end()) - l.begin());
     const std::size_t longest = static_cast<std::size_t>(std::max_element(l.begin(), l.end()) - l.begin());
-    if (!in_sheet(f)) return false;
+    if (!in_sheet(f) && !folded(f)) return false;
     if (l[shortest] < kNeedleShare * l[longest]) {
       // The end that moves the surface least stays.
       const HH h = hs[shortest], o = m_.opposite_halfedge_handle(h);

@@ -22,7 +22,9 @@
 //   most the cap's height over that edge.
 // Only slivers that lie in the sheet (within 60 degrees of a good face around their corners; the
 // Orion's: 330 of 349, 303 within 5) are repaired: a narrow face of the body's own between sharp
-// edges (a blunt trailing edge's base on a long wing, a step: 80-100 degrees) stays.
+// edges (a blunt trailing edge's base on a long wing, a step: 80-100 degrees) stays. A sliver
+// folded back over the sheet (over 90 degrees from the faces across two of its edges, which agree)
+// is a fold of the triangulation and is repaired too.
 // Every operation is kept only when no face it changes turns by more than 20 degrees (faces
 // thinner than max_ratio, whose normals are noise, only keep within 60 degrees of the good faces
 // around them) and no face becomes thinner than it was or max_ratio; vertices on open (symmetry)

@@ -116,6 +116,26 @@ TEST_CASE("slivers: a narrow face of the body's own between two sharp edges stay
   CHECK(volume(s) == doctest::Approx(v0).epsilon(1e-12));
 }
 
+TEST_CASE("slivers: a needle folded back over the sheet is repaired, whatever its angle") {
+  // The unit square (z = 0, open) with point q just above the diagonal a - c, near a: the needle
+  // (a, q, c) lies face down over (a, c, d), every face across its edges face up.
+  TriangleSoup soup;
+  soup.source = "square";
+  soup.points = {Vector3d(0, 0, 0), Vector3d(1, 0, 0), Vector3d(1, 1, 0), Vector3d(0, 1, 0), Vector3d(0.01, 0.0101, 0)};
+  soup.triangles = {{0, 1, 4}, {1, 2, 4}, {0, 4, 2}, {0, 2, 3}};
+  TriSurface s = surface_from_soup(soup);
+  const SliverRepairReport r = repair_slivers(s);
+  CHECK(r.found == 1);
+  CHECK(r.collapsed == 1);
+  CHECK(r.left == 0);
+  CHECK(r.max_moved < 1e-4);  // q's distance to the new face (a, b, c)
+  CHECK(s.mesh.n_faces() == 2);
+  for (const auto f : s.mesh.faces()) {
+    const auto x = s.face_vertices(f);
+    CHECK((s.mesh.point(x[1]) - s.mesh.point(x[0])).cross(s.mesh.point(x[2]) - s.mesh.point(x[0])).z() > 0);
+  }
+}
+
 TEST_CASE("slivers: validation repairs them by default, with a repair line, and keeps them on request") {
   TriangleSoup soup = cube_with_top({Vector3d(1e-4, 0, 1)}, {{8, 5, 7}, {4, 8, 7}, {4, 7, 6}});
   for (auto& t : soup.triangles)
