@@ -425,7 +425,8 @@ void remesh_and_curve(const SurfaceParams& sp, RunState<3>& s, StageReport& rep)
       if (std::none_of(spots.begin(), spots.end(), [&](const auto& o) { return (o.point - x).norm() < o.radius / 3; }))
         spots.push_back({x, factor, radius});
     };
-    for (const Eigen::Vector3d& x : rr.crossing_points) add_spot(x, 0.5);
+    if (rr.crossing_pairs > 0)
+      for (const Eigen::Vector3d& x : rr.crossing_points) add_spot(x, 0.5);
     const std::size_t crossing_spots = spots.size();
     if (far_off()) {
       std::sort(fr.far.begin(), fr.far.end(), [](const auto& a, const auto& b) { return a.second > b.second; });

@@ -387,13 +387,13 @@ void Remesher::untangle() {
     if (round == 0) rep_.crossing_pairs_found = pairs.size();
     rep_.crossing_pairs = pairs.size();
     rep_.first_crossing.clear();
+    rep_.crossing_points.clear();
     if (pairs.empty()) return;
     Vec at = Vec::Zero();
     for (const VH v : m_.fv_range(m_.face_handle(pairs.front().first))) at += m_.point(v) / 3;
     std::ostringstream o;
     o << "(" << at.x() << ", " << at.y() << ", " << at.z() << ")";
     rep_.first_crossing = o.str();
-    rep_.crossing_points.clear();
     for (const auto& [a, b] : pairs)
       for (const int fi : {a, b}) {
         Vec c = Vec::Zero();

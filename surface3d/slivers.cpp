@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+
+#include <Eigen/Geometry>
 #include <utility>
 #include <vector>
 
@@ -33,7 +35,11 @@ constexpr int kPasses = 10;
 
 class SliverRepair {
  public:
-  SliverRepair(TriSurface& s, double max_ratio) : m_(s.mesh), max_ratio_(max_ratio) {}
+  SliverRepair(TriSurface& s, double max_ratio, double max_move_rel) : m_(s.mesh), max_ratio_(max_ratio) {
+    Eigen::AlignedBox3d box;
+    for (const VH v : m_.vertices()) box.extend(m_.point(v));
+    max_move_ = box.isEmpty() ? 0 : max_move_rel * box.diagonal().norm();
+  }
 
   SliverRepairReport run() {
     SliverRepairReport rep;
@@ -108,7 +114,7 @@ class SliverRepair {
       return true;
     }
     const Vec& ref = good.squaredNorm() > 0 ? good : before;
-    return after.dot(ref) >= kNoiseCos * na * ref.norm();
+    return ref.squaredNorm() > 0 && after.dot(ref) >= kNoiseCos * na * ref.norm();
   }
 
   // Collapsing h's from-vertex into its to-vertex: whether it keeps every face (face_ok), with
@@ -131,7 +137,7 @@ class SliverRepair {
       if (!face_ok(normal(f), ratio(f), after, sliver_ratio(x[0], x[1], x[2]), good, worst)) return false;
       *moved = std::min(*moved, (closest_point_on_triangle(m_.point(v0), x[0], x[1], x[2]) - m_.point(v0)).norm());
     }
-    return true;
+    return *moved <= max_move_;
   }
 
   // Flipping e: both new faces better than the worse old one and each face_ok against the old
@@ -156,7 +162,7 @@ class SliverRepair {
     if (!face_ok(ref, rref, m1, s1, ref, &worst) || !face_ok(ref, rref, m2, s2, ref, &worst)) return false;
     const double ab = (b - a).norm();
     *moved = ab > 0 ? std::min(n1.norm(), n2.norm()) / ab : 0;
-    return true;
+    return *moved <= max_move_;
   }
 
   // Whether sliver f lies in the sheet: within 60 degrees of a good face (not a sliver) around
@@ -168,6 +174,7 @@ class SliverRepair {
   // only as a strip of slivers.)
   bool in_sheet(FH f) const {
     const Vec n = normal(f);
+    if (!(n.squaredNorm() > 0)) return false;
     for (const VH v : m_.fv_range(f))
       for (const FH g : m_.vf_range(v)) {
         if (g == f || ratio(g) < max_ratio_) continue;
@@ -228,6 +235,7 @@ class SliverRepair {
 
   TriMesh& m_;
   double max_ratio_;
+  double max_move_ = 0;
 };
 
 }  // namespace
@@ -237,8 +245,17 @@ double sliver_ratio(const Vec& a, const Vec& b, const Vec& c) {
   return l2 > 0 ? (b - a).cross(c - a).norm() / l2 : 0;
 }
 
-SliverRepairReport repair_slivers(TriSurface& s, double max_ratio) {
-  return SliverRepair(s, max_ratio).run();
+SliverRepairReport repair_slivers(TriSurface& s, double max_ratio, double max_move_rel) {
+  return SliverRepair(s, max_ratio, max_move_rel).run();
+}
+
+std::size_t count_slivers(const TriSurface& s, double max_ratio) {
+  std::size_t n = 0;
+  for (const FH f : s.mesh.faces()) {
+    const auto x = s.face_vertices(f);
+    if (sliver_ratio(s.mesh.point(x[0]), s.mesh.point(x[1]), s.mesh.point(x[2])) < max_ratio) ++n;
+  }
+  return n;
 }
 
 }  // namespace plaf

@@ -25,7 +25,8 @@
 // edges (a blunt trailing edge's base on a long wing, a step: 80-100 degrees) stays. A sliver
 // folded back over the sheet (over 90 degrees from the faces across two of its edges, which agree)
 // is a fold of the triangulation and is repaired too.
-// Every operation is kept only when no face it changes turns by more than 20 degrees (faces
+// Every operation is kept only when it moves the surface by at most 5e-4 of the bounding-box
+// diagonal (kSliverMaxMoveRel) and no face it changes turns by more than 20 degrees (faces
 // thinner than max_ratio, whose normals are noise, only keep within 60 degrees of the good faces
 // around them) and no face becomes thinner than it was or max_ratio; vertices on open (symmetry)
 // boundaries never move. The caller checks that the repaired surface does not cross itself.
@@ -37,12 +38,18 @@
 
 namespace plaf {
 
+// The largest move an operation may make, over the surface's bounding-box diagonal: half the
+// surface stage's default fidelity tolerance (surface.fidelity_tol, 1e-3), so the repaired body
+// stays within it of the file's (the Orion's largest: 2.1e-4).
+inline constexpr double kSliverMaxMoveRel = 5e-4;
+
 struct SliverRepairReport {
   std::size_t found = 0;       // faces under max_ratio at the start
   std::size_t collapsed = 0;   // short edges collapsed
   std::size_t flipped = 0;     // long edges flipped
   std::size_t left = 0;        // faces still under max_ratio
-  double max_moved = 0;        // the largest distance the surface moved by one operation
+  double max_moved = 0;        // the largest move of one operation: a removed vertex's distance
+                               // to the new faces, or a flipped cap's height
 };
 
 inline constexpr double kSliverRatio = 1e-3;
@@ -50,7 +57,10 @@ inline constexpr double kSliverRatio = 1e-3;
 // Twice the area of triangle (a, b, c) over its longest edge squared (0 for a point).
 double sliver_ratio(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
-// Repairs the slivers of s in place (s is garbage-collected at the end when anything changed).
-SliverRepairReport repair_slivers(TriSurface& s, double max_ratio = kSliverRatio);
+// Repairs the slivers of s in place (s is garbage-collected at the end when anything changed),
+// each operation moving the surface by at most max_move_rel of its bounding-box diagonal.
+SliverRepairReport repair_slivers(TriSurface& s, double max_ratio = kSliverRatio, double max_move_rel = kSliverMaxMoveRel);
+// The faces of s thinner than max_ratio (what repair_slivers finds).
+std::size_t count_slivers(const TriSurface& s, double max_ratio = kSliverRatio);
 
 }  // namespace plaf

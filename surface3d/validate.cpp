@@ -445,8 +445,8 @@ void repair_cad_slivers(TriSurface& s, const std::string& src, bool check_crossi
     rep.repairs.push_back(o.str() + "not repaired, the repair would make the surface cross itself");
     return;
   }
-  o << plural(r.collapsed, "short edge") << " collapsed, " << plural(r.flipped, "long edge") << " flipped, the surface moved by at most "
-    << r.max_moved << ", " << r.left << " left";
+  o << plural(r.collapsed, "short edge") << " collapsed, " << plural(r.flipped, "long edge")
+    << " flipped, each moving the surface by at most " << r.max_moved << ", " << r.left << " left";
   rep.repairs.push_back(o.str());
   rep.slivers_left = r.left;
   s = std::move(repaired);
@@ -488,7 +488,10 @@ TriSurface validate_surface(const TriangleSoup& soup, const SurfaceCheckOptions&
 
   TriSurface s = assemble_surface(w, alive, comps, loops, options.wall_tag, rep);
   // 8. CAD slivers.
-  if (options.repair_slivers) repair_cad_slivers(s, soup.source, options.check_self_intersections, rep);
+  if (options.repair_slivers)
+    repair_cad_slivers(s, soup.source, options.check_self_intersections, rep);
+  else
+    rep.slivers_found = rep.slivers_left = count_slivers(s);
   return s;
 }
 

@@ -93,6 +93,23 @@ TEST_CASE("slivers: a cap over the top face's diagonal gets its long edge flippe
   CHECK(volume(s) == doctest::Approx(1).epsilon(1e-12));
 }
 
+TEST_CASE("slivers: an operation that would move the surface by more than the bound is not made") {
+  // The folded needle below, whose repair moves the surface by 7e-5 (q's distance to the new face),
+  // against a bound of 1e-5 of the square's diagonal (1.4e-5).
+  TriangleSoup soup;
+  soup.source = "square";
+  soup.points = {Vector3d(0, 0, 0), Vector3d(1, 0, 0), Vector3d(1, 1, 0), Vector3d(0, 1, 0), Vector3d(0.01, 0.0101, 0)};
+  soup.triangles = {{0, 1, 4}, {1, 2, 4}, {0, 4, 2}, {0, 2, 3}};
+  TriSurface s = surface_from_soup(soup);
+  const SliverRepairReport r = repair_slivers(s, kSliverRatio, 1e-5);
+  CHECK(r.found == 1);
+  CHECK(r.collapsed + r.flipped == 0);
+  CHECK(r.left == 1);
+  CHECK(s.mesh.n_faces() == 4);
+  TriSurface t = surface_from_soup(soup);
+  CHECK(repair_slivers(t, kSliverRatio, 1e-4).collapsed == 1);  // (1.4e-4: made)
+}
+
 TEST_CASE("slivers: a narrow face of the body's own between two sharp edges stays") {
   // A wedge 1e-4 thick at its blunt end, 1 long and 10 wide: the blunt base x = 1 is a strip of
   // two needles at right angles to the faces beside it (a blunt trailing edge's base on a long
@@ -152,7 +169,8 @@ TEST_CASE("slivers: validation repairs them by default, with a repair line, and 
   SurfaceCheckReport kept;
   const TriSurface k = validate_surface(soup, keep_slivers(), &kept);
   CHECK(k.mesh.n_vertices() == 9);
-  CHECK(kept.slivers_found == 0);  // (not looked for)
+  CHECK(kept.slivers_found == 2);  // (counted, not repaired)
+  CHECK(kept.slivers_left == 2);
   // A clean body: nothing found, nothing said.
   SurfaceCheckReport clean;
   const TriSurface sphere = validate_surface(test::icosphere_soup(3), SurfaceCheckOptions{}, &clean);
