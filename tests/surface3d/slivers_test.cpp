@@ -47,6 +47,16 @@ double thinnest(const TriSurface& s) {
   return r;
 }
 
+// The unit square (z = 0, open) with point q = 4 just above the diagonal a - c (0 - 2), near a:
+// the needle (a, q, c) lies face down over (a, c, d), every face across its edges face up.
+TriangleSoup folded_square() {
+  TriangleSoup soup;
+  soup.source = "square";
+  soup.points = {Vector3d(0, 0, 0), Vector3d(1, 0, 0), Vector3d(1, 1, 0), Vector3d(0, 1, 0), Vector3d(0.01, 0.0101, 0)};
+  soup.triangles = {{0, 1, 4}, {1, 2, 4}, {0, 4, 2}, {0, 2, 3}};
+  return soup;
+}
+
 SurfaceCheckOptions keep_slivers() {
   SurfaceCheckOptions o;
   o.repair_slivers = false;
@@ -94,12 +104,9 @@ TEST_CASE("slivers: a cap over the top face's diagonal gets its long edge flippe
 }
 
 TEST_CASE("slivers: an operation that would move the surface by more than the bound is not made") {
-  // The folded needle below, whose repair moves the surface by 7e-5 (q's distance to the new face),
+  // The folded needle, whose repair moves the surface by 7e-5 (q's distance to the new face),
   // against a bound of 1e-5 of the square's diagonal (1.4e-5).
-  TriangleSoup soup;
-  soup.source = "square";
-  soup.points = {Vector3d(0, 0, 0), Vector3d(1, 0, 0), Vector3d(1, 1, 0), Vector3d(0, 1, 0), Vector3d(0.01, 0.0101, 0)};
-  soup.triangles = {{0, 1, 4}, {1, 2, 4}, {0, 4, 2}, {0, 2, 3}};
+  const TriangleSoup soup = folded_square();
   TriSurface s = surface_from_soup(soup);
   const SliverRepairReport r = repair_slivers(s, kSliverRatio, 1e-5);
   CHECK(r.found == 1);
@@ -134,12 +141,7 @@ TEST_CASE("slivers: a narrow face of the body's own between two sharp edges stay
 }
 
 TEST_CASE("slivers: a needle folded back over the sheet is repaired, whatever its angle") {
-  // The unit square (z = 0, open) with point q just above the diagonal a - c, near a: the needle
-  // (a, q, c) lies face down over (a, c, d), every face across its edges face up.
-  TriangleSoup soup;
-  soup.source = "square";
-  soup.points = {Vector3d(0, 0, 0), Vector3d(1, 0, 0), Vector3d(1, 1, 0), Vector3d(0, 1, 0), Vector3d(0.01, 0.0101, 0)};
-  soup.triangles = {{0, 1, 4}, {1, 2, 4}, {0, 4, 2}, {0, 2, 3}};
+  const TriangleSoup soup = folded_square();
   TriSurface s = surface_from_soup(soup);
   const SliverRepairReport r = repair_slivers(s);
   CHECK(r.found == 1);
