@@ -185,11 +185,6 @@ class Remesher {
   bool try_collapse(HH h, double max_length = kSplitAbove);
   bool try_flip(EH e, double min_gain);
   bool try_split(EH e);
-  // e split at p (its properties, the new faces' tags), unchecked.
-  void split_at(EH e, const Vec& p);
-  // A ray of a CAD fan (needles from one apex to a finely sampled curve), whose split
-  // split_keeps_faces refused: every ray of the fan split together (remesh.cpp).
-  bool try_fan_cut(EH e);
   void remove_slivers();
   void untangle();
 
