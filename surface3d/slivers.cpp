@@ -4,6 +4,7 @@
 #include "surface3d/slivers.h"
 
 #include "modules/geometry/aabb_tree.h"
+#include "surface3d/features.h"
 
 #include <algorithm>
 #include <array>
@@ -45,6 +46,7 @@ class SliverRepair {
     SliverRepairReport rep;
     for (int pass = 0; pass < kPasses; ++pass) {
       std::vector<std::pair<double, FH>> thin = slivers();
+      inverted_ = inverted_faces(m_);  // (the pass's faces keep their indices: no collection before the end)
       if (pass == 0) rep.found = thin.size();
       std::size_t changed = 0;
       for (const auto& [r0, f] : thin) {
@@ -184,25 +186,6 @@ class SliverRepair {
     return false;
   }
 
-  // Whether sliver f is folded back over the sheet: turned more than 90 degrees from the faces
-  // across two or three of its edges, which agree with each other (features.h's inverted faces:
-  // the Orion has a needle 4.3 long and 0.016 wide at 121 degrees to the cone it lies in). No body
-  // has such a face; the triangulation folded there, and the repair unfolds it.
-  bool folded(FH f) const {
-    const Vec n = normal(f);
-    std::vector<Vec> against;
-    for (const HH h : m_.fh_range(f)) {
-      const HH o = m_.opposite_halfedge_handle(h);
-      if (m_.is_boundary(o)) continue;
-      const Vec g = normal(m_.face_handle(o));
-      if (n.dot(g) < 0) against.push_back(g);
-    }
-    for (std::size_t i = 0; i < against.size(); ++i)
-      for (std::size_t j = i + 1; j < against.size(); ++j)
-        if (!(against[i].dot(against[j]) > 0)) return false;
-    return against.size() >= 2;
-  }
-
   bool repair(FH f, SliverRepairReport& rep, double& moved) {
     std::array<HH, 3> hs;
     std::size_t k = 0;
@@ -211,7 +194,10 @@ class SliverRepair {
     for (std::size_t i = 0; i < 3; ++i) l[i] = m_.calc_edge_length(hs[i]);
     const std::size_t shortest = static_cast<std::size_t>(std::min_element(l.begin(), l.end()) - l.begin());
     const std::size_t longest = static_cast<std::size_t>(std::max_element(l.begin(), l.end()) - l.begin());
-    if (!in_sheet(f) && !folded(f)) return false;
+    // Or folded back over the sheet: features.h's inverted faces (the Orion has a needle 4.3 long
+    // and 0.016 wide at 121 degrees to the cone it lies in), a fold of the triangulation that the
+    // repair unfolds.
+    if (!in_sheet(f) && !inverted_[static_cast<std::size_t>(f.idx())]) return false;
     if (l[shortest] < kNeedleShare * l[longest]) {
       // The end that moves the surface least stays.
       const HH h = hs[shortest], o = m_.opposite_halfedge_handle(h);
@@ -236,6 +222,7 @@ class SliverRepair {
   TriMesh& m_;
   double max_ratio_;
   double max_move_ = 0;
+  std::vector<char> inverted_;  // per face at the pass's start (features.h)
 };
 
 }  // namespace
