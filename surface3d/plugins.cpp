@@ -243,6 +243,7 @@ void report_surface(const TriSurface& surface, int order, const FeatureReport& k
   rep.add("remesh.crossing_pairs_found", rr.crossing_pairs_found);
   rep.add("remesh.untangle_collapses", rr.untangle_collapses);
   rep.add("remesh.refused_splits", rr.refused_splits);
+  rep.add("remesh.fan_cuts", rr.fan_cuts);
   rep.add("remesh.slivers_removed", rr.slivers_removed);
   rep.add("remesh.caps", rr.caps);
   rep.add("curving.straightened", cr.straightened);

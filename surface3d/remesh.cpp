@@ -85,14 +85,150 @@ bool Remesher::try_split(EH e) {
   const HH h0 = m_.halfedge_handle(e, 0);
   const VH a = m_.from_vertex_handle(h0), b = m_.to_vertex_handle(h0);
   const int c = curve(e);
-  const int etag = m_.property(s_.edge_tag, e);
-  const EdgeFeature ef = m_.property(s_.edge_feature, e);
   const Vec mid = 0.5 * (m_.point(a) + m_.point(b));
   const Vec p = c >= 0 ? ref_.project_to_curve(mid, c) : ref_.project(mid);
   if (!split_keeps_faces(h0, p)) {
+    if (c < 0 && try_fan_cut(e)) return true;
     ++rep_.refused_splits;
     return false;
   }
+  split_at(e, p);
+  return true;
+}
+
+// A CAD fan: needles from one apex A to a curve sampled much finer than the rays are long (the
+// published Orion's: rays 4.3 long to points 0.01-0.04 apart, edges of 150 in the metric left).
+// Halving one ray leaves, in the needle on either side, a half as thin again (a cap over the
+// ray), which split_keeps_faces refuses however long the ray is. Halving every ray of the fan at
+// once cuts the fan across instead: each needle becomes a needle of half the length at the apex,
+// and a strip of two triangles at the curve, each as good as halving allows. The rays are split
+// one after another, in order around A: each split then connects its midpoint to the previous
+// ray's, so the splits give exactly those faces (and the plain split of the faces at the fan's
+// two ends); all of them are checked first, as split_keeps_faces checks a split.
+bool Remesher::try_fan_cut(EH e) {
+  if (is_feature(e)) return false;
+  const auto narrow = [&](VH a, VH b, VH c) {  // face (a, b, c) a needle narrow at b - c
+    const Vec pa = m_.point(a), pb = m_.point(b), pc = m_.point(c);
+    return (pc - pb).norm() < 0.25 * std::min((pb - pa).norm(), (pc - pa).norm());
+  };
+  for (const HH h0 : {m_.halfedge_handle(e, 0), m_.halfedge_handle(e, 1)}) {
+    const VH apex = m_.from_vertex_handle(h0);
+    // The rays from the apex in counter-clockwise order: ray j + 1 follows ray j across the needle
+    // on ray j's left, (apex, B_j, B_j+1).
+    std::vector<HH> rays{h0};
+    for (HH h = h0; rays.size() < 64;) {
+      if (m_.is_boundary(h) || !narrow(apex, m_.to_vertex_handle(h), m_.to_vertex_handle(m_.next_halfedge_handle(h)))) break;
+      const HH next = m_.opposite_halfedge_handle(m_.prev_halfedge_handle(h));
+      if (next == h0 || is_feature(m_.edge_handle(next))) break;
+      rays.push_back(next);
+      h = next;
+    }
+    for (HH h = h0; rays.size() < 64;) {
+      const HH o = m_.opposite_halfedge_handle(h);
+      if (m_.is_boundary(o)) break;
+      const HH prev = m_.next_halfedge_handle(o);  // apex -> the vertex before
+      if (!narrow(apex, m_.to_vertex_handle(prev), m_.to_vertex_handle(h)) || prev == rays.back() ||
+          is_feature(m_.edge_handle(prev)))
+        break;
+      rays.insert(rays.begin(), prev);
+      h = prev;
+    }
+    if (rays.size() < 2) continue;
+    // The midpoints, and every face before and after.
+    const std::size_t k = rays.size();
+    std::vector<Vec> p(k), np(k), b(k);
+    for (std::size_t j = 0; j < k; ++j) {
+      b[j] = m_.point(m_.to_vertex_handle(rays[j]));
+      p[j] = ref_.project(0.5 * (m_.point(apex) + b[j]));
+      np[j] = ref_.normal(p[j]);
+    }
+    const Vec a = m_.point(apex);
+    const VH va = apex;
+    struct Tri {
+      std::array<Vec, 3> x;
+      std::array<const Vec*, 3> n;
+    };
+    std::vector<std::pair<Tri, Tri>> changes;  // (a face before, one of its faces after)
+    const auto vn = [&](VH v) { return vertex_normal(v); };
+    for (std::size_t j = 0; j + 1 < k; ++j) {
+      const VH bj = m_.to_vertex_handle(rays[j]), bn = m_.to_vertex_handle(rays[j + 1]);
+      const Tri before{{a, b[j], b[j + 1]}, {vn(va), vn(bj), vn(bn)}};
+      changes.push_back({before, {{a, p[j], p[j + 1]}, {vn(va), &np[j], &np[j + 1]}}});
+      changes.push_back({before, {{p[j], b[j], b[j + 1]}, {&np[j], vn(bj), vn(bn)}}});
+      changes.push_back({before, {{p[j], b[j + 1], p[j + 1]}, {&np[j], vn(bn), &np[j + 1]}}});
+    }
+    // The fan's end faces, split plainly: before the first ray, (B_0, apex, X); after the last,
+    // (apex, B_k, Y).
+    const HH o0 = m_.opposite_halfedge_handle(rays.front());
+    if (!m_.is_boundary(o0)) {
+      const VH b0 = m_.to_vertex_handle(rays.front()), x = m_.to_vertex_handle(m_.next_halfedge_handle(o0));
+      const Tri before{{b[0], a, m_.point(x)}, {vn(b0), vn(va), vn(x)}};
+      changes.push_back({before, {{b[0], p[0], m_.point(x)}, {vn(b0), &np[0], vn(x)}}});
+      changes.push_back({before, {{p[0], a, m_.point(x)}, {&np[0], vn(va), vn(x)}}});
+    }
+    if (!m_.is_boundary(rays.back())) {
+      const VH bk = m_.to_vertex_handle(rays.back()), y = m_.to_vertex_handle(m_.next_halfedge_handle(rays.back()));
+      const Tri before{{a, b[k - 1], m_.point(y)}, {vn(va), vn(bk), vn(y)}};
+      changes.push_back({before, {{a, p[k - 1], m_.point(y)}, {vn(va), &np[k - 1], vn(y)}}});
+      changes.push_back({before, {{p[k - 1], b[k - 1], m_.point(y)}, {&np[k - 1], vn(bk), vn(y)}}});
+    }
+    bool ok = true;
+    for (const auto& [old, now] : changes) {
+      const Vec n = (old.x[1] - old.x[0]).cross(old.x[2] - old.x[0]);
+      const Vec m = (now.x[1] - now.x[0]).cross(now.x[2] - now.x[0]);
+      const double aligned = alignment(old.x[0], old.x[1], old.x[2], old.n[0], old.n[1], old.n[2]);
+      ok = m.norm() > 1e-12 * n.norm() && m.dot(n) >= kMinNormalCos * m.norm() * n.norm() &&
+           !degenerate(now.x[0], now.x[1], now.x[2]) &&
+           acceptable(aligned, alignment(now.x[0], now.x[1], now.x[2], now.n[0], now.n[1], now.n[2]));
+      if (!ok) break;
+    }
+    // The edges around the fan keep their bend: the cut moves the faces along them (the
+    // midpoints lie on the reference, off the needles' planes), and a needle's short base on a
+    // convex ridge must not come out bent the other way (a dent; and the features detected on the
+    // final mesh would no longer be the kept ones), nor a smooth edge become a crease.
+    const auto bend = [](const Vec& u, const Vec& w, const Vec& t, const Vec& o) {
+      // (u, w, t) a face, o the far vertex across u - w: the angle between the faces' normals,
+      // negative where the edge is concave.
+      const Vec n1 = (w - u).cross(t - u), n2 = (u - w).cross(o - w);
+      const double angle = std::atan2(n1.cross(n2).norm(), n1.dot(n2));
+      return n1.dot(o - u) <= 0 ? angle : -angle;
+    };
+    const auto keeps_bend = [&](HH h, const Vec& t_new) {  // h: u -> w in its old face
+      if (m_.is_boundary(m_.opposite_halfedge_handle(h))) return true;
+      const Vec u = m_.point(m_.from_vertex_handle(h)), w = m_.point(m_.to_vertex_handle(h));
+      const Vec t_old = m_.point(m_.to_vertex_handle(m_.next_halfedge_handle(h)));
+      const Vec o = m_.point(m_.to_vertex_handle(m_.next_halfedge_handle(m_.opposite_halfedge_handle(h))));
+      const double before = bend(u, w, t_old, o), after = bend(u, w, t_new, o);
+      const EdgeFeature f = m_.property(s_.edge_feature, m_.edge_handle(h));
+      if (f == EdgeFeature::ConvexRidge && before > 0 && after <= 0) return false;
+      if (f == EdgeFeature::ConcaveRidge && before < 0 && after >= 0) return false;
+      return std::abs(after) <= std::max(std::abs(before), kFanCutMaxBend);
+    };
+    for (std::size_t j = 0; ok && j + 1 < k; ++j) ok = keeps_bend(m_.next_halfedge_handle(rays[j]), p[j]);
+    if (ok && !m_.is_boundary(o0)) {
+      const HH ax = m_.next_halfedge_handle(o0);  // apex -> x, then x -> b0
+      ok = keeps_bend(ax, p[0]) && keeps_bend(m_.next_halfedge_handle(ax), p[0]);
+    }
+    if (ok && !m_.is_boundary(rays.back())) {
+      const HH by = m_.next_halfedge_handle(rays.back());  // b_k -> y, then y -> apex
+      ok = keeps_bend(by, p[k - 1]) && keeps_bend(m_.next_halfedge_handle(by), p[k - 1]);
+    }
+    if (!ok) continue;
+    std::vector<EH> edges;
+    for (const HH h : rays) edges.push_back(m_.edge_handle(h));
+    for (std::size_t j = 0; j < k; ++j) split_at(edges[j], p[j]);
+    ++rep_.fan_cuts;
+    return true;
+  }
+  return false;
+}
+
+void Remesher::split_at(EH e, const Vec& p) {
+  const HH h0 = m_.halfedge_handle(e, 0);
+  const VH a = m_.from_vertex_handle(h0), b = m_.to_vertex_handle(h0);
+  const int c = curve(e);
+  const int etag = m_.property(s_.edge_tag, e);
+  const EdgeFeature ef = m_.property(s_.edge_feature, e);
   // The faces' tags by their far vertex, to give the four new faces the right ones.
   std::vector<std::pair<VH, int>> far_tag;
   for (const HH h : {h0, m_.opposite_halfedge_handle(h0)})
@@ -116,7 +252,6 @@ bool Remesher::try_split(EH e) {
       for (const auto& [far, tag] : far_tag)
         if (w == far) m_.property(s_.face_tag, f) = tag;
   ++rep_.splits;
-  return true;
 }
 
 bool Remesher::collapse_keeps_features(HH h) {

@@ -41,6 +41,7 @@ inline constexpr double kLongEdge = 2.0;
 struct RemeshReport {
   std::size_t splits = 0, collapses = 0, flips = 0, rounds = 0;
   std::size_t refused_splits = 0;   // long edges left because splitting them would fold a face
+  std::size_t fan_cuts = 0;         // CAD fans of needles cut across (all their rays split together)
   std::size_t slivers_removed = 0;  // needles, caps and folds collapsed or flipped after the rounds
   std::size_t caps = 0;  // faces left with an angle over 160 degrees in the metric (is_cap)
   std::size_t faces_before = 0, faces_after = 0;

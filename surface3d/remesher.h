@@ -33,6 +33,9 @@ inline constexpr double kMinNormalCos = 0.1;
 // A face whose normal is within 60 degrees of the reference's normal (at its centroid's
 // projection) lies on the surface's side it should; operations never make a face worse than that.
 inline constexpr double kGoodAlignment = 0.5;
+// A fan cut (Remesher::try_fan_cut) bends no edge around the fan by more than this (radians,
+// 15 degrees: half the default ridge angle, features.h), unless it was bent more before.
+inline constexpr double kFanCutMaxBend = 0.2617993877991494;
 // Rounds of untangle() at most.
 inline constexpr int kUntangleRounds = 6;
 // The longest edge an untangling collapse may make (in the metric).
@@ -185,6 +188,11 @@ class Remesher {
   bool try_collapse(HH h, double max_length = kSplitAbove);
   bool try_flip(EH e, double min_gain);
   bool try_split(EH e);
+  // e split at p (its properties, the new faces' tags), unchecked.
+  void split_at(EH e, const Vec& p);
+  // A ray of a CAD fan (needles from one apex to a finely sampled curve), whose split
+  // split_keeps_faces refused: every ray of the fan split together (remesh.cpp).
+  bool try_fan_cut(EH e);
   void remove_slivers();
   void untangle();
 

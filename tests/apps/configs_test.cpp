@@ -692,7 +692,15 @@ TEST_CASE("configs: 3D surfaces are metric-conforming, keep their features and t
     // small triangles bend at a rounded edge, no kept curve off the body's features.
     for (const char* key : {"curves", "corners_convex", "corners_concave", "corners_saddle", "corners_boundary"})
       CHECK_MESSAGE(json_value(report, key, detected) == json_value(report, key, final_features), key);
+    // And on a surface file, whose ridges' kinds were read off its own bends, each ridge bends the
+    // way it was kept: no operation dented a convex ridge (the BWB's fan cuts beside its trailing
+    // edge did, before they were held to keep the bends). (An analytic body's flat feature
+    // curves, as the L section's start on its flat side, carry a kind by convention.)
+    if (read_text(r.config).find("surface_file") != std::string::npos)
+      for (const char* key : {"ridges_convex", "ridges_concave"})
+        CHECK_MESSAGE(json_value(report, key, detected) == json_value(report, key, final_features), key);
     CHECK(json_value(report, "folded_faces") == "0");
+    if (r.name == "bwb_surface") CHECK(json_number(report, "fan_cuts") > 0);  // (so the checks above see them)
     const std::string msh = read_text(r.out / (r.name + ".msh"));
     if (r.name == "box_surface") {
       CHECK(json_value(report, "curves", detected) == "12");

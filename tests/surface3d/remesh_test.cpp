@@ -362,3 +362,37 @@ TEST_CASE("remesh: faces still crossing at the end are counted and every one loc
 
 }  // namespace
 }  // namespace plaf
+
+namespace plaf {
+namespace {
+
+TEST_CASE("remesh: a CAD fan of needles is cut across, its 5-long rays split to the size") {
+  // A planar triangle (0,0) - (5,-1) - (5,1) whose middle is a fan from (0,0) to five points
+  // 0.0008 apart at x = 5: four needles 5 long (twice the area over the longest edge squared
+  // 1.6e-4), whose rays no plain split may halve: the face on either side would keep a half as
+  // thin again (0.8e-4), under the degeneracy rule's 1e-4.
+  TriangleSoup soup;
+  soup.source = "fan";
+  soup.points = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(5, -1, 0), Eigen::Vector3d(5, 1, 0)};
+  for (int i = 0; i < 5; ++i) soup.points.push_back(Eigen::Vector3d(5, 0.0008 * (i - 2), 0));
+  soup.triangles.push_back({0, 1, 3});
+  for (int i = 0; i < 4; ++i) soup.triangles.push_back({0, 3 + i, 4 + i});
+  soup.triangles.push_back({0, 7, 2});
+  TriSurface s = surface_from_soup(soup);
+  const std::unique_ptr<ReferenceGeometry<3>> ref = make_discrete_reference(s);
+  const UniformMetricField<3> metric(Metric<3>::isotropic(0.5));
+  const RemeshReport r = remesh_surface(s, *ref, metric, RemeshOptions{});
+  double longest = 0;
+  for (const auto e : s.mesh.edges()) longest = std::max(longest, s.mesh.calc_edge_length(e));
+  MESSAGE("fan cuts " << r.fan_cuts << ", refused splits " << r.refused_splits << ", longest edge " << longest);
+  CHECK(r.fan_cuts > 0);
+  CHECK(longest < 1.0);  // (5 without cutting the fan across: measured before the fan cut)
+  CHECK(r.folded_faces == 0);
+  for (const auto f : s.mesh.faces()) {
+    const auto x = s.face_vertices(f);
+    CHECK((s.mesh.point(x[1]) - s.mesh.point(x[0])).cross(s.mesh.point(x[2]) - s.mesh.point(x[0])).z() > 0);
+  }
+}
+
+}  // namespace
+}  // namespace plaf
