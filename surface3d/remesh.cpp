@@ -69,12 +69,16 @@ void Remesher::split_long_edges() {
                         std::to_string(longs.size()) +
                         " edges still too long): give larger sizes or raise surface.max_triangles");
     std::sort(longs.begin(), longs.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+    bool split_any = false;
     for (const auto& [l, e] : longs) {
       (void)l;
       if (m_.status(e).deleted()) continue;
       if (length(e) <= kSplitAbove) continue;  // an earlier split changed it
-      try_split(e);
+      split_any = try_split(e) || split_any;
     }
+    // A pass that split nothing left the mesh as it was: the next would refuse the same edges
+    // again (the long edges no split may halve, remesh.long_edges), and so would every other.
+    if (!split_any) return;
   }
 }
 
@@ -86,8 +90,9 @@ bool Remesher::try_split(EH e) {
   const VH a = m_.from_vertex_handle(h0), b = m_.to_vertex_handle(h0);
   const int c = curve(e);
   const Vec mid = 0.5 * (m_.point(a) + m_.point(b));
-  const Vec p = c >= 0 ? ref_.project_to_curve(mid, c) : ref_.project(mid);
-  if (!split_keeps_faces(h0, p)) {
+  Vec pn = Vec::Zero();
+  const Vec p = c >= 0 ? ref_.project_to_curve(mid, c) : ref_.project(mid, pn);
+  if (!split_keeps_faces(h0, p, c >= 0 ? nullptr : &pn)) {
     if (c < 0 && try_fan_cut(e)) return true;
     ++rep_.refused_splits;
     return false;
@@ -139,8 +144,7 @@ bool Remesher::try_fan_cut(EH e) {
     std::vector<Vec> p(k), np(k), b(k);
     for (std::size_t j = 0; j < k; ++j) {
       b[j] = m_.point(m_.to_vertex_handle(rays[j]));
-      p[j] = ref_.project(0.5 * (m_.point(apex) + b[j]));
-      np[j] = ref_.normal(p[j]);
+      p[j] = ref_.project(0.5 * (m_.point(apex) + b[j]), np[j]);
     }
     const Vec a = m_.point(apex);
     const VH va = apex;
@@ -374,7 +378,7 @@ bool Remesher::try_collapse(HH h, double max_length) {
   const FH fl = m_.is_boundary(h) ? FH() : m_.face_handle(h);
   const HH o = m_.opposite_halfedge_handle(h);
   const FH fr = m_.is_boundary(o) ? FH() : m_.face_handle(o);
-  if (!move_keeps_faces(v0, m_.point(v1), fl, fr)) return false;
+  if (!move_keeps_faces(v0, m_.point(v1), fl, fr, vertex_normal(v1))) return false;
   m_.collapse(h);
   for (const MergedEdge& kept : merged) {
     const HH nh = m_.find_halfedge(v1, kept.far);
@@ -666,7 +670,8 @@ void Remesher::measure_result() {
     int k = 0;
     for (const VH w : m_.fv_range(f)) x[static_cast<std::size_t>(k++)] = m_.point(w);
     const Vec n = (x[1] - x[0]).cross(x[2] - x[0]);
-    const Vec r = ref_.normal(ref_.project((x[0] + x[1] + x[2]) / 3));
+    Vec r;
+    ref_.project((x[0] + x[1] + x[2]) / 3, r);
     if (!(n.dot(r) > 0.5 * n.norm())) {
       if (rep_.folded_faces == 0) {
         std::ostringstream o;
