@@ -90,9 +90,8 @@ bool Remesher::try_split(EH e) {
   const VH a = m_.from_vertex_handle(h0), b = m_.to_vertex_handle(h0);
   const int c = curve(e);
   const Vec mid = 0.5 * (m_.point(a) + m_.point(b));
-  Vec pn = Vec::Zero();
-  const Vec p = c >= 0 ? ref_.project_to_curve(mid, c) : ref_.project(mid, pn);
-  if (!split_keeps_faces(h0, p, c >= 0 ? nullptr : &pn)) {
+  const Vec p = c >= 0 ? ref_.project_to_curve(mid, c) : ref_.project(mid);
+  if (!split_keeps_faces(h0, p)) {
     if (c < 0 && try_fan_cut(e)) return true;
     ++rep_.refused_splits;
     return false;
@@ -144,7 +143,8 @@ bool Remesher::try_fan_cut(EH e) {
     std::vector<Vec> p(k), np(k), b(k);
     for (std::size_t j = 0; j < k; ++j) {
       b[j] = m_.point(m_.to_vertex_handle(rays[j]));
-      p[j] = ref_.project(0.5 * (m_.point(apex) + b[j]), np[j]);
+      p[j] = ref_.project(0.5 * (m_.point(apex) + b[j]));
+      np[j] = ref_.normal(p[j]);
     }
     const Vec a = m_.point(apex);
     const VH va = apex;
@@ -378,7 +378,7 @@ bool Remesher::try_collapse(HH h, double max_length) {
   const FH fl = m_.is_boundary(h) ? FH() : m_.face_handle(h);
   const HH o = m_.opposite_halfedge_handle(h);
   const FH fr = m_.is_boundary(o) ? FH() : m_.face_handle(o);
-  if (!move_keeps_faces(v0, m_.point(v1), fl, fr, vertex_normal(v1))) return false;
+  if (!move_keeps_faces(v0, m_.point(v1), fl, fr)) return false;
   m_.collapse(h);
   for (const MergedEdge& kept : merged) {
     const HH nh = m_.find_halfedge(v1, kept.far);
@@ -670,8 +670,7 @@ void Remesher::measure_result() {
     int k = 0;
     for (const VH w : m_.fv_range(f)) x[static_cast<std::size_t>(k++)] = m_.point(w);
     const Vec n = (x[1] - x[0]).cross(x[2] - x[0]);
-    Vec r;
-    ref_.project((x[0] + x[1] + x[2]) / 3, r);
+    const Vec r = ref_.normal(ref_.project((x[0] + x[1] + x[2]) / 3));
     if (!(n.dot(r) > 0.5 * n.norm())) {
       if (rep_.folded_faces == 0) {
         std::ostringstream o;

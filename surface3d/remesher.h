@@ -167,8 +167,7 @@ class Remesher {
   bool is_cap(FH f);
   // Splitting h's edge at p keeps each of its faces' two halves turned by less than 84 degrees
   // from the face (a projected midpoint on a tight leading edge can land behind a neighbour).
-  // known_normal: the reference's normal at p, when the caller has it.
-  bool split_keeps_faces(HH h, const Vec& p, const Vec* known_normal = nullptr);
+  bool split_keeps_faces(HH h, const Vec& p);
 
   // --- parallel warm-up (remesh.cpp) ------------------------------------------------------------
   // The caches the serial operations fill one entry at a time, filled on the worker threads

@@ -101,7 +101,7 @@ double Remesher::alignment(const Vec& a, const Vec& b, const Vec& c, const Vec* 
     ++given;
   }
   if (given < 3 || !agree) {
-    ref_.project((a + b + c) / 3, r);  // (one closest-point query for the point and its normal)
+    r = ref_.normal(ref_.project((a + b + c) / 3));
   } else {
     r.normalize();
   }
@@ -169,10 +169,10 @@ bool Remesher::is_cap(FH f) {
   return false;
 }
 
-bool Remesher::split_keeps_faces(HH h, const Vec& p, const Vec* known_normal) {
+bool Remesher::split_keeps_faces(HH h, const Vec& p) {
   // The new vertex is smooth unless the edge is a feature.
   const bool smooth = !is_feature(m_.edge_handle(h));
-  const Vec np = !smooth ? Vec::Zero() : known_normal ? *known_normal : ref_.normal(p);
+  const Vec np = smooth ? ref_.normal(p) : Vec::Zero();
   for (const HH hh : {h, m_.opposite_halfedge_handle(h)}) {
     if (m_.is_boundary(hh)) continue;
     const VH va = m_.from_vertex_handle(hh), vb = m_.to_vertex_handle(hh);
