@@ -201,6 +201,19 @@ TriangleTree::Closest TriangleTree::closest(const Vector3d& p) const {
   // the thread's own, kept between queries (no allocation per query: the wall metric asks one
   // per point it evaluates).
   thread_local std::vector<std::pair<double, int>> stack;
+  // The thread's last answer on this tree bounds this one's distance from above: successive
+  // queries are mostly near each other (a remesher's edge and the faces around it), so most
+  // boxes are pruned at once. The answer is the same bit for bit: every triangle at the least
+  // distance is still visited, in the same depth-first order (the bound only prunes boxes
+  // farther than a triangle already known), and the first of them still wins.
+  thread_local const TriangleTree* hint_tree = nullptr;
+  thread_local std::size_t hint_slot = 0;
+  if (hint_tree == this && hint_slot < tris_.size()) {
+    const auto& tri = tris_[hint_slot];
+    const double e2 = (closest_point_on_triangle(p, tri[0], tri[1], tri[2]) - p).squaredNorm();
+    // (Just above it, so that the hint's own triangle is found again and recorded.)
+    best.distance2 = std::nextafter(e2 * (1 + 1e-12) + prune_abs_, std::numeric_limits<double>::infinity());
+  }
   stack.clear();
   stack.emplace_back(nodes_[0].box.squaredExteriorDistance(p), 0);
   while (!stack.empty()) {
@@ -225,6 +238,7 @@ TriangleTree::Closest TriangleTree::closest(const Vector3d& p) const {
           best.point = q;
           best.triangle = t;
           best.barycentric = bary;
+          hint_slot = slot;
         }
       }
       continue;
@@ -240,6 +254,7 @@ TriangleTree::Closest TriangleTree::closest(const Vector3d& p) const {
       if (dr <= best.distance2) stack.emplace_back(dr, node.right);
     }
   }
+  hint_tree = this;
   return best;
 }
 

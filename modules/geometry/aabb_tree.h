@@ -35,7 +35,9 @@ class TriangleTree {
     Eigen::Vector3d barycentric;       // of point in that triangle
     double distance2 = 0;              // squared distance to the query point
   };
-  // The closest point on all triangles (exact per triangle, pruned by box distance).
+  // The closest point on all triangles (exact per triangle, pruned by box distance; the calling
+  // thread's last answer on this tree bounds the search, which leaves the answer, ties included,
+  // the same bit for bit: successive queries near each other prune most boxes at once).
   Closest closest(const Eigen::Vector3d& p) const;
 
   struct Hit {

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 namespace plaf {
@@ -193,6 +194,66 @@ TEST_CASE("aabb_tree: first_hit finds the nearest triangle a ray meets, as a sca
   CHECK(square.first_hit({0.3, 0.6, 1}, {0, 0, 1}, 1e-12, 10).triangle == -1);  // starts on it
   CHECK(square.first_hit({1.5, 0.5, 0}, {0, 0, 1}, 0, 10).triangle == -1);
   CHECK(TriangleTree().first_hit({0, 0, 0}, {1, 0, 0}, 0, 1).triangle == -1);
+}
+
+}  // namespace
+}  // namespace plaf
+
+namespace plaf {
+namespace {
+
+TEST_CASE("aabb_tree: a closest point does not depend on the queries before it") {
+  // closest() starts from the thread's last answer on the same tree as a bound (aabb_tree.cpp):
+  // the answer must be the same bit for bit whatever came before, ties included. A bent grid of
+  // triangles sharing edges and vertices; queries above its vertices and edge midpoints (where
+  // several triangles are equally close) and at random, asked in three orders and with queries
+  // on another tree in between.
+  RandomTriangles grid;
+  const int n = 24;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      const double x = i / double(n), y = j / double(n);
+      grid.points.emplace_back(x, y, 0.3 * std::sin(3 * x) * std::cos(2 * y));
+    }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const int a = i * (n + 1) + j, b = a + n + 1;
+      grid.triangles.push_back({a, b, b + 1});
+      grid.triangles.push_back({a, b + 1, a + 1});
+    }
+  const TriangleTree tree(grid.points, grid.triangles);
+  const RandomTriangles other_tris = random_triangles(200, 1.0, 3);
+  const TriangleTree other(other_tris.points, other_tris.triangles);
+  std::vector<Vector3d> queries;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.1, 1.1), h(-0.2, 0.2);
+  for (const Vector3d& p : grid.points) queries.push_back(p + Vector3d(0, 0, 0.05));
+  for (const auto& t : grid.triangles)
+    queries.push_back(0.5 * (grid.points[static_cast<std::size_t>(t[0])] + grid.points[static_cast<std::size_t>(t[1])]) +
+                      Vector3d(0, 0, h(rng)));
+  for (int k = 0; k < 500; ++k) queries.emplace_back(u(rng), u(rng), h(rng));
+  const auto answers = [&](const std::vector<std::size_t>& order, bool interleave) {
+    std::vector<TriangleTree::Closest> out(queries.size());
+    for (const std::size_t k : order) {
+      if (interleave) (void)other.closest(queries[k]);
+      out[k] = tree.closest(queries[k]);
+    }
+    return out;
+  };
+  std::vector<std::size_t> forward(queries.size());
+  for (std::size_t k = 0; k < forward.size(); ++k) forward[k] = k;
+  std::vector<std::size_t> backward(forward.rbegin(), forward.rend()), shuffled = forward;
+  std::shuffle(shuffled.begin(), shuffled.end(), rng);
+  const auto a = answers(forward, false), b = answers(backward, false), c = answers(shuffled, true);
+  for (std::size_t k = 0; k < queries.size(); ++k) {
+    CAPTURE(k);
+    for (const auto* x : {&b[k], &c[k]}) {
+      CHECK(x->triangle == a[k].triangle);
+      CHECK(x->point == a[k].point);
+      CHECK(x->barycentric == a[k].barycentric);
+      CHECK(x->distance2 == a[k].distance2);
+    }
+  }
 }
 
 }  // namespace
