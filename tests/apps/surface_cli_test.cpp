@@ -619,29 +619,21 @@ TEST_CASE("surface cli: a flange with bores (Gmsh's OpenCASCADE tessellation) ke
   const double complete = report_number(report, "coverage", "complete");
   MESSAGE("coverage " << complete);
   CHECK(complete > 0.995);
-  // No wall stops for proximity before the last layers (the bolt holes are 0.3 wide, the stack
-  // of 12 layers 0.0016 thick). A few columns on a bolt hole's rim at the top face may stop a
-  // little earlier, at the concave-focus limit of the columns over the rim's fan (measured: 2 columns,
-  // 1.2e-6 of wall, in layer 9, or 8 in layer 10, as the remeshed rim's triangles vary): none
-  // before layer 8, and those before layer 10 a negligible share of the wall.
+  // No column stops for proximity before the last layers (the bolt holes are 0.3 wide, the
+  // stack of 12 layers 0.0016 thick). The first stops (measured in layers 10-12) are columns over a bolt
+  // hole's rim fan at the top face, at the concave-focus limit between them (measured: focal room
+  // 3.9e-5 where the hole leaves 0.118), not deep in a hole; that limit firing there is a known
+  // weakness of the focal rule at fans (issue 30's closing note), not the ray-grazing fixed above.
   std::size_t earliest = 99, events = 0;
-  double early_wall = 0;
   for (std::size_t at = report.find("\"layer "); at != std::string::npos; at = report.find("\"layer ", at + 1)) {
     const std::size_t end = report.find('"', at + 1);
     ++events;
-    const std::string event = report.substr(at, end - at);
-    if (event.find("columns stopped where their stacks fill their share") == std::string::npos) continue;
-    const std::size_t layer = static_cast<std::size_t>(std::strtoul(report.c_str() + at + 7, nullptr, 10));
-    earliest = std::min(earliest, layer);
-    const std::size_t w = event.find("; wall ");
-    REQUIRE(w != std::string::npos);
-    if (layer < 10) early_wall += std::strtod(event.c_str() + w + 7, nullptr);
+    if (report.substr(at, end - at).find("columns stopped where their stacks fill their share") == std::string::npos) continue;
+    earliest = std::min(earliest, static_cast<std::size_t>(std::strtoul(report.c_str() + at + 7, nullptr, 10)));
   }
   REQUIRE(events > 0);  // the last layer's proximity stops at least (the events are read)
-  const double wall = report_number(report, "coverage", "wall");
-  MESSAGE("first layer with proximity stops: " << earliest << ", wall stopped before layer 10: " << early_wall << " of " << wall);
-  CHECK(earliest >= 8);
-  CHECK(early_wall < 1e-5 * wall);
+  MESSAGE("first layer with proximity stops: " << earliest);
+  CHECK(earliest >= 10);
 }
 
 TEST_CASE("surface cli: a thin analytic body starts from a lattice sized by its largest extent, not its thickness") {
