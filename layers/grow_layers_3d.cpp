@@ -269,7 +269,10 @@ class SurfaceFronts final : public FrontGrower<3> {
         const NodeId id = pending_.top[static_cast<std::size_t>(nw.tri[t * np + k])];
         unmoved[t] = id >= 0 && static_cast<std::size_t>(id) < pending_nodes_before_;
       }
-    std::vector<std::size_t> hit = front_collisions(fronts, mesh_.nodes, q_, &unmoved);
+    // The same faces as the base's (no fans changed them): a fold counts where the layer
+    // sharpened it (front_collisions_3d.h).
+    const std::vector<NodeId>* base = pending_.next ? nullptr : &parts_[part].ids;
+    std::vector<std::size_t> hit = front_collisions(fronts, mesh_.nodes, q_, &unmoved, base);
     // A face with a node behind a symmetry plane crosses the mirrored half's front (the proximity
     // rule holds most columns short of the plane; this catches the rest).
     const double tol = 1e-9 * wall_diagonal_;
@@ -285,6 +288,7 @@ class SurfaceFronts final : public FrontGrower<3> {
     hit.erase(std::unique(hit.begin(), hit.end()), hit.end());
     return hit;
   }
+  std::string collision_kind() const override { return "front crossings or folds"; }
   Vec front_point(std::size_t e) const override {
     return mesh_.nodes[static_cast<std::size_t>(pending_.top[static_cast<std::size_t>(pending_front().face(e)[0])])];
   }

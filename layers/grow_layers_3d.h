@@ -35,7 +35,10 @@
 //  5. collisions: the new front's linear sub-triangles (of triangles and quadrilaterals) may
 //     cross neither another part's front nor themselves (exact triangle-triangle tests on
 //     AABB-tree candidates, sub-triangles sharing a node skipped, and pairs of faces the layer
-//     left in place, every column under them stopped: no stop mends those); heights are halved on the
+//     left in place, every column under them stopped: no stop mends those), nor fold onto
+//     themselves along an edge (under kFoldMinDeg on the fill's side) or flatten a chord into a
+//     cap (over 180 - kFoldMinDeg), across the limit or to half the base's (front_collisions_3d.h:
+//     the fill's tetrahedra there are slivers); heights are halved on the
 //     nodes of the failing faces' old faces and their neighbours (a height's scale applies to
 //     the vertices, which the high-order nodes then interpolate: a ring of shrunk faces raises no
 //     bump on the faces around it);

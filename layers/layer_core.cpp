@@ -218,7 +218,7 @@ class LayerAttempts {
         const std::vector<std::size_t> hits = g_.collisions(part);
         for (std::size_t h : hits) failures.push_back({LayerFailure::kFrontElement, h});
         if (!hits.empty()) {
-          why = "front crossings (a collision)";
+          why = g_.collision_kind() + " (a collision)";
           where = g_.front_point(hits[0]);
         }
       }

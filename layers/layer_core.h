@@ -207,6 +207,8 @@ class FrontGrower {
                            const std::vector<std::uint8_t>& stopped, double f_atten) = 0;
   // Elements of the last build's new front that cross another part's front or itself.
   virtual std::vector<std::size_t> collisions(std::size_t part) const = 0;
+  // What collisions() finds, for the events ("front crossings" in 2D; 3D adds folds).
+  virtual std::string collision_kind() const { return "front crossings"; }
   // A point of element e of the last build's new front (for events).
   virtual Vec front_point(std::size_t e) const = 0;
   // Multiplies the heights around the failures of the last build by `factor` (0.5: a shrink; 2: a

@@ -16,6 +16,7 @@
 
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <functional>
 #include <map>
 #include <string>
@@ -727,6 +728,94 @@ TEST_CASE("layers 3D: two faces sharing one node collide when one folds through 
   nodes[4] = {1, -1, 0.5};
   const std::vector<int> fan = {0, 1, 2, 0, 3, 1};
   CHECK(front_collisions({{&fan, &ids}}, nodes, 1).empty());
+}
+
+// Two faces along an edge fold onto each other on the fill's side (their right-hand normals' side,
+// curved_front.h): under kFoldMinDeg the fill's tetrahedra at that edge are slivers, so the
+// layer is refused as at a crossing, unless its base was folded as sharply (a wall's crevice).
+TEST_CASE("layers 3D: two faces folded onto each other along their edge are a collision") {
+  // Face 0 = (0, 1, 2) in z = 0, normal +z; face 1 = (1, 0, 3) across the edge (0, 1), its far
+  // node 3 at angle `deg` from face 0's half-plane y > 0 about the x axis, on the fill's side.
+  const auto far_node = [](double deg) {
+    const double r = deg * std::numbers::pi / 180;
+    return Vector3d(0.5, std::cos(r), std::sin(r));
+  };
+  std::vector<Vector3d> nodes = {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, far_node(5)};
+  const std::vector<int> tri = {0, 1, 2, 1, 0, 3};
+  const std::vector<NodeId> ids = {0, 1, 2, 3};
+  CHECK(fill_side_angle_deg(nodes[0], nodes[1], nodes[2], nodes[3]) == doctest::Approx(5));
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1) == std::vector<std::size_t>{0, 1});
+  // Folded the other way (a knife edge of the layers, the fill's side 355 degrees): no collision.
+  nodes[3] = far_node(-5);
+  CHECK(fill_side_angle_deg(nodes[0], nodes[1], nodes[2], nodes[3]) == doctest::Approx(355));
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1).empty());
+  // Flat (180) and a concave bend of 30 degrees (a wing-body junction's is 90): no collision.
+  nodes[3] = far_node(180);
+  CHECK(fill_side_angle_deg(nodes[0], nodes[1], nodes[2], nodes[3]) == doctest::Approx(180));
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1).empty());
+  nodes[3] = far_node(30);
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1).empty());
+  // Just under kFoldMinDeg: a collision; just over: none.
+  nodes[3] = far_node(kFoldMinDeg - 0.01);
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1).size() == 2);
+  nodes[3] = far_node(kFoldMinDeg + 0.01);
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1).empty());
+  // With a base (nodes 4-7, the same faces one unit lower) folded at 4 degrees (a wall's
+  // crevice): the top's 5, or 3, is not the layer's fold; 1.5 (under half) is.
+  nodes[3] = far_node(5);
+  for (int k = 0; k < 3; ++k) nodes.push_back(nodes[static_cast<std::size_t>(k)] - Vector3d(0, 0, 1));
+  nodes.push_back(far_node(4) - Vector3d(0, 0, 1));
+  const std::vector<NodeId> base = {4, 5, 6, 7};
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1, nullptr, &base).empty());
+  nodes[3] = far_node(3);
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1, nullptr, &base).empty());
+  nodes[3] = far_node(1.5);
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1, nullptr, &base) == std::vector<std::size_t>{0, 1});
+  // From a base at 20 degrees to 9: across the limit, the layer's fold.
+  nodes[7] = far_node(20) - Vector3d(0, 0, 1);
+  nodes[3] = far_node(9);
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1, nullptr, &base) == std::vector<std::size_t>{0, 1});
+  // The layer left both faces where they were: not its collision.
+  const std::vector<std::uint8_t> both = {1, 1};
+  CHECK(front_collisions({{&tri, &ids}}, nodes, 1, &both).empty());
+}
+
+// A face whose chord the layer flattens into a cap (its largest angle within kFoldMinDeg of 180,
+// and within half the base chord's distance to 180: a tetrahedron on it has a dihedral angle near
+// 0) is a collision; a cap the wall had, carried out by the layer, is not. Without a base (a
+// first layer whose fans changed the faces) no cap is judged.
+TEST_CASE("layers 3D: a front face flattened into a cap is a collision") {
+  // Face (0, 1, 2): node 2 above the middle of edge (0, 1) at the height giving the angle at it;
+  // the base (nodes 3-5) the same one unit lower.
+  const auto apex = [](double deg) { return Vector3d(0.5, 0.5 / std::tan(deg * std::numbers::pi / 360), 0); };
+  const auto low = [](const Vector3d& x) { return Vector3d(x - Vector3d(0, 0, 1)); };
+  const auto nodes_of = [&](double top, double below) {
+    return std::vector<Vector3d>{{0, 0, 0}, {1, 0, 0}, apex(top), low({0, 0, 0}), low({1, 0, 0}), low(apex(below))};
+  };
+  const std::vector<int> tri = {0, 1, 2};
+  const std::vector<NodeId> ids = {0, 1, 2}, base = {3, 4, 5};
+  CHECK(largest_angle_deg({0, 1, 2}, nodes_of(175, 120)) == doctest::Approx(175));
+  // From 120 degrees to 175: a cap made by the layer.
+  CHECK(front_collisions({{&tri, &ids}}, nodes_of(175, 120), 1, nullptr, &base) == std::vector<std::size_t>{0});
+  // To 180 - kFoldMinDeg + 0.01 (no cap) or from 172 (8 from 180) to 175 (5: not under half).
+  CHECK(front_collisions({{&tri, &ids}}, nodes_of(180 - kFoldMinDeg - 0.01, 120), 1, nullptr, &base).empty());
+  CHECK(front_collisions({{&tri, &ids}}, nodes_of(175, 172), 1, nullptr, &base).empty());
+  // From 172 to 177 (3 from 180, under half of 8): the layer's cap.
+  CHECK(front_collisions({{&tri, &ids}}, nodes_of(177, 172), 1, nullptr, &base) == std::vector<std::size_t>{0});
+  // No base: not judged; the layer left the face in place: not its cap.
+  CHECK(front_collisions({{&tri, &ids}}, nodes_of(177, 120), 1).empty());
+  const std::vector<std::uint8_t> still = {1};
+  CHECK(front_collisions({{&tri, &ids}}, nodes_of(177, 120), 1, &still, &base).empty());
+  // At order 2 the chord counts (what the fill meets; here the edge nodes lie on it, nodes 6-8),
+  // and so do its sub-triangles' bases (nodes 9-11 under them).
+  std::vector<Vector3d> nodes = nodes_of(175, 120);
+  for (const auto& [a, b] : {std::pair{0, 1}, std::pair{1, 2}, std::pair{2, 0}})
+    nodes.push_back((nodes[static_cast<std::size_t>(a)] + nodes[static_cast<std::size_t>(b)]) / 2);
+  for (const auto& [a, b] : {std::pair{3, 4}, std::pair{4, 5}, std::pair{5, 3}})
+    nodes.push_back((nodes[static_cast<std::size_t>(a)] + nodes[static_cast<std::size_t>(b)]) / 2);
+  const std::vector<int> tri2 = {0, 1, 2, 3, 4, 5};
+  const std::vector<NodeId> ids2 = {0, 1, 2, 6, 7, 8}, base2 = {3, 4, 5, 9, 10, 11};
+  CHECK(front_collisions({{&tri2, &ids2}}, nodes, 2, nullptr, &base2) == std::vector<std::size_t>{0});
 }
 
 TEST_CASE("normals 3D: at a cusp no direction sees every face, the most normal one is still given") {
