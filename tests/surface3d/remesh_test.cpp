@@ -396,3 +396,67 @@ TEST_CASE("remesh: a CAD fan of needles is cut across, its 5-long rays split to 
 
 }  // namespace
 }  // namespace plaf
+
+namespace plaf {
+namespace {
+
+// The discrete reference of a surface, its points near (2.5, 0) in z = 0 lifted by a bump of
+// height `lift` (a Gaussian 0.1 wide): where the fan's midpoints land, so a cut across the fan
+// bends the faces along its outline.
+class BumpedReference : public ReferenceGeometry<3> {
+ public:
+  BumpedReference(std::unique_ptr<ReferenceGeometry<3>> base, double lift) : base_(std::move(base)), lift_(lift) {}
+  Vec project(const Vec& p) const override { return bumped(base_->project(p)); }
+  Vec normal(const Vec& x) const override { return base_->normal(x); }
+  Vec project_to_curve(const Vec& p, int curve) const override { return base_->project_to_curve(p, curve); }
+  int num_curves() const override { return base_->num_curves(); }
+  double scale() const override { return base_->scale(); }
+
+ private:
+  Vec bumped(Vec x) const {
+    const double r2 = (x.x() - 2.5) * (x.x() - 2.5) + x.y() * x.y();
+    x.z() += lift_ * std::exp(-r2 / (2 * 0.1 * 0.1));
+    return x;
+  }
+  std::unique_ptr<ReferenceGeometry<3>> base_;
+  double lift_;
+};
+
+// The fan cut's bend rule (Remesher::try_fan_cut, kFanCutMaxBend): the cut moves the faces along
+// the fan's outline (its midpoints land on the reference, off the needles' planes); an edge there
+// may come out bent by no more than 15 degrees where it was flat.
+TEST_CASE("remesh: a fan cut that would bend the faces along the fan's outline by over 15 degrees is refused") {
+  // The fan of the test above (apex 0, needles to five points 0.0008 apart at x = 5, end faces to
+  // (5, -1) and (5, 1)), with faces beyond its end faces' outer edges (apex - (5, -1), apex -
+  // (5, 1)) so that those edges have a bend to keep. The midpoints (2.5, ~0) lie 0.49 from them:
+  // lifted by 0.05 the end faces' halves at the apex tilt by 6 degrees, by 0.3 by 31.
+  const auto fan = [] {
+    TriangleSoup soup;
+    soup.source = "fan";
+    soup.points = {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(5, -1, 0), Eigen::Vector3d(5, 1, 0)};
+    for (int i = 0; i < 5; ++i) soup.points.push_back(Eigen::Vector3d(5, 0.0008 * (i - 2), 0));
+    soup.points.push_back(Eigen::Vector3d(2.5, -3, 0));  // 8
+    soup.points.push_back(Eigen::Vector3d(2.5, 3, 0));   // 9
+    soup.points.push_back(Eigen::Vector3d(-2, 0, 0));    // 10
+    soup.triangles.push_back({0, 1, 3});
+    for (int i = 0; i < 4; ++i) soup.triangles.push_back({0, 3 + i, 4 + i});
+    soup.triangles.push_back({0, 7, 2});
+    for (const std::array<int, 3>& t : {std::array<int, 3>{0, 8, 1}, {0, 2, 9}, {0, 9, 10}, {0, 10, 8}})
+      soup.triangles.push_back(t);
+    return surface_from_soup(soup);
+  };
+  const UniformMetricField<3> metric(Metric<3>::isotropic(0.5));
+  RemeshOptions o;
+  o.iterations = 1;
+  TriSurface flat = fan();
+  const BumpedReference low(make_discrete_reference(flat), 0.05);
+  const RemeshReport cut = remesh_surface(flat, low, metric, o);
+  CHECK(cut.fan_cuts > 0);
+  TriSurface bent = fan();
+  const BumpedReference high(make_discrete_reference(bent), 0.3);
+  const RemeshReport refused = remesh_surface(bent, high, metric, o);
+  CHECK(refused.fan_cuts == 0);
+}
+
+}  // namespace
+}  // namespace plaf
