@@ -95,9 +95,10 @@ void report_coverage(const LayerResult<Dim>& r, const LayerParams& p, StageRepor
   // picture zooms on the same largest region, apps/run.cpp), largest first: where the boundary
   // layer is missing, and why.
   const std::vector<StopRegion> regions = stop_regions(c, 0.05 * wall_diagonal(r.mesh));
+  // A collision is a crossing, or in 3D a fold or cap (layers/front_collisions_3d.h).
   auto cause = [](const StopRegion& g) {
-    return std::string(g.invalid && g.crossing ? "invalid cells and crossing fronts"
-                       : g.crossing            ? "crossing fronts"
+    return std::string(g.invalid && g.crossing ? "invalid cells and colliding fronts"
+                       : g.crossing            ? "colliding fronts"
                                                : "invalid cells");
   };
   std::vector<std::string> reg;
