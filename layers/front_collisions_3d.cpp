@@ -117,8 +117,9 @@ std::vector<std::size_t> front_collisions(const std::vector<FrontSurface>& front
   // Caps: a face of fronts[0] whose chord (its triangle at order 1) the layer flattened to within
   // kFoldMinDeg of 180 (sharpened: across that limit, or to under half the base's distance; a
   // metric's stretched wall triangles are caps of up to 177 degrees at the E387 wing's leading
-  // edge, which the layers carry out: no layer is refused for a cap it did not make).
-  for (std::size_t i = 0; i < tris.size() && owner[i] >= 0 && base_ids; ++i) {
+  // edge, which the layers carry out: no layer is refused for a cap it did not make). fronts[0]'s
+  // triangles come first in tris (its sub-triangles, then its chords), so do the base's.
+  for (std::size_t i = 0; base_ids && i < base.size(); ++i) {
     if (q > 1 && !chord[i]) continue;
     const std::size_t o = static_cast<std::size_t>(owner[i]);
     if (unmoved && (*unmoved)[o]) continue;
